@@ -1,0 +1,157 @@
+// `hamel derive MODEL [--param n=v ...] [--at n=v,...] [--json]`: the derived quantities as expressions,
+// with numbers where --at (and parameter values) determine them.
+#include "algebra/expression_text.hpp"
+#include "cli/commands.hpp"
+#include "cli/options.hpp"
+#include "derive/derivation.hpp"
+#include "model/expression_parser.hpp"
+#include "model/input_error.hpp"
+#include "model/load_model.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include <iostream>
+#include <optional>
+
+namespace hamel::cli {
+
+namespace {
+
+struct DeriveOptions {
+  std::string model;
+  std::vector<std::string> params, at;
+  bool json = false;
+};
+
+// Numeric value of `e` once every symbol is replaced; empty if a symbol has no value.
+std::optional<double> value_of(const GiNaC::ex& e, const GiNaC::exmap& values) {
+  const GiNaC::ex v = e.subs(values).evalf();
+  if (!GiNaC::is_a<GiNaC::numeric>(v)) return std::nullopt;
+  const GiNaC::numeric& num = GiNaC::ex_to<GiNaC::numeric>(v);
+  if (!num.is_real()) return std::nullopt;
+  return num.to_double();
+}
+
+nlohmann::json entry(const GiNaC::ex& e, const GiNaC::exmap& values) {
+  nlohmann::json j;
+  j["expr"] = to_text(e);
+  if (auto v = value_of(e, values)) j["value"] = *v;
+  return j;
+}
+
+void run(const DeriveOptions& opt) {
+  const Model model = load_model(opt.model);
+  const std::vector<double> params = parameter_values(model, parse_assignments(opt.params, "--param"));
+  const std::map<std::string, double> at = parse_assignments(opt.at, "--at");
+
+  GiNaC::exmap values;
+  for (std::size_t k = 0; k < model.parameters.size(); ++k) values[model.parameters[k].symbol] = exact_number(params[k]);
+  const GiNaC::symtab table = model.symbols();
+  for (const auto& [name, v] : at) {
+    auto it = table.find(name);
+    if (it == table.end() || (name.size() > 4 && name.compare(name.size() - 4, 4, "_dot") == 0))
+      throw InputError("--at: '" + name + "' is not a coordinate, quasi-velocity, input or t of model '" +
+                       model.name + "'");
+    values[it->second] = exact_number(v);
+  }
+  if (!at.empty()) values[model.time] = exact_number(at.count("t") ? at.at("t") : 0.0);
+
+  const Derivation d = derive(model);
+  const HamelEquations& eq = d.equations;
+  const auto u_name = [&](int a) { return model.quasi_velocities[static_cast<std::size_t>(a)].get_name(); };
+  const auto q_name = [&](std::size_t a) { return model.coordinates[a].get_name(); };
+  const auto is_independent = [&](int a) {
+    return std::find(eq.independent.begin(), eq.independent.end(), a) != eq.independent.end();
+  };
+
+  nlohmann::json j;
+  j["model"] = model.name;
+  j["source"] = {{"file", model.source_path}, {"fnv1a64", model.source_hash}};
+  for (std::size_t a = 0; a < model.n(); ++a) j["coordinates"].push_back(q_name(a));
+  for (std::size_t a = 0; a < model.n(); ++a) j["quasi_velocities"].push_back(u_name(static_cast<int>(a)));
+  j["constraints"] = nlohmann::json::array();
+  for (int a : model.constrained) j["constraints"].push_back(u_name(a));
+  for (int a : eq.independent) j["independent"].push_back(u_name(a));
+  const unsigned n = static_cast<unsigned>(model.n());
+  for (unsigned r = 0; r < n; ++r)
+    for (unsigned c = 0; c < n; ++c) {
+      nlohmann::json a = entry(d.quasi_velocities.A(r, c), values);
+      a["row"] = u_name(static_cast<int>(r));
+      a["col"] = q_name(c);
+      j["A"].push_back(a);
+      nlohmann::json b = entry(d.quasi_velocities.B(r, c), values);
+      b["row"] = q_name(r);
+      b["col"] = u_name(static_cast<int>(c));
+      j["B"].push_back(b);
+    }
+  j["hamel"] = nlohmann::json::array();
+  for (const HamelCoefficient& h : d.hamel) {
+    nlohmann::json e = entry(h.value, values);
+    e["upper"] = u_name(h.upper);
+    e["lower"] = {u_name(h.lower_a), u_name(h.lower_b)};
+    e["lower_independent"] = is_independent(h.lower_a) && is_independent(h.lower_b);
+    j["hamel"].push_back(e);
+  }
+  j["equations"] = model.constrained.empty() ? "Boltzmann-Hamel (BHEqu2)" : "constrained Hamel (BHconstr)";
+  const std::size_t m = eq.independent.size();
+  for (std::size_t r = 0; r < m; ++r) {
+    for (std::size_t c = 0; c < m; ++c) {
+      nlohmann::json e = entry(eq.mass_matrix(static_cast<unsigned>(r), static_cast<unsigned>(c)), values);
+      e["row"] = u_name(eq.independent[r]);
+      e["col"] = u_name(eq.independent[c]);
+      j["mass_matrix"].push_back(e);
+    }
+    nlohmann::json f = entry(eq.forcing[r], values);
+    f["row"] = u_name(eq.independent[r]);
+    j["forcing"].push_back(f);
+  }
+  for (std::size_t a = 0; a < model.n(); ++a) {
+    nlohmann::json k = entry(eq.kinematics[a], values);
+    k["row"] = q_name(a) + "_dot";
+    j["kinematics"].push_back(k);
+  }
+  j["energy"] = entry(eq.energy_terms.at(0), values);
+  j["conservative"] = eq.conservative;
+
+  if (opt.json) {
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  auto show = [](const nlohmann::json& e) {
+    std::string s = e["expr"].get<std::string>();
+    if (e.contains("value")) s += "   = " + nlohmann::json(e["value"]).dump();
+    return s;
+  };
+  std::cout << "model " << model.name << " (" << model.source_path << "): " << n << " coordinates, "
+            << model.constrained.size() << " constraints, " << m << " independent quasi-velocities\n";
+  std::cout << "\nB = A^-1 (q_dot = B u), non-zero entries, eq. (u2):\n";
+  for (const auto& e : j["B"])
+    if (e["expr"] != "0") std::cout << "  B[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e) << "\n";
+  std::cout << "\nnon-zero Hamel coefficients gamma^c_ab, eq. (gamma)" << (model.constrained.empty() ? "" : "; * marks gamma^a_IJ of eq. (gammaNH)") << ":\n";
+  if (d.hamel.empty()) std::cout << "  none: the quasi-velocities are holonomic\n";
+  for (const auto& e : j["hamel"])
+    std::cout << "  " << (e["lower_independent"].get<bool>() && !model.constrained.empty() ? "* " : "  ") << "gamma^"
+              << e["upper"].get<std::string>() << "_(" << e["lower"][0].get<std::string>() << ","
+              << e["lower"][1].get<std::string>() << ") = " << show(e) << "\n";
+  std::cout << "\n" << j["equations"].get<std::string>() << " equations  M u_I' = f:\n";
+  for (const auto& e : j["mass_matrix"])
+    std::cout << "  M[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e) << "\n";
+  for (const auto& e : j["forcing"]) std::cout << "  f[" << e["row"].get<std::string>() << "] = " << show(e) << "\n";
+  std::cout << "\nkinematics, eq. (qadot):\n";
+  for (const auto& e : j["kinematics"]) std::cout << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
+  std::cout << "\nenergy E = " << show(j["energy"]) << (eq.conservative ? "   (conserved)" : "") << "\n";
+}
+
+}  // namespace
+
+Run add_derive_command(CLI::App& app) {
+  auto opt = std::make_shared<DeriveOptions>();
+  CLI::App* cmd = app.add_subcommand("derive", "Derive B, the Hamel coefficients and the equations of motion of a model");
+  cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
+  cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable; defaults from the model)");
+  cmd->add_option("--at", opt->at, "Values name=value,... of coordinates, quasi-velocities, inputs and t: every entry then also carries its number");
+  cmd->add_flag("--json", opt->json, "Print JSON instead of text");
+  return [opt] { run(*opt); };
+}
+
+}  // namespace hamel::cli

@@ -1,0 +1,42 @@
+// hamel: symbolic–numeric generator for the Hamel equations of constrained and floating multibody
+// systems (Müller, Proc. R. Soc. A 479, 2023). Exit status: 0 success, 2 input error, 1 internal error.
+#include "cli/commands.hpp"
+#include "emit/cpp_emitter.hpp"
+#include "model/input_error.hpp"
+
+#include <iostream>
+#include <map>
+
+int main(int argc, char** argv) {
+  CLI::App app{"hamel: derive Hamel coefficients and equations of motion, emit C++ kernels, simulate"};
+  app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());
+  app.require_subcommand(1);
+  std::map<const CLI::App*, hamel::cli::Run> runs;
+  for (auto add : {hamel::cli::add_derive_command, hamel::cli::add_emit_command, hamel::cli::add_simulate_command}) {
+    hamel::cli::Run run = add(app);
+    runs[app.get_subcommands({}).back()] = run;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);
+    return 2;
+  }
+  try {
+    for (const auto& [cmd, run] : runs)
+      if (cmd->parsed()) run();
+    return 0;
+  } catch (const hamel::InputError& e) {
+    std::cerr << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "hamel: internal error: " << e.what() << "\n";
+    return 1;
+  }
+}

@@ -1,0 +1,46 @@
+// Eq. (gamma): γ^c_ab := (∂A^c_r/∂q^s − ∂A^c_s/∂q^r) B^r_a B^s_b. They vanish identically iff the
+// quasi-velocities are holonomic; for canonical coordinates on a Lie group they are ±c^c_ab.
+#include "derive/hamel_coefficients.hpp"
+
+#include "algebra/simplify.hpp"
+
+#include <algorithm>
+#include <tuple>
+
+namespace hamel {
+
+std::vector<HamelCoefficient> hamel_coefficients(const Model& model, const QuasiVelocities& qv) {
+  const unsigned n = static_cast<unsigned>(model.n());
+  std::vector<HamelCoefficient> out;
+  for (unsigned c = 0; c < n; ++c) {
+    // The exterior derivative of the Pfaffian form du^c: curl[r][s] = ∂A^c_r/∂q^s − ∂A^c_s/∂q^r.
+    GiNaC::matrix curl(n, n);
+    bool closed = true;
+    for (unsigned r = 0; r < n; ++r)
+      for (unsigned s = r + 1; s < n; ++s) {
+        const GiNaC::ex d = qv.A(c, r).diff(model.coordinates[s]) - qv.A(c, s).diff(model.coordinates[r]);
+        curl(r, s) = d;
+        curl(s, r) = -d;
+        closed = closed && d.is_zero();
+      }
+    if (closed) continue;  // exactly closed form: no coefficient with this upper index
+    std::vector<HamelCoefficient> row;
+    for (unsigned a = 0; a < n; ++a)
+      for (unsigned b = a + 1; b < n; ++b) {
+        GiNaC::ex g = 0;
+        for (unsigned r = 0; r < n; ++r)
+          for (unsigned s = 0; s < n; ++s)
+            if (!curl(r, s).is_zero()) g += curl(r, s) * qv.B(r, a) * qv.B(s, b);
+        g = simplify(g);
+        if (g.is_zero()) continue;
+        out.push_back({static_cast<int>(c), static_cast<int>(a), static_cast<int>(b), g});
+        out.push_back({static_cast<int>(c), static_cast<int>(b), static_cast<int>(a), -g});
+      }
+  }
+  std::sort(out.begin(), out.end(), [](const HamelCoefficient& x, const HamelCoefficient& y) {
+    return std::tie(x.upper, x.lower_a, x.lower_b) < std::tie(y.upper, y.lower_a, y.lower_b);
+  });
+  return out;
+}
+
+}  // namespace hamel

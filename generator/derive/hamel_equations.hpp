@@ -1,0 +1,29 @@
+// The equations of motion in quasi-velocities: Boltzmann–Hamel (BHEqu2) when nothing is constrained,
+// constrained Hamel (BHconstr) otherwise, brought to M(q, u) u̇_I = f(t, q, u_I, inputs) together with
+// the kinematics q̇ = B_I(q) u_I (qadot).
+#pragma once
+
+#include "derive/hamel_coefficients.hpp"
+#include "derive/quasi_velocities.hpp"
+#include "model/model.hpp"
+
+#include <vector>
+
+namespace hamel {
+
+struct HamelEquations {
+  std::vector<int> independent;          ///< indices I of the independent quasi-velocities
+  GiNaC::ex reduced_lagrangian;          ///< ℒ(q, u) = L(q, B u), with u^α = 0
+  std::vector<GiNaC::ex> kinematics;     ///< q̇^a = B^a_I u^I, eq. (qadot)
+  GiNaC::matrix mass_matrix;             ///< M_IJ = ∂²ℒ/∂u^I∂u^J at u^α = 0
+  std::vector<GiNaC::ex> forcing;        ///< f_I: everything in (BHconstr) but M u̇, moved to the right
+  std::vector<GiNaC::ex> energy_terms;   ///< {E}: E = ∂ℒ/∂u^I u^I − ℒ (Jacobi integral)
+  bool conservative = false;             ///< no forces and no explicit time: E is an invariant
+  std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0)
+};
+
+/// Derives the equations of motion; throws InputError if the mass matrix is identically singular.
+HamelEquations hamel_equations(const Model& model, const QuasiVelocities& qv,
+                               const std::vector<HamelCoefficient>& gamma);
+
+}  // namespace hamel

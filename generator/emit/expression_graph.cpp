@@ -1,0 +1,281 @@
+#include "emit/expression_graph.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace hamel {
+
+using GiNaC::ex;
+using GiNaC::ex_to;
+using GiNaC::is_a;
+
+namespace {
+
+bool commutative(Op op) { return op == Op::add || op == Op::mul; }
+
+double apply(Op op, double a, double b) {
+  switch (op) {
+    case Op::add: return a + b;
+    case Op::sub: return a - b;
+    case Op::mul: return a * b;
+    case Op::div: return a / b;
+    case Op::neg: return -a;
+    case Op::sqrt: return std::sqrt(a);
+    case Op::sin: return std::sin(a);
+    case Op::cos: return std::cos(a);
+    case Op::tan: return std::tan(a);
+    case Op::exp: return std::exp(a);
+    case Op::log: return std::log(a);
+    case Op::asin: return std::asin(a);
+    case Op::acos: return std::acos(a);
+    case Op::atan: return std::atan(a);
+    case Op::sinh: return std::sinh(a);
+    case Op::cosh: return std::cosh(a);
+    case Op::tanh: return std::tanh(a);
+    case Op::abs: return std::fabs(a);
+    case Op::pow: return std::pow(a, b);
+    case Op::constant:
+    case Op::input: break;
+  }
+  throw std::logic_error("expression graph: not an operation");
+}
+
+Op function_op(const std::string& name) {
+  static const std::map<std::string, Op> table = {
+      {"sin", Op::sin},   {"cos", Op::cos},   {"tan", Op::tan},   {"exp", Op::exp},   {"log", Op::log},
+      {"asin", Op::asin}, {"acos", Op::acos}, {"atan", Op::atan}, {"sinh", Op::sinh}, {"cosh", Op::cosh},
+      {"tanh", Op::tanh}, {"abs", Op::abs},   {"sqrt", Op::sqrt}};
+  auto it = table.find(name);
+  if (it == table.end()) throw std::logic_error("expression graph: function '" + name + "' cannot be emitted");
+  return it->second;
+}
+
+}  // namespace
+
+int ExpressionGraph::intern(const Node& n) {
+  std::uint64_t bits = 0;
+  static_assert(sizeof bits == sizeof n.value, "double is 64 bits");
+  std::memcpy(&bits, &n.value, sizeof bits);
+  const std::uint64_t ops = (static_cast<std::uint64_t>(n.op) << 56) |
+                            (static_cast<std::uint64_t>(n.argument) << 48) |
+                            static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.index));
+  const std::uint64_t operands = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.a)) << 32) |
+                                 static_cast<std::uint32_t>(n.b);
+  const Key key{{ops, operands, n.op == Op::constant ? bits : 0}};
+  auto it = index_.find(key);
+  if (it != index_.end()) return it->second;
+  nodes_.push_back(n);
+  const int id = static_cast<int>(nodes_.size()) - 1;
+  index_.emplace(key, id);
+  return id;
+}
+
+int ExpressionGraph::constant(double value) {
+  if (value == 0.0) value = 0.0;  // one zero: -0.0 and 0.0 share a node
+  Node n;
+  n.op = Op::constant;
+  n.value = value;
+  return intern(n);
+}
+
+int ExpressionGraph::input(Argument argument, int index) {
+  Node n;
+  n.op = Op::input;
+  n.argument = argument;
+  n.index = index;
+  return intern(n);
+}
+
+int ExpressionGraph::unary(Op op, int a) {
+  const Node& x = node(a);
+  if (x.op == Op::constant) return constant(apply(op, x.value, 0.0));
+  if (op == Op::neg && x.op == Op::neg) return x.a;
+  if (op == Op::neg && x.op == Op::sub) return binary(Op::sub, x.b, x.a);
+  Node n;
+  n.op = op;
+  n.a = a;
+  return intern(n);
+}
+
+int ExpressionGraph::binary(Op op, int a, int b) {
+  const Node& x = node(a);
+  const Node& y = node(b);
+  if (x.op == Op::constant && y.op == Op::constant) return constant(apply(op, x.value, y.value));
+  switch (op) {
+    case Op::add:
+      if (is_constant(a, 0)) return b;
+      if (is_constant(b, 0)) return a;
+      if (y.op == Op::neg) return binary(Op::sub, a, y.a);
+      if (x.op == Op::neg) return binary(Op::sub, b, x.a);
+      break;
+    case Op::sub:
+      if (is_constant(b, 0)) return a;
+      if (is_constant(a, 0)) return unary(Op::neg, b);
+      if (a == b) return constant(0);
+      if (y.op == Op::neg) return binary(Op::add, a, y.a);
+      break;
+    case Op::mul:
+      if (is_constant(a, 0) || is_constant(b, 0)) return constant(0);
+      if (is_constant(a, 1)) return b;
+      if (is_constant(b, 1)) return a;
+      if (is_constant(a, -1)) return unary(Op::neg, b);
+      if (is_constant(b, -1)) return unary(Op::neg, a);
+      break;
+    case Op::div:
+      if (is_constant(b, 1)) return a;
+      if (is_constant(a, 0)) return constant(0);
+      break;
+    default:
+      break;
+  }
+  Node n;
+  n.op = op;
+  n.a = a;
+  n.b = b;
+  if (commutative(op) && n.b < n.a) std::swap(n.a, n.b);
+  return intern(n);
+}
+
+int ExpressionGraph::integer_power(int base, long exponent) {
+  if (exponent == 0) return constant(1);
+  if (exponent > 16) return binary(Op::pow, base, constant(static_cast<double>(exponent)));
+  if (exponent == 1) return base;
+  const int half = integer_power(base, exponent / 2);
+  const int square = binary(Op::mul, half, half);
+  return exponent % 2 ? binary(Op::mul, square, base) : square;
+}
+
+int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
+  if (auto it = memo_.find(e); it != memo_.end()) return it->second;
+  int id = -1;
+  if (is_a<GiNaC::numeric>(e)) {
+    const GiNaC::numeric& v = ex_to<GiNaC::numeric>(e);
+    if (!v.is_real()) throw std::logic_error("expression graph: complex number " + std::to_string(v.real().to_double()));
+    id = constant(v.to_double());
+  } else if (is_a<GiNaC::constant>(e)) {
+    id = constant(ex_to<GiNaC::numeric>(e.evalf()).to_double());
+  } else if (is_a<GiNaC::symbol>(e)) {
+    auto it = leaves.find(e);
+    if (it == leaves.end())
+      throw std::logic_error("expression graph: symbol '" + ex_to<GiNaC::symbol>(e).get_name() + "' is not an input");
+    id = it->second;
+  } else if (is_a<GiNaC::add>(e)) {
+    // Terms with a negative numeric factor become subtractions, so no constant -1 multiplies remain.
+    id = constant(0);
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const ex term = e.op(i);
+      bool negative = false;
+      if (is_a<GiNaC::numeric>(term)) negative = ex_to<GiNaC::numeric>(term).is_negative();
+      if (is_a<GiNaC::mul>(term)) {
+        const ex last = term.op(term.nops() - 1);
+        negative = is_a<GiNaC::numeric>(last) && ex_to<GiNaC::numeric>(last).is_negative();
+      }
+      id = negative ? binary(Op::sub, id, from_expression(-term, leaves))
+                    : binary(Op::add, id, from_expression(term, leaves));
+    }
+  } else if (is_a<GiNaC::mul>(e)) {
+    int numerator = constant(1), denominator = constant(1);
+    double coefficient = 1.0;
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const ex factor = e.op(i);
+      if (is_a<GiNaC::numeric>(factor)) {
+        coefficient *= ex_to<GiNaC::numeric>(factor).to_double();
+      } else if (is_a<GiNaC::power>(factor) && is_a<GiNaC::numeric>(factor.op(1)) &&
+                 ex_to<GiNaC::numeric>(factor.op(1)).is_negative()) {
+        denominator = binary(Op::mul, denominator, from_expression(GiNaC::pow(factor.op(0), -factor.op(1)), leaves));
+      } else {
+        numerator = binary(Op::mul, numerator, from_expression(factor, leaves));
+      }
+    }
+    id = binary(Op::mul, constant(coefficient), binary(Op::div, numerator, denominator));
+  } else if (is_a<GiNaC::power>(e)) {
+    const ex base = e.op(0), exponent = e.op(1);
+    const int b = from_expression(base, leaves);
+    if (is_a<GiNaC::numeric>(exponent)) {
+      const GiNaC::numeric k = ex_to<GiNaC::numeric>(exponent);
+      if (k.is_integer()) {
+        const long m = k.to_long();
+        id = m >= 0 ? integer_power(b, m) : binary(Op::div, constant(1), integer_power(b, -m));
+      } else if ((2 * k).is_integer()) {
+        const long m = (2 * k).to_long();  // base^(m/2) = sqrt(base)^m
+        const int root = unary(Op::sqrt, b);
+        id = m >= 0 ? integer_power(root, m) : binary(Op::div, constant(1), integer_power(root, -m));
+      } else {
+        id = binary(Op::pow, b, constant(k.to_double()));
+      }
+    } else {
+      id = binary(Op::pow, b, from_expression(exponent, leaves));
+    }
+  } else if (is_a<GiNaC::function>(e)) {
+    const std::string name = ex_to<GiNaC::function>(e).get_name();
+    if (e.nops() != 1) throw std::logic_error("expression graph: function '" + name + "' cannot be emitted");
+    id = unary(function_op(name), from_expression(e.op(0), leaves));
+  } else {
+    throw std::logic_error("expression graph: unsupported expression type");
+  }
+  memo_.emplace(e, id);
+  return id;
+}
+
+std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs) const {
+  std::vector<char> needed(nodes_.size(), 0);
+  for (int o : outputs) needed[static_cast<std::size_t>(o)] = 1;
+  // Operands always have smaller indices than their users: one backward sweep marks everything.
+  for (int i = size() - 1; i >= 0; --i) {
+    if (!needed[static_cast<std::size_t>(i)]) continue;
+    const Node& n = node(i);
+    if (n.a >= 0) needed[static_cast<std::size_t>(n.a)] = 1;
+    if (n.b >= 0) needed[static_cast<std::size_t>(n.b)] = 1;
+  }
+  std::vector<int> order;
+  for (int i = 0; i < size(); ++i)
+    if (needed[static_cast<std::size_t>(i)]) order.push_back(i);
+  return order;
+}
+
+OpCounts ExpressionGraph::count(const std::vector<int>& schedule) const {
+  OpCounts c;
+  for (int i : schedule) {
+    switch (node(i).op) {
+      case Op::constant:
+      case Op::input: break;
+      case Op::add:
+      case Op::sub:
+      case Op::neg: ++c.add; break;
+      case Op::mul: ++c.mul; break;
+      case Op::div: ++c.div; break;
+      default: ++c.call; break;
+    }
+  }
+  return c;
+}
+
+GraphEvaluator::GraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs)
+    : graph_(graph), outputs_(std::move(outputs)), schedule_(graph.schedule(outputs_)),
+      values_(static_cast<std::size_t>(graph.size()), 0.0) {}
+
+void GraphEvaluator::evaluate(double t, const double* x, const double* p, const double* in, double* out) {
+  for (int i : schedule_) {
+    const Node& n = graph_.node(i);
+    double& v = values_[static_cast<std::size_t>(i)];
+    switch (n.op) {
+      case Op::constant: v = n.value; break;
+      case Op::input:
+        switch (n.argument) {
+          case Argument::time: v = t; break;
+          case Argument::state: v = x[n.index]; break;
+          case Argument::parameter: v = p[n.index]; break;
+          case Argument::input: v = in[n.index]; break;
+        }
+        break;
+      default:
+        v = apply(n.op, values_[static_cast<std::size_t>(n.a)],
+                  n.b >= 0 ? values_[static_cast<std::size_t>(n.b)] : 0.0);
+    }
+  }
+  for (std::size_t k = 0; k < outputs_.size(); ++k) out[k] = values_[static_cast<std::size_t>(outputs_[k])];
+}
+
+}  // namespace hamel

@@ -1,0 +1,122 @@
+// A small intermediate representation between algebra and text (after CasADi's instruction list):
+// a DAG of scalar operations in which every node is created once (value numbering over operation and
+// operands), so common subexpressions are shared across all kernels of a model. Constants are folded
+// and trivial identities (x+0, x·1, x·0) removed while building. Printing and numeric evaluation are
+// passes over this list.
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace hamel {
+
+enum class Op : std::uint8_t {
+  constant,
+  input,  // argument `array`, element `index`
+  add,
+  sub,
+  mul,
+  div,
+  neg,
+  sqrt,
+  sin,
+  cos,
+  tan,
+  exp,
+  log,
+  asin,
+  acos,
+  atan,
+  sinh,
+  cosh,
+  tanh,
+  abs,
+  pow,
+};
+
+/// Kernel argument arrays, in the order of the kernel ABI: (t, x, p, in).
+enum class Argument : std::uint8_t { time, state, parameter, input };
+
+struct Node {
+  Op op = Op::constant;
+  int a = -1;  ///< first operand (node index)
+  int b = -1;  ///< second operand
+  double value = 0.0;  ///< constant value
+  Argument argument = Argument::time;
+  int index = 0;  ///< element of the argument array
+};
+
+/// Operation counts of a kernel (what its signature comment reports).
+struct OpCounts {
+  int add = 0, mul = 0, div = 0, call = 0;
+  int total() const { return add + mul + div + call; }
+};
+
+class ExpressionGraph {
+ public:
+  int constant(double value);
+  int input(Argument argument, int index);
+  int unary(Op op, int a);
+  int binary(Op op, int a, int b);
+
+  /// Converts a GiNaC expression; `leaves` maps every symbol it may contain to a node.
+  /// Throws std::logic_error for a symbol or function it cannot translate.
+  int from_expression(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+
+  const Node& node(int i) const { return nodes_[static_cast<std::size_t>(i)]; }
+  int size() const { return static_cast<int>(nodes_.size()); }
+
+  /// Nodes reachable from `outputs`, in evaluation order (operands before users).
+  std::vector<int> schedule(const std::vector<int>& outputs) const;
+  OpCounts count(const std::vector<int>& schedule) const;
+
+  bool is_constant(int i, double v) const { return node(i).op == Op::constant && node(i).value == v; }
+
+ private:
+  int intern(const Node& n);
+  int integer_power(int base, long exponent);
+
+  std::vector<Node> nodes_;
+  struct Key {
+    std::array<std::uint64_t, 3> words;
+    bool operator==(const Key& o) const { return words == o.words; }
+  };
+  struct KeyHash {
+    std::size_t operator()(const Key& k) const {
+      std::uint64_t h = 1469598103934665603ULL;
+      for (std::uint64_t w : k.words) h = (h ^ w) * 1099511628211ULL;
+      return static_cast<std::size_t>(h);
+    }
+  };
+  std::unordered_map<Key, int, KeyHash> index_;
+  std::map<GiNaC::ex, int, GiNaC::ex_is_less> memo_;
+};
+
+/// One emitted function: named outputs computed from the graph.
+struct Kernel {
+  std::string name;
+  std::string summary;                   ///< one line: what it computes and which equation
+  std::vector<int> outputs;              ///< graph nodes, one per output element
+  std::vector<std::string> output_names; ///< for comments, same length as outputs
+};
+
+/// Evaluates `outputs` numerically in double (the interpreter behind `hamel simulate`).
+class GraphEvaluator {
+ public:
+  GraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs);
+  void evaluate(double t, const double* x, const double* p, const double* in, double* out);
+
+ private:
+  const ExpressionGraph& graph_;
+  std::vector<int> outputs_;
+  std::vector<int> schedule_;
+  std::vector<double> values_;
+};
+
+}  // namespace hamel

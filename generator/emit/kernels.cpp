@@ -1,0 +1,124 @@
+#include "emit/kernels.hpp"
+
+#include <stdexcept>
+
+namespace hamel {
+
+const Kernel& KernelSet::get(const std::string& name) const {
+  for (const Kernel& k : kernels)
+    if (k.name == name) return k;
+  throw std::logic_error("no kernel named " + name);
+}
+
+namespace {
+
+// Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
+// square roots): no loops or branches are left in the emitted kernel.
+std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f) {
+  const std::size_t n = f.size();
+  std::vector<std::vector<int>> L(n, std::vector<int>(n, g.constant(0)));
+  std::vector<int> d(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    int dj = M[j][j];
+    for (std::size_t k = 0; k < j; ++k)
+      dj = g.binary(Op::sub, dj, g.binary(Op::mul, g.binary(Op::mul, L[j][k], L[j][k]), d[k]));
+    d[j] = dj;
+    for (std::size_t i = j + 1; i < n; ++i) {
+      int s = M[i][j];
+      for (std::size_t k = 0; k < j; ++k)
+        s = g.binary(Op::sub, s, g.binary(Op::mul, g.binary(Op::mul, L[i][k], L[j][k]), d[k]));
+      L[i][j] = g.binary(Op::div, s, dj);
+    }
+  }
+  std::vector<int> y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    int s = f[i];
+    for (std::size_t k = 0; k < i; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, L[i][k], y[k]));
+    y[i] = s;
+  }
+  std::vector<int> x(n);
+  for (std::size_t i = n; i-- > 0;) {
+    int s = g.binary(Op::div, y[i], d[i]);
+    for (std::size_t k = i + 1; k < n; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, L[k][i], x[k]));
+    x[i] = s;
+  }
+  return x;
+}
+
+}  // namespace
+
+KernelSet build_kernels(const Model& model, const Derivation& derivation) {
+  KernelSet set;
+  ExpressionGraph& g = set.graph;
+  const HamelEquations& eq = derivation.equations;
+  const int n = static_cast<int>(model.n());
+
+  std::map<GiNaC::ex, int, GiNaC::ex_is_less> leaves;
+  leaves[model.time] = g.input(Argument::time, 0);
+  for (int a = 0; a < n; ++a) leaves[model.coordinates[static_cast<std::size_t>(a)]] = g.input(Argument::state, a);
+  for (std::size_t i = 0; i < eq.independent.size(); ++i)
+    leaves[model.quasi_velocities[static_cast<std::size_t>(eq.independent[i])]] =
+        g.input(Argument::state, n + static_cast<int>(i));
+  for (int alpha : model.constrained) leaves[model.quasi_velocities[static_cast<std::size_t>(alpha)]] = g.constant(0);
+  for (std::size_t k = 0; k < model.parameters.size(); ++k)
+    leaves[model.parameters[k].symbol] = g.input(Argument::parameter, static_cast<int>(k));
+  for (std::size_t k = 0; k < model.inputs.size(); ++k)
+    leaves[model.inputs[k]] = g.input(Argument::input, static_cast<int>(k));
+
+  auto node_of = [&](const GiNaC::ex& e) { return g.from_expression(e, leaves); };
+  const auto name_of = [&](int a) { return model.quasi_velocities[static_cast<std::size_t>(a)].get_name(); };
+
+  Kernel kinematics{"kinematics", "q_dot = B_I(q) u_I, eq. (qadot)", {}, {}};
+  for (int a = 0; a < n; ++a) {
+    kinematics.outputs.push_back(node_of(eq.kinematics[static_cast<std::size_t>(a)]));
+    kinematics.output_names.push_back(model.coordinates[static_cast<std::size_t>(a)].get_name() + "_dot");
+  }
+
+  const std::size_t d = eq.independent.size();
+  Kernel mass{"mass_matrix", "M_IJ = d2L/du^I du^J, row-major, eq. (BHconstr)", {}, {}};
+  std::vector<std::vector<int>> M(d, std::vector<int>(d));
+  for (std::size_t i = 0; i < d; ++i)
+    for (std::size_t j = 0; j < d; ++j) {
+      M[i][j] = node_of(eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)));
+      mass.outputs.push_back(M[i][j]);
+      mass.output_names.push_back("M[" + name_of(eq.independent[i]) + "][" + name_of(eq.independent[j]) + "]");
+    }
+
+  Kernel forcing{"forcing", "f_I such that M u_I' = f, eq. (BHconstr)", {}, {}};
+  for (std::size_t i = 0; i < d; ++i) {
+    forcing.outputs.push_back(node_of(eq.forcing[i]));
+    forcing.output_names.push_back("f[" + name_of(eq.independent[i]) + "]");
+  }
+
+  Kernel gamma{"hamel_coefficients", "non-zero gamma^c_ab, eq. (gamma); order as in hamel_upper/lower", {}, {}};
+  for (const HamelCoefficient& h : derivation.hamel) {
+    gamma.outputs.push_back(node_of(h.value));
+    gamma.output_names.push_back("gamma^" + name_of(h.upper) + "_" + name_of(h.lower_a) + "," + name_of(h.lower_b));
+  }
+
+  Kernel rhs{"rhs", "x' = (q_dot, u_I') with M u_I' = f solved by unrolled LDL^T", {}, {}};
+  rhs.outputs = kinematics.outputs;
+  rhs.output_names = kinematics.output_names;
+  const std::vector<int> accel = ldlt_solve(g, M, forcing.outputs);
+  for (std::size_t i = 0; i < d; ++i) {
+    rhs.outputs.push_back(accel[i]);
+    rhs.output_names.push_back(name_of(eq.independent[i]) + "_rate");
+  }
+
+  Kernel energy{"energy", "E = dL/du^I u^I - L (invariant when the model is conservative)", {}, {}};
+  energy.outputs.push_back(node_of(eq.energy_terms.at(0)));
+  energy.output_names.push_back("E");
+
+  set.kernels = {kinematics, mass, forcing, gamma, rhs, energy};
+  if (!eq.constraint_residual.empty()) {
+    Kernel residual{"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", {}, {}};
+    for (std::size_t k = 0; k < eq.constraint_residual.size(); ++k) {
+      residual.outputs.push_back(node_of(eq.constraint_residual[k]));
+      residual.output_names.push_back(name_of(model.constrained[k]));
+    }
+    set.kernels.push_back(residual);
+  }
+  return set;
+}
+
+}  // namespace hamel

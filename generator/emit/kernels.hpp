@@ -1,0 +1,25 @@
+// The kernels of a model, built on one shared expression graph (so CSE spans all of them):
+// kinematics (qadot), mass_matrix and forcing (BHconstr), hamel_coefficients (gamma), rhs (state
+// derivative with an unrolled LDLᵀ solve of M u̇ = f), energy and constraint_residual (monitors).
+#pragma once
+
+#include "derive/derivation.hpp"
+#include "emit/expression_graph.hpp"
+#include "model/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace hamel {
+
+struct KernelSet {
+  ExpressionGraph graph;
+  std::vector<Kernel> kernels;
+  const Kernel& get(const std::string& name) const;
+};
+
+/// Kernel ABI: every kernel is `void name(real t, const real* x, const real* p, const real* in, real* out)`
+/// with the state x = (q^1..q^n, u^I...), parameters p in file order and inputs in file order.
+KernelSet build_kernels(const Model& model, const Derivation& derivation);
+
+}  // namespace hamel

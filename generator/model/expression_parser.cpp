@@ -1,0 +1,118 @@
+#include "model/expression_parser.hpp"
+
+#include <cctype>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <stdexcept>
+
+namespace hamel {
+
+namespace {
+
+bool is_ident_char(char c) { return std::isalnum(static_cast<unsigned char>(c)) || c == '_'; }
+
+// Converts the digits of a decimal mantissa and exponent into "(num/den)" exactly.
+std::string decimal_to_rational(const std::string& int_part, const std::string& frac_part, long exponent) {
+  std::string digits = int_part + frac_part;
+  long scale = static_cast<long>(frac_part.size()) - exponent;  // value = digits * 10^-scale
+  std::size_t first = digits.find_first_not_of('0');
+  digits = first == std::string::npos ? "0" : digits.substr(first);
+  if (digits == "0") return "0";
+  if (scale <= 0) return "(" + digits + std::string(static_cast<std::size_t>(-scale), '0') + ")";
+  return "(" + digits + "/1" + std::string(static_cast<std::size_t>(scale), '0') + ")";
+}
+
+}  // namespace
+
+std::string exact_decimals(const std::string& text) {
+  std::string out;
+  std::size_t i = 0;
+  const std::size_t n = text.size();
+  while (i < n) {
+    const char c = text[i];
+    const bool starts_number =
+        (std::isdigit(static_cast<unsigned char>(c)) ||
+         (c == '.' && i + 1 < n && std::isdigit(static_cast<unsigned char>(text[i + 1])))) &&
+        (i == 0 || !is_ident_char(text[i - 1]));
+    if (!starts_number) {
+      out += c;
+      ++i;
+      continue;
+    }
+    std::string int_part, frac_part;
+    while (i < n && std::isdigit(static_cast<unsigned char>(text[i]))) int_part += text[i++];
+    bool decimal = false;
+    if (i < n && text[i] == '.') {
+      decimal = true;
+      ++i;
+      while (i < n && std::isdigit(static_cast<unsigned char>(text[i]))) frac_part += text[i++];
+    }
+    long exponent = 0;
+    if (i < n && (text[i] == 'e' || text[i] == 'E')) {
+      std::size_t j = i + 1;
+      bool negative = false;
+      if (j < n && (text[j] == '+' || text[j] == '-')) negative = text[j++] == '-';
+      if (j < n && std::isdigit(static_cast<unsigned char>(text[j]))) {
+        decimal = true;
+        long e = 0;
+        while (j < n && std::isdigit(static_cast<unsigned char>(text[j]))) e = e * 10 + (text[j++] - '0');
+        exponent = negative ? -e : e;
+        i = j;
+      }
+    }
+    out += decimal ? decimal_to_rational(int_part, frac_part, exponent) : int_part;
+  }
+  return out;
+}
+
+GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) {
+  GiNaC::parser reader(table, /*strict=*/true);
+  return reader(exact_decimals(text));
+}
+
+GiNaC::ex exact_number(double value) {
+  char buf[40];
+  for (int digits = 15; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
+    if (std::strtod(buf, nullptr) == value) break;
+  }
+  return parse_expression(buf, GiNaC::symtab());
+}
+
+bool is_valid_identifier(const std::string& name, std::string* why) {
+  static const std::set<std::string> keywords = {
+      "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case",
+      "catch", "char", "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval",
+      "constexpr", "constinit", "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype",
+      "default", "delete", "do", "double", "dynamic_cast", "else", "enum", "explicit", "export", "extern",
+      "false", "float", "for", "friend", "goto", "if", "inline", "int", "long", "mutable", "namespace",
+      "new", "noexcept", "not", "not_eq", "nullptr", "operator", "or", "or_eq", "private", "protected",
+      "public", "register", "reinterpret_cast", "requires", "return", "short", "signed", "sizeof", "static",
+      "static_assert", "static_cast", "struct", "switch", "template", "this", "thread_local", "throw",
+      "true", "try", "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void",
+      "volatile", "wchar_t", "while", "xor", "xor_eq"};
+  // Names the expression language already uses (user names never reach emitted code: symbols are
+  // read from the kernel's argument arrays by index).
+  static const std::set<std::string> reserved = {
+      "t",    "sin",  "cos",  "tan",  "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "exp",
+      "log",  "sqrt", "abs",  "pow",  "Pi",   "I",    "Euler", "Catalan"};
+  auto fail = [&](const std::string& m) {
+    if (why) *why = m;
+    return false;
+  };
+  if (name.empty()) return fail("a name must not be empty");
+  if (!(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_'))
+    return fail("'" + name + "' is not a valid C++ identifier (it must start with a letter or '_')");
+  for (char c : name)
+    if (!is_ident_char(c)) return fail("'" + name + "' is not a valid C++ identifier (letters, digits and '_' only)");
+  if (name[0] == '_') return fail("'" + name + "' starts with '_', which C++ reserves for the implementation");
+  if (name.find("__") != std::string::npos) return fail("'" + name + "' contains '__', which C++ reserves");
+  if (keywords.count(name)) return fail("'" + name + "' is a C++ keyword");
+  if (reserved.count(name)) return fail("'" + name + "' is reserved (a function, constant or emitted-code name)");
+  if (name.size() > 4 && name.compare(name.size() - 4, 4, "_dot") == 0)
+    return fail("'" + name + "' ends in '_dot', which is reserved for coordinate rates");
+  return true;
+}
+
+}  // namespace hamel

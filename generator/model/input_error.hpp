@@ -1,0 +1,25 @@
+// Errors in user input (model files, command-line values). The CLI maps them to exit status 2;
+// every message names the file, line and column, the key and what was expected.
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace hamel {
+
+/// Where in an input file something stands (1-based line and column; 0 means unknown).
+struct SourceLocation {
+  std::string file;
+  int line = 0;
+  int column = 0;
+  std::string to_string() const;
+};
+
+/// An error the user can fix in the input. what() is the full, formatted message.
+class InputError : public std::runtime_error {
+ public:
+  InputError(const SourceLocation& where, const std::string& key, const std::string& problem);
+  explicit InputError(const std::string& message) : std::runtime_error(message) {}
+};
+
+}  // namespace hamel

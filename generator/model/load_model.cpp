@@ -1,0 +1,323 @@
+#include "model/load_model.hpp"
+
+#include "model/expression_parser.hpp"
+#include "model/input_error.hpp"
+
+#include <yaml-cpp/yaml.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <map>
+#include <set>
+#include <sstream>
+
+namespace hamel {
+
+std::string content_hash(const std::string& bytes) {
+  std::uint64_t h = 1469598103934665603ULL;
+  for (unsigned char c : bytes) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  char buf[17];
+  std::snprintf(buf, sizeof buf, "%016llx", static_cast<unsigned long long>(h));
+  return buf;
+}
+
+std::vector<int> Model::independent() const {
+  std::vector<int> idx;
+  for (int a = 0; a < static_cast<int>(quasi_velocities.size()); ++a)
+    if (std::find(constrained.begin(), constrained.end(), a) == constrained.end()) idx.push_back(a);
+  return idx;
+}
+
+GiNaC::symtab Model::symbols() const {
+  GiNaC::symtab table;
+  table["t"] = time;
+  for (const auto& p : parameters) table[p.symbol.get_name()] = p.symbol;
+  for (const auto& s : coordinates) table[s.get_name()] = s;
+  for (const auto& s : rates) table[s.get_name()] = s;
+  for (const auto& s : quasi_velocities) table[s.get_name()] = s;
+  for (const auto& s : inputs) table[s.get_name()] = s;
+  return table;
+}
+
+namespace {
+
+std::size_t edit_distance(const std::string& a, const std::string& b) {
+  std::vector<std::size_t> row(b.size() + 1);
+  for (std::size_t j = 0; j <= b.size(); ++j) row[j] = j;
+  for (std::size_t i = 1; i <= a.size(); ++i) {
+    std::size_t diag = row[0];
+    row[0] = i;
+    for (std::size_t j = 1; j <= b.size(); ++j) {
+      std::size_t up = row[j];
+      row[j] = std::min({row[j] + 1, row[j - 1] + 1, diag + (a[i - 1] == b[j - 1] ? 0 : 1)});
+      diag = up;
+    }
+  }
+  return row[b.size()];
+}
+
+std::string did_you_mean(const std::string& word, const std::vector<std::string>& candidates) {
+  std::string best;
+  std::size_t best_d = 3;
+  for (const auto& c : candidates) {
+    std::size_t d = edit_distance(word, c);
+    if (d < best_d) best_d = d, best = c;
+  }
+  return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
+}
+
+// GiNaC's messages carry C++ function names and a position that is always 0:0; keep the substance.
+std::string describe_parse_error(std::string msg) {
+  const std::string unknown = "symbol \"";
+  if (auto at = msg.find(unknown); at != std::string::npos && msg.find("not found") != std::string::npos) {
+    const auto start = at + unknown.size();
+    return "unknown name '" + msg.substr(start, msg.find('"', start) - start) + "'";
+  }
+  if (auto bracket = msg.find("\n["); bracket != std::string::npos) msg.erase(bracket);
+  if (auto bracket = msg.find(" ["); bracket != std::string::npos) msg.erase(bracket);
+  for (const std::string prefix : {"GiNaC: ", "parse error at line 0, column 0: "})
+    if (auto at = msg.find(prefix); at != std::string::npos) msg.erase(at, prefix.size());
+  while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
+  return msg;
+}
+
+// Reads one file, keeping its name for messages.
+class Loader {
+ public:
+  Loader(const std::string& text, const std::string& path) : text_(text), path_(path) {}
+
+  Model load();
+
+ private:
+  SourceLocation where(const YAML::Node& node) const {
+    const YAML::Mark m = node.Mark();
+    return {path_, m.line >= 0 ? m.line + 1 : 0, m.column >= 0 ? m.column + 1 : 0};
+  }
+  [[noreturn]] void fail(const YAML::Node& node, const std::string& key, const std::string& problem) const {
+    throw InputError(where(node), key, problem);
+  }
+
+  YAML::Node require(const std::string& key, YAML::NodeType::value type, const char* expected) const {
+    YAML::Node node = root_[key];
+    if (!node) throw InputError(where(root_), key, std::string("missing required key; expected ") + expected);
+    if (node.Type() != type) fail(node, key, std::string("expected ") + expected);
+    return node;
+  }
+
+  std::string scalar(const YAML::Node& node, const std::string& key) const {
+    if (!node.IsScalar()) fail(node, key, "expected a scalar (an expression string or a number)");
+    return node.Scalar();
+  }
+
+  void declare_name(const YAML::Node& node, const std::string& key, const std::string& name) {
+    std::string why;
+    if (!is_valid_identifier(name, &why)) fail(node, key, why);
+    auto [it, inserted] = declared_.emplace(name, key);
+    if (!inserted) fail(node, key, "the name '" + name + "' is already declared in '" + it->second + "'");
+  }
+
+  std::vector<GiNaC::realsymbol> name_list(const YAML::Node& node, const std::string& key) {
+    if (!node.IsSequence()) fail(node, key, "expected a list of names");
+    std::vector<GiNaC::realsymbol> out;
+    for (std::size_t i = 0; i < node.size(); ++i) {
+      const std::string item_key = key + "[" + std::to_string(i) + "]";
+      const std::string name = scalar(node[i], item_key);
+      declare_name(node[i], item_key, name);
+      out.emplace_back(name);
+    }
+    return out;
+  }
+
+  GiNaC::ex expression(const YAML::Node& node, const std::string& key, const GiNaC::symtab& table,
+                       const std::string& allowed) const {
+    const std::string text = scalar(node, key);
+    try {
+      return parse_expression(text, table);
+    } catch (const std::exception& e) {
+      fail(node, key, "cannot parse expression \"" + text + "\": " + describe_parse_error(e.what()) + "; " + allowed);
+    }
+  }
+
+  GiNaC::matrix matrix_of(const YAML::Node& node, const std::string& key, std::size_t rows, std::size_t cols,
+                          const GiNaC::symtab& table, const std::string& allowed) const {
+    if (!node.IsSequence() || node.size() != rows)
+      fail(node, key, "expected a list of " + std::to_string(rows) + " rows (one per quasi-velocity)");
+    GiNaC::matrix m(static_cast<unsigned>(rows), static_cast<unsigned>(cols));
+    for (std::size_t i = 0; i < rows; ++i) {
+      const std::string row_key = key + "[" + std::to_string(i) + "]";
+      if (!node[i].IsSequence() || node[i].size() != cols)
+        fail(node[i], row_key, "expected a row of " + std::to_string(cols) + " entries (one per coordinate)");
+      for (std::size_t j = 0; j < cols; ++j)
+        m(static_cast<unsigned>(i), static_cast<unsigned>(j)) =
+            expression(node[i][j], row_key + "[" + std::to_string(j) + "]", table, allowed);
+    }
+    return m;
+  }
+
+  void check_keys(const YAML::Node& node, const std::string& context, const std::vector<std::string>& known) const {
+    static const std::set<std::string> planned = {"group", "trivialization", "group_velocity", "shape",
+                                                  "connection", "kinetic", "bodies", "potential"};
+    for (const auto& kv : node) {
+      const std::string key = kv.first.as<std::string>();
+      if (std::find(known.begin(), known.end(), key) != known.end()) continue;
+      if (context.empty() && planned.count(key))
+        fail(kv.first, key, "is a principal-bundle key of schema 1 that this version of hamel does not implement yet");
+      fail(kv.first, context.empty() ? key : context + "." + key,
+           "unknown key" + did_you_mean(key, known) + "; expected one of: " + join(known));
+    }
+  }
+
+  static std::string join(const std::vector<std::string>& words) {
+    std::string s;
+    for (const auto& w : words) s += (s.empty() ? "" : ", ") + w;
+    return s;
+  }
+
+  const std::string& text_;
+  std::string path_;
+  YAML::Node root_;
+  std::map<std::string, std::string> declared_;  // name -> key that declared it
+};
+
+Model Loader::load() {
+  try {
+    root_ = YAML::Load(text_);
+  } catch (const YAML::Exception& e) {
+    throw InputError(SourceLocation{path_, e.mark.line + 1, e.mark.column + 1}, "",
+                     "YAML syntax error: " + e.msg);
+  }
+  if (!root_.IsMap()) throw InputError(SourceLocation{path_, 1, 1}, "", "expected a YAML mapping of model keys");
+  check_keys(root_, "", {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities",
+                         "constraints", "lagrangian", "forces", "inputs"});
+
+  Model model;
+  model.source_path = path_;
+  model.source_hash = content_hash(text_);
+
+  if (YAML::Node schema = root_["schema"]) {
+    if (scalar(schema, "schema") != "1") fail(schema, "schema", "unsupported schema version; expected 1");
+  }
+  YAML::Node name = require("name", YAML::NodeType::Scalar, "a name (a C++ identifier)");
+  model.name = name.Scalar();
+  {
+    std::string why;
+    if (!is_valid_identifier(model.name, &why)) fail(name, "name", why + " (the name becomes a C++ namespace)");
+  }
+  if (YAML::Node d = root_["description"]) model.description = scalar(d, "description");
+
+  if (YAML::Node params = root_["parameters"]) {
+    if (!params.IsMap()) fail(params, "parameters", "expected a map of name: default value");
+    for (const auto& kv : params) {
+      const std::string pname = kv.first.as<std::string>();
+      const std::string key = "parameters." + pname;
+      declare_name(kv.first, key, pname);
+      const std::string value = scalar(kv.second, key);
+      double v = 0;
+      try {
+        std::size_t used = 0;
+        v = std::stod(value, &used);
+        if (used != value.size()) throw std::invalid_argument(value);
+      } catch (const std::exception&) {
+        fail(kv.second, key, "expected a number, got \"" + value + "\"");
+      }
+      if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got \"" + value + "\"");
+      model.parameters.push_back({GiNaC::realsymbol(pname), v});
+    }
+  }
+
+  YAML::Node coords = require("coordinates", YAML::NodeType::Sequence, "a list of coordinate names");
+  model.coordinates = name_list(coords, "coordinates");
+  if (model.coordinates.empty()) fail(coords, "coordinates", "expected at least one coordinate");
+  for (std::size_t i = 0; i < model.coordinates.size(); ++i) {
+    const std::string rate = model.coordinates[i].get_name() + "_dot";
+    declared_.emplace(rate, "coordinates");
+    model.rates.emplace_back(rate);
+  }
+  const std::size_t n = model.coordinates.size();
+
+  YAML::Node qv = require("quasi_velocities", YAML::NodeType::Map, "a map with keys names, A and optionally B");
+  check_keys(qv, "quasi_velocities", {"names", "A", "B"});
+  if (!qv["names"]) fail(qv, "quasi_velocities.names", "missing required key; expected a list of names");
+  model.quasi_velocities = name_list(qv["names"], "quasi_velocities.names");
+  if (model.quasi_velocities.size() != n)
+    fail(qv["names"], "quasi_velocities.names",
+         "expected " + std::to_string(n) + " names (one per coordinate), got " +
+             std::to_string(model.quasi_velocities.size()));
+
+  if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
+
+  const GiNaC::symtab all = model.symbols();
+  GiNaC::symtab geometric;  // what A(q) and B(q) may use
+  for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
+  for (const auto& s : model.coordinates) geometric[s.get_name()] = s;
+  const std::string geometric_allowed = "A(q) and B(q) may use coordinates and parameters only";
+
+  if (!qv["A"]) fail(qv, "quasi_velocities.A", "missing required key; expected an n x n matrix (list of rows)");
+  model.locations["quasi_velocities.A"] = where(qv["A"]);
+  model.A = matrix_of(qv["A"], "quasi_velocities.A", n, n, geometric, geometric_allowed);
+  if (YAML::Node b = qv["B"]) {
+    model.locations["quasi_velocities.B"] = where(b);
+    model.B = matrix_of(b, "quasi_velocities.B", n, n, geometric, geometric_allowed);
+    model.B_given = true;
+  }
+
+  if (YAML::Node cons = root_["constraints"]) {
+    if (!cons.IsSequence()) fail(cons, "constraints", "expected a list of quasi-velocity names");
+    std::vector<std::string> names;
+    for (const auto& u : model.quasi_velocities) names.push_back(u.get_name());
+    for (std::size_t i = 0; i < cons.size(); ++i) {
+      const std::string key = "constraints[" + std::to_string(i) + "]";
+      const std::string cname = scalar(cons[i], key);
+      auto it = std::find(names.begin(), names.end(), cname);
+      if (it == names.end())
+        fail(cons[i], key, "'" + cname + "' is not a quasi-velocity" + did_you_mean(cname, names) +
+                               "; expected one of: " + join(names));
+      const int index = static_cast<int>(it - names.begin());
+      if (std::find(model.constrained.begin(), model.constrained.end(), index) != model.constrained.end())
+        fail(cons[i], key, "'" + cname + "' is listed twice");
+      model.constrained.push_back(index);
+    }
+    if (model.constrained.size() >= n)
+      fail(cons, "constraints", "at least one quasi-velocity must stay independent");
+  }
+
+  GiNaC::symtab lagrangian_table = all;
+  for (const auto& s : model.inputs) lagrangian_table.erase(s.get_name());
+  YAML::Node lag = require("lagrangian", YAML::NodeType::Scalar, "an expression");
+  model.locations["lagrangian"] = where(lag);
+  model.lagrangian = expression(lag, "lagrangian", lagrangian_table,
+                                "the Lagrangian may use coordinates, their _dot rates, quasi-velocities, "
+                                "parameters and t");
+
+  model.forces.assign(n, GiNaC::ex(0));
+  if (YAML::Node forces = root_["forces"]) {
+    if (!forces.IsSequence() || forces.size() != n)
+      fail(forces, "forces", "expected a list of " + std::to_string(n) + " expressions (one per coordinate)");
+    for (std::size_t i = 0; i < n; ++i)
+      model.forces[i] = expression(forces[i], "forces[" + std::to_string(i) + "]", all,
+                                   "forces may use coordinates, _dot rates, quasi-velocities, parameters, "
+                                   "inputs and t");
+  }
+  return model;
+}
+
+}  // namespace
+
+Model load_model_from_text(const std::string& text, const std::string& path) {
+  Loader loader(text, path);
+  return loader.load();
+}
+
+Model load_model(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the model file");
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return load_model_from_text(buffer.str(), path);
+}
+
+}  // namespace hamel

@@ -1,0 +1,52 @@
+// The model description (schema 1): symbols and expressions as the user wrote them, before any
+// derivation. See docs/model-format.md; the paper's notation is in comments.
+#pragma once
+
+#include "model/input_error.hpp"
+
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace hamel {
+
+/// A named symbol with a default value (parameters) or without (coordinates, velocities, inputs).
+struct Parameter {
+  GiNaC::realsymbol symbol;
+  double default_value = 0.0;
+};
+
+struct Model {
+  std::string name;
+  std::string description;
+  std::string source_path;  ///< as given on the command line
+  std::string source_hash;  ///< FNV-1a 64 of the file's bytes, hex
+
+  GiNaC::realsymbol time{"t"};
+  std::vector<Parameter> parameters;
+  std::vector<GiNaC::realsymbol> coordinates;       ///< q^a
+  std::vector<GiNaC::realsymbol> rates;             ///< q̇^a, spelled <name>_dot
+  std::vector<GiNaC::realsymbol> quasi_velocities;  ///< u^a, eq. (u2)
+  std::vector<GiNaC::realsymbol> inputs;            ///< run-time inputs in forces
+
+  GiNaC::matrix A;          ///< u = A(q) q̇, eq. (u2); rows: u^a, columns: q^b
+  GiNaC::matrix B;          ///< q̇ = B(q) u, only when given in the file
+  bool B_given = false;
+  std::vector<int> constrained;  ///< indices α of quasi-velocities held at zero, eq. (PfaffianConstr)
+
+  GiNaC::ex lagrangian;            ///< L(q, q̇, u, t)
+  std::vector<GiNaC::ex> forces;   ///< Q_a dual to q^a (zeros when absent)
+
+  /// Where each key stood in the file ("quasi_velocities.A", "lagrangian", ...), for later errors.
+  std::map<std::string, SourceLocation> locations;
+
+  std::size_t n() const { return coordinates.size(); }
+  /// Indices I of the independent quasi-velocities, in file order, eq. (PfaffForm).
+  std::vector<int> independent() const;
+  /// All symbols a numeric evaluation of the model may need, by name.
+  GiNaC::symtab symbols() const;
+};
+
+}  // namespace hamel

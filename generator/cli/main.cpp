@@ -4,10 +4,32 @@
 #include "emit/cpp_emitter.hpp"
 #include "model/input_error.hpp"
 
+#include <sys/personality.h>
+#include <unistd.h>
+
+#include <cstdlib>
 #include <iostream>
 #include <map>
 
+namespace {
+
+// GiNaC orders terms by hash values that include the address of type information in libginac, so with
+// address-space randomisation the same model can print with terms in another order from run to run.
+// Emitted files must be byte-identical on regeneration: run the generator with a fixed address layout
+// by re-executing once with randomisation off. Where the kernel refuses, we go on (output stays
+// correct, only possibly ordered differently).
+void fix_address_layout(char** argv) {
+  const int persona = personality(0xffffffff);
+  if (persona == -1 || (persona & ADDR_NO_RANDOMIZE) || std::getenv("HAMEL_NO_REEXEC")) return;
+  if (personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE) == -1) return;
+  setenv("HAMEL_NO_REEXEC", "1", 1);
+  execv("/proc/self/exe", argv);
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
+  fix_address_layout(argv);
   CLI::App app{"hamel: derive Hamel coefficients and equations of motion, emit C++ kernels, simulate"};
   app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());
   app.require_subcommand(1);

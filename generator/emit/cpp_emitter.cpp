@@ -122,6 +122,7 @@ std::string print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes&
   static const char* args[4] = {"t", "x", "p", "in"};
   for (int a = 0; a < 4; ++a)
     if (!uses[a]) os << "  (void)" << args[a] << ";\n";
+  if (k.outputs.empty()) os << "  (void)out;\n";
   os << body.str() << "}\n";
   return os.str();
 }

@@ -218,10 +218,8 @@ Model Loader::load() {
       const std::string value = scalar(kv.second, key);
       double v = 0;
       try {
-        std::size_t used = 0;
-        v = std::stod(value, &used);
-        if (used != value.size()) throw std::invalid_argument(value);
-      } catch (const std::exception&) {
+        v = kv.second.as<double>();  // YAML's own number syntax, including .inf and .nan
+      } catch (const YAML::Exception&) {
         fail(kv.second, key, "expected a number, got \"" + value + "\"");
       }
       if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got \"" + value + "\"");

@@ -1,0 +1,130 @@
+// The command-line contract, exercised on the real binary: JSON shape of `derive`, CSV header of
+// `simulate`, byte-identical regeneration by `emit`, exit status 2 and no output on bad input.
+#include <nlohmann/json.hpp>
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string source(const std::string& relative) {
+  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
+  return std::string(dir ? dir : ".") + "/" + relative;
+}
+
+struct Outcome {
+  int status;
+  std::string out;
+};
+
+// Runs `hamel ARGS`, capturing stdout (stderr discarded unless redirected in args).
+Outcome hamel(const std::string& args) {
+  const std::string command = std::string(HAMEL_BINARY) + " " + args;
+  FILE* pipe = popen(command.c_str(), "r");
+  std::string out;
+  std::array<char, 4096> buf;
+  std::size_t got;
+  while ((got = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), got);
+  const int status = pclose(pipe);
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+}
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("hamel_cli_test_" + std::to_string(::getpid())) / name;
+  fs::remove_all(dir);
+  fs::create_directories(dir.parent_path());
+  return dir;
+}
+
+TEST(Cli, DeriveJsonNamesEntriesAndCarriesValues) {
+  const Outcome r = hamel("derive " + source("models/rolling_ball.yaml") + " --json --at psi=0.3,theta=0.2,phi=0.1,x=0,y=0,vx=1,vy=2 2>/dev/null");
+  ASSERT_EQ(r.status, 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["model"], "rolling_ball");
+  bool found = false;
+  for (const auto& h : j["hamel"]) {
+    ASSERT_TRUE(h.contains("upper") && h.contains("lower") && h.contains("expr") && h.contains("value"));
+    if (h["upper"] == "u3" && h["lower"] == nlohmann::json{"vy", "vx"}) {
+      found = true;
+      EXPECT_DOUBLE_EQ(h["value"].get<double>(), 100.0);  // 1/R² with R = 0.1
+    }
+  }
+  EXPECT_TRUE(found);
+  ASSERT_TRUE(j.contains("mass_matrix") && j.contains("forcing"));
+  for (const auto& e : j["mass_matrix"]) EXPECT_TRUE(e.contains("row") && e.contains("col") && e.contains("value"));
+  for (const auto& e : j["forcing"]) EXPECT_TRUE(e.contains("value"));
+}
+
+TEST(Cli, SimulateWritesCsvWithStateHeader) {
+  const fs::path out = scratch("sleigh.csv");
+  const Outcome r = hamel("simulate " + source("models/chaplygin_sleigh.yaml") + " --t-end 1 --integrator rk4 --dt 0.01 --init v=1,omega=0.5 --out " + out.string() + " 2>/dev/null");
+  ASSERT_EQ(r.status, 0);
+  std::istringstream lines(slurp(out));
+  std::string header;
+  std::getline(lines, header);
+  EXPECT_EQ(header, "t,x,y,theta,v,omega");
+  int rows = 0;
+  std::string line, last;
+  while (std::getline(lines, line)) ++rows, last = line;
+  EXPECT_EQ(rows, 101);
+  EXPECT_EQ(last.substr(0, 2), "1,");
+}
+
+TEST(Cli, EmitIsByteIdenticalOnRegeneration) {
+  const fs::path a = scratch("emit_a"), b = scratch("emit_b");
+  ASSERT_EQ(hamel("emit " + source("models/rolling_disk.yaml") + " -o " + a.string() + " 2>/dev/null").status, 0);
+  ASSERT_EQ(hamel("emit " + source("models/rolling_disk.yaml") + " -o " + b.string() + " 2>/dev/null").status, 0);
+  for (const char* file : {"rolling_disk.hpp", "rolling_disk.cpp"}) {
+    const std::string x = slurp(a / file);
+    EXPECT_FALSE(x.empty());
+    EXPECT_EQ(x, slurp(b / file)) << file;
+  }
+  // Regenerating into an existing folder replaces it, leaving no staging folders behind.
+  ASSERT_EQ(hamel("emit " + source("models/rolling_disk.yaml") + " -o " + a.string() + " 2>/dev/null").status, 0);
+  int entries = 0;
+  for (const auto& e : fs::directory_iterator(a.parent_path())) entries += e.path().filename().string().rfind("emit_a", 0) == 0;
+  EXPECT_EQ(entries, 1);
+}
+
+TEST(Cli, BadInputExitsTwoAndWritesNothing) {
+  const fs::path bad = scratch("bad.yaml");
+  {
+    std::ofstream f(bad);
+    f << "name: broken\ncoordinates: [x]\nquasi_velocities: {names: [u], A: [[1]]}\nlagrangian: \"x_dot^2 + k\"\n";
+  }
+  const fs::path out = scratch("never");
+  const Outcome r = hamel("emit " + bad.string() + " -o " + out.string() + " 2>&1");
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.out.find("bad.yaml:4:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("unknown name 'k'"), std::string::npos) << r.out;
+  EXPECT_FALSE(fs::exists(out));
+  EXPECT_EQ(hamel("simulate " + bad.string() + " --t-end 1 2>/dev/null").status, 2);
+  EXPECT_EQ(hamel("derive /nonexistent/model.yaml 2>/dev/null").status, 2);
+  EXPECT_EQ(hamel("simulate " + source("models/chaplygin_sleigh.yaml") + " --t-end 1 --init nope=1 2>/dev/null").status, 2);
+  EXPECT_EQ(hamel("frobnicate 2>/dev/null").status, 2);
+}
+
+TEST(Cli, HelpForEveryVerb) {
+  for (const char* verb : {"derive", "emit", "simulate"}) {
+    const Outcome r = hamel(std::string(verb) + " --help");
+    EXPECT_EQ(r.status, 0) << verb;
+    EXPECT_NE(r.out.find("Usage"), std::string::npos) << verb;
+  }
+}
+
+}  // namespace

@@ -1,0 +1,57 @@
+// Known answers for the exact simplifier: trigonometric identities GiNaC's normal() misses, and
+// expressions that must stay non-zero.
+#include "algebra/simplify.hpp"
+#include "model/expression_parser.hpp"
+
+#include <gtest/gtest.h>
+
+namespace {
+
+using GiNaC::ex;
+
+class Simplify : public ::testing::Test {
+ protected:
+  GiNaC::realsymbol a{"a"}, b{"b"}, r{"r"};
+  ex parse(const std::string& s) {
+    GiNaC::symtab table;
+    table["a"] = a;
+    table["b"] = b;
+    table["r"] = r;
+    return hamel::parse_expression(s, table);
+  }
+};
+
+TEST_F(Simplify, PythagoreanIdentityIsOne) {
+  EXPECT_EQ(hamel::simplify(parse("sin(a)^2 + cos(a)^2")), ex(1));
+  EXPECT_EQ(hamel::simplify(parse("-(sin(a)^2 + cos(a)^2)^(-1)")), ex(-1));  // the rolling ball's γ before reduction
+  EXPECT_TRUE(hamel::is_zero_exactly(parse("sin(a)^4 - cos(a)^4 - sin(a)^2 + cos(a)^2")));
+}
+
+TEST_F(Simplify, AdditionTheoremsAreKnown) {
+  EXPECT_TRUE(hamel::is_zero_exactly(parse("sin(a+b) - sin(a)*cos(b) - cos(a)*sin(b)")));
+  EXPECT_TRUE(hamel::is_zero_exactly(parse("cos(a-b) - cos(a)*cos(b) - sin(a)*sin(b)")));
+  EXPECT_TRUE(hamel::is_zero_exactly(parse("sin(2*a) - 2*sin(a)*cos(a)")));
+  EXPECT_TRUE(hamel::is_zero_exactly(parse("cos(3*a) - 4*cos(a)^3 + 3*cos(a)")));
+  EXPECT_TRUE(hamel::is_zero_exactly(parse("tan(a)*cos(a) - sin(a)")));
+}
+
+TEST_F(Simplify, RationalFunctionsCancel) {
+  EXPECT_TRUE(hamel::is_zero_exactly(parse("(cos(a)^2*r + sin(a)^2*r)/(r^2) - 1/r")));
+  EXPECT_EQ(hamel::simplify(parse("(sin(a)^2*cos(b) + cos(a)^2*cos(b))/cos(b)")), ex(1));
+}
+
+TEST_F(Simplify, NonZeroStaysNonZero) {
+  EXPECT_FALSE(hamel::is_zero_exactly(parse("sin(a)^2 - cos(a)^2")));
+  EXPECT_FALSE(hamel::is_zero_exactly(parse("sin(a+b) - sin(a) - sin(b)")));
+  EXPECT_FALSE(hamel::is_zero_exactly(parse("1/r - 1/(r+1)")));
+  // A tiny but exact rational is not zero.
+  EXPECT_FALSE(hamel::is_zero_exactly(parse("1e-30*sin(a)")));
+}
+
+TEST(ExactDecimals, DecimalsBecomeRationals) {
+  EXPECT_EQ(hamel::exact_decimals("0.5*m + 1e-3 + 2.5E2*x1 + y2.z"), "(5/10)*m + (1/1000) + (250)*x1 + y2.z");
+  EXPECT_EQ(hamel::exact_decimals("12 + .25"), "12 + (25/100)");
+  EXPECT_EQ(hamel::exact_number(0.1), GiNaC::numeric(1, 10));
+}
+
+}  // namespace

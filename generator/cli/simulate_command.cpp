@@ -142,7 +142,7 @@ void run(const SimulateOptions& opt) {
             << result.stats.steps << " steps (" << result.stats.rejected << " rejected), " << result.stats.rhs_evals
             << " right-hand-side evaluations\n";
   std::cerr << "  energy: initial " << energy.initial() << ", max relative drift " << energy.max_relative_deviation()
-            << (derivation.equations.conservative ? "" : " (not conserved: forced or time-dependent model)") << "\n";
+            << (derivation.equations.conservative ? "" : " (an invariant only while the model's forces vanish and L has no explicit t)") << "\n";
   if (constrained) std::cerr << "  constraint residual |A_alpha(q) q_dot|: max " << residual_max << "\n";
   std::cerr << "  final state: " << state.str() << "\n";
 }

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Installs the Debian packages hamel needs to build and test (skips what is already installed).
+set -euo pipefail
+packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libgtest-dev
+          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all packages present"
+  exit 0
+fi
+echo "install-deps: installing ${missing[*]}"
+sudo_cmd=""
+[ "$(id -u)" -eq 0 ] || sudo_cmd="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$sudo_cmd apt-get update -qq
+$sudo_cmd apt-get install -y -qq --no-install-recommends "${missing[@]}"

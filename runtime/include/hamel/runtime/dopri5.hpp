@@ -1,0 +1,302 @@
+// SPDX-License-Identifier: MIT
+// Adaptive Dormand-Prince 5(4) integrator with dense output, after Hairer's DOPRI5.
+//
+// Reference: E. Hairer, S. P. Norsett, G. Wanner, "Solving Ordinary Differential
+// Equations I", 2nd ed., Springer 1993, Sections II.4-II.6, and the Fortran code
+// dopri5.f by Hairer and Wanner, whose coefficients and step-size controller are
+// reproduced here.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <utility>
+#include <vector>
+
+#include "hamel/runtime/integration.hpp"
+#include "hamel/runtime/status.hpp"
+
+namespace hamel::runtime {
+
+/// Settings of integrate_dopri5.
+struct Dopri5Options {
+  double rtol = 1e-8;         // relative tolerance, per component
+  double atol = 1e-10;        // absolute tolerance, per component; keep it > 0 for states near 0
+  double h0 = 0;              // initial step (sign ignored); 0: automatic (Hairer's algorithm)
+  double h_max = 0;           // largest step; 0: no limit
+  long max_steps = 10000000;  // limit on step attempts, accepted plus rejected
+};
+
+namespace detail::dopri5 {
+
+// Butcher tableau (Dormand & Prince 1980).
+constexpr double c2 = 1.0 / 5.0, c3 = 3.0 / 10.0, c4 = 4.0 / 5.0, c5 = 8.0 / 9.0;
+constexpr double a21 = 1.0 / 5.0;
+constexpr double a31 = 3.0 / 40.0, a32 = 9.0 / 40.0;
+constexpr double a41 = 44.0 / 45.0, a42 = -56.0 / 15.0, a43 = 32.0 / 9.0;
+constexpr double a51 = 19372.0 / 6561.0, a52 = -25360.0 / 2187.0, a53 = 64448.0 / 6561.0,
+                 a54 = -212.0 / 729.0;
+constexpr double a61 = 9017.0 / 3168.0, a62 = -355.0 / 33.0, a63 = 46732.0 / 5247.0,
+                 a64 = 49.0 / 176.0, a65 = -5103.0 / 18656.0;
+// The fifth-order weights double as the last stage row (FSAL).
+constexpr double a71 = 35.0 / 384.0, a73 = 500.0 / 1113.0, a74 = 125.0 / 192.0,
+                 a75 = -2187.0 / 6784.0, a76 = 11.0 / 84.0;
+// Difference between the fifth- and fourth-order weights.
+constexpr double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
+                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
+// Continuous extension of order 4: the dense output coefficients of dopri5.f
+// (due to Shampine, 1986).
+constexpr double d1 = -12715105075.0 / 11282082432.0, d3 = 87487479700.0 / 32700410799.0,
+                 d4 = -10690763975.0 / 1880347072.0, d5 = 701980252875.0 / 199316789632.0,
+                 d6 = -1453857185.0 / 822651844.0, d7 = 69997945.0 / 29380423.0;
+
+// Step-size controller of dopri5.f: PI control with Lund stabilisation.
+constexpr double safety = 0.9;
+constexpr double fac_min = 0.2;   // h_new / h >= 0.2
+constexpr double fac_max = 10.0;  // h_new / h <= 10
+constexpr double beta = 0.04;
+constexpr double expo1 = 0.2 - beta * 0.75;
+
+/// Hairer's starting-step heuristic (hinit in dopri5.f): make an explicit Euler
+/// step of a size where the first derivative looks resolved, then pick h so
+/// that the estimated local error of order 5 is about 0.01 in the scaled norm.
+/// Costs one rhs evaluation.
+template <class Rhs>
+double initial_step(Rhs& rhs, double t, const double* x, const double* f0, double dir,
+                    double h_limit, const Dopri5Options& opt, double* x1, double* f1, std::size_t n,
+                    long& rhs_evals) {
+  double dnf = 0.0;
+  double dny = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double sk = opt.atol + opt.rtol * std::fabs(x[i]);
+    dnf += (f0[i] / sk) * (f0[i] / sk);
+    dny += (x[i] / sk) * (x[i] / sk);
+  }
+  double h = (dnf <= 1e-10 || dny <= 1e-10) ? 1e-6 : 0.01 * std::sqrt(dny / dnf);
+  h = std::min(h, h_limit);
+
+  for (std::size_t i = 0; i < n; ++i) x1[i] = x[i] + dir * h * f0[i];
+  rhs(t + dir * h, x1, f1);
+  ++rhs_evals;
+  double der2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double sk = opt.atol + opt.rtol * std::fabs(x[i]);
+    der2 += ((f1[i] - f0[i]) / sk) * ((f1[i] - f0[i]) / sk);
+  }
+  der2 = std::sqrt(der2) / h;
+  if (!std::isfinite(der2) || !std::isfinite(dnf)) {
+    return h;  // The guess is unusable; let step rejection shrink h instead.
+  }
+  const double der12 = std::max(der2, std::sqrt(dnf));
+  const double h1 = der12 <= 1e-15 ? std::max(1e-6, h * 1e-3) : std::pow(0.01 / der12, 1.0 / 5.0);
+  return std::min({100.0 * h, h1, h_limit});
+}
+
+}  // namespace detail::dopri5
+
+/// Integrates x' = rhs(t, x) from t0 to t_end (t_end may lie before t0) with
+/// the adaptive Dormand-Prince 5(4) pair, advancing with the fifth-order
+/// solution and reusing the last stage as the next first stage (FSAL).
+///
+/// A step is accepted when the RMS over components of err_i / (atol + rtol *
+/// max(|x_i|, |x_new_i|)) is at most 1. observe(t, x) is called at t0, at every
+/// t0 + k*sample_dt strictly inside the interval, and at t_end, once each and in
+/// order; samples come from Hairer's order-4 continuous extension at no extra
+/// rhs cost. sample_dt <= 0 observes every accepted step instead.
+///
+/// Failures leave the last accepted state and its time in the result:
+/// step_size_underflow when the controller needs h < 1e-14 * max(1, |t|);
+/// non_finite_state for a non-finite t0, t_end, initial state or initial
+/// derivative, or when non-finite stages persist (they are first treated as a
+/// rejected step and retried with a step 5 times smaller) down to that
+/// underflow limit; too_many_steps when opt.max_steps attempts do not suffice.
+template <class Rhs, class Observer>
+IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end,
+                                   const Dopri5Options& opt, double sample_dt, Observer&& observe) {
+  namespace k = detail::dopri5;
+  IntegrationResult result;
+  result.t = t0;
+  const std::size_t n = x.size();
+  auto finish = [&](Status status) {
+    result.status = status;
+    result.x = std::move(x);
+    return std::move(result);
+  };
+
+  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x.data(), n)) {
+    return finish(Status::non_finite_state);
+  }
+  observe(t0, x.data());
+  if (t_end == t0) {
+    return finish(Status::ok);
+  }
+  const double dir = t_end > t0 ? 1.0 : -1.0;
+  const double h_limit = opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity();
+
+  // One allocation for all work vectors; pointers are swapped, not data.
+  std::vector<double> work(12 * n);
+  double* k1 = work.data();
+  double* k2 = k1 + n;
+  double* k3 = k2 + n;
+  double* k4 = k3 + n;
+  double* k5 = k4 + n;
+  double* k6 = k5 + n;
+  double* k7 = k6 + n;
+  double* stage = k7 + n;
+  double* x_new = stage + n;
+  double* r4 = x_new + n;  // dense output coefficients besides x, x_new - x and bspl
+  double* r5 = r4 + n;
+  double* sample = r5 + n;
+
+  double t = t0;
+  rhs(t, x.data(), k1);
+  ++result.stats.rhs_evals;
+  if (!all_finite(k1, n)) {
+    return finish(Status::non_finite_state);
+  }
+
+  double h = std::fabs(opt.h0);
+  if (h == 0.0 || !std::isfinite(h)) {
+    h = k::initial_step(rhs, t, x.data(), k1, dir, std::min(h_limit, std::fabs(t_end - t0)), opt,
+                        stage, k2, n, result.stats.rhs_evals);
+  }
+  h = std::min(h, h_limit);
+
+  detail::SampleClock clock(t0, t_end, sample_dt);
+  double fac_old = 1e-4;
+  bool rejected_last = false;    // no growth right after a rejection
+  bool non_finite_last = false;  // the last rejection came from NaN/Inf, not from the error
+  const double inv_n = n > 0 ? 1.0 / static_cast<double>(n) : 0.0;
+
+  for (;;) {
+    if (result.stats.steps + result.stats.rejected >= opt.max_steps) {
+      return finish(Status::too_many_steps);
+    }
+    if (!(h >= detail::min_step(t))) {
+      return finish(non_finite_last ? Status::non_finite_state : Status::step_size_underflow);
+    }
+    // Stretch or shrink the step to hit t_end exactly rather than leave a sliver.
+    bool last = false;
+    if ((t + 1.01 * dir * h - t_end) * dir > 0) {
+      h = std::fabs(t_end - t);
+      last = true;
+    }
+    const double hs = dir * h;
+    const double t_next = last ? t_end : t + hs;
+
+    // Stages 2..7; a non-finite derivative aborts the attempt early.
+    bool finite = true;
+    auto eval = [&](double ts, const double* in, double* out) {
+      rhs(ts, in, out);
+      ++result.stats.rhs_evals;
+      finite = all_finite(out, n);
+      return finite;
+    };
+    do {
+      for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + hs * k::a21 * k1[i];
+      if (!eval(t + k::c2 * hs, stage, k2)) break;
+      for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + hs * (k::a31 * k1[i] + k::a32 * k2[i]);
+      if (!eval(t + k::c3 * hs, stage, k3)) break;
+      for (std::size_t i = 0; i < n; ++i) {
+        stage[i] = x[i] + hs * (k::a41 * k1[i] + k::a42 * k2[i] + k::a43 * k3[i]);
+      }
+      if (!eval(t + k::c4 * hs, stage, k4)) break;
+      for (std::size_t i = 0; i < n; ++i) {
+        stage[i] = x[i] + hs * (k::a51 * k1[i] + k::a52 * k2[i] + k::a53 * k3[i] + k::a54 * k4[i]);
+      }
+      if (!eval(t + k::c5 * hs, stage, k5)) break;
+      for (std::size_t i = 0; i < n; ++i) {
+        stage[i] = x[i] + hs * (k::a61 * k1[i] + k::a62 * k2[i] + k::a63 * k3[i] + k::a64 * k4[i] +
+                                k::a65 * k5[i]);
+      }
+      if (!eval(t_next, stage, k6)) break;
+      for (std::size_t i = 0; i < n; ++i) {
+        x_new[i] = x[i] + hs * (k::a71 * k1[i] + k::a73 * k3[i] + k::a74 * k4[i] + k::a75 * k5[i] +
+                                k::a76 * k6[i]);
+      }
+      finite = all_finite(x_new, n);
+      if (!finite) break;
+      eval(t_next, x_new, k7);
+    } while (false);
+
+    double err = 0.0;
+    if (finite) {
+      for (std::size_t i = 0; i < n; ++i) {
+        const double e = hs * (k::e1 * k1[i] + k::e3 * k3[i] + k::e4 * k4[i] + k::e5 * k5[i] +
+                               k::e6 * k6[i] + k::e7 * k7[i]);
+        const double sk = opt.atol + opt.rtol * std::max(std::fabs(x[i]), std::fabs(x_new[i]));
+        err += (e / sk) * (e / sk);
+      }
+      err = std::sqrt(err * inv_n);
+      finite = std::isfinite(err);
+    }
+    if (!finite) {
+      // Most likely the step left the region where the model is defined
+      // (or overflowed); a shorter step may stay inside it.
+      ++result.stats.rejected;
+      rejected_last = true;
+      non_finite_last = true;
+      h *= k::fac_min;
+      continue;
+    }
+
+    const double fac11 = std::pow(err, k::expo1);
+    if (err <= 1.0) {
+      // Lund stabilisation: the previous error damps the growth (PI control).
+      double fac = fac11 / std::pow(fac_old, k::beta);
+      fac = std::clamp(fac / k::safety, 1.0 / k::fac_max, 1.0 / k::fac_min);
+      double h_new = std::min(h / fac, h_limit);
+      if (rejected_last) {
+        h_new = std::min(h_new, h);
+      }
+      fac_old = std::max(err, 1e-4);
+      ++result.stats.steps;
+
+      if (clock.due(t_next)) {
+        // Dense output of dopri5.f: x + theta*(dx + (1-theta)*(bspl + theta*(r4 + (1-theta)*r5))),
+        // with r3 = bspl kept in k2, whose stage value is not needed any more.
+        double* bspl = k2;
+        for (std::size_t i = 0; i < n; ++i) {
+          const double dx = x_new[i] - x[i];
+          bspl[i] = hs * k1[i] - dx;
+          r4[i] = dx - hs * k7[i] - bspl[i];
+          r5[i] = hs * (k::d1 * k1[i] + k::d3 * k3[i] + k::d4 * k4[i] + k::d5 * k5[i] +
+                        k::d6 * k6[i] + k::d7 * k7[i]);
+        }
+        while (clock.due(t_next)) {
+          const double s = clock.next();
+          const double theta = (s - t) / hs;
+          const double theta1 = 1.0 - theta;
+          for (std::size_t i = 0; i < n; ++i) {
+            sample[i] = x[i] + theta * ((x_new[i] - x[i]) +
+                                        theta1 * (bspl[i] + theta * (r4[i] + theta1 * r5[i])));
+          }
+          observe(s, sample);
+          clock.advance();
+        }
+      }
+
+      std::copy(x_new, x_new + n, x.data());
+      std::swap(k1, k7);
+      t = t_next;
+      result.t = t;
+      if (!clock.enabled() || last) {
+        observe(t, x.data());
+      }
+      if (last) {
+        return finish(Status::ok);
+      }
+      h = h_new;
+      rejected_last = false;
+      non_finite_last = false;
+    } else {
+      ++result.stats.rejected;
+      rejected_last = true;
+      non_finite_last = false;
+      h /= std::min(1.0 / k::fac_min, fac11 / k::safety);
+    }
+  }
+}
+
+}  // namespace hamel::runtime

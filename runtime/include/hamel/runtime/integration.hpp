@@ -1,0 +1,102 @@
+// SPDX-License-Identifier: MIT
+// Types and helpers shared by the ODE integrators (rk4.hpp, dopri5.hpp).
+//
+// A right-hand side is any callable void(double t, const double* x, double* xdot);
+// an observer is any callable void(double t, const double* x). Both see raw
+// pointers so that generated code can pass its own fixed-size storage.
+#pragma once
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <vector>
+
+#include "hamel/runtime/status.hpp"
+
+namespace hamel::runtime {
+
+/// Work counters of one integration run.
+struct IntegrationStats {
+  long steps = 0;      // accepted steps
+  long rejected = 0;   // rejected step attempts (always 0 for fixed-step methods)
+  long rhs_evals = 0;  // calls of the right-hand side
+};
+
+/// Outcome of an integration run.
+struct IntegrationResult {
+  Status status = Status::ok;
+  double t = 0;  // t_end on success, else the time of the last finite accepted state
+  IntegrationStats stats;
+  std::vector<double> x;  // state at t (the failure point on failure)
+};
+
+/// Observer that ignores everything, for callers that only want the final state.
+struct NoObserver {
+  void operator()(double /*t*/, const double* /*x*/) const noexcept {}
+};
+
+/// True when none of the n values is NaN or infinite.
+inline bool all_finite(const double* x, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i) {
+    if (!std::isfinite(x[i])) {
+      return false;
+    }
+  }
+  return true;
+}
+
+namespace detail {
+
+/// Smallest step the integrators accept at time t. Below it t + h is no longer
+/// meaningfully different from t, so continuing would only burn time.
+inline double min_step(double t) { return 1e-14 * std::max(1.0, std::fabs(t)); }
+
+/// Sample times t0 + k*dt (k = 1, 2, ...) strictly inside (t0, t_end), in
+/// either direction of time.
+///
+/// Times are formed by multiplication rather than by summing dt, so sample k
+/// carries a single rounding error however long the run. A sample within
+/// rounding distance of t_end is dropped because the integrators observe t_end
+/// itself; without this, 0.1-spaced samples on [0, 0.3] would observe
+/// 0.30000000000000004 next to 0.3.
+class SampleClock {
+ public:
+  /// dt <= 0 (or NaN) disables sampling.
+  SampleClock(double t0, double t_end, double dt)
+      : t0_(t0),
+        t_end_(t_end),
+        dir_(t_end >= t0 ? 1.0 : -1.0),
+        dt_(dt > 0 ? dt : 0.0),
+        guard_(std::max(1e-9 * dt_, 8 * std::numeric_limits<double>::epsilon() *
+                                        std::max(std::fabs(t0), std::fabs(t_end)))) {}
+
+  /// Whether sampling was requested at all.
+  bool enabled() const { return dt_ > 0; }
+
+  /// Whether the next sample is at or before t (in the direction of integration).
+  bool due(double t) const {
+    if (!enabled()) {
+      return false;
+    }
+    const double s = next();
+    return (t - s) * dir_ >= 0 && (t_end_ - s) * dir_ > guard_;
+  }
+
+  /// Time of the next sample.
+  double next() const { return t0_ + dir_ * k_ * dt_; }
+
+  /// Moves on to the following sample.
+  void advance() { k_ += 1.0; }
+
+ private:
+  double t0_;
+  double t_end_;
+  double dir_;
+  double dt_;
+  double guard_;
+  double k_ = 1.0;  // a double so that absurdly many samples cannot overflow an integer
+};
+
+}  // namespace detail
+}  // namespace hamel::runtime

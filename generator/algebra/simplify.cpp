@@ -107,8 +107,7 @@ ex reduce_pythagoras(const ex& polynomial, const TrigSymbols& trig) {
     const int degree = p.degree(s);
     if (degree < 2) continue;
     ex reduced = 0;
-    for (int k = 0; k <= degree; ++k)
-      reduced += p.coeff(s, k) * GiNaC::pow(s, k % 2) * GiNaC::pow(1 - c * c, k / 2);
+    for (int k = 0; k <= degree; ++k) reduced += p.coeff(s, k) * GiNaC::pow(s, k % 2) * GiNaC::pow(1 - c * c, k / 2);
     p = reduced.expand();
   }
   return p;

@@ -45,13 +45,14 @@ void run(const DeriveOptions& opt) {
   const std::map<std::string, double> at = parse_assignments(opt.at, "--at");
 
   GiNaC::exmap values;
-  for (std::size_t k = 0; k < model.parameters.size(); ++k) values[model.parameters[k].symbol] = exact_number(params[k]);
+  for (std::size_t k = 0; k < model.parameters.size(); ++k)
+    values[model.parameters[k].symbol] = exact_number(params[k]);
   const GiNaC::symtab table = model.symbols();
   for (const auto& [name, v] : at) {
     auto it = table.find(name);
     if (it == table.end() || (name.size() > 4 && name.compare(name.size() - 4, 4, "_dot") == 0))
-      throw InputError("--at: '" + name + "' is not a coordinate, quasi-velocity, input or t of model '" +
-                       model.name + "'");
+      throw InputError("--at: '" + name + "' is not a coordinate, quasi-velocity, input or t of model '" + model.name +
+                       "'");
     values[it->second] = exact_number(v);
   }
   if (!at.empty()) values[model.time] = exact_number(at.count("t") ? at.at("t") : 0.0);
@@ -126,8 +127,11 @@ void run(const DeriveOptions& opt) {
             << model.constrained.size() << " constraints, " << m << " independent quasi-velocities\n";
   std::cout << "\nB = A^-1 (q_dot = B u), non-zero entries, eq. (u2):\n";
   for (const auto& e : j["B"])
-    if (e["expr"] != "0") std::cout << "  B[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e) << "\n";
-  std::cout << "\nnon-zero Hamel coefficients gamma^c_ab, eq. (gamma)" << (model.constrained.empty() ? "" : "; * marks gamma^a_IJ of eq. (gammaNH)") << ":\n";
+    if (e["expr"] != "0")
+      std::cout << "  B[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
+                << "\n";
+  std::cout << "\nnon-zero Hamel coefficients gamma^c_ab, eq. (gamma)"
+            << (model.constrained.empty() ? "" : "; * marks gamma^a_IJ of eq. (gammaNH)") << ":\n";
   if (d.hamel.empty()) std::cout << "  none: the quasi-velocities are holonomic\n";
   for (const auto& e : j["hamel"])
     std::cout << "  " << (e["lower_independent"].get<bool>() && !model.constrained.empty() ? "* " : "  ") << "gamma^"
@@ -135,7 +139,8 @@ void run(const DeriveOptions& opt) {
               << e["lower"][1].get<std::string>() << ") = " << show(e) << "\n";
   std::cout << "\n" << j["equations"].get<std::string>() << " equations  M u_I' = f:\n";
   for (const auto& e : j["mass_matrix"])
-    std::cout << "  M[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e) << "\n";
+    std::cout << "  M[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
+              << "\n";
   for (const auto& e : j["forcing"]) std::cout << "  f[" << e["row"].get<std::string>() << "] = " << show(e) << "\n";
   std::cout << "\nkinematics, eq. (qadot):\n";
   for (const auto& e : j["kinematics"]) std::cout << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
@@ -146,10 +151,13 @@ void run(const DeriveOptions& opt) {
 
 Run add_derive_command(CLI::App& app) {
   auto opt = std::make_shared<DeriveOptions>();
-  CLI::App* cmd = app.add_subcommand("derive", "Derive B, the Hamel coefficients and the equations of motion of a model");
+  CLI::App* cmd =
+      app.add_subcommand("derive", "Derive B, the Hamel coefficients and the equations of motion of a model");
   cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable; defaults from the model)");
-  cmd->add_option("--at", opt->at, "Values name=value,... of coordinates, quasi-velocities, inputs and t: every entry then also carries its number");
+  cmd->add_option(
+      "--at", opt->at,
+      "Values name=value,... of coordinates, quasi-velocities, inputs and t: every entry then also carries its number");
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
   return [opt] { run(*opt); };
 }

@@ -17,8 +17,7 @@ std::map<std::string, double> parse_assignments(const std::vector<std::string>& 
       start = end + 1;
       if (part.empty()) continue;
       const std::size_t eq = part.find('=');
-      if (eq == std::string::npos || eq == 0)
-        throw InputError(option + ": expected name=value, got '" + part + "'");
+      if (eq == std::string::npos || eq == 0) throw InputError(option + ": expected name=value, got '" + part + "'");
       const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
       double v = 0;
       try {
@@ -47,8 +46,8 @@ std::vector<double> parameter_values(const Model& model, const std::map<std::str
     if (!known) {
       std::string list;
       for (const auto& p : model.parameters) list += (list.empty() ? "" : ", ") + p.symbol.get_name();
-      throw InputError("--param: '" + name + "' is not a parameter of model '" + model.name + "' (parameters: " +
-                       (list.empty() ? "none" : list) + ")");
+      throw InputError("--param: '" + name + "' is not a parameter of model '" + model.name +
+                       "' (parameters: " + (list.empty() ? "none" : list) + ")");
     }
   }
   return values;

@@ -69,7 +69,8 @@ void run(const SimulateOptions& opt) {
   for (const auto& [name, v] : input_values) {
     std::size_t k = 0;
     while (k < model.inputs.size() && model.inputs[k].get_name() != name) ++k;
-    if (k == model.inputs.size()) throw InputError("--input: '" + name + "' is not an input of model '" + model.name + "'");
+    if (k == model.inputs.size())
+      throw InputError("--input: '" + name + "' is not an input of model '" + model.name + "'");
     in[k] = v;
   }
 
@@ -127,8 +128,10 @@ void run(const SimulateOptions& opt) {
   }
   if (!to_stdout) {
     file.close();
-    if (result.status == runtime::Status::ok) fs::rename(staging, opt.out);
-    else fs::remove(staging);
+    if (result.status == runtime::Status::ok)
+      fs::rename(staging, opt.out);
+    else
+      fs::remove(staging);
   }
 
   std::ostringstream state;
@@ -142,7 +145,10 @@ void run(const SimulateOptions& opt) {
             << result.stats.steps << " steps (" << result.stats.rejected << " rejected), " << result.stats.rhs_evals
             << " right-hand-side evaluations\n";
   std::cerr << "  energy: initial " << energy.initial() << ", max relative drift " << energy.max_relative_deviation()
-            << (derivation.equations.conservative ? "" : " (an invariant only while the model's forces vanish and L has no explicit t)") << "\n";
+            << (derivation.equations.conservative
+                    ? ""
+                    : " (an invariant only while the model's forces vanish and L has no explicit t)")
+            << "\n";
   if (constrained) std::cerr << "  constraint residual |A_alpha(q) q_dot|: max " << residual_max << "\n";
   std::cerr << "  final state: " << state.str() << "\n";
 }
@@ -161,7 +167,8 @@ Run add_simulate_command(CLI::App& app) {
   auto* tol = cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of dopri5")->capture_default_str();
   dt->excludes(tol);
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
-  cmd->add_option("--init", opt->init, "Initial values name=value,... of coordinates and independent quasi-velocities (default 0)");
+  cmd->add_option("--init", opt->init,
+                  "Initial values name=value,... of coordinates and independent quasi-velocities (default 0)");
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
   cmd->add_option("--out", opt->out, "CSV file, or - for standard output")->capture_default_str();

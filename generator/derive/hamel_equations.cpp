@@ -64,8 +64,7 @@ HamelEquations hamel_equations(const Model& model, const QuasiVelocities& qv,
     // Non-holonomic part: ∂ℒ/∂u^a γ^a_IJ u^J.
     for (const HamelCoefficient& g : gamma) {
       if (g.lower_a != I) continue;
-      if (std::find(model.constrained.begin(), model.constrained.end(), g.lower_b) != model.constrained.end())
-        continue;
+      if (std::find(model.constrained.begin(), model.constrained.end(), g.lower_b) != model.constrained.end()) continue;
       f -= momentum[g.upper] * g.value * model.quasi_velocities[g.lower_b];
     }
     eq.forcing[i] = simplify(f);

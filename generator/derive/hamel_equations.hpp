@@ -12,13 +12,13 @@
 namespace hamel {
 
 struct HamelEquations {
-  std::vector<int> independent;          ///< indices I of the independent quasi-velocities
-  GiNaC::ex reduced_lagrangian;          ///< ℒ(q, u) = L(q, B u), with u^α = 0
-  std::vector<GiNaC::ex> kinematics;     ///< q̇^a = B^a_I u^I, eq. (qadot)
-  GiNaC::matrix mass_matrix;             ///< M_IJ = ∂²ℒ/∂u^I∂u^J at u^α = 0
-  std::vector<GiNaC::ex> forcing;        ///< f_I: everything in (BHconstr) but M u̇, moved to the right
-  std::vector<GiNaC::ex> energy_terms;   ///< {E}: E = ∂ℒ/∂u^I u^I − ℒ (Jacobi integral)
-  bool conservative = false;             ///< no forces and no explicit time: E is an invariant
+  std::vector<int> independent;                ///< indices I of the independent quasi-velocities
+  GiNaC::ex reduced_lagrangian;                ///< ℒ(q, u) = L(q, B u), with u^α = 0
+  std::vector<GiNaC::ex> kinematics;           ///< q̇^a = B^a_I u^I, eq. (qadot)
+  GiNaC::matrix mass_matrix;                   ///< M_IJ = ∂²ℒ/∂u^I∂u^J at u^α = 0
+  std::vector<GiNaC::ex> forcing;              ///< f_I: everything in (BHconstr) but M u̇, moved to the right
+  std::vector<GiNaC::ex> energy_terms;         ///< {E}: E = ∂ℒ/∂u^I u^I − ℒ (Jacobi integral)
+  bool conservative = false;                   ///< no forces and no explicit time: E is an invariant
   std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0)
 };
 

@@ -17,27 +17,47 @@ bool commutative(Op op) { return op == Op::add || op == Op::mul; }
 
 double apply(Op op, double a, double b) {
   switch (op) {
-    case Op::add: return a + b;
-    case Op::sub: return a - b;
-    case Op::mul: return a * b;
-    case Op::div: return a / b;
-    case Op::neg: return -a;
-    case Op::sqrt: return std::sqrt(a);
-    case Op::sin: return std::sin(a);
-    case Op::cos: return std::cos(a);
-    case Op::tan: return std::tan(a);
-    case Op::exp: return std::exp(a);
-    case Op::log: return std::log(a);
-    case Op::asin: return std::asin(a);
-    case Op::acos: return std::acos(a);
-    case Op::atan: return std::atan(a);
-    case Op::sinh: return std::sinh(a);
-    case Op::cosh: return std::cosh(a);
-    case Op::tanh: return std::tanh(a);
-    case Op::abs: return std::fabs(a);
-    case Op::pow: return std::pow(a, b);
+    case Op::add:
+      return a + b;
+    case Op::sub:
+      return a - b;
+    case Op::mul:
+      return a * b;
+    case Op::div:
+      return a / b;
+    case Op::neg:
+      return -a;
+    case Op::sqrt:
+      return std::sqrt(a);
+    case Op::sin:
+      return std::sin(a);
+    case Op::cos:
+      return std::cos(a);
+    case Op::tan:
+      return std::tan(a);
+    case Op::exp:
+      return std::exp(a);
+    case Op::log:
+      return std::log(a);
+    case Op::asin:
+      return std::asin(a);
+    case Op::acos:
+      return std::acos(a);
+    case Op::atan:
+      return std::atan(a);
+    case Op::sinh:
+      return std::sinh(a);
+    case Op::cosh:
+      return std::cosh(a);
+    case Op::tanh:
+      return std::tanh(a);
+    case Op::abs:
+      return std::fabs(a);
+    case Op::pow:
+      return std::pow(a, b);
     case Op::constant:
-    case Op::input: break;
+    case Op::input:
+      break;
   }
   throw std::logic_error("expression graph: not an operation");
 }
@@ -58,11 +78,10 @@ int ExpressionGraph::intern(const Node& n) {
   std::uint64_t bits = 0;
   static_assert(sizeof bits == sizeof n.value, "double is 64 bits");
   std::memcpy(&bits, &n.value, sizeof bits);
-  const std::uint64_t ops = (static_cast<std::uint64_t>(n.op) << 56) |
-                            (static_cast<std::uint64_t>(n.argument) << 48) |
+  const std::uint64_t ops = (static_cast<std::uint64_t>(n.op) << 56) | (static_cast<std::uint64_t>(n.argument) << 48) |
                             static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.index));
-  const std::uint64_t operands = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.a)) << 32) |
-                                 static_cast<std::uint32_t>(n.b);
+  const std::uint64_t operands =
+      (static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.a)) << 32) | static_cast<std::uint32_t>(n.b);
   const Key key{{ops, operands, n.op == Op::constant ? bits : 0}};
   auto it = index_.find(key);
   if (it != index_.end()) return it->second;
@@ -152,7 +171,8 @@ int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC:
   int id = -1;
   if (is_a<GiNaC::numeric>(e)) {
     const GiNaC::numeric& v = ex_to<GiNaC::numeric>(e);
-    if (!v.is_real()) throw std::logic_error("expression graph: complex number " + std::to_string(v.real().to_double()));
+    if (!v.is_real())
+      throw std::logic_error("expression graph: complex number " + std::to_string(v.real().to_double()));
     id = constant(v.to_double());
   } else if (is_a<GiNaC::constant>(e)) {
     id = constant(ex_to<GiNaC::numeric>(e.evalf()).to_double());
@@ -240,20 +260,31 @@ OpCounts ExpressionGraph::count(const std::vector<int>& schedule) const {
   for (int i : schedule) {
     switch (node(i).op) {
       case Op::constant:
-      case Op::input: break;
+      case Op::input:
+        break;
       case Op::add:
       case Op::sub:
-      case Op::neg: ++c.add; break;
-      case Op::mul: ++c.mul; break;
-      case Op::div: ++c.div; break;
-      default: ++c.call; break;
+      case Op::neg:
+        ++c.add;
+        break;
+      case Op::mul:
+        ++c.mul;
+        break;
+      case Op::div:
+        ++c.div;
+        break;
+      default:
+        ++c.call;
+        break;
     }
   }
   return c;
 }
 
 GraphEvaluator::GraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs)
-    : graph_(graph), outputs_(std::move(outputs)), schedule_(graph.schedule(outputs_)),
+    : graph_(graph),
+      outputs_(std::move(outputs)),
+      schedule_(graph.schedule(outputs_)),
       values_(static_cast<std::size_t>(graph.size()), 0.0) {}
 
 void GraphEvaluator::evaluate(double t, const double* x, const double* p, const double* in, double* out) {
@@ -261,13 +292,23 @@ void GraphEvaluator::evaluate(double t, const double* x, const double* p, const 
     const Node& n = graph_.node(i);
     double& v = values_[static_cast<std::size_t>(i)];
     switch (n.op) {
-      case Op::constant: v = n.value; break;
+      case Op::constant:
+        v = n.value;
+        break;
       case Op::input:
         switch (n.argument) {
-          case Argument::time: v = t; break;
-          case Argument::state: v = x[n.index]; break;
-          case Argument::parameter: v = p[n.index]; break;
-          case Argument::input: v = in[n.index]; break;
+          case Argument::time:
+            v = t;
+            break;
+          case Argument::state:
+            v = x[n.index];
+            break;
+          case Argument::parameter:
+            v = p[n.index];
+            break;
+          case Argument::input:
+            v = in[n.index];
+            break;
         }
         break;
       default:

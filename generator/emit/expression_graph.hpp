@@ -45,8 +45,8 @@ enum class Argument : std::uint8_t { time, state, parameter, input };
 
 struct Node {
   Op op = Op::constant;
-  int a = -1;  ///< first operand (node index)
-  int b = -1;  ///< second operand
+  int a = -1;          ///< first operand (node index)
+  int b = -1;          ///< second operand
   double value = 0.0;  ///< constant value
   Argument argument = Argument::time;
   int index = 0;  ///< element of the argument array
@@ -101,9 +101,9 @@ class ExpressionGraph {
 /// One emitted function: named outputs computed from the graph.
 struct Kernel {
   std::string name;
-  std::string summary;                   ///< one line: what it computes and which equation
-  std::vector<int> outputs;              ///< graph nodes, one per output element
-  std::vector<std::string> output_names; ///< for comments, same length as outputs
+  std::string summary;                    ///< one line: what it computes and which equation
+  std::vector<int> outputs;               ///< graph nodes, one per output element
+  std::vector<std::string> output_names;  ///< for comments, same length as outputs
 };
 
 /// Evaluates `outputs` numerically in double (the interpreter behind `hamel simulate`).

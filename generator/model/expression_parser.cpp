@@ -31,10 +31,9 @@ std::string exact_decimals(const std::string& text) {
   const std::size_t n = text.size();
   while (i < n) {
     const char c = text[i];
-    const bool starts_number =
-        (std::isdigit(static_cast<unsigned char>(c)) ||
-         (c == '.' && i + 1 < n && std::isdigit(static_cast<unsigned char>(text[i + 1])))) &&
-        (i == 0 || !is_ident_char(text[i - 1]));
+    const bool starts_number = (std::isdigit(static_cast<unsigned char>(c)) ||
+                                (c == '.' && i + 1 < n && std::isdigit(static_cast<unsigned char>(text[i + 1])))) &&
+                               (i == 0 || !is_ident_char(text[i - 1]));
     if (!starts_number) {
       out += c;
       ++i;
@@ -82,21 +81,25 @@ GiNaC::ex exact_number(double value) {
 
 bool is_valid_identifier(const std::string& name, std::string* why) {
   static const std::set<std::string> keywords = {
-      "alignas", "alignof", "and", "and_eq", "asm", "auto", "bitand", "bitor", "bool", "break", "case",
-      "catch", "char", "char8_t", "char16_t", "char32_t", "class", "compl", "concept", "const", "consteval",
-      "constexpr", "constinit", "const_cast", "continue", "co_await", "co_return", "co_yield", "decltype",
-      "default", "delete", "do", "double", "dynamic_cast", "else", "enum", "explicit", "export", "extern",
-      "false", "float", "for", "friend", "goto", "if", "inline", "int", "long", "mutable", "namespace",
-      "new", "noexcept", "not", "not_eq", "nullptr", "operator", "or", "or_eq", "private", "protected",
-      "public", "register", "reinterpret_cast", "requires", "return", "short", "signed", "sizeof", "static",
-      "static_assert", "static_cast", "struct", "switch", "template", "this", "thread_local", "throw",
-      "true", "try", "typedef", "typeid", "typename", "union", "unsigned", "using", "virtual", "void",
-      "volatile", "wchar_t", "while", "xor", "xor_eq"};
+      "alignas",     "alignof",   "and",        "and_eq",    "asm",      "auto",         "bitand",
+      "bitor",       "bool",      "break",      "case",      "catch",    "char",         "char8_t",
+      "char16_t",    "char32_t",  "class",      "compl",     "concept",  "const",        "consteval",
+      "constexpr",   "constinit", "const_cast", "continue",  "co_await", "co_return",    "co_yield",
+      "decltype",    "default",   "delete",     "do",        "double",   "dynamic_cast", "else",
+      "enum",        "explicit",  "export",     "extern",    "false",    "float",        "for",
+      "friend",      "goto",      "if",         "inline",    "int",      "long",         "mutable",
+      "namespace",   "new",       "noexcept",   "not",       "not_eq",   "nullptr",      "operator",
+      "or",          "or_eq",     "private",    "protected", "public",   "register",     "reinterpret_cast",
+      "requires",    "return",    "short",      "signed",    "sizeof",   "static",       "static_assert",
+      "static_cast", "struct",    "switch",     "template",  "this",     "thread_local", "throw",
+      "true",        "try",       "typedef",    "typeid",    "typename", "union",        "unsigned",
+      "using",       "virtual",   "void",       "volatile",  "wchar_t",  "while",        "xor",
+      "xor_eq"};
   // Names the expression language already uses (user names never reach emitted code: symbols are
   // read from the kernel's argument arrays by index).
-  static const std::set<std::string> reserved = {
-      "t",    "sin",  "cos",  "tan",  "asin", "acos", "atan", "atan2", "sinh", "cosh", "tanh", "exp",
-      "log",  "sqrt", "abs",  "pow",  "Pi",   "I",    "Euler", "Catalan"};
+  static const std::set<std::string> reserved = {"t",     "sin",  "cos",  "tan",  "asin",  "acos",   "atan",
+                                                 "atan2", "sinh", "cosh", "tanh", "exp",   "log",    "sqrt",
+                                                 "abs",   "pow",  "Pi",   "I",    "Euler", "Catalan"};
   auto fail = [&](const std::string& m) {
     if (why) *why = m;
     return false;

@@ -159,8 +159,8 @@ class Loader {
   }
 
   void check_keys(const YAML::Node& node, const std::string& context, const std::vector<std::string>& known) const {
-    static const std::set<std::string> planned = {"group", "trivialization", "group_velocity", "shape",
-                                                  "connection", "kinetic", "bodies", "potential"};
+    static const std::set<std::string> planned = {"group",      "trivialization", "group_velocity", "shape",
+                                                  "connection", "kinetic",        "bodies",         "potential"};
     for (const auto& kv : node) {
       const std::string key = kv.first.as<std::string>();
       if (std::find(known.begin(), known.end(), key) != known.end()) continue;
@@ -187,12 +187,12 @@ Model Loader::load() {
   try {
     root_ = YAML::Load(text_);
   } catch (const YAML::Exception& e) {
-    throw InputError(SourceLocation{path_, e.mark.line + 1, e.mark.column + 1}, "",
-                     "YAML syntax error: " + e.msg);
+    throw InputError(SourceLocation{path_, e.mark.line + 1, e.mark.column + 1}, "", "YAML syntax error: " + e.msg);
   }
   if (!root_.IsMap()) throw InputError(SourceLocation{path_, 1, 1}, "", "expected a YAML mapping of model keys");
-  check_keys(root_, "", {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities",
-                         "constraints", "lagrangian", "forces", "inputs"});
+  check_keys(root_, "",
+             {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
+              "lagrangian", "forces", "inputs"});
 
   Model model;
   model.source_path = path_;
@@ -272,15 +272,15 @@ Model Loader::load() {
       const std::string cname = scalar(cons[i], key);
       auto it = std::find(names.begin(), names.end(), cname);
       if (it == names.end())
-        fail(cons[i], key, "'" + cname + "' is not a quasi-velocity" + did_you_mean(cname, names) +
-                               "; expected one of: " + join(names));
+        fail(cons[i], key,
+             "'" + cname + "' is not a quasi-velocity" + did_you_mean(cname, names) +
+                 "; expected one of: " + join(names));
       const int index = static_cast<int>(it - names.begin());
       if (std::find(model.constrained.begin(), model.constrained.end(), index) != model.constrained.end())
         fail(cons[i], key, "'" + cname + "' is listed twice");
       model.constrained.push_back(index);
     }
-    if (model.constrained.size() >= n)
-      fail(cons, "constraints", "at least one quasi-velocity must stay independent");
+    if (model.constrained.size() >= n) fail(cons, "constraints", "at least one quasi-velocity must stay independent");
   }
 
   GiNaC::symtab lagrangian_table = all;

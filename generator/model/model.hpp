@@ -31,13 +31,13 @@ struct Model {
   std::vector<GiNaC::realsymbol> quasi_velocities;  ///< u^a, eq. (u2)
   std::vector<GiNaC::realsymbol> inputs;            ///< run-time inputs in forces
 
-  GiNaC::matrix A;          ///< u = A(q) q̇, eq. (u2); rows: u^a, columns: q^b
-  GiNaC::matrix B;          ///< q̇ = B(q) u, only when given in the file
+  GiNaC::matrix A;  ///< u = A(q) q̇, eq. (u2); rows: u^a, columns: q^b
+  GiNaC::matrix B;  ///< q̇ = B(q) u, only when given in the file
   bool B_given = false;
   std::vector<int> constrained;  ///< indices α of quasi-velocities held at zero, eq. (PfaffianConstr)
 
-  GiNaC::ex lagrangian;            ///< L(q, q̇, u, t)
-  std::vector<GiNaC::ex> forces;   ///< Q_a dual to q^a (zeros when absent)
+  GiNaC::ex lagrangian;           ///< L(q, q̇, u, t)
+  std::vector<GiNaC::ex> forces;  ///< Q_a dual to q^a (zeros when absent)
 
   /// Where each key stood in the file ("quasi_velocities.A", "lagrangian", ...), for later errors.
   std::map<std::string, SourceLocation> locations;

@@ -1,15 +1,15 @@
 // The command-line contract, exercised on the real binary: JSON shape of `derive`, CSV header of
 // `simulate`, byte-identical regeneration by `emit`, exit status 2 and no output on bad input.
-#include <nlohmann/json.hpp>
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
+#include <sys/wait.h>
 #include <array>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
-#include <sys/wait.h>
 
 namespace {
 
@@ -52,7 +52,8 @@ fs::path scratch(const std::string& name) {
 }
 
 TEST(Cli, DeriveJsonNamesEntriesAndCarriesValues) {
-  const Outcome r = hamel("derive " + source("models/rolling_ball.yaml") + " --json --at psi=0.3,theta=0.2,phi=0.1,x=0,y=0,vx=1,vy=2 2>/dev/null");
+  const Outcome r = hamel("derive " + source("models/rolling_ball.yaml") +
+                          " --json --at psi=0.3,theta=0.2,phi=0.1,x=0,y=0,vx=1,vy=2 2>/dev/null");
   ASSERT_EQ(r.status, 0);
   const nlohmann::json j = nlohmann::json::parse(r.out);
   EXPECT_EQ(j["model"], "rolling_ball");
@@ -72,7 +73,9 @@ TEST(Cli, DeriveJsonNamesEntriesAndCarriesValues) {
 
 TEST(Cli, SimulateWritesCsvWithStateHeader) {
   const fs::path out = scratch("sleigh.csv");
-  const Outcome r = hamel("simulate " + source("models/chaplygin_sleigh.yaml") + " --t-end 1 --integrator rk4 --dt 0.01 --init v=1,omega=0.5 --out " + out.string() + " 2>/dev/null");
+  const Outcome r =
+      hamel("simulate " + source("models/chaplygin_sleigh.yaml") +
+            " --t-end 1 --integrator rk4 --dt 0.01 --init v=1,omega=0.5 --out " + out.string() + " 2>/dev/null");
   ASSERT_EQ(r.status, 0);
   std::istringstream lines(slurp(out));
   std::string header;
@@ -97,7 +100,8 @@ TEST(Cli, EmitIsByteIdenticalOnRegeneration) {
   // Regenerating into an existing folder replaces it, leaving no staging folders behind.
   ASSERT_EQ(hamel("emit " + source("models/rolling_disk.yaml") + " -o " + a.string() + " 2>/dev/null").status, 0);
   int entries = 0;
-  for (const auto& e : fs::directory_iterator(a.parent_path())) entries += e.path().filename().string().rfind("emit_a", 0) == 0;
+  for (const auto& e : fs::directory_iterator(a.parent_path()))
+    entries += e.path().filename().string().rfind("emit_a", 0) == 0;
   EXPECT_EQ(entries, 1);
 }
 
@@ -115,7 +119,8 @@ TEST(Cli, BadInputExitsTwoAndWritesNothing) {
   EXPECT_FALSE(fs::exists(out));
   EXPECT_EQ(hamel("simulate " + bad.string() + " --t-end 1 2>/dev/null").status, 2);
   EXPECT_EQ(hamel("derive /nonexistent/model.yaml 2>/dev/null").status, 2);
-  EXPECT_EQ(hamel("simulate " + source("models/chaplygin_sleigh.yaml") + " --t-end 1 --init nope=1 2>/dev/null").status, 2);
+  EXPECT_EQ(hamel("simulate " + source("models/chaplygin_sleigh.yaml") + " --t-end 1 --init nope=1 2>/dev/null").status,
+            2);
   EXPECT_EQ(hamel("frobnicate 2>/dev/null").status, 2);
 }
 

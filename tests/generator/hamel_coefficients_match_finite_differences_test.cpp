@@ -5,8 +5,8 @@
 #include "derive/derivation.hpp"
 #include "model/load_model.hpp"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <cmath>
 #include <cstdlib>
@@ -28,9 +28,9 @@ Eigen::MatrixXd numeric_A(const hamel::Model& model, const std::vector<double>& 
   Eigen::MatrixXd A(n, n);
   for (int r = 0; r < n; ++r)
     for (int c = 0; c < n; ++c)
-      A(r, c) = GiNaC::ex_to<GiNaC::numeric>(
-                    model.A(static_cast<unsigned>(r), static_cast<unsigned>(c)).subs(values).evalf())
-                    .to_double();
+      A(r, c) =
+          GiNaC::ex_to<GiNaC::numeric>(model.A(static_cast<unsigned>(r), static_cast<unsigned>(c)).subs(values).evalf())
+              .to_double();
   return A;
 }
 
@@ -85,8 +85,9 @@ void expect_gamma_matches(const hamel::Model& model, int trials) {
       for (int a = 0; a < fd[c].rows(); ++a)
         for (int b = 0; b < fd[c].cols(); ++b)
           EXPECT_NEAR(gen[c](a, b), fd[c](a, b), 1e-7 * scale)
-              << model.name << ": gamma^" << model.quasi_velocities[c] << "_" << model.quasi_velocities[static_cast<std::size_t>(a)]
-              << "," << model.quasi_velocities[static_cast<std::size_t>(b)];
+              << model.name << ": gamma^" << model.quasi_velocities[c] << "_"
+              << model.quasi_velocities[static_cast<std::size_t>(a)] << ","
+              << model.quasi_velocities[static_cast<std::size_t>(b)];
   }
 }
 
@@ -103,12 +104,11 @@ TEST(HamelCoefficients, MatchFiniteDifferencesForEveryShippedModel) {
 
 // ZYX Euler angles with the body (left-invariant) or spatial (right-invariant) angular velocity.
 std::string so3_model(bool body) {
-  const std::string rows =
-      body ? R"yaml(
+  const std::string rows = body ? R"yaml(
     - ["-sin(theta)", 0, 1]
     - ["cos(theta)*sin(phi)", "cos(phi)", 0]
     - ["cos(theta)*cos(phi)", "-sin(phi)", 0])yaml"
-           : R"yaml(
+                                : R"yaml(
     - [0, "-sin(psi)", "cos(psi)*cos(theta)"]
     - [0, "cos(psi)", "sin(psi)*cos(theta)"]
     - [1, 0, "-sin(theta)"])yaml";
@@ -118,7 +118,8 @@ std::string so3_model(bool body) {
 
 TEST(HamelCoefficients, AreStructureConstantsOfSO3) {
   for (bool body : {true, false}) {
-    const hamel::Model model = hamel::load_model_from_text(so3_model(body), body ? "so3_body.yaml" : "so3_spatial.yaml");
+    const hamel::Model model =
+        hamel::load_model_from_text(so3_model(body), body ? "so3_body.yaml" : "so3_spatial.yaml");
     expect_gamma_matches(model, 3);
     const hamel::QuasiVelocities qv = hamel::derive_quasi_velocities(model);
     const auto gamma = hamel::hamel_coefficients(model, qv);

@@ -48,7 +48,8 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"yaml_syntax", "name: [unclosed\n", "bad.yaml:", "YAML syntax error"},
         BadCase{"unknown_key_did_you_mean", good_header + good_velocities + good_lagrangian + "constraint: [u_lat]\n",
                 "bad.yaml:11:1", "did you mean 'constraints'"},
-        BadCase{"missing_lagrangian", good_header + good_velocities, "bad.yaml:1:1", "'lagrangian': missing required key"},
+        BadCase{"missing_lagrangian", good_header + good_velocities, "bad.yaml:1:1",
+                "'lagrangian': missing required key"},
         BadCase{"unknown_symbol", good_header + good_velocities + "lagrangian: \"m*x_dot^2 + k\"\n", "bad.yaml:10:13",
                 "unknown name 'k'"},
         BadCase{"parse_error", good_header + good_velocities + "lagrangian: \"m*(x_dot^2\"\n", "bad.yaml:10:13",
@@ -59,7 +60,10 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"wrong_row_count", good_header + "quasi_velocities:\n  names: [a1, a2, a3]\n  A: [[1, 0, 0]]\n",
                 "bad.yaml:6:6", "expected a list of 3 rows"},
         BadCase{"singular_A",
-                good_header + "quasi_velocities:\n  names: [a1, a2, a3]\n  A: [[1, 0, \"cos(theta)\"], [0, 1, 0], [\"sin(theta)^2+cos(theta)^2\", 0, \"cos(theta)\"]]\n" + good_lagrangian,
+                good_header +
+                    "quasi_velocities:\n  names: [a1, a2, a3]\n  A: [[1, 0, \"cos(theta)\"], [0, 1, 0], "
+                    "[\"sin(theta)^2+cos(theta)^2\", 0, \"cos(theta)\"]]\n" +
+                    good_lagrangian,
                 "bad.yaml:6:6", "singular"},
         BadCase{"wrong_B", good_header + good_velocities + "  B: [[1, 0, 0], [0, 1, 0], [0, 0, 1]]\n" + good_lagrangian,
                 "bad.yaml:10:6", "B is not the inverse of A"},
@@ -67,7 +71,8 @@ INSTANTIATE_TEST_SUITE_P(
                 "bad.yaml:11:15", "did you mean 'u_lat'"},
         BadCase{"non_finite_parameter", "name: s\nparameters: {m: .inf}\ncoordinates: [x]\n", "bad.yaml:2:17",
                 "finite number"},
-        BadCase{"time_in_A", good_header + "quasi_velocities:\n  names: [a1, a2, a3]\n  A: [[t, 0, 0], [0, 1, 0], [0, 0, 1]]\n",
+        BadCase{"time_in_A",
+                good_header + "quasi_velocities:\n  names: [a1, a2, a3]\n  A: [[t, 0, 0], [0, 1, 0], [0, 0, 1]]\n",
                 "bad.yaml:6:8", "coordinates and parameters only"},
         BadCase{"bundle_key_not_yet", good_header + "group: SO3\n", "bad.yaml:4:1", "does not implement yet"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.label; });

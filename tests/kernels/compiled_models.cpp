@@ -10,11 +10,11 @@
 
 namespace hamel::test {
 
-#define HAMEL_ENTRY(NS, RESIDUAL)                                                                           \
-  CompiledModel {                                                                                           \
-    #NS, "models/" #NS ".yaml", NS::n_coordinates, NS::n_independent, NS::n_parameters, NS::n_inputs,      \
+#define HAMEL_ENTRY(NS, RESIDUAL)                                                                             \
+  CompiledModel {                                                                                             \
+#NS, "models/" #NS ".yaml", NS::n_coordinates, NS::n_independent, NS::n_parameters, NS::n_inputs,         \
         NS::n_constraints, NS::n_hamel, NS::default_parameters, NS::kinematics, NS::mass_matrix, NS::forcing, \
-        NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL                                                \
+        NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL                                                 \
   }
 
 const std::vector<CompiledModel>& compiled_models() {

@@ -17,8 +17,8 @@
 #include "hamel/runtime/dopri5.hpp"
 #include "model/load_model.hpp"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -88,9 +88,9 @@ class NumericExpr {
       return push({Op::pow, 0, 0, {base, exponent}});
     }
     const std::pair<Op, bool> functions[] = {
-        {Op::sin, is_ex_the_function(e, sin)}, {Op::cos, is_ex_the_function(e, cos)},
-        {Op::tan, is_ex_the_function(e, tan)}, {Op::exp, is_ex_the_function(e, exp)},
-        {Op::log, is_ex_the_function(e, log)}, {Op::abs, is_ex_the_function(e, abs)},
+        {Op::sin, is_ex_the_function(e, sin)},  {Op::cos, is_ex_the_function(e, cos)},
+        {Op::tan, is_ex_the_function(e, tan)},  {Op::exp, is_ex_the_function(e, exp)},
+        {Op::log, is_ex_the_function(e, log)},  {Op::abs, is_ex_the_function(e, abs)},
         {Op::atan, is_ex_the_function(e, atan)}};
     for (const auto& [op, match] : functions)
       if (match) return push({op, 0, 0, {build(e.op(0), vars)}});
@@ -102,8 +102,10 @@ class NumericExpr {
   double eval(int i, const double* v) const {
     const Node& n = nodes_[static_cast<std::size_t>(i)];
     switch (n.op) {
-      case Op::constant: return n.value;
-      case Op::variable: return v[n.index];
+      case Op::constant:
+        return n.value;
+      case Op::variable:
+        return v[n.index];
       case Op::add: {
         double s = 0;
         for (int a : n.args) s += eval(a, v);
@@ -120,14 +122,22 @@ class NumericExpr {
         for (int k = 0; k < std::abs(n.index); ++k) r *= b;
         return n.index < 0 ? 1.0 / r : r;
       }
-      case Op::pow: return std::pow(eval(n.args[0], v), eval(n.args[1], v));
-      case Op::sin: return std::sin(eval(n.args[0], v));
-      case Op::cos: return std::cos(eval(n.args[0], v));
-      case Op::tan: return std::tan(eval(n.args[0], v));
-      case Op::exp: return std::exp(eval(n.args[0], v));
-      case Op::log: return std::log(eval(n.args[0], v));
-      case Op::abs: return std::fabs(eval(n.args[0], v));
-      case Op::atan: return std::atan(eval(n.args[0], v));
+      case Op::pow:
+        return std::pow(eval(n.args[0], v), eval(n.args[1], v));
+      case Op::sin:
+        return std::sin(eval(n.args[0], v));
+      case Op::cos:
+        return std::cos(eval(n.args[0], v));
+      case Op::tan:
+        return std::tan(eval(n.args[0], v));
+      case Op::exp:
+        return std::exp(eval(n.args[0], v));
+      case Op::log:
+        return std::log(eval(n.args[0], v));
+      case Op::abs:
+        return std::fabs(eval(n.args[0], v));
+      case Op::atan:
+        return std::atan(eval(n.args[0], v));
     }
     return NAN;
   }
@@ -181,7 +191,8 @@ class LagrangeMultiplierSystem {
   }
 
   void set_parameters(const std::vector<double>& p, const std::vector<double>& in) {
-    for (int k = 0; k < n_parameters_; ++k) values_[static_cast<std::size_t>(1 + 2 * n_ + k)] = p[static_cast<std::size_t>(k)];
+    for (int k = 0; k < n_parameters_; ++k)
+      values_[static_cast<std::size_t>(1 + 2 * n_ + k)] = p[static_cast<std::size_t>(k)];
     for (int k = 0; k < n_inputs_; ++k)
       values_[static_cast<std::size_t>(1 + 2 * n_ + n_parameters_ + k)] = in[static_cast<std::size_t>(k)];
   }
@@ -251,7 +262,9 @@ class LagrangeMultiplierSystem {
 
  private:
   static const GiNaC::realsymbol& rate(const hamel::Model& m, int a) { return m.rates[static_cast<std::size_t>(a)]; }
-  static const GiNaC::realsymbol& coordinate(const hamel::Model& m, int a) { return m.coordinates[static_cast<std::size_t>(a)]; }
+  static const GiNaC::realsymbol& coordinate(const hamel::Model& m, int a) {
+    return m.coordinates[static_cast<std::size_t>(a)];
+  }
 
   int n_, n_parameters_ = 0, n_inputs_ = 0;
   std::vector<int> constrained_, independent_;
@@ -307,8 +320,10 @@ TEST_P(ConstrainedHamel, AccelerationsMatchKktAtRandomStates) {
 
     const double qdot_scale = std::max(1.0, max_abs(qdot));
     for (int a = 0; a < n; ++a) {
-      EXPECT_NEAR(kin[static_cast<std::size_t>(a)], qdot(a), 1e-12 * qdot_scale) << cm.name << " kinematics q_dot[" << a << "]";
-      EXPECT_NEAR(out[static_cast<std::size_t>(a)], qdot(a), 1e-12 * qdot_scale) << cm.name << " rhs q_dot[" << a << "]";
+      EXPECT_NEAR(kin[static_cast<std::size_t>(a)], qdot(a), 1e-12 * qdot_scale)
+          << cm.name << " kinematics q_dot[" << a << "]";
+      EXPECT_NEAR(out[static_cast<std::size_t>(a)], qdot(a), 1e-12 * qdot_scale)
+          << cm.name << " rhs q_dot[" << a << "]";
       worst_kin = std::max(worst_kin, std::fabs(kin[static_cast<std::size_t>(a)] - qdot(a)) / qdot_scale);
     }
 
@@ -322,7 +337,8 @@ TEST_P(ConstrainedHamel, AccelerationsMatchKktAtRandomStates) {
     for (int i = 0; i < m; ++i) {
       const double emitted = out[static_cast<std::size_t>(n + i)];
       EXPECT_NEAR(emitted, udot_ref(i), 1e-10 * scale)
-          << cm.name << " u_dot[" << model.quasi_velocities[static_cast<std::size_t>(ref.independent()[static_cast<std::size_t>(i)])]
+          << cm.name << " u_dot["
+          << model.quasi_velocities[static_cast<std::size_t>(ref.independent()[static_cast<std::size_t>(i)])]
           << "] at trial " << trial;
       worst_accel = std::max(worst_accel, std::fabs(emitted - udot_ref(i)) / scale);
     }
@@ -354,8 +370,8 @@ TEST_P(ConstrainedHamel, TrajectoriesMatchKkt) {
   std::vector<double> x0 = scene.q0;
   x0.insert(x0.end(), scene.u0.begin(), scene.u0.end());
   const auto hamel_rhs = [&](double t, const double* x, double* xdot) { cm.rhs(t, x, p.data(), in.data(), xdot); };
-  const auto hamel_result = hamel::runtime::integrate_dopri5(hamel_rhs, x0, 0.0, scene.t_end, opt, 0.0,
-                                                             hamel::runtime::NoObserver{});
+  const auto hamel_result =
+      hamel::runtime::integrate_dopri5(hamel_rhs, x0, 0.0, scene.t_end, opt, 0.0, hamel::runtime::NoObserver{});
   ASSERT_EQ(hamel_result.status, hamel::runtime::Status::ok);
 
   // KKT system, state (q, q̇); observe the constraint A_α q̇ and how far q moves.
@@ -368,7 +384,8 @@ TEST_P(ConstrainedHamel, TrajectoriesMatchKkt) {
     const LagrangeMultiplierSystem::Terms s = ref.evaluate(t, y, y + n);
     const Eigen::Map<const Eigen::VectorXd> qdot(y + n, n);
     qdot_scale = std::max(qdot_scale, max_abs(qdot));
-    for (int alpha : ref.constrained()) worst_constraint = std::max(worst_constraint, std::fabs(s.A.row(alpha).dot(qdot)));
+    for (int alpha : ref.constrained())
+      worst_constraint = std::max(worst_constraint, std::fabs(s.A.row(alpha).dot(qdot)));
   };
   const auto kkt_result = hamel::runtime::integrate_dopri5(kkt_rhs, y0, 0.0, scene.t_end, opt, 0.01, observe);
   ASSERT_EQ(kkt_result.status, hamel::runtime::Status::ok);
@@ -378,10 +395,11 @@ TEST_P(ConstrainedHamel, TrajectoriesMatchKkt) {
   for (int a = 0; a < n; ++a) q_scale = std::max(q_scale, std::fabs(kkt_result.x[static_cast<std::size_t>(a)]));
   double worst_q = 0;
   for (int a = 0; a < n; ++a) {
-    const double diff = std::fabs(hamel_result.x[static_cast<std::size_t>(a)] - kkt_result.x[static_cast<std::size_t>(a)]);
+    const double diff =
+        std::fabs(hamel_result.x[static_cast<std::size_t>(a)] - kkt_result.x[static_cast<std::size_t>(a)]);
     EXPECT_LE(diff, 1e-8 * q_scale) << scene.model << " q[" << a << "](T): Hamel "
-                                     << hamel_result.x[static_cast<std::size_t>(a)] << ", KKT "
-                                     << kkt_result.x[static_cast<std::size_t>(a)];
+                                    << hamel_result.x[static_cast<std::size_t>(a)] << ", KKT "
+                                    << kkt_result.x[static_cast<std::size_t>(a)];
     worst_q = std::max(worst_q, diff);
   }
   // u_I(T) = A_I(q(T)) q̇(T) of the KKT trajectory against the Hamel state.
@@ -400,22 +418,25 @@ TEST_P(ConstrainedHamel, TrajectoriesMatchKkt) {
   // The scene must actually move, or the comparison proves little.
   double travelled = 0;
   for (int a = 0; a < n; ++a)
-    travelled = std::max(travelled, std::fabs(kkt_result.x[static_cast<std::size_t>(a)] - scene.q0[static_cast<std::size_t>(a)]));
+    travelled = std::max(travelled,
+                         std::fabs(kkt_result.x[static_cast<std::size_t>(a)] - scene.q0[static_cast<std::size_t>(a)]));
   EXPECT_GT(travelled, 0.5) << scene.model;
 
-  std::printf("[measured] %s over %.1f s: max |q_Hamel - q_KKT|(T) = %.3g (q scale %.3g), max |u_I diff|(T) = %.3g, "
-              "max |A_alpha q_dot| on KKT trajectory = %.3g, steps Hamel %ld / KKT %ld\n",
-              scene.model.c_str(), scene.t_end, worst_q, q_scale, worst_u, worst_constraint, hamel_result.stats.steps,
-              kkt_result.stats.steps);
+  std::printf(
+      "[measured] %s over %.1f s: max |q_Hamel - q_KKT|(T) = %.3g (q scale %.3g), max |u_I diff|(T) = %.3g, "
+      "max |A_alpha q_dot| on KKT trajectory = %.3g, steps Hamel %ld / KKT %ld\n",
+      scene.model.c_str(), scene.t_end, worst_q, q_scale, worst_u, worst_constraint, hamel_result.stats.steps,
+      kkt_result.stats.steps);
 }
 
 // Initial states and constant inputs. The ball rolls along a direction 0.6 rad from the y axis, so that its
 // ZYX Euler angle theta stays well away from the singularity ±π/2 (|sin theta| ≤ sin 0.6 from the identity).
 INSTANTIATE_TEST_SUITE_P(
     NonholonomicModels, ConstrainedHamel,
-    ::testing::Values(Scene{"chaplygin_sleigh", {0.1, -0.2, 0.3}, {0.5, 1.5}, {0.05, 0.2}, 3.0},
-                      Scene{"rolling_disk", {0.0, 0.1, 0.4, 0.2}, {0.7, 3.0}, {0.0005, 0.002}, 5.0},
-                      Scene{"rolling_ball", {0.0, 0.0, 0.0, 0.1, -0.2}, {0.3 * std::sin(0.6), -0.3 * std::cos(0.6)}, {}, 2.0}),
+    ::testing::Values(
+        Scene{"chaplygin_sleigh", {0.1, -0.2, 0.3}, {0.5, 1.5}, {0.05, 0.2}, 3.0},
+        Scene{"rolling_disk", {0.0, 0.1, 0.4, 0.2}, {0.7, 3.0}, {0.0005, 0.002}, 5.0},
+        Scene{"rolling_ball", {0.0, 0.0, 0.0, 0.1, -0.2}, {0.3 * std::sin(0.6), -0.3 * std::cos(0.6)}, {}, 2.0}),
     [](const ::testing::TestParamInfo<Scene>& info) { return info.param.model; });
 
 }  // namespace

@@ -6,8 +6,8 @@
 #include "derive/derivation.hpp"
 #include "model/load_model.hpp"
 
-#include <Eigen/Dense>
 #include <gtest/gtest.h>
+#include <Eigen/Dense>
 
 #include <algorithm>
 #include <cmath>
@@ -48,7 +48,8 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
   for (int trial = 0; trial < 20; ++trial) {
     const double t = uniform(rng);
-    std::vector<double> x(static_cast<std::size_t>(n + m)), p(cm.default_parameters, cm.default_parameters + cm.n_parameters),
+    std::vector<double> x(static_cast<std::size_t>(n + m)),
+        p(cm.default_parameters, cm.default_parameters + cm.n_parameters),
         in(static_cast<std::size_t>(std::max(cm.n_inputs, 1)));
     for (double& v : x) v = uniform(rng);
     for (double& v : p) v *= 1.0 + 0.2 * uniform(rng);  // away from the defaults, still physical

@@ -71,7 +71,8 @@ TEST_P(EnergyConservation, EmittedEnergyDriftsLessThan1e8Over100s) {
   // The scene must move, or energy conservation is trivial.
   double travelled = 0;
   for (int a = 0; a < cm.n_coordinates; ++a)
-    travelled = std::max(travelled, std::fabs(result.x[static_cast<std::size_t>(a)] - scene.x0[static_cast<std::size_t>(a)]));
+    travelled =
+        std::max(travelled, std::fabs(result.x[static_cast<std::size_t>(a)] - scene.x0[static_cast<std::size_t>(a)]));
   EXPECT_GT(travelled, 1.0) << scene.label;
 
   std::printf("[measured] %s: E0 = %.6g, max |E - E0| / |E0| over 100 s = %.3g (%ld steps)\n", scene.label.c_str(), e0,
@@ -82,11 +83,12 @@ TEST_P(EnergyConservation, EmittedEnergyDriftsLessThan1e8Over100s) {
 // within ±0.6 rad, away from the ZYX singularity, for all time.
 INSTANTIATE_TEST_SUITE_P(
     ConservativeScenes, EnergyConservation,
-    ::testing::Values(Scene{"double_pendulum", "double_pendulum", {1.0, -0.5, 0.0, 0.0}},
-                      Scene{"rolling_ball", "rolling_ball", {0.0, 0.0, 0.0, 0.0, 0.0, 0.3 * std::sin(0.6), -0.3 * std::cos(0.6)}},
-                      Scene{"chaplygin_sleigh", "chaplygin_sleigh", {0.0, 0.0, 0.0, 0.5, 2.0}},
-                      Scene{"chaplygin_sleigh_reversing", "chaplygin_sleigh", {0.0, 0.0, 0.0, -0.5, 2.0}},
-                      Scene{"rolling_disk", "rolling_disk", {0.0, 0.0, 0.0, 0.0, 0.7, 3.0}}),
+    ::testing::Values(
+        Scene{"double_pendulum", "double_pendulum", {1.0, -0.5, 0.0, 0.0}},
+        Scene{"rolling_ball", "rolling_ball", {0.0, 0.0, 0.0, 0.0, 0.0, 0.3 * std::sin(0.6), -0.3 * std::cos(0.6)}},
+        Scene{"chaplygin_sleigh", "chaplygin_sleigh", {0.0, 0.0, 0.0, 0.5, 2.0}},
+        Scene{"chaplygin_sleigh_reversing", "chaplygin_sleigh", {0.0, 0.0, 0.0, -0.5, 2.0}},
+        Scene{"rolling_disk", "rolling_disk", {0.0, 0.0, 0.0, 0.0, 0.7, 3.0}}),
     [](const ::testing::TestParamInfo<Scene>& info) { return info.param.label; });
 
 // The double pendulum's energy written out by hand (potential zero at the pivot) equals the emitted one.
@@ -94,7 +96,8 @@ TEST(EnergyConservation, DoublePendulumEnergyIsKineticPlusPotential) {
   const CompiledModel& cm = hamel::test::compiled_model("double_pendulum");
   const std::vector<double> p(cm.default_parameters, cm.default_parameters + cm.n_parameters);
   const double m1 = p[0], m2 = p[1], l1 = p[2], l2 = p[3], g = p[4];
-  const std::vector<std::vector<double>> states = {{1.0, -0.5, 0.0, 0.0}, {0.3, 2.0, -1.5, 0.7}, {-2.5, 0.1, 3.0, -4.0}};
+  const std::vector<std::vector<double>> states = {
+      {1.0, -0.5, 0.0, 0.0}, {0.3, 2.0, -1.5, 0.7}, {-2.5, 0.1, 3.0, -4.0}};
   for (const auto& x : states) {
     double e = 0, dummy_input = 0;
     cm.energy(0.0, x.data(), p.data(), &dummy_input, &e);
@@ -141,9 +144,10 @@ TEST_P(SleighInvariants, EnergyConstantAndAsymptoticsHold) {
   EXPECT_LT(std::fabs(w_end), 1e-8) << "omega(100 s)";
   EXPECT_NEAR(v_end, v_inf, 1e-8 * v_inf) << "v(100 s)";
 
-  std::printf("[measured] chaplygin_sleigh v0 = %g, omega0 = %g: hand energy drift %.3g, |E_emitted - E_hand| / E0 %.3g, "
-              "omega(100) = %.3g, v(100) - v_inf = %.3g (v_inf = %.12g)\n",
-              v0, w0, worst_drift, worst_vs_emitted, w_end, v_end - v_inf, v_inf);
+  std::printf(
+      "[measured] chaplygin_sleigh v0 = %g, omega0 = %g: hand energy drift %.3g, |E_emitted - E_hand| / E0 %.3g, "
+      "omega(100) = %.3g, v(100) - v_inf = %.3g (v_inf = %.12g)\n",
+      v0, w0, worst_drift, worst_vs_emitted, w_end, v_end - v_inf, v_inf);
 }
 
 // v0 > 0: the sleigh straightens out; v0 < 0: it turns around and ends moving forward.

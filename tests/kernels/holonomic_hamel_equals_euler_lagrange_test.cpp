@@ -61,7 +61,8 @@ TEST(HolonomicHamel, DoublePendulumHasNoHamelCoefficients) {
   std::vector<double> p(cm.default_parameters, cm.default_parameters + cm.n_parameters);
   double dummy_input = 0;
   cm.hamel_coefficients(0.0, x.data(), p.data(), &dummy_input, out.data());
-  for (std::size_t k = 0; k < out.size(); ++k) EXPECT_TRUE(std::isnan(out[k])) << "hamel_coefficients wrote out[" << k << "]";
+  for (std::size_t k = 0; k < out.size(); ++k)
+    EXPECT_TRUE(std::isnan(out[k])) << "hamel_coefficients wrote out[" << k << "]";
 
   // Independently from the model's A: γᶜ_ab ≡ 0 (eq. (gamma)).
   const hamel::Model model = hamel::load_model(hamel::test::source_path(cm.model_file));
@@ -73,7 +74,8 @@ TEST(HolonomicHamel, DoublePendulumHasNoHamelCoefficients) {
         GiNaC::ex g = 0;
         for (unsigned r = 0; r < n; ++r)
           for (unsigned s = 0; s < n; ++s)
-            g += (model.A(c, r).diff(model.coordinates[s]) - model.A(c, s).diff(model.coordinates[r])) * B(r, a) * B(s, b);
+            g += (model.A(c, r).diff(model.coordinates[s]) - model.A(c, s).diff(model.coordinates[r])) * B(r, a) *
+                 B(s, b);
         EXPECT_TRUE(g.normal().is_zero()) << "gamma^" << c << "_" << a << b << " = " << g;
       }
 }
@@ -89,7 +91,8 @@ TEST(HolonomicHamel, MassMatrixAndForcingAreEulerLagrange) {
   GiNaC::exmap u_of_qdot;
   for (int k = 0; k < n; ++k) {
     GiNaC::ex row = 0;
-    for (int b = 0; b < n; ++b) row += model.A(static_cast<unsigned>(k), static_cast<unsigned>(b)) * model.rates[static_cast<std::size_t>(b)];
+    for (int b = 0; b < n; ++b)
+      row += model.A(static_cast<unsigned>(k), static_cast<unsigned>(b)) * model.rates[static_cast<std::size_t>(b)];
     u_of_qdot[model.quasi_velocities[static_cast<std::size_t>(k)]] = row;
   }
   const GiNaC::ex L = model.lagrangian.subs(u_of_qdot);
@@ -151,8 +154,9 @@ void closed_form_accelerations(const double* x, double m1, double m2, double l1,
   acc[0] = (-g * (2 * m1 + m2) * std::sin(th1) - m2 * g * std::sin(th1 - 2 * th2) -
             2 * std::sin(d) * m2 * (w2 * w2 * l2 + w1 * w1 * l1 * std::cos(d))) /
            (l1 * den);
-  acc[1] = (2 * std::sin(d) * (w1 * w1 * l1 * (m1 + m2) + g * (m1 + m2) * std::cos(th1) + w2 * w2 * l2 * m2 * std::cos(d))) /
-           (l2 * den);
+  acc[1] =
+      (2 * std::sin(d) * (w1 * w1 * l1 * (m1 + m2) + g * (m1 + m2) * std::cos(th1) + w2 * w2 * l2 * m2 * std::cos(d))) /
+      (l2 * den);
 }
 
 TEST(HolonomicHamel, RhsMatchesClosedFormDoublePendulum) {
@@ -174,8 +178,8 @@ TEST(HolonomicHamel, RhsMatchesClosedFormDoublePendulum) {
     ref[1] = x[3];
     closed_form_accelerations(x.data(), p[0], p[1], p[2], p[3], p[4], &ref[2]);
     const double e = relative_error(out, ref);
-    EXPECT_LE(e, 1e-12) << "trial " << trial << ": emitted (" << out[2] << ", " << out[3] << "), closed form (" << ref[2]
-                        << ", " << ref[3] << ")";
+    EXPECT_LE(e, 1e-12) << "trial " << trial << ": emitted (" << out[2] << ", " << out[3] << "), closed form ("
+                        << ref[2] << ", " << ref[3] << ")";
     worst = std::max(worst, e);
   }
   std::printf("[measured] double_pendulum: max relative error rhs vs closed form %.3g\n", worst);

@@ -44,20 +44,18 @@ struct KeplerRun {
 
 KeplerRun run_one_period(double tol, double sample_dt) {
   KeplerRun run;
-  run.result = integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, kepler_period,
-                                tolerance(tol), sample_dt, [&](double t, const double* x) {
+  run.result = integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, kepler_period, tolerance(tol), sample_dt,
+                                [&](double t, const double* x) {
                                   run.times.push_back(t);
                                   if (t > 0.0 && t < kepler_period) {
-                                    run.worst_sample_error =
-                                        std::fmax(run.worst_sample_error,
-                                                  hamel_test::kepler_error(t, x, kEccentricity));
+                                    run.worst_sample_error = std::fmax(run.worst_sample_error,
+                                                                       hamel_test::kepler_error(t, x, kEccentricity));
                                   }
                                 });
   run.end_error = hamel_test::kepler_error(kepler_period, run.result.x.data(), kEccentricity);
-  std::printf(
-      "tol=%.0e: steps=%ld rejected=%ld rhs_evals=%ld end error=%.3e worst sample error=%.3e\n",
-      tol, run.result.stats.steps, run.result.stats.rejected, run.result.stats.rhs_evals,
-      run.end_error, run.worst_sample_error);
+  std::printf("tol=%.0e: steps=%ld rejected=%ld rhs_evals=%ld end error=%.3e worst sample error=%.3e\n", tol,
+              run.result.stats.steps, run.result.stats.rejected, run.result.stats.rhs_evals, run.end_error,
+              run.worst_sample_error);
   return run;
 }
 
@@ -84,8 +82,7 @@ TEST(RuntimeDopri5, KeplerErrorStaysWithinAFewHundredTimesTheTolerance) {
   // the accuracy; a broken controller or error estimate lands far off.
   EXPECT_GE(coarse.result.stats.steps, 20);
   EXPECT_LE(coarse.result.stats.steps, 200);
-  const double ratio =
-      static_cast<double>(fine.result.stats.steps) / static_cast<double>(coarse.result.stats.steps);
+  const double ratio = static_cast<double>(fine.result.stats.steps) / static_cast<double>(coarse.result.stats.steps);
   EXPECT_GT(ratio, 2.5);
   EXPECT_LT(ratio, 6.5);
   // FSAL: six evaluations per attempt plus the first one and the starting-step probe.
@@ -145,8 +142,8 @@ FixedStepErrors fixed_step_errors(double h) {
   FixedStepErrors errors;
   // Samples at odd multiples of h/2 fall in the middle of steps; only those are
   // judged, so that the error of the dense output itself is measured.
-  const IntegrationResult r = integrate_dopri5(
-      hamel_test::kepler_rhs, kepler_start(), 0.0, 2.0, opt, h / 2, [&](double t, const double* x) {
+  const IntegrationResult r =
+      integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, 2.0, opt, h / 2, [&](double t, const double* x) {
         if (static_cast<long>(std::lround(t / (h / 2))) % 2 == 1) {
           errors.samples = std::fmax(errors.samples, hamel_test::kepler_error(t, x, kEccentricity));
         }
@@ -165,8 +162,8 @@ TEST(RuntimeDopri5, FixedStepConvergesAtOrderFiveWithDenseOutputToMatch) {
     const FixedStepErrors e = fixed_step_errors(h);
     const double order = std::log2(previous.end / e.end);
     const double sample_order = std::log2(previous.samples / e.samples);
-    std::printf("fixed h=%-7g end error=%.3e order=%.3f  sample error=%.3e order=%.3f\n", h, e.end,
-                order, e.samples, sample_order);
+    std::printf("fixed h=%-7g end error=%.3e order=%.3f  sample error=%.3e order=%.3f\n", h, e.end, order, e.samples,
+                sample_order);
     EXPECT_NEAR(order, 5.0, 0.5) << "h = " << h;
     // The continuous extension has order 4, i.e. a local error O(h^5) like the
     // global error of the steps, so samples converge at about order 5 as well.
@@ -184,9 +181,8 @@ TEST(RuntimeDopri5, NoSliverStepBeforeTheEnd) {
   opt.h0 = 0.1;
   opt.h_max = 0.1;
   std::vector<double> times;
-  const IntegrationResult r =
-      integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, 1.0009, opt, 0.0,
-                       [&](double t, const double*) { times.push_back(t); });
+  const IntegrationResult r = integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, 1.0009, opt, 0.0,
+                                               [&](double t, const double*) { times.push_back(t); });
   ASSERT_EQ(r.status, Status::ok);
   EXPECT_EQ(r.stats.steps, 10);
   EXPECT_EQ(times.back(), 1.0009);
@@ -196,12 +192,12 @@ TEST(RuntimeDopri5, NoSliverStepBeforeTheEnd) {
 TEST(RuntimeDopri5, IntegratesBackwardInTime) {
   const auto end = hamel_test::kepler_state(kepler_period, kEccentricity);
   std::vector<double> times;
-  const IntegrationResult r = integrate_dopri5(
-      hamel_test::kepler_rhs, {end.begin(), end.end()}, kepler_period, 0.0, tolerance(1e-9), 1.0,
-      [&](double t, const double* x) {
-        times.push_back(t);
-        EXPECT_LT(hamel_test::kepler_error(t, x, kEccentricity), kGlobalErrorFactor * 1e-9) << t;
-      });
+  const IntegrationResult r =
+      integrate_dopri5(hamel_test::kepler_rhs, {end.begin(), end.end()}, kepler_period, 0.0, tolerance(1e-9), 1.0,
+                       [&](double t, const double* x) {
+                         times.push_back(t);
+                         EXPECT_LT(hamel_test::kepler_error(t, x, kEccentricity), kGlobalErrorFactor * 1e-9) << t;
+                       });
   ASSERT_EQ(r.status, Status::ok);
   EXPECT_EQ(r.t, 0.0);
   EXPECT_LT(hamel_test::kepler_error(0.0, r.x.data(), kEccentricity), kGlobalErrorFactor * 1e-9);
@@ -213,9 +209,8 @@ TEST(RuntimeDopri5, MaximumStepIsRespected) {
   Dopri5Options opt = tolerance(1e-6);
   opt.h_max = 0.05;
   std::vector<double> times;
-  const IntegrationResult r =
-      integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, kepler_period, opt, 0.0,
-                       [&](double t, const double*) { times.push_back(t); });
+  const IntegrationResult r = integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, kepler_period, opt, 0.0,
+                                               [&](double t, const double*) { times.push_back(t); });
   ASSERT_EQ(r.status, Status::ok);
   for (std::size_t i = 1; i < times.size(); ++i) {
     EXPECT_LE(times[i] - times[i - 1], 0.05 * (1 + 1e-12));
@@ -227,9 +222,8 @@ TEST(RuntimeDopri5, GivenInitialStepIsUsed) {
   Dopri5Options opt = tolerance(1e-6);
   opt.h0 = 1e-3;
   std::vector<double> times;
-  const IntegrationResult r =
-      integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, 1.0, opt, 0.0,
-                       [&](double t, const double*) { times.push_back(t); });
+  const IntegrationResult r = integrate_dopri5(hamel_test::kepler_rhs, kepler_start(), 0.0, 1.0, opt, 0.0,
+                                               [&](double t, const double*) { times.push_back(t); });
   ASSERT_EQ(r.status, Status::ok);
   ASSERT_GE(times.size(), 2u);
   EXPECT_DOUBLE_EQ(times[1], 1e-3);
@@ -258,13 +252,12 @@ TEST(RuntimeDopri5, ArenstorfOrbitCloses) {
   constexpr double period = 17.0652165601579625588917206249;
   double previous = 0.0;
   for (const double tol : {1e-7, 1e-10}) {
-    const IntegrationResult r =
-        integrate_dopri5(arenstorf_rhs, start, 0.0, period, tolerance(tol), 0.0, NoObserver{});
+    const IntegrationResult r = integrate_dopri5(arenstorf_rhs, start, 0.0, period, tolerance(tol), 0.0, NoObserver{});
     ASSERT_EQ(r.status, Status::ok);
     double gap = 0.0;
     for (std::size_t i = 0; i < 4; ++i) gap = std::fmax(gap, std::fabs(r.x[i] - start[i]));
-    std::printf("arenstorf tol=%.0e: steps=%ld rejected=%ld closure error=%.3e\n", tol,
-                r.stats.steps, r.stats.rejected, gap);
+    std::printf("arenstorf tol=%.0e: steps=%ld rejected=%ld closure error=%.3e\n", tol, r.stats.steps, r.stats.rejected,
+                gap);
     EXPECT_LT(gap, 5e4 * tol) << "tol " << tol;
     if (previous > 0) {
       EXPECT_LT(gap, previous / 30);

@@ -35,8 +35,7 @@ void nan_after_half_rhs(double t, const double*, double* f) { f[0] = t <= 0.5 ? 
 void always_nan_rhs(double, const double*, double* f) { f[0] = kNaN; }
 
 void expect_stopped_before_blow_up(const IntegrationResult& r) {
-  EXPECT_TRUE(r.status == Status::non_finite_state || r.status == Status::step_size_underflow)
-      << describe(r.status);
+  EXPECT_TRUE(r.status == Status::non_finite_state || r.status == Status::step_size_underflow) << describe(r.status);
   EXPECT_LT(r.t, 1.0001);
   EXPECT_GT(r.t, 0.9);
   ASSERT_EQ(r.x.size(), 1u);
@@ -45,24 +44,22 @@ void expect_stopped_before_blow_up(const IntegrationResult& r) {
 
 TEST(RuntimeFailure, Rk4StopsAtTheBlowUp) {
   long observed_non_finite = 0;
-  const IntegrationResult r =
-      integrate_rk4(blow_up_rhs, {1.0}, 0.0, 2.0, 1e-5, 0.0, [&](double, const double* x) {
-        if (!std::isfinite(x[0])) ++observed_non_finite;
-      });
-  std::printf("rk4 x'=x^2: %s at t=%.9f, x=%.3e after %ld steps\n", describe(r.status), r.t, r.x[0],
-              r.stats.steps);
+  const IntegrationResult r = integrate_rk4(blow_up_rhs, {1.0}, 0.0, 2.0, 1e-5, 0.0, [&](double, const double* x) {
+    if (!std::isfinite(x[0])) ++observed_non_finite;
+  });
+  std::printf("rk4 x'=x^2: %s at t=%.9f, x=%.3e after %ld steps\n", describe(r.status), r.t, r.x[0], r.stats.steps);
   expect_stopped_before_blow_up(r);
   EXPECT_EQ(observed_non_finite, 0);
 }
 
 TEST(RuntimeFailure, Dopri5StopsAtTheBlowUp) {
   long observed_non_finite = 0;
-  const IntegrationResult r = integrate_dopri5(blow_up_rhs, {1.0}, 0.0, 2.0, Dopri5Options{}, 0.0,
-                                               [&](double, const double* x) {
-                                                 if (!std::isfinite(x[0])) ++observed_non_finite;
-                                               });
-  std::printf("dopri5 x'=x^2: %s at t=%.15f, x=%.3e after %ld steps, %ld rejected\n",
-              describe(r.status), r.t, r.x[0], r.stats.steps, r.stats.rejected);
+  const IntegrationResult r =
+      integrate_dopri5(blow_up_rhs, {1.0}, 0.0, 2.0, Dopri5Options{}, 0.0, [&](double, const double* x) {
+        if (!std::isfinite(x[0])) ++observed_non_finite;
+      });
+  std::printf("dopri5 x'=x^2: %s at t=%.15f, x=%.3e after %ld steps, %ld rejected\n", describe(r.status), r.t, r.x[0],
+              r.stats.steps, r.stats.rejected);
   expect_stopped_before_blow_up(r);
   EXPECT_EQ(observed_non_finite, 0);
   // Up to the last accepted point the solution is still x = 1 / (1 - t), so
@@ -71,8 +68,7 @@ TEST(RuntimeFailure, Dopri5StopsAtTheBlowUp) {
 }
 
 TEST(RuntimeFailure, Rk4ReportsNaNFromTheRightHandSide) {
-  const IntegrationResult r =
-      integrate_rk4(nan_after_half_rhs, {0.0}, 0.0, 1.0, 0.1, 0.0, NoObserver{});
+  const IntegrationResult r = integrate_rk4(nan_after_half_rhs, {0.0}, 0.0, 1.0, 0.1, 0.0, NoObserver{});
   EXPECT_EQ(r.status, Status::non_finite_state);
   EXPECT_DOUBLE_EQ(r.t, 0.5);  // the last step that stayed where the model is defined
   ASSERT_EQ(r.x.size(), 1u);
@@ -80,10 +76,9 @@ TEST(RuntimeFailure, Rk4ReportsNaNFromTheRightHandSide) {
 }
 
 TEST(RuntimeFailure, Dopri5ReportsNaNFromTheRightHandSide) {
-  const IntegrationResult r =
-      integrate_dopri5(nan_after_half_rhs, {0.0}, 0.0, 1.0, Dopri5Options{}, 0.0, NoObserver{});
-  std::printf("dopri5 NaN beyond t=0.5: %s at t=%.15f after %ld steps, %ld rejected\n",
-              describe(r.status), r.t, r.stats.steps, r.stats.rejected);
+  const IntegrationResult r = integrate_dopri5(nan_after_half_rhs, {0.0}, 0.0, 1.0, Dopri5Options{}, 0.0, NoObserver{});
+  std::printf("dopri5 NaN beyond t=0.5: %s at t=%.15f after %ld steps, %ld rejected\n", describe(r.status), r.t,
+              r.stats.steps, r.stats.rejected);
   EXPECT_EQ(r.status, Status::non_finite_state);
   EXPECT_LE(r.t, 0.5);
   EXPECT_GT(r.t, 0.5 - 1e-6);  // it crept up to the edge before giving up
@@ -92,8 +87,7 @@ TEST(RuntimeFailure, Dopri5ReportsNaNFromTheRightHandSide) {
 }
 
 TEST(RuntimeFailure, Dopri5ReportsNaNFromTheFirstEvaluation) {
-  const IntegrationResult r =
-      integrate_dopri5(always_nan_rhs, {1.0}, 0.0, 1.0, Dopri5Options{}, 0.0, NoObserver{});
+  const IntegrationResult r = integrate_dopri5(always_nan_rhs, {1.0}, 0.0, 1.0, Dopri5Options{}, 0.0, NoObserver{});
   EXPECT_EQ(r.status, Status::non_finite_state);
   EXPECT_EQ(r.t, 0.0);
   EXPECT_EQ(r.x, std::vector<double>{1.0});
@@ -101,8 +95,7 @@ TEST(RuntimeFailure, Dopri5ReportsNaNFromTheFirstEvaluation) {
 }
 
 TEST(RuntimeFailure, Rk4ReportsNaNFromTheFirstEvaluation) {
-  const IntegrationResult r =
-      integrate_rk4(always_nan_rhs, {1.0}, 0.0, 1.0, 0.1, 0.0, NoObserver{});
+  const IntegrationResult r = integrate_rk4(always_nan_rhs, {1.0}, 0.0, 1.0, 0.1, 0.0, NoObserver{});
   EXPECT_EQ(r.status, Status::non_finite_state);
   EXPECT_EQ(r.t, 0.0);
   EXPECT_EQ(r.x, std::vector<double>{1.0});
@@ -130,8 +123,7 @@ TEST(RuntimeFailure, NonFiniteInitialStateIsRejectedBeforeAnyWork) {
   int observed = 0;
   auto count = [&](double, const double*) { ++observed; };
   const IntegrationResult a = integrate_rk4(blow_up_rhs, {kNaN}, 0.0, 1.0, 0.1, 0.0, count);
-  const IntegrationResult b =
-      integrate_dopri5(blow_up_rhs, {kNaN}, 0.0, 1.0, Dopri5Options{}, 0.0, count);
+  const IntegrationResult b = integrate_dopri5(blow_up_rhs, {kNaN}, 0.0, 1.0, Dopri5Options{}, 0.0, count);
   EXPECT_EQ(a.status, Status::non_finite_state);
   EXPECT_EQ(b.status, Status::non_finite_state);
   EXPECT_EQ(a.stats.rhs_evals + b.stats.rhs_evals, 0);
@@ -149,9 +141,8 @@ TEST(RuntimeFailure, Rk4RejectsNonPositiveStep) {
 TEST(RuntimeFailure, Dopri5StopsAfterMaxSteps) {
   Dopri5Options opt;
   opt.max_steps = 5;
-  const IntegrationResult r =
-      integrate_dopri5([](double t, const double*, double* f) { f[0] = std::cos(t); }, {0.0}, 0.0,
-                       100.0, opt, 0.0, NoObserver{});
+  const IntegrationResult r = integrate_dopri5([](double t, const double*, double* f) { f[0] = std::cos(t); }, {0.0},
+                                               0.0, 100.0, opt, 0.0, NoObserver{});
   EXPECT_EQ(r.status, Status::too_many_steps);
   EXPECT_EQ(r.stats.steps + r.stats.rejected, 5);
   EXPECT_LT(r.t, 100.0);

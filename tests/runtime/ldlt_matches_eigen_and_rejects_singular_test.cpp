@@ -34,13 +34,9 @@ Eigen::VectorXd random_vector(int n, std::mt19937& rng) {
   return v;
 }
 
-Status solve(RowMatrix M, Eigen::VectorXd& b) {
-  return ldlt_solve(M.data(), b.data(), static_cast<int>(M.rows()));
-}
+Status solve(RowMatrix M, Eigen::VectorXd& b) { return ldlt_solve(M.data(), b.data(), static_cast<int>(M.rows())); }
 
-double relative_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) {
-  return (a - b).norm() / b.norm();
-}
+double relative_difference(const Eigen::VectorXd& a, const Eigen::VectorXd& b) { return (a - b).norm() / b.norm(); }
 
 TEST(RuntimeLdlt, MatchesEigenOnRandomSpdMatrices) {
   std::mt19937 rng(20240521);
@@ -119,8 +115,7 @@ TEST(RuntimeLdlt, IndefiniteMatricesAreRejected) {
     Eigen::VectorXd d = Eigen::VectorXd::Ones(n);
     d(n - 1) = -1.0;
     Eigen::VectorXd b = random_vector(n, rng);
-    EXPECT_EQ(solve(Q * d.asDiagonal() * Q.transpose(), b), Status::singular_mass_matrix)
-        << "n = " << n;
+    EXPECT_EQ(solve(Q * d.asDiagonal() * Q.transpose(), b), Status::singular_mass_matrix) << "n = " << n;
   }
   std::array<double, 4> M = {1.0, 2.0, 2.0, 1.0};  // eigenvalues 3 and -1
   std::array<double, 2> b = {1.0, 1.0};
@@ -131,8 +126,7 @@ TEST(RuntimeLdlt, IndefiniteMatricesAreRejected) {
 }
 
 TEST(RuntimeLdlt, NonFiniteEntriesAreRejected) {
-  const double bad[] = {std::numeric_limits<double>::quiet_NaN(),
-                        std::numeric_limits<double>::infinity()};
+  const double bad[] = {std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()};
   for (const double v : bad) {
     for (const int where : {0, 3, 4}) {  // diagonal, off-diagonal (lower), last diagonal
       std::array<double, 9> M = {4, 1, 0, 1, 3, 0, 0, 1, 2};
@@ -154,8 +148,6 @@ TEST(RuntimeLdlt, FixedSizeOverloadSolvesAKnownSystem) {
   EXPECT_NEAR(b[2], 3.0, 1e-15);
 }
 
-TEST(RuntimeLdlt, EmptySystemIsTriviallySolved) {
-  EXPECT_EQ(ldlt_solve(nullptr, nullptr, 0), Status::ok);
-}
+TEST(RuntimeLdlt, EmptySystemIsTriviallySolved) { EXPECT_EQ(ldlt_solve(nullptr, nullptr, 0), Status::ok); }
 
 }  // namespace

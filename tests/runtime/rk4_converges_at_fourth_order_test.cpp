@@ -31,8 +31,7 @@ std::vector<double> kepler_start() {
 }
 
 double kepler_error_at_2(double h) {
-  const IntegrationResult r =
-      integrate_rk4(hamel_test::kepler_rhs, kepler_start(), 0.0, 2.0, h, 0.0, NoObserver{});
+  const IntegrationResult r = integrate_rk4(hamel_test::kepler_rhs, kepler_start(), 0.0, 2.0, h, 0.0, NoObserver{});
   EXPECT_EQ(r.status, Status::ok);
   EXPECT_EQ(r.t, 2.0);
   return hamel_test::kepler_error(2.0, r.x.data(), kEccentricity);
@@ -57,13 +56,9 @@ void expect_fourth_order(const char* name, double (*error_at)(double)) {
   }
 }
 
-TEST(RuntimeRk4, KeplerOrbitConvergesAtOrderFour) {
-  expect_fourth_order("kepler e=0.5", kepler_error_at_2);
-}
+TEST(RuntimeRk4, KeplerOrbitConvergesAtOrderFour) { expect_fourth_order("kepler e=0.5", kepler_error_at_2); }
 
-TEST(RuntimeRk4, RiccatiEquationConvergesAtOrderFour) {
-  expect_fourth_order("riccati", riccati_error_at_2);
-}
+TEST(RuntimeRk4, RiccatiEquationConvergesAtOrderFour) { expect_fourth_order("riccati", riccati_error_at_2); }
 
 // Samples between steps come from the cubic Hermite interpolant, whose O(h^4)
 // error must keep the samples fourth-order accurate too. t0 and t_end are left
@@ -71,8 +66,8 @@ TEST(RuntimeRk4, RiccatiEquationConvergesAtOrderFour) {
 double worst_sample_error(double h) {
   double worst = 0.0;
   int samples = 0;
-  const IntegrationResult r = integrate_rk4(
-      hamel_test::kepler_rhs, kepler_start(), 0.0, 2.0, h, 0.0317, [&](double t, const double* x) {
+  const IntegrationResult r =
+      integrate_rk4(hamel_test::kepler_rhs, kepler_start(), 0.0, 2.0, h, 0.0317, [&](double t, const double* x) {
         if (t > 0.0 && t < 2.0) {
           worst = std::fmax(worst, hamel_test::kepler_error(t, x, kEccentricity));
         }
@@ -83,21 +78,19 @@ double worst_sample_error(double h) {
   return worst;
 }
 
-TEST(RuntimeRk4, InterpolatedSamplesConvergeAtOrderFour) {
-  expect_fourth_order("kepler samples", worst_sample_error);
-}
+TEST(RuntimeRk4, InterpolatedSamplesConvergeAtOrderFour) { expect_fourth_order("kepler samples", worst_sample_error); }
 
 // RK4 on x' = 3t^2 is Simpson's rule, exact for the cubic x = t^3, and the
 // cubic Hermite interpolant reproduces a cubic exactly: every sample between
 // steps must then be exact up to rounding.
 TEST(RuntimeRk4, HermiteSamplesAreExactForACubicSolution) {
   int samples = 0;
-  const IntegrationResult r = integrate_rk4(
-      [](double t, const double*, double* f) { f[0] = 3 * t * t; }, {0.0}, 0.0, 2.0, 0.25, 0.03,
-      [&](double t, const double* x) {
-        EXPECT_NEAR(x[0], t * t * t, 1e-14 * (1 + t * t * t)) << t;
-        ++samples;
-      });
+  const IntegrationResult r =
+      integrate_rk4([](double t, const double*, double* f) { f[0] = 3 * t * t; }, {0.0}, 0.0, 2.0, 0.25, 0.03,
+                    [&](double t, const double* x) {
+                      EXPECT_NEAR(x[0], t * t * t, 1e-14 * (1 + t * t * t)) << t;
+                      ++samples;
+                    });
   EXPECT_EQ(r.status, Status::ok);
   EXPECT_EQ(samples, 1 + 66 + 1);
 }
@@ -105,11 +98,10 @@ TEST(RuntimeRk4, HermiteSamplesAreExactForACubicSolution) {
 TEST(RuntimeRk4, StepThatDividesTheIntervalIsUsedExactly) {
   long observed = 0;
   double last_t = -1.0;
-  const IntegrationResult r =
-      integrate_rk4(riccati_rhs, {0.5}, 0.0, 2.0, 0.1, 0.0, [&](double t, const double*) {
-        ++observed;
-        last_t = t;
-      });
+  const IntegrationResult r = integrate_rk4(riccati_rhs, {0.5}, 0.0, 2.0, 0.1, 0.0, [&](double t, const double*) {
+    ++observed;
+    last_t = t;
+  });
   EXPECT_EQ(r.stats.steps, 20);
   EXPECT_EQ(r.stats.rejected, 0);
   EXPECT_EQ(r.stats.rhs_evals, 4 * 20);  // the end derivative is reused as the next first stage
@@ -129,8 +121,8 @@ TEST(RuntimeRk4, RoundingOfTheStepCountDoesNotAddAStep) {
 
 TEST(RuntimeRk4, StepThatDoesNotDivideTheIntervalShrinksToLandOnTheEnd) {
   std::vector<double> times;
-  const IntegrationResult r = integrate_rk4(riccati_rhs, {0.5}, 0.0, 1.0, 0.3, 0.0,
-                                            [&](double t, const double*) { times.push_back(t); });
+  const IntegrationResult r =
+      integrate_rk4(riccati_rhs, {0.5}, 0.0, 1.0, 0.3, 0.0, [&](double t, const double*) { times.push_back(t); });
   ASSERT_EQ(r.status, Status::ok);
   EXPECT_EQ(r.stats.steps, 4);  // ceil(1 / 0.3) steps of 0.25
   ASSERT_EQ(times.size(), 5u);
@@ -141,11 +133,10 @@ TEST(RuntimeRk4, StepThatDoesNotDivideTheIntervalShrinksToLandOnTheEnd) {
 
 TEST(RuntimeRk4, ObserverSeesStartSamplesAndEndExactlyOnce) {
   std::vector<double> times;
-  const IntegrationResult r =
-      integrate_rk4(riccati_rhs, {0.5}, 0.0, 0.3, 0.01, 0.1, [&](double t, const double* x) {
-        times.push_back(t);
-        EXPECT_NEAR(x[0], riccati_exact(t), 1e-10) << t;
-      });
+  const IntegrationResult r = integrate_rk4(riccati_rhs, {0.5}, 0.0, 0.3, 0.01, 0.1, [&](double t, const double* x) {
+    times.push_back(t);
+    EXPECT_NEAR(x[0], riccati_exact(t), 1e-10) << t;
+  });
   ASSERT_EQ(r.status, Status::ok);
   // 3 * 0.1 rounds above 0.3; it must not appear next to t_end as a near-duplicate.
   ASSERT_EQ(times.size(), 4u);
@@ -160,16 +151,16 @@ TEST(RuntimeRk4, ObserverSeesStartSamplesAndEndExactlyOnce) {
 // t_end up to rounding and must not be observed a second time.
 TEST(RuntimeRk4, SampleThatRoundsBelowTheEndIsNotObservedTwice) {
   std::vector<double> times;
-  const IntegrationResult r = integrate_rk4(riccati_rhs, {0.5}, 0.0, 0.9, 0.1, 0.3,
-                                            [&](double t, const double*) { times.push_back(t); });
+  const IntegrationResult r =
+      integrate_rk4(riccati_rhs, {0.5}, 0.0, 0.9, 0.1, 0.3, [&](double t, const double*) { times.push_back(t); });
   ASSERT_EQ(r.status, Status::ok);
   EXPECT_EQ(times, (std::vector<double>{0.0, 0.3, 2 * 0.3, 0.9}));
 }
 
 TEST(RuntimeRk4, SampleInsideTheLastStepCostsOneExtraEvaluation) {
   std::vector<double> times;
-  const IntegrationResult r = integrate_rk4(riccati_rhs, {0.5}, 0.0, 1.0, 0.5, 0.75,
-                                            [&](double t, const double*) { times.push_back(t); });
+  const IntegrationResult r =
+      integrate_rk4(riccati_rhs, {0.5}, 0.0, 1.0, 0.5, 0.75, [&](double t, const double*) { times.push_back(t); });
   ASSERT_EQ(r.status, Status::ok);
   EXPECT_EQ(times, (std::vector<double>{0.0, 0.75, 1.0}));
   EXPECT_EQ(r.stats.rhs_evals, 4 * 2 + 1);
@@ -187,8 +178,8 @@ TEST(RuntimeRk4, IntegratesBackwardInTime) {
 
 TEST(RuntimeRk4, EmptyIntervalObservesOnceAndDoesNoWork) {
   int observed = 0;
-  const IntegrationResult r = integrate_rk4(riccati_rhs, {0.5}, 1.0, 1.0, 0.1, 0.1,
-                                            [&](double, const double*) { ++observed; });
+  const IntegrationResult r =
+      integrate_rk4(riccati_rhs, {0.5}, 1.0, 1.0, 0.1, 0.1, [&](double, const double*) { ++observed; });
   EXPECT_EQ(r.status, Status::ok);
   EXPECT_EQ(observed, 1);
   EXPECT_EQ(r.stats.rhs_evals, 0);

@@ -17,8 +17,7 @@ class CsvWriter {
   /// Writes the header line: the complete column names (the caller includes
   /// "t" if it wants a time column), comma-separated. A name containing a comma,
   /// quote or line break is quoted as RFC 4180 prescribes.
-  CsvWriter(std::ostream& os, const std::vector<std::string>& columns)
-      : os_(os), columns_(columns.size()) {
+  CsvWriter(std::ostream& os, const std::vector<std::string>& columns) : os_(os), columns_(columns.size()) {
     for (std::size_t i = 0; i < columns.size(); ++i) {
       if (i > 0) {
         os_ << ',';

@@ -35,16 +35,15 @@ constexpr double c2 = 1.0 / 5.0, c3 = 3.0 / 10.0, c4 = 4.0 / 5.0, c5 = 8.0 / 9.0
 constexpr double a21 = 1.0 / 5.0;
 constexpr double a31 = 3.0 / 40.0, a32 = 9.0 / 40.0;
 constexpr double a41 = 44.0 / 45.0, a42 = -56.0 / 15.0, a43 = 32.0 / 9.0;
-constexpr double a51 = 19372.0 / 6561.0, a52 = -25360.0 / 2187.0, a53 = 64448.0 / 6561.0,
-                 a54 = -212.0 / 729.0;
-constexpr double a61 = 9017.0 / 3168.0, a62 = -355.0 / 33.0, a63 = 46732.0 / 5247.0,
-                 a64 = 49.0 / 176.0, a65 = -5103.0 / 18656.0;
+constexpr double a51 = 19372.0 / 6561.0, a52 = -25360.0 / 2187.0, a53 = 64448.0 / 6561.0, a54 = -212.0 / 729.0;
+constexpr double a61 = 9017.0 / 3168.0, a62 = -355.0 / 33.0, a63 = 46732.0 / 5247.0, a64 = 49.0 / 176.0,
+                 a65 = -5103.0 / 18656.0;
 // The fifth-order weights double as the last stage row (FSAL).
-constexpr double a71 = 35.0 / 384.0, a73 = 500.0 / 1113.0, a74 = 125.0 / 192.0,
-                 a75 = -2187.0 / 6784.0, a76 = 11.0 / 84.0;
+constexpr double a71 = 35.0 / 384.0, a73 = 500.0 / 1113.0, a74 = 125.0 / 192.0, a75 = -2187.0 / 6784.0,
+                 a76 = 11.0 / 84.0;
 // Difference between the fifth- and fourth-order weights.
-constexpr double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0,
-                 e5 = -17253.0 / 339200.0, e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
+constexpr double e1 = 71.0 / 57600.0, e3 = -71.0 / 16695.0, e4 = 71.0 / 1920.0, e5 = -17253.0 / 339200.0,
+                 e6 = 22.0 / 525.0, e7 = -1.0 / 40.0;
 // Continuous extension of order 4: the dense output coefficients of dopri5.f
 // (due to Shampine, 1986).
 constexpr double d1 = -12715105075.0 / 11282082432.0, d3 = 87487479700.0 / 32700410799.0,
@@ -63,9 +62,8 @@ constexpr double expo1 = 0.2 - beta * 0.75;
 /// that the estimated local error of order 5 is about 0.01 in the scaled norm.
 /// Costs one rhs evaluation.
 template <class Rhs>
-double initial_step(Rhs& rhs, double t, const double* x, const double* f0, double dir,
-                    double h_limit, const Dopri5Options& opt, double* x1, double* f1, std::size_t n,
-                    long& rhs_evals) {
+double initial_step(Rhs& rhs, double t, const double* x, const double* f0, double dir, double h_limit,
+                    const Dopri5Options& opt, double* x1, double* f1, std::size_t n, long& rhs_evals) {
   double dnf = 0.0;
   double dny = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
@@ -112,8 +110,8 @@ double initial_step(Rhs& rhs, double t, const double* x, const double* f0, doubl
 /// rejected step and retried with a step 5 times smaller) down to that
 /// underflow limit; too_many_steps when opt.max_steps attempts do not suffice.
 template <class Rhs, class Observer>
-IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end,
-                                   const Dopri5Options& opt, double sample_dt, Observer&& observe) {
+IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dopri5Options& opt,
+                                   double sample_dt, Observer&& observe) {
   namespace k = detail::dopri5;
   IntegrationResult result;
   result.t = t0;
@@ -158,8 +156,8 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
 
   double h = std::fabs(opt.h0);
   if (h == 0.0 || !std::isfinite(h)) {
-    h = k::initial_step(rhs, t, x.data(), k1, dir, std::min(h_limit, std::fabs(t_end - t0)), opt,
-                        stage, k2, n, result.stats.rhs_evals);
+    h = k::initial_step(rhs, t, x.data(), k1, dir, std::min(h_limit, std::fabs(t_end - t0)), opt, stage, k2, n,
+                        result.stats.rhs_evals);
   }
   h = std::min(h, h_limit);
 
@@ -207,13 +205,11 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
       }
       if (!eval(t + k::c5 * hs, stage, k5)) break;
       for (std::size_t i = 0; i < n; ++i) {
-        stage[i] = x[i] + hs * (k::a61 * k1[i] + k::a62 * k2[i] + k::a63 * k3[i] + k::a64 * k4[i] +
-                                k::a65 * k5[i]);
+        stage[i] = x[i] + hs * (k::a61 * k1[i] + k::a62 * k2[i] + k::a63 * k3[i] + k::a64 * k4[i] + k::a65 * k5[i]);
       }
       if (!eval(t_next, stage, k6)) break;
       for (std::size_t i = 0; i < n; ++i) {
-        x_new[i] = x[i] + hs * (k::a71 * k1[i] + k::a73 * k3[i] + k::a74 * k4[i] + k::a75 * k5[i] +
-                                k::a76 * k6[i]);
+        x_new[i] = x[i] + hs * (k::a71 * k1[i] + k::a73 * k3[i] + k::a74 * k4[i] + k::a75 * k5[i] + k::a76 * k6[i]);
       }
       finite = all_finite(x_new, n);
       if (!finite) break;
@@ -223,8 +219,8 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
     double err = 0.0;
     if (finite) {
       for (std::size_t i = 0; i < n; ++i) {
-        const double e = hs * (k::e1 * k1[i] + k::e3 * k3[i] + k::e4 * k4[i] + k::e5 * k5[i] +
-                               k::e6 * k6[i] + k::e7 * k7[i]);
+        const double e =
+            hs * (k::e1 * k1[i] + k::e3 * k3[i] + k::e4 * k4[i] + k::e5 * k5[i] + k::e6 * k6[i] + k::e7 * k7[i]);
         const double sk = opt.atol + opt.rtol * std::max(std::fabs(x[i]), std::fabs(x_new[i]));
         err += (e / sk) * (e / sk);
       }
@@ -261,16 +257,14 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
           const double dx = x_new[i] - x[i];
           bspl[i] = hs * k1[i] - dx;
           r4[i] = dx - hs * k7[i] - bspl[i];
-          r5[i] = hs * (k::d1 * k1[i] + k::d3 * k3[i] + k::d4 * k4[i] + k::d5 * k5[i] +
-                        k::d6 * k6[i] + k::d7 * k7[i]);
+          r5[i] = hs * (k::d1 * k1[i] + k::d3 * k3[i] + k::d4 * k4[i] + k::d5 * k5[i] + k::d6 * k6[i] + k::d7 * k7[i]);
         }
         while (clock.due(t_next)) {
           const double s = clock.next();
           const double theta = (s - t) / hs;
           const double theta1 = 1.0 - theta;
           for (std::size_t i = 0; i < n; ++i) {
-            sample[i] = x[i] + theta * ((x_new[i] - x[i]) +
-                                        theta1 * (bspl[i] + theta * (r4[i] + theta1 * r5[i])));
+            sample[i] = x[i] + theta * ((x_new[i] - x[i]) + theta1 * (bspl[i] + theta * (r4[i] + theta1 * r5[i])));
           }
           observe(s, sample);
           clock.advance();

@@ -68,8 +68,8 @@ class SampleClock {
         t_end_(t_end),
         dir_(t_end >= t0 ? 1.0 : -1.0),
         dt_(dt > 0 ? dt : 0.0),
-        guard_(std::max(1e-9 * dt_, 8 * std::numeric_limits<double>::epsilon() *
-                                        std::max(std::fabs(t0), std::fabs(t_end)))) {}
+        guard_(std::max(1e-9 * dt_,
+                        8 * std::numeric_limits<double>::epsilon() * std::max(std::fabs(t0), std::fabs(t_end)))) {}
 
   /// Whether sampling was requested at all.
   bool enabled() const { return dt_ > 0; }

@@ -116,10 +116,8 @@ inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tole
 
 /// Fixed-size convenience overload of ldlt_solve for generated code that knows n at compile time.
 template <std::size_t N>
-Status ldlt_solve(std::array<double, N * N>& M, std::array<double, N>& b,
-                  double relative_pivot_tolerance = 1e-13) {
-  static_assert(N <= static_cast<std::size_t>(std::numeric_limits<int>::max()),
-                "matrix dimension must fit in int");
+Status ldlt_solve(std::array<double, N * N>& M, std::array<double, N>& b, double relative_pivot_tolerance = 1e-13) {
+  static_assert(N <= static_cast<std::size_t>(std::numeric_limits<int>::max()), "matrix dimension must fit in int");
   return ldlt_solve(M.data(), b.data(), static_cast<int>(N), relative_pivot_tolerance);
 }
 

@@ -17,14 +17,12 @@ namespace detail {
 /// Cubic Hermite interpolant on [t, t + h] at fraction theta, written as a
 /// correction to linear interpolation (Hairer's form) so that it loses no
 /// digits when x0 and x1 are close.
-inline void hermite_interpolate(const double* x0, const double* f0, const double* x1,
-                                const double* f1, double h, double theta, double* out,
-                                std::size_t n) {
+inline void hermite_interpolate(const double* x0, const double* f0, const double* x1, const double* f1, double h,
+                                double theta, double* out, std::size_t n) {
   const double theta1 = theta - 1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const double dx = x1[i] - x0[i];
-    out[i] = x0[i] + theta * dx +
-             theta * theta1 * ((1.0 - 2.0 * theta) * dx + theta1 * h * f0[i] + theta * h * f1[i]);
+    out[i] = x0[i] + theta * dx + theta * theta1 * ((1.0 - 2.0 * theta) * dx + theta1 * h * f0[i] + theta * h * f1[i]);
   }
 }
 
@@ -47,8 +45,8 @@ inline void hermite_interpolate(const double* x0, const double* f0, const double
 /// state and its time; h <= 0 or a step below 1e-14 * max(1, |t|) gives
 /// step_size_underflow; more than 1e15 steps gives too_many_steps.
 template <class Rhs, class Observer>
-IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h,
-                                double sample_dt, Observer&& observe) {
+IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h, double sample_dt,
+                                Observer&& observe) {
   IntegrationResult result;
   result.t = t0;
   const std::size_t n = x.size();
@@ -72,8 +70,7 @@ IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, dou
       return finish(Status::too_many_steps);
     }
     count = std::max(1L, static_cast<long>(std::ceil(ratio - 1e-9)));
-    if (std::fabs(span) / static_cast<double>(count) <
-        detail::min_step(std::max(std::fabs(t0), std::fabs(t_end)))) {
+    if (std::fabs(span) / static_cast<double>(count) < detail::min_step(std::max(std::fabs(t0), std::fabs(t_end)))) {
       return finish(Status::step_size_underflow);
     }
   }

@@ -1,5 +1,7 @@
 #include "emit/cpp_emitter.hpp"
 
+#include "algebra/expression_text.hpp"
+
 #include "model/input_error.hpp"
 
 #include <cmath>
@@ -24,12 +26,7 @@ namespace {
 std::string literal(double v) {
   if (std::isnan(v)) return "NAN";
   if (std::isinf(v)) return v > 0 ? "HUGE_VAL" : "-HUGE_VAL";
-  char buf[40];
-  for (int digits = 15; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, v);
-    if (std::strtod(buf, nullptr) == v) break;
-  }
-  std::string s = buf;
+  std::string s = shortest_decimal(v);
   if (s.find_first_of(".en") == std::string::npos) s += ".0";
   return "real(" + s + ")";
 }

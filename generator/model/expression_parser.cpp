@@ -1,5 +1,7 @@
 #include "model/expression_parser.hpp"
 
+#include "algebra/expression_text.hpp"
+
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -70,14 +72,7 @@ GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) 
   return reader(exact_decimals(text));
 }
 
-GiNaC::ex exact_number(double value) {
-  char buf[40];
-  for (int digits = 15; digits <= 17; ++digits) {
-    std::snprintf(buf, sizeof buf, "%.*g", digits, value);
-    if (std::strtod(buf, nullptr) == value) break;
-  }
-  return parse_expression(buf, GiNaC::symtab());
-}
+GiNaC::ex exact_number(double value) { return parse_expression(shortest_decimal(value), GiNaC::symtab()); }
 
 bool is_valid_identifier(const std::string& name, std::string* why) {
   static const std::set<std::string> keywords = {

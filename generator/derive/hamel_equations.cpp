@@ -46,6 +46,13 @@ HamelEquations hamel_equations(const Model& model, const QuasiVelocities& qv,
   eq.reduced_lagrangian = simplify(at_constraint(lagrangian));
   eq.mass_matrix = GiNaC::matrix(d, d);
   eq.forcing.resize(d);
+  // Q_a and ∂ℒ/∂q^a at u^α = 0 do not depend on I: form them once.
+  std::vector<ex> force(n), gradient(n);
+  for (unsigned a = 0; a < n; ++a) {
+    force[a] = at_constraint(model.forces[a].subs(to_quasi));
+    gradient[a] = at_constraint(lagrangian.diff(model.coordinates[a]));
+  }
+
   for (unsigned i = 0; i < d; ++i) {
     const int I = eq.independent[i];
     const ex& p_I = momentum[I];
@@ -55,8 +62,7 @@ HamelEquations hamel_equations(const Model& model, const QuasiVelocities& qv,
     ex f = 0;
     // Generalized force Q_I = B^a_I Q_a and the configuration gradient ∂ℒ/∂q^a B^a_I.
     for (unsigned a = 0; a < n; ++a) {
-      f += qv.B(a, I) * at_constraint(model.forces[a].subs(to_quasi));
-      f += at_constraint(lagrangian.diff(model.coordinates[a])) * qv.B(a, I);
+      f += qv.B(a, I) * (force[a] + gradient[a]);
       // Convective part of d/dt p_I.
       f -= p_I.diff(model.coordinates[a]) * eq.kinematics[a];
     }

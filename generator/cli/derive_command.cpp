@@ -1,6 +1,7 @@
 // `hamel derive MODEL [--param n=v ...] [--at n=v,...] [--json]`: the derived quantities as expressions,
 // with numbers where --at (and parameter values) determine them.
 #include "algebra/expression_text.hpp"
+#include "algebra/simplify.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
 #include "derive/derivation.hpp"
@@ -20,6 +21,7 @@ namespace {
 struct DeriveOptions {
   std::string model;
   std::vector<std::string> params, at;
+  std::string form, curvature_sign = "paper", fold = "none";
   bool json = false;
 };
 
@@ -37,6 +39,95 @@ nlohmann::json entry(const GiNaC::ex& e, const GiNaC::exmap& values) {
   j["expr"] = to_text(e);
   if (auto v = value_of(e, values)) j["value"] = *v;
   return j;
+}
+
+nlohmann::json matrix_json(const GiNaC::matrix& m, unsigned rows, unsigned cols,
+                           const std::vector<std::string>& row_names, const std::vector<std::string>& col_names,
+                           const GiNaC::exmap& values) {
+  nlohmann::json out = nlohmann::json::array();
+  for (unsigned r = 0; r < rows; ++r)
+    for (unsigned c = 0; c < cols; ++c) {
+      nlohmann::json e = entry(m(r, c), values);
+      e["row"] = row_names[r];
+      e["col"] = col_names[c];
+      out.push_back(e);
+    }
+  return out;
+}
+
+// The bundle quantities of Sec. 3–5: group, structure constants, connection, curvature, E, L and M^Ω.
+void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d, const GiNaC::exmap& values,
+                     CurvatureSign sign) {
+  const Bundle& b = *model.bundle;
+  const BundleGeometry& g = *d.bundle;
+  const unsigned m = g.algebra.dim();
+  const unsigned n = static_cast<unsigned>(model.coordinates.size());
+  std::vector<std::string> xi, r;
+  for (const auto& s : b.group_velocity) xi.push_back(s.get_name());
+  for (const auto& s : model.coordinates) r.push_back(s.get_name());
+  j["form"] = form_name(*d.form);
+  j["group"] = {{"name", b.group},
+                {"trivialization", b.right ? "right" : "left"},
+                {"basis", g.algebra.basis_names},
+                {"velocity", xi},
+                {"connection", b.mechanical ? "mechanical" : "kinematic"}};
+  if (!b.bodies.empty()) j["group"]["bodies"] = b.bodies;
+  j["structure_constants"] = nlohmann::json::array();
+  for (const StructureConstant& c : g.structure_constants) {
+    nlohmann::json e = entry(c.value, values);
+    e["alpha"] = xi[static_cast<std::size_t>(c.upper)];
+    e["beta"] = xi[static_cast<std::size_t>(c.lower_a)];
+    e["lambda"] = xi[static_cast<std::size_t>(c.lower_b)];
+    j["structure_constants"].push_back(e);
+  }
+  j["connection"] = nlohmann::json::array();
+  for (unsigned a = 0; a < m; ++a)
+    for (unsigned I = 0; I < n; ++I) {
+      nlohmann::json e = entry(g.connection(a, I), values);
+      e["alpha"] = xi[a];
+      e["I"] = r[I];
+      j["connection"].push_back(e);
+    }
+  j["curvature_sign"] = sign == CurvatureSign::paper ? "paper (B = gamma)" : "gauge (B = -gamma)";
+  j["curvature"] = nlohmann::json::array();
+  for (const BundleCoefficient& c : g.curvature_in(sign)) {
+    nlohmann::json e = entry(c.value, values);
+    e["alpha"] = xi[static_cast<std::size_t>(c.alpha)];
+    e["I"] = r[static_cast<std::size_t>(c.lower_a)];
+    e["J"] = r[static_cast<std::size_t>(c.lower_b)];
+    j["curvature"].push_back(e);
+  }
+  j["E"] = nlohmann::json::array();
+  for (const BundleCoefficient& c : g.E) {
+    nlohmann::json e = entry(c.value, values);
+    e["alpha"] = xi[static_cast<std::size_t>(c.alpha)];
+    e["beta"] = xi[static_cast<std::size_t>(c.lower_a)];
+    e["I"] = r[static_cast<std::size_t>(c.lower_b)];
+    j["E"].push_back(e);
+  }
+  for (unsigned a = 0; a < m; ++a) {
+    nlohmann::json e = entry(d.group_velocity[a], values);
+    e["row"] = xi[a];
+    j["reconstruction"].push_back(e);
+  }
+  if (g.quadratic) j["locked_inertia"] = matrix_json(g.L, m, m, xi, xi, values);
+  if (b.mechanical) {
+    nlohmann::json blocks;
+    blocks["locked"] = j["locked_inertia"];
+    if (n > 0) {
+      blocks["shape"] = matrix_json(g.shape_inertia, n, n, r, r, values);
+      // K − L A: zero by construction of A = L⁻¹K (the inertial decoupling of eq. MOmega).
+      GiNaC::matrix off(m, n);
+      for (unsigned a = 0; a < m; ++a)
+        for (unsigned I = 0; I < n; ++I) {
+          GiNaC::ex e = g.K(a, I);
+          for (unsigned c = 0; c < m; ++c) e -= g.L(a, c) * g.connection(c, I);
+          off(a, I) = simplify(e);
+        }
+      blocks["off_diagonal"] = matrix_json(off, m, n, xi, r, values);
+    }
+    j["M_Omega"] = blocks;
+  }
 }
 
 void run(const DeriveOptions& opt) {
@@ -57,10 +148,14 @@ void run(const DeriveOptions& opt) {
   }
   if (!at.empty()) values[model.time] = exact_number(at.count("t") ? at.at("t") : 0.0);
 
-  const Derivation d = derive(model);
+  if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
+    throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
+                     opt.curvature_sign + "'");
+  const Derivation d = derive(apply_fold(model, params, opt.fold), DeriveSettings{opt.form});
+  const HamelSystem& sys = d.system;
   const HamelEquations& eq = d.equations;
-  const auto u_name = [&](int a) { return model.quasi_velocities[static_cast<std::size_t>(a)].get_name(); };
-  const auto q_name = [&](std::size_t a) { return model.coordinates[a].get_name(); };
+  const auto u_name = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
+  const auto q_name = [&](std::size_t a) { return sys.coordinates[a].get_name(); };
   const auto is_independent = [&](int a) {
     return std::find(eq.independent.begin(), eq.independent.end(), a) != eq.independent.end();
   };
@@ -68,32 +163,36 @@ void run(const DeriveOptions& opt) {
   nlohmann::json j;
   j["model"] = model.name;
   j["source"] = {{"file", model.source_path}, {"fnv1a64", model.source_hash}};
-  for (std::size_t a = 0; a < model.n(); ++a) j["coordinates"].push_back(q_name(a));
-  for (std::size_t a = 0; a < model.n(); ++a) j["quasi_velocities"].push_back(u_name(static_cast<int>(a)));
+  const unsigned n = static_cast<unsigned>(sys.coordinates.size());
+  j["coordinates"] = nlohmann::json::array();
+  for (std::size_t a = 0; a < n; ++a) j["coordinates"].push_back(q_name(a));
+  for (std::size_t a = 0; a < sys.velocities.size(); ++a) j["quasi_velocities"].push_back(u_name(static_cast<int>(a)));
   j["constraints"] = nlohmann::json::array();
-  for (int a : model.constrained) j["constraints"].push_back(u_name(a));
+  for (int a : sys.constrained) j["constraints"].push_back(u_name(a));
   for (int a : eq.independent) j["independent"].push_back(u_name(a));
-  const unsigned n = static_cast<unsigned>(model.n());
-  for (unsigned r = 0; r < n; ++r)
-    for (unsigned c = 0; c < n; ++c) {
-      nlohmann::json a = entry(d.quasi_velocities.A(r, c), values);
-      a["row"] = u_name(static_cast<int>(r));
-      a["col"] = q_name(c);
-      j["A"].push_back(a);
-      nlohmann::json b = entry(d.quasi_velocities.B(r, c), values);
-      b["row"] = q_name(r);
-      b["col"] = u_name(static_cast<int>(c));
-      j["B"].push_back(b);
-    }
+  if (!model.bundle)
+    for (unsigned r = 0; r < n; ++r)
+      for (unsigned c = 0; c < n; ++c) {
+        nlohmann::json a = entry(d.quasi_velocities.A(r, c), values);
+        a["row"] = u_name(static_cast<int>(r));
+        a["col"] = q_name(c);
+        j["A"].push_back(a);
+        nlohmann::json b = entry(d.quasi_velocities.B(r, c), values);
+        b["row"] = q_name(r);
+        b["col"] = u_name(static_cast<int>(c));
+        j["B"].push_back(b);
+      }
   j["hamel"] = nlohmann::json::array();
-  for (const HamelCoefficient& h : d.hamel) {
+  for (const HamelCoefficient& h : sys.gamma) {
     nlohmann::json e = entry(h.value, values);
     e["upper"] = u_name(h.upper);
     e["lower"] = {u_name(h.lower_a), u_name(h.lower_b)};
     e["lower_independent"] = is_independent(h.lower_a) && is_independent(h.lower_b);
     j["hamel"].push_back(e);
   }
-  j["equations"] = model.constrained.empty() ? "Boltzmann-Hamel (BHEqu2)" : "constrained Hamel (BHconstr)";
+  j["equations"] = sys.form;
+  if (d.bundle)
+    add_bundle_json(j, model, d, values, opt.curvature_sign == "gauge" ? CurvatureSign::gauge : CurvatureSign::paper);
   const std::size_t m = eq.independent.size();
   for (std::size_t r = 0; r < m; ++r) {
     for (std::size_t c = 0; c < m; ++c) {
@@ -106,7 +205,7 @@ void run(const DeriveOptions& opt) {
     f["row"] = u_name(eq.independent[r]);
     j["forcing"].push_back(f);
   }
-  for (std::size_t a = 0; a < model.n(); ++a) {
+  for (std::size_t a = 0; a < n; ++a) {
     nlohmann::json k = entry(eq.kinematics[a], values);
     k["row"] = q_name(a) + "_dot";
     j["kinematics"].push_back(k);
@@ -124,17 +223,41 @@ void run(const DeriveOptions& opt) {
     return s;
   };
   std::cout << "model " << model.name << " (" << model.source_path << "): " << n << " coordinates, "
-            << model.constrained.size() << " constraints, " << m << " independent quasi-velocities\n";
-  std::cout << "\nB = A^-1 (q_dot = B u), non-zero entries, eq. (u2):\n";
-  for (const auto& e : j["B"])
-    if (e["expr"] != "0")
-      std::cout << "  B[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
-                << "\n";
+            << sys.constrained.size() << " constraints, " << m << " independent quasi-velocities\n";
+  if (d.bundle) {
+    std::cout << "\nbundle: G = " << j["group"]["name"].get<std::string>() << ", "
+              << j["group"]["trivialization"].get<std::string>() << " trivialization, "
+              << j["group"]["connection"].get<std::string>() << " connection; form " << j["form"].get<std::string>()
+              << "\n";
+    std::cout << "\nstructure constants c^alpha_(beta,lambda), non-zero:\n";
+    for (const auto& e : j["structure_constants"])
+      std::cout << "  c^" << e["alpha"].get<std::string>() << "_(" << e["beta"].get<std::string>() << ","
+                << e["lambda"].get<std::string>() << ") = " << show(e) << "\n";
+    std::cout << "\nconnection A^alpha_I, eq. (" << (model.bundle->mechanical ? "mechConn" : "KinConnect") << "):\n";
+    for (const auto& e : j["connection"])
+      if (e["expr"] != "0")
+        std::cout << "  A^" << e["alpha"].get<std::string>() << "_" << e["I"].get<std::string>() << " = " << show(e)
+                  << "\n";
+    std::cout << "\ncurvature B^alpha_IJ, " << j["curvature_sign"].get<std::string>() << ", non-zero:\n";
+    if (j["curvature"].empty()) std::cout << "  none: the connection is flat\n";
+    for (const auto& e : j["curvature"])
+      std::cout << "  B^" << e["alpha"].get<std::string>() << "_(" << e["I"].get<std::string>() << ","
+                << e["J"].get<std::string>() << ") = " << show(e) << "\n";
+    std::cout << "\nreconstruction xi(r, u), eq. (KinRec):\n";
+    for (const auto& e : j["reconstruction"])
+      std::cout << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
+  } else {
+    std::cout << "\nB = A^-1 (q_dot = B u), non-zero entries, eq. (u2):\n";
+    for (const auto& e : j["B"])
+      if (e["expr"] != "0")
+        std::cout << "  B[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
+                  << "\n";
+  }
   std::cout << "\nnon-zero Hamel coefficients gamma^c_ab, eq. (gamma)"
-            << (model.constrained.empty() ? "" : "; * marks gamma^a_IJ of eq. (gammaNH)") << ":\n";
-  if (d.hamel.empty()) std::cout << "  none: the quasi-velocities are holonomic\n";
+            << (sys.constrained.empty() ? "" : "; * marks gamma^a_IJ of eq. (gammaNH)") << ":\n";
+  if (sys.gamma.empty()) std::cout << "  none: the quasi-velocities are holonomic\n";
   for (const auto& e : j["hamel"])
-    std::cout << "  " << (e["lower_independent"].get<bool>() && !model.constrained.empty() ? "* " : "  ") << "gamma^"
+    std::cout << "  " << (e["lower_independent"].get<bool>() && !sys.constrained.empty() ? "* " : "  ") << "gamma^"
               << e["upper"].get<std::string>() << "_(" << e["lower"][0].get<std::string>() << ","
               << e["lower"][1].get<std::string>() << ") = " << show(e) << "\n";
   std::cout << "\n" << j["equations"].get<std::string>() << " equations  M u_I' = f:\n";
@@ -158,6 +281,12 @@ Run add_derive_command(CLI::App& app) {
   cmd->add_option(
       "--at", opt->at,
       "Values name=value,... of coordinates, quasi-velocities, inputs and t: every entry then also carries its number");
+  cmd->add_option("--form", opt->form,
+                  "Bundle models: ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare, locked velocity), "
+                  "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection");
+  cmd->add_option("--curvature-sign", opt->curvature_sign,
+                  "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
+  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
   return [opt] { run(*opt); };
 }

@@ -1,5 +1,6 @@
 #include "cli/options.hpp"
 
+#include "model/fold_parameters.hpp"
 #include "model/input_error.hpp"
 
 #include <cmath>
@@ -51,6 +52,37 @@ std::vector<double> parameter_values(const Model& model, const std::map<std::str
     }
   }
   return values;
+}
+
+}  // namespace hamel::cli
+
+namespace hamel::cli {
+
+Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec) {
+  std::map<std::string, double> fold;
+  if (spec == "none" || spec.empty()) return model;
+  if (spec == "all") {
+    for (std::size_t k = 0; k < model.parameters.size(); ++k) fold[model.parameters[k].symbol.get_name()] = values[k];
+  } else {
+    std::size_t start = 0;
+    while (start <= spec.size()) {
+      std::size_t end = spec.find(',', start);
+      if (end == std::string::npos) end = spec.size();
+      const std::string name = spec.substr(start, end - start);
+      start = end + 1;
+      if (name.empty()) continue;
+      bool found = false;
+      for (std::size_t k = 0; k < model.parameters.size(); ++k)
+        if (model.parameters[k].symbol.get_name() == name) {
+          fold[name] = values[k];
+          found = true;
+        }
+      if (!found)
+        throw InputError("--fold: '" + name + "' is not a parameter of model '" + model.name +
+                         "'; expected all, none or a list of parameter names");
+    }
+  }
+  return fold_parameters(model, fold);
 }
 
 }  // namespace hamel::cli

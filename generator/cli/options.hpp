@@ -15,4 +15,14 @@ std::map<std::string, double> parse_assignments(const std::vector<std::string>& 
 /// Parameter values: defaults, overridden by --param; unknown names are input errors.
 std::vector<double> parameter_values(const Model& model, const std::map<std::string, double>& overrides);
 
+/// `model` with the parameters named by a --fold value folded in at `values` (see fold_parameters.hpp):
+/// "none" (or empty) folds nothing, "all" every parameter, otherwise a comma-separated list of names.
+Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec);
+
+/// The help text of --fold.
+inline const char* fold_help() {
+  return "Parameters fixed at generation time, folded in as numbers (values from --param or the defaults): all, "
+         "none or name,name,...; keeps derivations of models with many parameters small";
+}
+
 }  // namespace hamel::cli

@@ -33,6 +33,8 @@ struct SimulateOptions {
   std::vector<std::string> params, init, inputs;
   double sample = 0;
   std::string out = "-";
+  std::string form;
+  std::string fold = "all";
 };
 
 void run(const SimulateOptions& opt) {
@@ -45,13 +47,14 @@ void run(const SimulateOptions& opt) {
   const std::map<std::string, double> init = parse_assignments(opt.init, "--init");
   const std::map<std::string, double> input_values = parse_assignments(opt.inputs, "--input");
 
-  const Derivation derivation = derive(model);
+  const Derivation derivation = derive(apply_fold(model, p, opt.fold), DeriveSettings{opt.form});
   const KernelSet kernels = build_kernels(model, derivation);
+  const HamelSystem& sys = derivation.system;
   const std::vector<int>& independent = derivation.equations.independent;
 
   std::vector<std::string> columns{"t"};
-  for (const auto& q : model.coordinates) columns.push_back(q.get_name());
-  for (int I : independent) columns.push_back(model.quasi_velocities[static_cast<std::size_t>(I)].get_name());
+  for (const auto& q : sys.coordinates) columns.push_back(q.get_name());
+  for (int I : independent) columns.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
   const std::size_t n_x = columns.size() - 1;
 
   std::vector<double> x0(n_x, 0.0);
@@ -76,7 +79,7 @@ void run(const SimulateOptions& opt) {
 
   GraphEvaluator rhs_kernel(kernels.graph, kernels.get("rhs").outputs);
   GraphEvaluator energy_kernel(kernels.graph, kernels.get("energy").outputs);
-  const bool constrained = !model.constrained.empty();
+  const bool constrained = !derivation.equations.constraint_residual.empty();
   GraphEvaluator residual_kernel(kernels.graph,
                                  constrained ? kernels.get("constraint_residual").outputs : std::vector<int>{});
   const double* in_ptr = in.empty() ? nullptr : in.data();
@@ -89,7 +92,7 @@ void run(const SimulateOptions& opt) {
   };
   runtime::DriftMonitor energy(energy_at(0.0, x0.data()));
   double residual_max = 0;
-  std::vector<double> residual(model.constrained.size());
+  std::vector<double> residual(derivation.equations.constraint_residual.size());
 
   // Output goes to a temporary file renamed on success, so a failed run leaves no partial CSV.
   namespace fs = std::filesystem;
@@ -171,6 +174,8 @@ Run add_simulate_command(CLI::App& app) {
                   "Initial values name=value,... of coordinates and independent quasi-velocities (default 0)");
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
+  cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
+  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
   cmd->add_option("--out", opt->out, "CSV file, or - for standard output")->capture_default_str();
   return [opt] { run(*opt); };
 }

@@ -1,27 +1,41 @@
-// The whole derivation of a model, in the order of the paper's Sec. 2: quasi-velocities (u2), Hamel
-// coefficients (gamma, gammaNH), equations of motion (BHEqu2/BHconstr) with kinematics (qadot).
+// The whole derivation of a model. General coordinates (paper Sec. 2): quasi-velocities (u2), Hamel
+// coefficients (gamma, gammaNH), equations of motion (BHEqu2/BHconstr) with kinematics (qadot). Bundle
+// models (Sec. 3–6): structure constants, connection, curvature and E (bundle_connection), then the
+// equations in the chosen form (bundle_forms) through the same equation builder.
 #pragma once
 
+#include "derive/bundle_connection.hpp"
+#include "derive/bundle_forms.hpp"
 #include "derive/hamel_coefficients.hpp"
 #include "derive/hamel_equations.hpp"
+#include "derive/hamel_system.hpp"
 #include "derive/quasi_velocities.hpp"
 #include "model/model.hpp"
 
+#include <optional>
+#include <string>
+
 namespace hamel {
 
+struct DeriveSettings {
+  std::string form;  ///< bundle models: "ep", "lp", "ldap" or "momentum"; empty: the connection's default
+};
+
 struct Derivation {
-  QuasiVelocities quasi_velocities;
-  std::vector<HamelCoefficient> hamel;
+  QuasiVelocities quasi_velocities;       ///< general coordinates only
+  std::optional<BundleGeometry> bundle;   ///< bundle models only
+  std::optional<BundleForm> form;         ///< bundle models only
+  std::vector<GiNaC::ex> group_velocity;  ///< bundle models: ξ^α(r, u_I) for the reconstruction (KinRec)
+  HamelSystem system;                     ///< what the equations were derived from; its gamma are the
+                                          ///< Hamel coefficients of the velocities in the state
   HamelEquations equations;
 };
 
 /// Runs every derivation step on `model`. Throws InputError for models that are inconsistent.
-inline Derivation derive(const Model& model) {
-  Derivation d;
-  d.quasi_velocities = derive_quasi_velocities(model);
-  d.hamel = hamel_coefficients(model, d.quasi_velocities);
-  d.equations = hamel_equations(model, d.quasi_velocities, d.hamel);
-  return d;
-}
+Derivation derive(const Model& model, const DeriveSettings& settings = {});
+
+/// The system of a model in general coordinates: ℒ(q, u) = L(q, B u), Q in u, γ from eq. (gamma).
+HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities& qv,
+                                      std::vector<HamelCoefficient> gamma);
 
 }  // namespace hamel

@@ -3,9 +3,7 @@
 // the kinematics q̇ = B_I(q) u_I (qadot).
 #pragma once
 
-#include "derive/hamel_coefficients.hpp"
-#include "derive/quasi_velocities.hpp"
-#include "model/model.hpp"
+#include "derive/hamel_system.hpp"
 
 #include <vector>
 
@@ -19,11 +17,11 @@ struct HamelEquations {
   std::vector<GiNaC::ex> forcing;              ///< f_I: everything in (BHconstr) but M u̇, moved to the right
   std::vector<GiNaC::ex> energy_terms;         ///< {E}: E = ∂ℒ/∂u^I u^I − ℒ (Jacobi integral)
   bool conservative = false;                   ///< no forces and no explicit time: E is an invariant
-  std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0)
+  std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0), if Pfaffian
 };
 
-/// Derives the equations of motion; throws InputError if the mass matrix is identically singular.
-HamelEquations hamel_equations(const Model& model, const QuasiVelocities& qv,
-                               const std::vector<HamelCoefficient>& gamma);
+/// Derives the equations of motion of `system` (with time symbol `t`); throws InputError if the mass matrix
+/// is identically singular.
+HamelEquations hamel_equations(const HamelSystem& system, const GiNaC::realsymbol& t);
 
 }  // namespace hamel

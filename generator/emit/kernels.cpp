@@ -51,27 +51,28 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation) {
   KernelSet set;
   ExpressionGraph& g = set.graph;
   const HamelEquations& eq = derivation.equations;
-  const int n = static_cast<int>(model.n());
+  const HamelSystem& sys = derivation.system;
+  const int n = static_cast<int>(sys.coordinates.size());
 
   std::map<GiNaC::ex, int, GiNaC::ex_is_less> leaves;
   leaves[model.time] = g.input(Argument::time, 0);
-  for (int a = 0; a < n; ++a) leaves[model.coordinates[static_cast<std::size_t>(a)]] = g.input(Argument::state, a);
+  for (int a = 0; a < n; ++a) leaves[sys.coordinates[static_cast<std::size_t>(a)]] = g.input(Argument::state, a);
   for (std::size_t i = 0; i < eq.independent.size(); ++i)
-    leaves[model.quasi_velocities[static_cast<std::size_t>(eq.independent[i])]] =
+    leaves[sys.velocities[static_cast<std::size_t>(eq.independent[i])]] =
         g.input(Argument::state, n + static_cast<int>(i));
-  for (int alpha : model.constrained) leaves[model.quasi_velocities[static_cast<std::size_t>(alpha)]] = g.constant(0);
+  for (int alpha : sys.constrained) leaves[sys.velocities[static_cast<std::size_t>(alpha)]] = g.constant(0);
   for (std::size_t k = 0; k < model.parameters.size(); ++k)
     leaves[model.parameters[k].symbol] = g.input(Argument::parameter, static_cast<int>(k));
   for (std::size_t k = 0; k < model.inputs.size(); ++k)
     leaves[model.inputs[k]] = g.input(Argument::input, static_cast<int>(k));
 
   auto node_of = [&](const GiNaC::ex& e) { return g.from_expression(e, leaves); };
-  const auto name_of = [&](int a) { return model.quasi_velocities[static_cast<std::size_t>(a)].get_name(); };
+  const auto name_of = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
 
   Kernel kinematics{"kinematics", "q_dot = B_I(q) u_I, eq. (qadot)", {}, {}};
   for (int a = 0; a < n; ++a) {
     kinematics.outputs.push_back(node_of(eq.kinematics[static_cast<std::size_t>(a)]));
-    kinematics.output_names.push_back(model.coordinates[static_cast<std::size_t>(a)].get_name() + "_dot");
+    kinematics.output_names.push_back(sys.coordinates[static_cast<std::size_t>(a)].get_name() + "_dot");
   }
 
   const std::size_t d = eq.independent.size();
@@ -91,7 +92,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation) {
   }
 
   Kernel gamma{"hamel_coefficients", "non-zero gamma^c_ab, eq. (gamma); order as in hamel_upper/lower", {}, {}};
-  for (const HamelCoefficient& h : derivation.hamel) {
+  for (const HamelCoefficient& h : sys.gamma) {
     gamma.outputs.push_back(node_of(h.value));
     gamma.output_names.push_back("gamma^" + name_of(h.upper) + "_" + name_of(h.lower_a) + "," + name_of(h.lower_b));
   }
@@ -114,9 +115,40 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation) {
     Kernel residual{"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", {}, {}};
     for (std::size_t k = 0; k < eq.constraint_residual.size(); ++k) {
       residual.outputs.push_back(node_of(eq.constraint_residual[k]));
-      residual.output_names.push_back(name_of(model.constrained[k]));
+      residual.output_names.push_back(name_of(sys.constrained[k]));
     }
     set.kernels.push_back(residual);
+  }
+  if (derivation.bundle) {
+    const BundleGeometry& geo = *derivation.bundle;
+    const Bundle& b = *model.bundle;
+    const std::size_t m = b.group_velocity.size();
+    Kernel xi{"group_velocity", "xi^alpha = u^alpha - A^alpha_I r_dot^I for the reconstruction, eq. (KinRec)", {}, {}};
+    for (std::size_t a = 0; a < m; ++a) {
+      xi.outputs.push_back(node_of(derivation.group_velocity[a]));
+      xi.output_names.push_back(b.group_velocity[a].get_name());
+    }
+    set.kernels.push_back(xi);
+    if (n > 0) {
+      Kernel conn{"connection", "A^alpha_I(r), row-major, eq. (KinConnect)/(mechConn)", {}, {}};
+      for (std::size_t a = 0; a < m; ++a)
+        for (int I = 0; I < n; ++I) {
+          conn.outputs.push_back(node_of(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I))));
+          conn.output_names.push_back("A[" + b.group_velocity[a].get_name() + "][" +
+                                      sys.coordinates[static_cast<std::size_t>(I)].get_name() + "]");
+        }
+      set.kernels.push_back(conn);
+    }
+    if (geo.quadratic) {
+      Kernel locked{"locked_inertia", "L_alpha_beta(r) = d2T/dxi^alpha dxi^beta, row-major, eq. (M)", {}, {}};
+      for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t c = 0; c < m; ++c) {
+          locked.outputs.push_back(node_of(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(c))));
+          locked.output_names.push_back("L[" + b.group_velocity[a].get_name() + "][" + b.group_velocity[c].get_name() +
+                                        "]");
+        }
+      set.kernels.push_back(locked);
+    }
   }
   return set;
 }

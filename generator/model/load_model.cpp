@@ -1,5 +1,6 @@
 #include "model/load_model.hpp"
 
+#include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
 
@@ -40,6 +41,8 @@ GiNaC::symtab Model::symbols() const {
   for (const auto& s : rates) table[s.get_name()] = s;
   for (const auto& s : quasi_velocities) table[s.get_name()] = s;
   for (const auto& s : inputs) table[s.get_name()] = s;
+  if (bundle)
+    for (const auto& s : bundle->group_velocity) table[s.get_name()] = s;
   return table;
 }
 
@@ -159,13 +162,18 @@ class Loader {
   }
 
   void check_keys(const YAML::Node& node, const std::string& context, const std::vector<std::string>& known) const {
-    static const std::set<std::string> planned = {"group",      "trivialization", "group_velocity", "shape",
-                                                  "connection", "kinetic",        "bodies",         "potential"};
     for (const auto& kv : node) {
       const std::string key = kv.first.as<std::string>();
       if (std::find(known.begin(), known.end(), key) != known.end()) continue;
-      if (context.empty() && planned.count(key))
-        fail(kv.first, key, "is a principal-bundle key of schema 1 that this version of hamel does not implement yet");
+      if (context.empty() && bundle_ &&
+          (key == "coordinates" || key == "quasi_velocities" || key == "constraints" || key == "lagrangian"))
+        fail(kv.first, key,
+             "does not belong in a bundle model (one with 'group'): the configuration is (g, r) with r given by "
+             "'shape', the Lagrangian by 'kinetic' or 'bodies' and 'potential', constraints by 'connection'");
+      if (context.empty() && !bundle_ &&
+          (key == "trivialization" || key == "group_velocity" || key == "shape" || key == "connection" ||
+           key == "kinetic" || key == "bodies" || key == "potential"))
+        fail(kv.first, key, "is a principal-bundle key: a bundle model needs 'group' (and no 'coordinates')");
       fail(kv.first, context.empty() ? key : context + "." + key,
            "unknown key" + did_you_mean(key, known) + "; expected one of: " + join(known));
     }
@@ -177,9 +185,25 @@ class Loader {
     return s;
   }
 
+  void load_core(Model& model);
+  void load_bundle(Model& model);
+  GiNaC::ex body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
+                                const GiNaC::symtab& velocities, std::string& name);
+  std::vector<GiNaC::ex> vector_of(const YAML::Node& node, const std::string& key, std::size_t size,
+                                   const GiNaC::symtab& table, const std::string& allowed) const {
+    if (!node.IsSequence() || node.size() != size)
+      fail(node, key, "expected a list of " + std::to_string(size) + " expressions");
+    std::vector<GiNaC::ex> out;
+    for (std::size_t i = 0; i < size; ++i)
+      out.push_back(expression(node[i], key + "[" + std::to_string(i) + "]", table, allowed));
+    return out;
+  }
+  void load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed);
+
   const std::string& text_;
   std::string path_;
   YAML::Node root_;
+  bool bundle_ = false;
   std::map<std::string, std::string> declared_;  // name -> key that declared it
 };
 
@@ -190,9 +214,15 @@ Model Loader::load() {
     throw InputError(SourceLocation{path_, e.mark.line + 1, e.mark.column + 1}, "", "YAML syntax error: " + e.msg);
   }
   if (!root_.IsMap()) throw InputError(SourceLocation{path_, 1, 1}, "", "expected a YAML mapping of model keys");
-  check_keys(root_, "",
-             {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
-              "lagrangian", "forces", "inputs"});
+  bundle_ = static_cast<bool>(root_["group"]);
+  if (bundle_)
+    check_keys(root_, "",
+               {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
+                "connection", "kinetic", "bodies", "potential", "forces", "inputs"});
+  else
+    check_keys(root_, "",
+               {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
+                "lagrangian", "forces", "inputs"});
 
   Model model;
   model.source_path = path_;
@@ -227,6 +257,27 @@ Model Loader::load() {
     }
   }
 
+  if (bundle_)
+    load_bundle(model);
+  else
+    load_core(model);
+  return model;
+}
+
+void Loader::load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed) {
+  const std::size_t n = model.coordinates.size();
+  model.forces.assign(n, GiNaC::ex(0));
+  if (YAML::Node forces = root_["forces"]) {
+    if (!forces.IsSequence() || forces.size() != n)
+      fail(forces, "forces",
+           "expected a list of " + std::to_string(n) + " expressions (one per " +
+               (bundle_ ? "shape coordinate)" : "coordinate)"));
+    for (std::size_t i = 0; i < n; ++i)
+      model.forces[i] = expression(forces[i], "forces[" + std::to_string(i) + "]", table, allowed);
+  }
+}
+
+void Loader::load_core(Model& model) {
   YAML::Node coords = require("coordinates", YAML::NodeType::Sequence, "a list of coordinate names");
   model.coordinates = name_list(coords, "coordinates");
   if (model.coordinates.empty()) fail(coords, "coordinates", "expected at least one coordinate");
@@ -291,16 +342,162 @@ Model Loader::load() {
                                 "the Lagrangian may use coordinates, their _dot rates, quasi-velocities, "
                                 "parameters and t");
 
-  model.forces.assign(n, GiNaC::ex(0));
-  if (YAML::Node forces = root_["forces"]) {
-    if (!forces.IsSequence() || forces.size() != n)
-      fail(forces, "forces", "expected a list of " + std::to_string(n) + " expressions (one per coordinate)");
-    for (std::size_t i = 0; i < n; ++i)
-      model.forces[i] = expression(forces[i], "forces[" + std::to_string(i) + "]", all,
-                                   "forces may use coordinates, _dot rates, quasi-velocities, parameters, "
-                                   "inputs and t");
+  load_forces(model, all, "forces may use coordinates, _dot rates, quasi-velocities, parameters, inputs and t");
+}
+
+void Loader::load_bundle(Model& model) {
+  Bundle b;
+  YAML::Node group = require("group", YAML::NodeType::Scalar, "a group name");
+  b.group = group.Scalar();
+  unsigned dim = 0;
+  try {
+    dim = lie_algebra(b.group).dim();
+  } catch (const std::invalid_argument& e) {
+    fail(group, "group", e.what());
   }
-  return model;
+  if (YAML::Node triv = root_["trivialization"]) {
+    const std::string t = scalar(triv, "trivialization");
+    if (t != "left" && t != "right")
+      fail(triv, "trivialization",
+           "expected 'left' (body velocities, xi^ = g^-1 g_dot) or 'right' (spatial, xi^ = g_dot g^-1), got '" + t +
+               "'");
+    b.right = t == "right";
+  }
+  YAML::Node gv = require("group_velocity", YAML::NodeType::Sequence, "a list of names, one per group direction");
+  b.group_velocity = name_list(gv, "group_velocity");
+  if (b.group_velocity.size() != dim)
+    fail(gv, "group_velocity",
+         "expected " + std::to_string(dim) + " names for " + b.group + " (basis order: angular before linear), got " +
+             std::to_string(b.group_velocity.size()));
+
+  if (YAML::Node shape = root_["shape"]) {
+    model.coordinates = name_list(shape, "shape");
+    for (const auto& r : model.coordinates) {
+      const std::string rate = r.get_name() + "_dot";
+      auto [it, inserted] = declared_.emplace(rate, "shape");
+      if (!inserted)
+        fail(shape, "shape",
+             "the rate '" + rate + "' of shape coordinate '" + r.get_name() + "' clashes with the name declared in '" +
+                 it->second + "'");
+      model.rates.emplace_back(rate);
+    }
+  }
+  const std::size_t n = model.coordinates.size();
+  if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
+
+  GiNaC::symtab geometric;  // parameters and shape: what inertia data and the connection may use
+  for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
+  for (const auto& r : model.coordinates) geometric[r.get_name()] = r;
+  GiNaC::symtab velocities = geometric;  // plus ξ and ṙ: what the kinetic energy and twists may use
+  for (const auto& r : model.rates) velocities[r.get_name()] = r;
+  for (const auto& x : b.group_velocity) velocities[x.get_name()] = x;
+
+  if (YAML::Node conn = root_["connection"]) {
+    model.locations["connection"] = where(conn);
+    if (conn.IsScalar()) {
+      if (conn.Scalar() != "mechanical")
+        fail(conn, "connection", "expected 'mechanical' or a map {kinematic: [[...]]}, got '" + conn.Scalar() + "'");
+    } else if (conn.IsMap()) {
+      check_keys(conn, "connection", {"kinematic"});
+      YAML::Node k = conn["kinematic"];
+      if (!k) fail(conn, "connection.kinematic", "missing; expected a list of rows A^alpha_I(r)");
+      if (!k.IsSequence() || k.size() != dim)
+        fail(k, "connection.kinematic", "expected " + std::to_string(dim) + " rows (one per group direction)");
+      GiNaC::matrix a(dim, static_cast<unsigned>(n));
+      for (unsigned i = 0; i < dim; ++i) {
+        const std::string row_key = "connection.kinematic[" + std::to_string(i) + "]";
+        if (!k[i].IsSequence() || k[i].size() != n)
+          fail(k[i], row_key, "expected a row of " + std::to_string(n) + " entries (one per shape coordinate)");
+        for (unsigned j = 0; j < n; ++j)
+          a(i, j) = expression(k[i][j], row_key + "[" + std::to_string(j) + "]", geometric,
+                               "the connection A(r) may use shape coordinates and parameters only");
+      }
+      b.mechanical = false;
+      b.kinematic_connection = a;
+    } else {
+      fail(conn, "connection", "expected 'mechanical' or a map {kinematic: [[...]]}");
+    }
+  }
+
+  YAML::Node kinetic = root_["kinetic"];
+  YAML::Node bodies = root_["bodies"];
+  if (static_cast<bool>(kinetic) == static_cast<bool>(bodies))
+    throw InputError(where(kinetic ? kinetic : root_), kinetic ? "kinetic" : "bodies",
+                     kinetic ? "give the kinetic energy either as 'kinetic' or as 'bodies', not both"
+                             : "missing; expected 'kinetic' (an expression) or 'bodies' (a list of rigid bodies)");
+  if (kinetic) {
+    model.locations["kinetic"] = where(kinetic);
+    b.kinetic = expression(kinetic, "kinetic", velocities,
+                           "the kinetic energy may use the group velocity, shape coordinates, their _dot rates and "
+                           "parameters");
+  } else {
+    model.locations["kinetic"] = where(bodies);
+    if (!bodies.IsSequence() || bodies.size() == 0) fail(bodies, "bodies", "expected a non-empty list of bodies");
+    b.kinetic = 0;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      std::string body_name;
+      b.kinetic +=
+          body_kinetic_energy(bodies[i], "bodies[" + std::to_string(i) + "]", geometric, velocities, body_name);
+      if (std::find(b.bodies.begin(), b.bodies.end(), body_name) != b.bodies.end())
+        fail(bodies[i]["name"], "bodies[" + std::to_string(i) + "].name",
+             "the body '" + body_name + "' is listed twice");
+      b.bodies.push_back(body_name);
+    }
+  }
+  b.potential = 0;
+  if (YAML::Node v = root_["potential"]) {
+    model.locations["potential"] = where(v);
+    b.potential = expression(v, "potential", geometric, "the potential V(r) may use shape coordinates and parameters");
+  }
+  model.lagrangian = b.kinetic - b.potential;
+  model.locations["lagrangian"] = model.locations["kinetic"];
+
+  GiNaC::symtab force_table = velocities;
+  force_table["t"] = model.time;
+  for (const auto& u : model.inputs) force_table[u.get_name()] = u;
+  model.bundle = b;
+  load_forces(model, force_table,
+              "forces on the shape may use shape coordinates, their _dot rates, the group velocity, parameters, "
+              "inputs and t");
+}
+
+GiNaC::ex Loader::body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
+                                      const GiNaC::symtab& velocities, std::string& name) {
+  if (!body.IsMap()) fail(body, key, "expected a map with keys name, mass, com, inertia and twist");
+  check_keys(body, key, {"name", "mass", "com", "inertia", "twist"});
+  for (const char* k : {"name", "mass", "com", "inertia", "twist"})
+    if (!body[k]) fail(body, key + "." + k, "missing required key of a body");
+  name = scalar(body["name"], key + ".name");
+  const std::string inertial = "mass, com and inertia may use shape coordinates and parameters only";
+  const GiNaC::ex mass = expression(body["mass"], key + ".mass", geometric, inertial);
+  const std::vector<GiNaC::ex> com = vector_of(body["com"], key + ".com", 3, geometric, inertial);
+  const YAML::Node in = body["inertia"];
+  if (!in.IsSequence() || in.size() != 3) fail(in, key + ".inertia", "expected 3 rows of a 3x3 matrix");
+  GiNaC::ex theta[3][3];
+  for (std::size_t i = 0; i < 3; ++i) {
+    const std::vector<GiNaC::ex> row =
+        vector_of(in[i], key + ".inertia[" + std::to_string(i) + "]", 3, geometric, inertial);
+    for (std::size_t j = 0; j < 3; ++j) theta[i][j] = row[j];
+  }
+  for (std::size_t i = 0; i < 3; ++i)
+    for (std::size_t j = i + 1; j < 3; ++j)
+      if (!(theta[i][j] - theta[j][i]).expand().is_zero())
+        fail(in, key + ".inertia",
+             "expected a symmetric matrix; entries (" + std::to_string(i) + "," + std::to_string(j) + ") and (" +
+                 std::to_string(j) + "," + std::to_string(i) + ") differ");
+  const std::vector<GiNaC::ex> twist =
+      vector_of(body["twist"], key + ".twist", 6, velocities,
+                "the twist may use the group velocity, shape coordinates, their _dot rates and parameters");
+  // T = ½ m |v + ω × c|² + ½ ωᵀ Θ ω, with (ω, v) = twist and c = com, all resolved in the body's frame.
+  const GiNaC::ex w[3] = {twist[0], twist[1], twist[2]};
+  const GiNaC::ex vc[3] = {twist[3] + w[1] * com[2] - w[2] * com[1], twist[4] + w[2] * com[0] - w[0] * com[2],
+                           twist[5] + w[0] * com[1] - w[1] * com[0]};
+  GiNaC::ex t = 0;
+  for (int i = 0; i < 3; ++i) {
+    t += mass * vc[i] * vc[i] / 2;
+    for (int j = 0; j < 3; ++j) t += w[i] * theta[i][j] * w[j] / 2;
+  }
+  return t;
 }
 
 }  // namespace

@@ -7,6 +7,7 @@
 #include <ginac/ginac.h>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,19 @@ namespace hamel {
 struct Parameter {
   GiNaC::realsymbol symbol;
   double default_value = 0.0;
+};
+
+/// The principal-bundle part of a model (paper Sec. 3–6): configuration (g, r) ∈ G × shape space, with the
+/// group velocity ξ (ξ̂ = g⁻¹ġ left, ġg⁻¹ right) and the shape coordinates r (Model::coordinates).
+struct Bundle {
+  std::string group;                              ///< "SO3", "SE3", "SO3xR3", "SE2", "R1".."R6", products
+  bool right = false;                             ///< right trivialization (spatial velocities)
+  std::vector<GiNaC::realsymbol> group_velocity;  ///< ξ^α, in the basis order of the group
+  bool mechanical = true;                         ///< mechanical connection (mechConn) or kinematic (KinConnect)
+  GiNaC::matrix kinematic_connection;             ///< A^α_I(r), rows α, columns I, when kinematic
+  GiNaC::ex kinetic;                              ///< T(ξ, r, ṙ), from `kinetic:` or assembled from `bodies:`
+  GiNaC::ex potential;                            ///< V(r)
+  std::vector<std::string> bodies;                ///< body names when T came from `bodies:`
 };
 
 struct Model {
@@ -36,8 +50,10 @@ struct Model {
   bool B_given = false;
   std::vector<int> constrained;  ///< indices α of quasi-velocities held at zero, eq. (PfaffianConstr)
 
-  GiNaC::ex lagrangian;           ///< L(q, q̇, u, t)
-  std::vector<GiNaC::ex> forces;  ///< Q_a dual to q^a (zeros when absent)
+  std::optional<Bundle> bundle;  ///< set for bundle models; then coordinates are the shape r^I and A, B are empty
+
+  GiNaC::ex lagrangian;           ///< L(q, q̇, u, t); for bundle models l = T − V
+  std::vector<GiNaC::ex> forces;  ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape
 
   /// Where each key stood in the file ("quasi_velocities.A", "lagrangian", ...), for later errors.
   std::map<std::string, SourceLocation> locations;

@@ -96,7 +96,9 @@ TEST(HamelCoefficients, MatchFiniteDifferencesForEveryShippedModel) {
   for (const auto& entry : std::filesystem::directory_iterator(source_dir() + "/models")) {
     if (entry.path().extension() != ".yaml") continue;
     SCOPED_TRACE(entry.path().string());
-    expect_gamma_matches(hamel::load_model(entry.path().string()), 5);
+    const hamel::Model model = hamel::load_model(entry.path().string());
+    if (model.bundle) continue;  // no coordinates on G: bundle_geometry tests cover them
+    expect_gamma_matches(model, 5);
     ++models;
   }
   EXPECT_GE(models, 4);

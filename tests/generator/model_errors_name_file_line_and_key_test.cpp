@@ -74,7 +74,24 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"time_in_A",
                 good_header + "quasi_velocities:\n  names: [a1, a2, a3]\n  A: [[t, 0, 0], [0, 1, 0], [0, 0, 1]]\n",
                 "bad.yaml:6:8", "coordinates and parameters only"},
-        BadCase{"bundle_key_not_yet", good_header + "group: SO3\n", "bad.yaml:4:1", "does not implement yet"}),
+        BadCase{"core_key_in_bundle_model", good_header + "group: SO3\n", "bad.yaml:3:1",
+                "does not belong in a bundle model"},
+        BadCase{"bundle_key_in_core_model", good_header + good_velocities + good_lagrangian + "shape: [r]\n",
+                "bad.yaml:11:1", "is a principal-bundle key"},
+        BadCase{"unknown_group", "name: b\ngroup: SO4\ngroup_velocity: [w1, w2, w3]\nkinetic: \"w1^2\"\n",
+                "bad.yaml:2:8", "unknown group 'SO4'"},
+        BadCase{"bad_trivialization",
+                "name: b\ngroup: SO3\ntrivialization: middle\ngroup_velocity: [w1, w2, w3]\nkinetic: \"w1^2\"\n",
+                "bad.yaml:3:17", "expected 'left'"},
+        BadCase{"group_velocity_count", "name: b\ngroup: SE3\ngroup_velocity: [w1, w2, w3]\nkinetic: \"w1^2\"\n",
+                "bad.yaml:3:17", "expected 6 names"},
+        BadCase{"singular_locked_inertia",
+                "name: b\ngroup: SO3\ngroup_velocity: [w1, w2, w3]\nshape: [r]\nkinetic: \"w1^2 + r_dot^2\"\n",
+                "bad.yaml:5:10", "locked inertia"},
+        BadCase{"kinematic_connection_shape",
+                "name: b\ngroup: SE2\ngroup_velocity: [w, vx, vy]\nshape: [r]\n"
+                "connection: {kinematic: [[1], [0]]}\nkinetic: \"r_dot^2\"\n",
+                "bad.yaml:5:25", "expected 3 rows"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.label; });
 
 }  // namespace

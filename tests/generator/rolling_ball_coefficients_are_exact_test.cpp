@@ -17,7 +17,7 @@ TEST(RollingBall, HamelCoefficientsAndMassMatrixAreExact) {
   const hamel::Derivation d = hamel::derive(model);
   std::map<std::string, GiNaC::ex> gamma;
   auto name = [&](int a) { return model.quasi_velocities[static_cast<std::size_t>(a)].get_name(); };
-  for (const auto& g : d.hamel) gamma[name(g.upper) + "_" + name(g.lower_a) + "_" + name(g.lower_b)] = g.value;
+  for (const auto& g : d.system.gamma) gamma[name(g.upper) + "_" + name(g.lower_a) + "_" + name(g.lower_b)] = g.value;
 
   GiNaC::ex R;
   for (const auto& p : model.parameters)

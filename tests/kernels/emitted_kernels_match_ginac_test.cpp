@@ -42,7 +42,7 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
   const int n = cm.n_coordinates, m = cm.n_independent;
   ASSERT_EQ(static_cast<std::size_t>(n), model.n());
   ASSERT_EQ(static_cast<std::size_t>(m), eq.independent.size());
-  ASSERT_EQ(static_cast<std::size_t>(cm.n_hamel), d.hamel.size());
+  ASSERT_EQ(static_cast<std::size_t>(cm.n_hamel), d.system.gamma.size());
 
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -72,7 +72,7 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
 
     std::vector<double> qdot, gamma, forcing;
     for (const auto& e : eq.kinematics) qdot.push_back(evaluate(e, values));
-    for (const auto& h : d.hamel) gamma.push_back(evaluate(h.value, values));
+    for (const auto& h : d.system.gamma) gamma.push_back(evaluate(h.value, values));
     Eigen::MatrixXd M(m, m);
     Eigen::VectorXd f(m);
     std::vector<double> mass;

@@ -1,0 +1,155 @@
+#include "lie/lie_algebra.hpp"
+
+#include <algorithm>
+#include <stdexcept>
+#include <tuple>
+
+namespace hamel {
+
+namespace {
+
+using GiNaC::matrix;
+
+matrix zeros(unsigned n) { return matrix(n, n); }
+
+// so(3): E_i = ê_i, the skew matrix with ê_i v = e_i × v.
+void add_so3(std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size, unsigned at) {
+  const int eps[3][3][3] = {
+      {{0, 0, 0}, {0, 0, 1}, {0, -1, 0}}, {{0, 0, -1}, {0, 0, 0}, {1, 0, 0}}, {{0, 1, 0}, {-1, 0, 0}, {0, 0, 0}}};
+  const char* axis[3] = {"x", "y", "z"};
+  for (unsigned i = 0; i < 3; ++i) {
+    matrix e = zeros(size);
+    // (ê_i)_jk = −ε_ijk
+    for (unsigned j = 0; j < 3; ++j)
+      for (unsigned k = 0; k < 3; ++k) e(at + j, at + k) = -eps[i][j][k];
+    basis.push_back(e);
+    names.push_back(std::string("omega_") + axis[i]);
+  }
+}
+
+// Translations of R^k as (k+1)×(k+1) homogeneous matrices: E_i has e_i in the last column.
+void add_translations(std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size, unsigned at,
+                      unsigned k, unsigned column, const char* prefix) {
+  const char* axis[6] = {"x", "y", "z", "4", "5", "6"};
+  for (unsigned i = 0; i < k; ++i) {
+    matrix e = zeros(size);
+    e(at + i, column) = 1;
+    basis.push_back(e);
+    names.push_back(std::string(prefix) + axis[i]);
+  }
+}
+
+// One factor of a product, placed as a diagonal block at `at` of a size×size matrix.
+unsigned block_size(const std::string& g) {
+  if (g == "SO3") return 3;
+  if (g == "SE3") return 4;
+  if (g == "SE2") return 3;
+  if (g.size() == 2 && g[0] == 'R' && g[1] >= '1' && g[1] <= '6') return static_cast<unsigned>(g[1] - '0') + 1;
+  return 0;
+}
+
+void add_factor(const std::string& g, std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size,
+                unsigned at) {
+  if (g == "SO3") {
+    add_so3(basis, names, size, at);
+  } else if (g == "SE3") {
+    add_so3(basis, names, size, at);
+    add_translations(basis, names, size, at, 3, at + 3, "v_");
+  } else if (g == "SE2") {
+    matrix e = zeros(size);
+    e(at, at + 1) = -1;
+    e(at + 1, at) = 1;
+    basis.push_back(e);
+    names.push_back("omega");
+    add_translations(basis, names, size, at, 2, at + 2, "v_");
+  } else {  // Rk
+    const unsigned k = static_cast<unsigned>(g[1] - '0');
+    add_translations(basis, names, size, at, k, at + k, "v_");
+  }
+}
+
+std::vector<std::string> split_product(const std::string& group) {
+  std::vector<std::string> parts;
+  std::string::size_type start = 0;
+  while (true) {
+    const auto x = group.find('x', start);
+    parts.push_back(group.substr(start, x == std::string::npos ? std::string::npos : x - start));
+    if (x == std::string::npos) break;
+    start = x + 1;
+  }
+  return parts;
+}
+
+GiNaC::ex frobenius(const matrix& a, const matrix& b) {
+  GiNaC::ex s = 0;
+  for (unsigned i = 0; i < a.rows(); ++i)
+    for (unsigned j = 0; j < a.cols(); ++j) s += a(i, j) * b(i, j);
+  return s;
+}
+
+}  // namespace
+
+std::vector<std::string> known_groups() {
+  return {"SO3", "SE3", "SE2", "R1", "R2", "R3", "R4", "R5", "R6", "products such as SO3xR3"};
+}
+
+LieAlgebra lie_algebra(const std::string& group) {
+  const std::vector<std::string> parts = split_product(group);
+  unsigned size = 0;
+  for (const auto& p : parts) {
+    const unsigned s = block_size(p);
+    if (s == 0) {
+      std::string list;
+      for (const auto& g : known_groups()) list += (list.empty() ? "" : ", ") + g;
+      throw std::invalid_argument("unknown group '" + group + "'; expected one of: " + list);
+    }
+    size += s;
+  }
+  LieAlgebra algebra;
+  algebra.group = group;
+  unsigned at = 0;
+  for (const auto& p : parts) {
+    add_factor(p, algebra.basis, algebra.basis_names, size, at);
+    at += block_size(p);
+  }
+  return algebra;
+}
+
+std::vector<StructureConstant> structure_constants(const LieAlgebra& algebra) {
+  const unsigned m = algebra.dim();
+  matrix gram(m, m);
+  for (unsigned a = 0; a < m; ++a)
+    for (unsigned b = 0; b < m; ++b) gram(a, b) = frobenius(algebra.basis[a], algebra.basis[b]);
+  const matrix gram_inverse = gram.inverse();
+  std::vector<StructureConstant> out;
+  for (unsigned b = 0; b < m; ++b)
+    for (unsigned l = 0; l < m; ++l) {
+      const matrix& Eb = algebra.basis[b];
+      const matrix& El = algebra.basis[l];
+      const matrix bracket = Eb.mul(El).sub(El.mul(Eb));
+      matrix rhs(m, 1);
+      for (unsigned a = 0; a < m; ++a) rhs(a, 0) = frobenius(algebra.basis[a], bracket);
+      const matrix c = gram_inverse.mul(rhs);
+      matrix check = zeros(bracket.rows());
+      for (unsigned a = 0; a < m; ++a) check = check.add(algebra.basis[a].mul_scalar(c(a, 0)));
+      if (!check.sub(bracket).expand().is_zero_matrix())
+        throw std::logic_error("the basis of " + algebra.group + " is not closed under the bracket");
+      for (unsigned a = 0; a < m; ++a)
+        if (!c(a, 0).is_zero()) out.push_back({static_cast<int>(a), static_cast<int>(b), static_cast<int>(l), c(a, 0)});
+    }
+  std::sort(out.begin(), out.end(), [](const StructureConstant& x, const StructureConstant& y) {
+    return std::tie(x.upper, x.lower_a, x.lower_b) < std::tie(y.upper, y.lower_a, y.lower_b);
+  });
+  return out;
+}
+
+std::vector<std::vector<std::vector<GiNaC::ex>>> dense(const std::vector<StructureConstant>& c, unsigned dim) {
+  std::vector<std::vector<std::vector<GiNaC::ex>>> d(
+      dim, std::vector<std::vector<GiNaC::ex>>(dim, std::vector<GiNaC::ex>(dim, GiNaC::ex(0))));
+  for (const auto& s : c)
+    d[static_cast<std::size_t>(s.upper)][static_cast<std::size_t>(s.lower_a)][static_cast<std::size_t>(s.lower_b)] =
+        s.value;
+  return d;
+}
+
+}  // namespace hamel

@@ -1,0 +1,37 @@
+#include "model/fold_parameters.hpp"
+
+#include "model/expression_parser.hpp"
+#include "model/input_error.hpp"
+
+namespace hamel {
+
+Model fold_parameters(const Model& model, const std::map<std::string, double>& values) {
+  GiNaC::exmap fold;
+  for (const auto& [name, v] : values) {
+    bool found = false;
+    for (const auto& p : model.parameters)
+      if (p.symbol.get_name() == name) {
+        fold[p.symbol] = exact_number(v);
+        found = true;
+      }
+    if (!found) throw InputError("--fold: '" + name + "' is not a parameter of model '" + model.name + "'");
+  }
+  Model out = model;
+  const auto sub = [&](const GiNaC::ex& e) { return e.subs(fold); };
+  const auto sub_matrix = [&](GiNaC::matrix& m) {
+    for (unsigned i = 0; i < m.rows(); ++i)
+      for (unsigned j = 0; j < m.cols(); ++j) m(i, j) = sub(m(i, j));
+  };
+  out.lagrangian = sub(out.lagrangian);
+  for (auto& q : out.forces) q = sub(q);
+  sub_matrix(out.A);
+  sub_matrix(out.B);
+  if (out.bundle) {
+    out.bundle->kinetic = sub(out.bundle->kinetic);
+    out.bundle->potential = sub(out.bundle->potential);
+    sub_matrix(out.bundle->kinematic_connection);
+  }
+  return out;
+}
+
+}  // namespace hamel

@@ -261,6 +261,30 @@ TEST(RuntimeLieConventions, So3LogIsPrincipal) {
   }
 }
 
+// log inverts exp on the whole open ball |w| < pi (both switch branches of
+// SO3::log), for SO(3) and SE(3): 4000 pseudo-random rotation vectors with
+// angles uniform in [0, 3.14] and translations in [-2, 2]^3. The logarithm is
+// well conditioned there, so the round trip must be exact to rounding.
+TEST(RuntimeLieConventions, LogInvertsExpOnTheOpenBall) {
+  unsigned long long state = 12345;
+  auto uniform = [&state]() {  // 53-bit LCG output in [0, 1)
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return static_cast<double>(state >> 11) * 0x1.0p-53;
+  };
+  double worst_so3 = 0.0, worst_se3 = 0.0;
+  for (int i = 0; i < 4000; ++i) {
+    Vec3 n = {2 * uniform() - 1, 2 * uniform() - 1, 2 * uniform() - 1};
+    n = (1.0 / lie::norm(n)) * n;
+    const Vec3 w = (3.14 * uniform()) * n;
+    worst_so3 = std::fmax(worst_so3, max_abs_diff(SO3::log(SO3::exp(w)), w));
+    const Vec6 x = {w[0], w[1], w[2], 4 * uniform() - 2, 4 * uniform() - 2, 4 * uniform() - 2};
+    worst_se3 = std::fmax(worst_se3, max_abs_diff(SE3::log(SE3::exp(x)), x));
+  }
+  std::printf("log(exp(x)) - x: worst %.2e on SO(3), %.2e on SE(3)\n", worst_so3, worst_se3);
+  EXPECT_LT(worst_so3, 4e-15);
+  EXPECT_LT(worst_se3, 1e-14);
+}
+
 // The SE(2) angle is kept unwrapped by compose and reduced exactly by log,
 // even after a thousand turns.
 TEST(RuntimeLieConventions, Se2AngleCountsTurnsAndLogReducesIt) {

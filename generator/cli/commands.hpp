@@ -13,5 +13,6 @@ using Run = std::function<void()>;
 Run add_derive_command(CLI::App& app);
 Run add_emit_command(CLI::App& app);
 Run add_simulate_command(CLI::App& app);
+Run add_phase_command(CLI::App& app);
 
 }  // namespace hamel::cli

@@ -34,7 +34,8 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());
   app.require_subcommand(1);
   std::map<const CLI::App*, hamel::cli::Run> runs;
-  for (auto add : {hamel::cli::add_derive_command, hamel::cli::add_emit_command, hamel::cli::add_simulate_command}) {
+  for (auto add : {hamel::cli::add_derive_command, hamel::cli::add_emit_command, hamel::cli::add_simulate_command,
+                   hamel::cli::add_phase_command}) {
     hamel::cli::Run run = add(app);
     runs[app.get_subcommands({}).back()] = run;
   }

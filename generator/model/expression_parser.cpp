@@ -68,7 +68,10 @@ std::string exact_decimals(const std::string& text) {
 }
 
 GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) {
-  GiNaC::parser reader(table, /*strict=*/true);
+  // `pi` is accepted as well as GiNaC's `Pi` (both are reserved as names).
+  GiNaC::symtab with_pi = table;
+  with_pi.emplace("pi", GiNaC::Pi);
+  GiNaC::parser reader(with_pi, /*strict=*/true);
   return reader(exact_decimals(text));
 }
 
@@ -92,9 +95,9 @@ bool is_valid_identifier(const std::string& name, std::string* why) {
       "xor_eq"};
   // Names the expression language already uses (user names never reach emitted code: symbols are
   // read from the kernel's argument arrays by index).
-  static const std::set<std::string> reserved = {"t",     "sin",  "cos",  "tan",  "asin",  "acos",   "atan",
-                                                 "atan2", "sinh", "cosh", "tanh", "exp",   "log",    "sqrt",
-                                                 "abs",   "pow",  "Pi",   "I",    "Euler", "Catalan"};
+  static const std::set<std::string> reserved = {"t",     "sin",  "cos",  "tan",  "asin", "acos",  "atan",
+                                                 "atan2", "sinh", "cosh", "tanh", "exp",  "log",   "sqrt",
+                                                 "abs",   "pow",  "Pi",   "pi",   "I",    "Euler", "Catalan"};
   auto fail = [&](const std::string& m) {
     if (why) *why = m;
     return false;

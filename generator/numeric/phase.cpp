@@ -1,0 +1,205 @@
+#include "numeric/phase.hpp"
+
+#include "emit/expression_graph.hpp"
+#include "model/input_error.hpp"
+
+#include <hamel/runtime/ldlt.hpp>
+#include <hamel/runtime/lie/rkmk.hpp>
+#include <hamel/runtime/lie/rn.hpp>
+#include <hamel/runtime/lie/se2.hpp>
+#include <hamel/runtime/lie/se3.hpp>
+#include <hamel/runtime/lie/so3.hpp>
+#include <hamel/runtime/lie/so3xr3.hpp>
+
+#include <cmath>
+#include <functional>
+#include <map>
+
+namespace hamel {
+
+namespace lie = runtime::lie;
+
+namespace {
+
+GroupPose pose_of(double t, const lie::Mat3& R) {
+  GroupPose p;
+  p.t = t;
+  p.R = R;
+  return p;
+}
+GroupPose pose_of(double t, const lie::SE3::Element& g) {
+  GroupPose p = pose_of(t, g.R);
+  p.p.assign(g.p.begin(), g.p.end());
+  return p;
+}
+GroupPose pose_of(double t, const lie::SO3xR3::Element& g) {
+  GroupPose p = pose_of(t, g.R);
+  p.p.assign(g.p.begin(), g.p.end());
+  return p;
+}
+GroupPose pose_of(double t, const lie::SE2::Element& g) {
+  GroupPose p;
+  p.t = t;
+  p.theta = g.theta;
+  p.p = {g.x, g.y};
+  return p;
+}
+template <std::size_t K>
+GroupPose pose_of(double t, const std::array<double, K>& g) {
+  GroupPose p;
+  p.t = t;
+  p.p.assign(g.begin(), g.end());
+  return p;
+}
+
+// Numeric evaluation of A(r), L(r) and of the path r(t), ṙ(t), all from one expression graph.
+class BundleFunctions {
+ public:
+  BundleFunctions(const Model& model, const Derivation& d, const std::vector<double>& parameters,
+                  const std::vector<GiNaC::ex>& path)
+      : m_(d.bundle->algebra.dim()), n_(static_cast<unsigned>(model.coordinates.size())), p_(parameters) {
+    std::map<GiNaC::ex, int, GiNaC::ex_is_less> leaves;
+    leaves[model.time] = graph_.input(Argument::time, 0);
+    for (unsigned I = 0; I < n_; ++I) {
+      leaves[model.coordinates[I]] = graph_.input(Argument::state, static_cast<int>(I));
+      leaves[model.rates[I]] = graph_.input(Argument::state, static_cast<int>(n_ + I));
+    }
+    for (std::size_t k = 0; k < model.parameters.size(); ++k)
+      leaves[model.parameters[k].symbol] = graph_.input(Argument::parameter, static_cast<int>(k));
+    std::vector<int> geometry, curve;
+    for (unsigned a = 0; a < m_; ++a)
+      for (unsigned I = 0; I < n_; ++I) geometry.push_back(graph_.from_expression(d.bundle->connection(a, I), leaves));
+    has_L_ = d.bundle->quadratic;
+    if (has_L_)
+      for (unsigned a = 0; a < m_; ++a)
+        for (unsigned b = 0; b < m_; ++b) geometry.push_back(graph_.from_expression(d.bundle->L(a, b), leaves));
+    for (const auto& r : path) curve.push_back(graph_.from_expression(r, leaves));
+    for (const auto& r : path) curve.push_back(graph_.from_expression(r.diff(model.time), leaves));
+    geometry_ = std::make_unique<GraphEvaluator>(graph_, geometry);
+    curve_ = std::make_unique<GraphEvaluator>(graph_, curve);
+    x_.resize(2 * n_);
+    geometry_out_.resize(geometry.size());
+  }
+
+  bool has_locked_inertia() const { return has_L_; }
+
+  /// Evaluates at time t with the shape on the path, or frozen at the path's r(0) with ṙ = 0.
+  void at(double t, bool frozen) {
+    curve_->evaluate(frozen ? 0.0 : t, nullptr, p_.data(), nullptr, x_.data());
+    if (frozen)
+      for (unsigned I = 0; I < n_; ++I) x_[n_ + I] = 0;
+    geometry_->evaluate(t, x_.data(), p_.data(), nullptr, geometry_out_.data());
+  }
+  double A(unsigned a, unsigned I) const { return geometry_out_[a * n_ + I]; }
+  double L(unsigned a, unsigned b) const { return geometry_out_[m_ * n_ + a * m_ + b]; }
+  double r_dot(unsigned I) const { return x_[n_ + I]; }
+  unsigned m() const { return m_; }
+  unsigned n() const { return n_; }
+
+ private:
+  unsigned m_, n_;
+  std::vector<double> p_;
+  ExpressionGraph graph_;
+  std::unique_ptr<GraphEvaluator> geometry_, curve_;
+  std::vector<double> x_, geometry_out_;
+  bool has_L_ = false;
+};
+
+template <class G>
+PhaseResult run(const Model& model, const Derivation& d, const std::vector<double>& parameters,
+                const PhaseRequest& req) {
+  constexpr std::size_t m = G::dim;
+  BundleFunctions f(model, d, parameters, req.path);
+  const bool right = model.bundle->right;
+  const lie::Trivialization side = right ? lie::Trivialization::right : lie::Trivialization::left;
+  const bool with_momentum = req.momentum == PhaseMomentum::rest;
+  if (with_momentum && !(model.bundle->mechanical && f.has_locked_inertia()))
+    throw InputError("--momentum rest: needs a mechanical connection (the momentum Pi = L xi + K r_dot)");
+
+  // μ: the conserved momentum. At rest (ξ = 0) at g = identity, Π⁰ = K ṙ(0) = L A ṙ(0), and μ = Π⁰.
+  std::array<double, m> mu{};
+  if (with_momentum) {
+    f.at(0.0, false);
+    for (unsigned a = 0; a < m; ++a)
+      for (unsigned b = 0; b < m; ++b)
+        for (unsigned I = 0; I < f.n(); ++I) mu[a] += f.L(a, b) * f.A(b, I) * f.r_dot(I);
+  }
+
+  // ξ(t, g): −A ṙ, plus L⁻¹ Π(g) with Π = Ad_gᵀ μ (left) or Ad_{g⁻¹}ᵀ μ (right).
+  auto velocity = [&](bool frozen) {
+    return [&, frozen](double t, const typename G::Element& g, double* xi) {
+      f.at(t, frozen);
+      for (unsigned a = 0; a < m; ++a) {
+        xi[a] = 0;
+        for (unsigned I = 0; I < f.n(); ++I) xi[a] -= f.A(a, I) * f.r_dot(I);
+      }
+      if (!with_momentum) return;
+      const typename G::Matrix Ad = G::Ad(right ? G::inverse(g) : g);
+      std::array<double, m * m> L;
+      std::array<double, m> pi{};
+      for (std::size_t a = 0; a < m; ++a) {
+        for (std::size_t b = 0; b < m; ++b) {
+          L[a * m + b] = f.L(static_cast<unsigned>(a), static_cast<unsigned>(b));
+          pi[a] += Ad[b * m + a] * mu[b];
+        }
+      }
+      if (runtime::ldlt_solve(L, pi) != runtime::Status::ok) {
+        for (std::size_t a = 0; a < m; ++a) xi[a] = std::nan("");
+        return;
+      }
+      for (std::size_t a = 0; a < m; ++a) xi[a] += pi[a];
+    };
+  };
+
+  PhaseResult out;
+  out.group = model.bundle->group;
+  const double h = req.period / req.steps_per_cycle;
+  const double sample = req.period / req.samples_per_cycle;
+  auto integrate = [&](bool frozen, std::vector<GroupPose>* trajectory, std::vector<GroupPose>& ends) {
+    typename G::Element g = G::identity();
+    if (trajectory) trajectory->push_back(pose_of(0.0, g));
+    for (int k = 1; k <= req.cycles; ++k) {
+      const double t0 = (k - 1) * req.period, t1 = k * req.period;
+      auto observe = [&](double t, const typename G::Element& e) {
+        if (trajectory && t > t0) trajectory->push_back(pose_of(t, e));
+      };
+      const auto result = lie::integrate_rkmk4<G>(side, velocity(frozen), g, t0, t1, h, sample, observe);
+      out.steps += result.stats.steps;
+      if (result.status != runtime::Status::ok)
+        throw InputError("phase: the reconstruction failed at t = " + std::to_string(result.t) + ": " +
+                         std::string(runtime::describe(result.status)) +
+                         " (is the locked inertia singular on the path, or the path not finite?)");
+      g = result.g;
+      ends.push_back(pose_of(t1, g));
+    }
+  };
+  integrate(false, &out.trajectory, out.cycles);
+  if (with_momentum) integrate(true, nullptr, out.dynamic);
+  return out;
+}
+
+}  // namespace
+
+PhaseResult compute_phase(const Model& model, const Derivation& d, const std::vector<double>& parameters,
+                          const PhaseRequest& req) {
+  if (!model.bundle || !d.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
+  if (req.path.size() != model.coordinates.size())
+    throw InputError("--path: expected " + std::to_string(model.coordinates.size()) +
+                     " expressions separated by ';' (one per shape coordinate), got " +
+                     std::to_string(req.path.size()));
+  if (!(req.period > 0) || !std::isfinite(req.period)) throw InputError("--period: expected a positive time");
+  if (req.cycles < 1) throw InputError("--cycles: expected at least 1");
+  if (req.steps_per_cycle < 1) throw InputError("--steps-per-cycle: expected at least 1");
+  const std::string& g = model.bundle->group;
+  if (g == "SO3") return run<lie::SO3>(model, d, parameters, req);
+  if (g == "SE3") return run<lie::SE3>(model, d, parameters, req);
+  if (g == "SO3xR3") return run<lie::SO3xR3>(model, d, parameters, req);
+  if (g == "SE2") return run<lie::SE2>(model, d, parameters, req);
+  if (g == "R1") return run<lie::Rn<1>>(model, d, parameters, req);
+  if (g == "R2") return run<lie::Rn<2>>(model, d, parameters, req);
+  if (g == "R3") return run<lie::Rn<3>>(model, d, parameters, req);
+  throw InputError("phase: reconstruction on " + g +
+                   " is not available; the runtime has SO3, SE3, SO3xR3, SE2 and R1..R3");
+}
+
+}  // namespace hamel

@@ -1,15 +1,19 @@
 // SPDX-License-Identifier: MIT
-// Both integrators stop with a failure status, never a silent NaN, when the
+// The integrators stop with a failure status, never a silent NaN, when the
 // solution blows up, the right-hand side produces NaN, or the inputs are bad,
-// and they hand back the last finite state.
+// and they hand back the last finite state. The implicit Radau integrator also
+// reports a Newton iteration that a wrong Jacobian keeps from converging, and
+// a singular iteration matrix, as newton_failure.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <limits>
 #include <vector>
 
+#include "hamel/runtime/dop853.hpp"
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
+#include "hamel/runtime/radau5.hpp"
 #include "hamel/runtime/rk4.hpp"
 #include "hamel/runtime/status.hpp"
 
@@ -17,11 +21,15 @@ namespace {
 
 using hamel::runtime::all_finite;
 using hamel::runtime::describe;
+using hamel::runtime::Dop853Options;
 using hamel::runtime::Dopri5Options;
+using hamel::runtime::integrate_dop853;
 using hamel::runtime::integrate_dopri5;
+using hamel::runtime::integrate_radau5;
 using hamel::runtime::integrate_rk4;
 using hamel::runtime::IntegrationResult;
 using hamel::runtime::NoObserver;
+using hamel::runtime::Radau5Options;
 using hamel::runtime::Status;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
@@ -33,6 +41,10 @@ void blow_up_rhs(double, const double* x, double* f) { f[0] = x[0] * x[0]; }
 void nan_after_half_rhs(double t, const double*, double* f) { f[0] = t <= 0.5 ? 1.0 : kNaN; }
 
 void always_nan_rhs(double, const double*, double* f) { f[0] = kNaN; }
+
+// Exact Jacobians of the problems above, for the implicit integrator.
+void blow_up_jac(double, const double* x, double* J) { J[0] = 2 * x[0]; }
+void zero_jac(double, const double*, double* J) { J[0] = 0.0; }
 
 void expect_stopped_before_blow_up(const IntegrationResult& r) {
   EXPECT_TRUE(r.status == Status::non_finite_state || r.status == Status::step_size_underflow) << describe(r.status);
@@ -147,6 +159,214 @@ TEST(RuntimeFailure, Dopri5StopsAfterMaxSteps) {
   EXPECT_EQ(r.stats.steps + r.stats.rejected, 5);
   EXPECT_LT(r.t, 100.0);
   EXPECT_NEAR(r.x[0], std::sin(r.t), 1e-8);
+}
+
+// --- DOP853 ---------------------------------------------------------------
+
+TEST(RuntimeFailure, Dop853StopsAtTheBlowUp) {
+  long observed_non_finite = 0;
+  const IntegrationResult r =
+      integrate_dop853(blow_up_rhs, {1.0}, 0.0, 2.0, Dop853Options{}, 0.0, [&](double, const double* x) {
+        if (!std::isfinite(x[0])) ++observed_non_finite;
+      });
+  std::printf("dop853 x'=x^2: %s at t=%.15f, x=%.3e after %ld steps, %ld rejected\n", describe(r.status), r.t, r.x[0],
+              r.stats.steps, r.stats.rejected);
+  expect_stopped_before_blow_up(r);
+  EXPECT_EQ(observed_non_finite, 0);
+  EXPECT_NEAR(r.t + 1.0 / r.x[0], 1.0, 1e-6);
+}
+
+TEST(RuntimeFailure, Dop853ReportsNaNFromTheRightHandSide) {
+  const IntegrationResult r = integrate_dop853(nan_after_half_rhs, {0.0}, 0.0, 1.0, Dop853Options{}, 0.0, NoObserver{});
+  std::printf("dop853 NaN beyond t=0.5: %s at t=%.15f after %ld steps, %ld rejected\n", describe(r.status), r.t,
+              r.stats.steps, r.stats.rejected);
+  EXPECT_EQ(r.status, Status::non_finite_state);
+  EXPECT_LE(r.t, 0.5);
+  EXPECT_GT(r.t, 0.5 - 1e-6);
+  ASSERT_EQ(r.x.size(), 1u);
+  EXPECT_NEAR(r.x[0], r.t, 1e-12);
+}
+
+TEST(RuntimeFailure, Dop853ReportsNaNFromTheFirstEvaluation) {
+  const IntegrationResult r = integrate_dop853(always_nan_rhs, {1.0}, 0.0, 1.0, Dop853Options{}, 0.0, NoObserver{});
+  EXPECT_EQ(r.status, Status::non_finite_state);
+  EXPECT_EQ(r.t, 0.0);
+  EXPECT_EQ(r.x, std::vector<double>{1.0});
+  EXPECT_EQ(r.stats.rhs_evals, 1);
+}
+
+// With one fixed step h = 1 from t = 0, only the first extra stage of the
+// continuous extension is evaluated at t = 0.2 exactly (no stage of the step
+// is). A NaN there must not reach the observer: the attempt is rejected and
+// the shorter steps that follow avoid t = 0.2. Without sampling the extra
+// stages are never evaluated and the step goes through.
+TEST(RuntimeFailure, Dop853RejectsANonFiniteDenseOutputStage) {
+  auto rhs = [](double t, const double*, double* f) { f[0] = t == 0.2 ? kNaN : std::cos(t); };
+  Dop853Options opt;
+  opt.rtol = opt.atol = 1e6;
+  opt.h0 = opt.h_max = 1.0;
+  long observed = 0;
+  const IntegrationResult sampled = integrate_dop853(rhs, {0.0}, 0.0, 1.0, opt, 0.5, [&](double t, const double* x) {
+    ++observed;
+    EXPECT_TRUE(std::isfinite(x[0]));
+    EXPECT_NEAR(x[0], std::sin(t), 1e-8) << t;
+  });
+  EXPECT_EQ(sampled.status, Status::ok);
+  EXPECT_EQ(sampled.stats.rejected, 1);
+  EXPECT_EQ(observed, 3);
+  const IntegrationResult plain = integrate_dop853(rhs, {0.0}, 0.0, 1.0, opt, 0.0, NoObserver{});
+  EXPECT_EQ(plain.status, Status::ok);
+  EXPECT_EQ(plain.stats.rejected, 0);
+  EXPECT_EQ(plain.stats.steps, 1);
+}
+
+TEST(RuntimeFailure, Dop853StopsAfterMaxSteps) {
+  Dop853Options opt;
+  opt.max_steps = 5;
+  const IntegrationResult r = integrate_dop853([](double t, const double*, double* f) { f[0] = std::cos(t); }, {0.0},
+                                               0.0, 100.0, opt, 0.0, NoObserver{});
+  EXPECT_EQ(r.status, Status::too_many_steps);
+  EXPECT_EQ(r.stats.steps + r.stats.rejected, 5);
+  EXPECT_LT(r.t, 100.0);
+  EXPECT_NEAR(r.x[0], std::sin(r.t), 1e-10);
+}
+
+// --- Radau IIA -------------------------------------------------------------
+
+TEST(RuntimeFailure, Radau5StopsAtTheBlowUp) {
+  long observed_non_finite = 0;
+  const IntegrationResult r =
+      integrate_radau5(blow_up_rhs, blow_up_jac, {1.0}, 0.0, 2.0, Radau5Options{}, 0.0, [&](double, const double* x) {
+        if (!std::isfinite(x[0])) ++observed_non_finite;
+      });
+  std::printf("radau5 x'=x^2: %s at t=%.15f, x=%.3e after %ld steps, %ld rejected\n", describe(r.status), r.t, r.x[0],
+              r.stats.steps, r.stats.rejected);
+  EXPECT_NE(r.status, Status::ok);
+  EXPECT_LT(r.t, 1.0001);
+  EXPECT_GT(r.t, 0.9);
+  ASSERT_EQ(r.x.size(), 1u);
+  EXPECT_TRUE(all_finite(r.x.data(), r.x.size()));
+  EXPECT_EQ(observed_non_finite, 0);
+  EXPECT_NEAR(r.t + 1.0 / r.x[0], 1.0, 1e-4);
+}
+
+TEST(RuntimeFailure, Radau5ReportsNaNFromTheRightHandSide) {
+  const IntegrationResult r =
+      integrate_radau5(nan_after_half_rhs, zero_jac, {0.0}, 0.0, 1.0, Radau5Options{}, 0.0, NoObserver{});
+  std::printf("radau5 NaN beyond t=0.5: %s at t=%.15f after %ld steps, %ld rejected\n", describe(r.status), r.t,
+              r.stats.steps, r.stats.rejected);
+  EXPECT_EQ(r.status, Status::non_finite_state);
+  EXPECT_LE(r.t, 0.5);
+  EXPECT_GT(r.t, 0.5 - 1e-6);
+  ASSERT_EQ(r.x.size(), 1u);
+  EXPECT_NEAR(r.x[0], r.t, 1e-12);
+}
+
+TEST(RuntimeFailure, Radau5ReportsNaNFromTheFirstEvaluation) {
+  const IntegrationResult r =
+      integrate_radau5(always_nan_rhs, zero_jac, {1.0}, 0.0, 1.0, Radau5Options{}, 0.0, NoObserver{});
+  EXPECT_EQ(r.status, Status::non_finite_state);
+  EXPECT_EQ(r.t, 0.0);
+  EXPECT_EQ(r.x, std::vector<double>{1.0});
+  EXPECT_EQ(r.stats.rhs_evals, 1);
+  EXPECT_EQ(r.stats.jac_evals, 0);
+}
+
+TEST(RuntimeFailure, Radau5ReportsANonFiniteJacobian) {
+  const IntegrationResult r = integrate_radau5(
+      blow_up_rhs, [](double, const double*, double* J) { J[0] = kNaN; }, {1.0}, 0.0, 0.5, Radau5Options{}, 0.0,
+      NoObserver{});
+  EXPECT_EQ(r.status, Status::non_finite_state);
+  EXPECT_EQ(r.t, 0.0);
+  EXPECT_EQ(r.x, std::vector<double>{1.0});
+  EXPECT_EQ(r.stats.jac_evals, 1);
+}
+
+// x' = -1000 (x - cos t), x(0) = 2, with the Jacobian +1e12 instead of -1000:
+// the iteration matrix I - h A J is then dominated by the wrong term, the
+// simplified Newton iteration barely moves and barely contracts (theta ~ 1)
+// at any step above ~1e-12, and every attempt fails. The integrator must give
+// up with newton_failure and the untouched initial state, not accept the
+// tiny increments as convergence (which returns x ~ 2 at t = 1: a silently
+// wrong answer), run on, or return NaN. The same problem with the right
+// Jacobian is solved, so the Jacobian alone is to blame.
+void relaxation_rhs(double t, const double* x, double* f) { f[0] = -1000.0 * (x[0] - std::cos(t)); }
+
+TEST(RuntimeFailure, Radau5ReportsNewtonFailureForAWrongJacobian) {
+  long observed = 0;
+  const IntegrationResult r = integrate_radau5(
+      relaxation_rhs, [](double, const double*, double* J) { J[0] = 1e12; }, {2.0}, 0.0, 1.0, Radau5Options{}, 0.0,
+      [&](double, const double*) { ++observed; });
+  std::printf("radau5 wrong Jacobian: %s at t=%g after %ld steps, %ld rejected, %ld jac, %ld lu\n", describe(r.status),
+              r.t, r.stats.steps, r.stats.rejected, r.stats.jac_evals, r.stats.lu_decompositions);
+  EXPECT_EQ(r.status, Status::newton_failure);
+  EXPECT_EQ(r.t, 0.0);
+  EXPECT_EQ(r.x, std::vector<double>{2.0});
+  EXPECT_EQ(r.stats.steps, 0);
+  EXPECT_EQ(r.stats.rejected, Radau5Options{}.max_newton_failures);
+  EXPECT_EQ(observed, 1);  // t0 only
+
+  const IntegrationResult good = integrate_radau5(
+      relaxation_rhs, [](double, const double*, double* J) { J[0] = -1000.0; }, {2.0}, 0.0, 1.0, Radau5Options{}, 0.0,
+      NoObserver{});
+  EXPECT_EQ(good.status, Status::ok);
+  // x(t) = (1e6 cos t + 1e3 sin t) / (1e6 + 1) + C e^(-1000 t), and the transient has died out by t = 1.
+  const double exact = (1e6 * std::cos(1.0) + 1e3 * std::sin(1.0)) / (1e6 + 1.0);
+  EXPECT_NEAR(good.x[0], exact, 1e-5);
+}
+
+// A Jacobian with entries of 1e300 and rank one makes I - h (A (x) J)
+// singular to working precision at every step size the integrator may try:
+// halving h five times does not help, and the run ends in newton_failure.
+TEST(RuntimeFailure, Radau5ReportsASingularIterationMatrix) {
+  const IntegrationResult r = integrate_radau5(
+      [](double, const double* x, double* f) {
+        f[0] = -x[0];
+        f[1] = -x[1];
+      },
+      [](double, const double*, double* J) { J[0] = J[1] = J[2] = J[3] = 1e300; }, {1.0, 1.0}, 0.0, 1.0,
+      Radau5Options{}, 0.0, NoObserver{});
+  EXPECT_EQ(r.status, Status::newton_failure);
+  EXPECT_EQ(r.t, 0.0);
+  EXPECT_EQ(r.x, (std::vector<double>{1.0, 1.0}));
+  EXPECT_EQ(r.stats.lu_decompositions, 5);
+  EXPECT_EQ(r.stats.jac_evals, 1);  // J is current at t0: only the step changes
+}
+
+// In fixed-step mode there is no step to shrink: the first failure ends the run.
+TEST(RuntimeFailure, Radau5FixedStepModeFailsAtOnce) {
+  Radau5Options opt;
+  opt.fixed_step = 0.1;
+  const IntegrationResult r = integrate_radau5(
+      relaxation_rhs, [](double, const double*, double* J) { J[0] = 1e12; }, {2.0}, 0.0, 1.0, opt, 0.0, NoObserver{});
+  EXPECT_EQ(r.status, Status::newton_failure);
+  EXPECT_EQ(r.stats.rejected, 1);
+  const IntegrationResult nan = integrate_radau5(nan_after_half_rhs, zero_jac, {0.0}, 0.0, 1.0, opt, 0.0, NoObserver{});
+  EXPECT_EQ(nan.status, Status::non_finite_state);
+  EXPECT_NEAR(nan.t, 0.5, 1e-12);
+  EXPECT_NEAR(nan.x[0], 0.5, 1e-12);
+}
+
+TEST(RuntimeFailure, Radau5StopsAfterMaxSteps) {
+  Radau5Options opt;
+  opt.max_steps = 5;
+  const IntegrationResult r = integrate_radau5([](double t, const double*, double* f) { f[0] = std::cos(t); }, zero_jac,
+                                               {0.0}, 0.0, 100.0, opt, 0.0, NoObserver{});
+  EXPECT_EQ(r.status, Status::too_many_steps);
+  EXPECT_EQ(r.stats.steps + r.stats.rejected, 5);
+  EXPECT_LT(r.t, 100.0);
+  EXPECT_NEAR(r.x[0], std::sin(r.t), 1e-6);
+}
+
+TEST(RuntimeFailure, NewIntegratorsRejectANonFiniteInitialStateBeforeAnyWork) {
+  int observed = 0;
+  auto count = [&](double, const double*) { ++observed; };
+  const IntegrationResult a = integrate_dop853(blow_up_rhs, {kNaN}, 0.0, 1.0, Dop853Options{}, 0.0, count);
+  const IntegrationResult b = integrate_radau5(blow_up_rhs, blow_up_jac, {kNaN}, 0.0, 1.0, Radau5Options{}, 0.0, count);
+  EXPECT_EQ(a.status, Status::non_finite_state);
+  EXPECT_EQ(b.status, Status::non_finite_state);
+  EXPECT_EQ(a.stats.rhs_evals + b.stats.rhs_evals + b.stats.jac_evals, 0);
+  EXPECT_EQ(observed, 0);
 }
 
 }  // namespace

@@ -1,9 +1,11 @@
 // SPDX-License-Identifier: MIT
-// Types and helpers shared by the ODE integrators (rk4.hpp, dopri5.hpp).
+// Types and helpers shared by the ODE integrators (rk4.hpp, dopri5.hpp, dop853.hpp, radau5.hpp).
 //
 // A right-hand side is any callable void(double t, const double* x, double* xdot);
-// an observer is any callable void(double t, const double* x). Both see raw
-// pointers so that generated code can pass its own fixed-size storage.
+// an observer is any callable void(double t, const double* x); a Jacobian (for
+// the implicit methods) is any callable void(double t, const double* x,
+// double* J) writing df/dx row-major. All see raw pointers so that generated
+// code can pass its own fixed-size storage.
 #pragma once
 
 #include <algorithm>
@@ -18,9 +20,11 @@ namespace hamel::runtime {
 
 /// Work counters of one integration run.
 struct IntegrationStats {
-  long steps = 0;      // accepted steps
-  long rejected = 0;   // rejected step attempts (always 0 for fixed-step methods)
-  long rhs_evals = 0;  // calls of the right-hand side
+  long steps = 0;              // accepted steps
+  long rejected = 0;           // rejected step attempts (always 0 for fixed-step methods)
+  long rhs_evals = 0;          // calls of the right-hand side
+  long jac_evals = 0;          // calls of the Jacobian (implicit methods only)
+  long lu_decompositions = 0;  // factorisations of the Newton iteration matrix (implicit methods only)
 };
 
 /// Outcome of an integration run.

@@ -2,8 +2,12 @@
 
 #include "chaplygin_sleigh.hpp"
 #include "double_pendulum.hpp"
+#include "free_rigid_body.hpp"
 #include "rolling_ball.hpp"
+#include "rolling_ball_bundle.hpp"
 #include "rolling_disk.hpp"
+#include "satellite_se3.hpp"
+#include "satellite_so3xr3.hpp"
 
 #include <cstdlib>
 #include <stdexcept>
@@ -14,7 +18,17 @@ namespace hamel::test {
   CompiledModel {                                                                                             \
 #NS, "models/" #NS ".yaml", NS::n_coordinates, NS::n_independent, NS::n_parameters, NS::n_inputs,         \
         NS::n_constraints, NS::n_hamel, NS::default_parameters, NS::kinematics, NS::mass_matrix, NS::forcing, \
-        NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL                                                 \
+        NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL, "", 0, nullptr, nullptr, nullptr               \
+  }
+
+// Bundle models: their group velocity, connection (null without shape) and locked inertia kernels, and
+// the --fold they were emitted with (tests/kernels/CMakeLists.txt).
+#define HAMEL_BUNDLE_ENTRY(NS, RESIDUAL, FOLD, N_GROUP, CONNECTION)                                           \
+  CompiledModel {                                                                                             \
+#NS, "models/" #NS ".yaml", NS::n_coordinates, NS::n_independent, NS::n_parameters, NS::n_inputs,         \
+        NS::n_constraints, NS::n_hamel, NS::default_parameters, NS::kinematics, NS::mass_matrix, NS::forcing, \
+        NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL, FOLD, N_GROUP, NS::group_velocity, CONNECTION, \
+        NS::locked_inertia                                                                                    \
   }
 
 const std::vector<CompiledModel>& compiled_models() {
@@ -23,6 +37,10 @@ const std::vector<CompiledModel>& compiled_models() {
       HAMEL_ENTRY(rolling_disk, rolling_disk::constraint_residual),
       HAMEL_ENTRY(rolling_ball, rolling_ball::constraint_residual),
       HAMEL_ENTRY(double_pendulum, nullptr),
+      HAMEL_BUNDLE_ENTRY(free_rigid_body, nullptr, "", 3, nullptr),
+      HAMEL_BUNDLE_ENTRY(rolling_ball_bundle, nullptr, "", 3, rolling_ball_bundle::connection),
+      HAMEL_BUNDLE_ENTRY(satellite_se3, nullptr, "all", 6, satellite_se3::connection),
+      HAMEL_BUNDLE_ENTRY(satellite_so3xr3, nullptr, "all", 6, satellite_so3xr3::connection),
   };
   return models;
 }

@@ -17,6 +17,12 @@ struct CompiledModel {
   const double* default_parameters;
   KernelFn kinematics, mass_matrix, forcing, hamel_coefficients, rhs, energy;
   KernelFn constraint_residual;  ///< null when the model has no constraints
+  // Bundle models (Sec. 3-6) only; zero / null for models in general coordinates.
+  std::string fold;         ///< the `hamel emit --fold` it was emitted with ("" or "all")
+  int n_group;              ///< dim G
+  KernelFn group_velocity;  ///< xi^alpha(r, u_I) for the reconstruction
+  KernelFn connection;      ///< A^alpha_I(r), row-major; null without shape
+  KernelFn locked_inertia;  ///< L_alpha_beta(r), row-major
 };
 
 /// Test names print the model's name, not the struct's bytes.

@@ -1,9 +1,12 @@
 // The compiled emitted kernels against GiNaC's evaluation of the derived expressions at random states
 // (relative 1e-12). The rhs is checked against an Eigen solve of GiNaC's M and f, not against the
-// emitted LDLᵀ.
+// emitted LDLᵀ. Bundle models (derived in their default form, folded as they were emitted) also have
+// their group_velocity, connection and locked_inertia kernels checked, and the kernels against each
+// other: ξ^α + A^α_I ṙ^I is the shifted velocity u^α of the state (zero when held).
 #include "compiled_models.hpp"
 
 #include "derive/derivation.hpp"
+#include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 
 #include <gtest/gtest.h>
@@ -11,6 +14,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 
 namespace {
@@ -34,15 +38,36 @@ void expect_close(const std::vector<double>& emitted, const std::vector<double>&
 
 class EmittedKernels : public ::testing::TestWithParam<CompiledModel> {};
 
+// The model as it was emitted: with `--fold all` every parameter is replaced by its default.
+hamel::Model emitted_model(const CompiledModel& cm) {
+  const hamel::Model loaded = hamel::load_model(hamel::test::source_path(cm.model_file));
+  if (cm.fold.empty()) return loaded;
+  EXPECT_EQ(cm.fold, "all");
+  std::map<std::string, double> values;
+  for (const auto& p : loaded.parameters) values[p.symbol.get_name()] = p.default_value;
+  return hamel::fold_parameters(loaded, values);
+}
+
 TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
   const CompiledModel& cm = GetParam();
-  const hamel::Model model = hamel::load_model(hamel::test::source_path(cm.model_file));
+  const hamel::Model model = emitted_model(cm);
   const hamel::Derivation d = hamel::derive(model);
   const hamel::HamelEquations& eq = d.equations;
+  const hamel::HamelSystem& sys = d.system;
   const int n = cm.n_coordinates, m = cm.n_independent;
+  ASSERT_EQ(static_cast<std::size_t>(n), sys.coordinates.size());
   ASSERT_EQ(static_cast<std::size_t>(n), model.n());
   ASSERT_EQ(static_cast<std::size_t>(m), eq.independent.size());
-  ASSERT_EQ(static_cast<std::size_t>(cm.n_hamel), d.system.gamma.size());
+  ASSERT_EQ(static_cast<std::size_t>(cm.n_constraints), sys.constrained.size());
+  ASSERT_EQ(static_cast<std::size_t>(cm.n_hamel), sys.gamma.size());
+  ASSERT_EQ(model.bundle.has_value(), cm.group_velocity != nullptr);
+  ASSERT_EQ(model.bundle.has_value(), cm.locked_inertia != nullptr);
+  ASSERT_EQ(model.bundle && n > 0, cm.connection != nullptr);
+  const int g = cm.n_group;
+  if (model.bundle) {
+    ASSERT_EQ(static_cast<std::size_t>(g), model.bundle->group_velocity.size());
+    ASSERT_TRUE(d.bundle->quadratic);
+  }
 
   std::mt19937 rng(12345);
   std::uniform_real_distribution<double> uniform(-1.0, 1.0);
@@ -52,15 +77,17 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
         p(cm.default_parameters, cm.default_parameters + cm.n_parameters),
         in(static_cast<std::size_t>(std::max(cm.n_inputs, 1)));
     for (double& v : x) v = uniform(rng);
-    for (double& v : p) v *= 1.0 + 0.2 * uniform(rng);  // away from the defaults, still physical
+    // Away from the defaults, still physical; folded kernels must ignore p (GiNaC has no parameters left).
+    for (double& v : p) v *= 1.0 + 0.2 * uniform(rng);
     for (double& v : in) v = uniform(rng);
 
     GiNaC::exmap values;
     values[model.time] = t;
-    for (int a = 0; a < n; ++a) values[model.coordinates[static_cast<std::size_t>(a)]] = x[static_cast<std::size_t>(a)];
+    for (int a = 0; a < n; ++a) values[sys.coordinates[static_cast<std::size_t>(a)]] = x[static_cast<std::size_t>(a)];
     for (int i = 0; i < m; ++i)
-      values[model.quasi_velocities[static_cast<std::size_t>(eq.independent[static_cast<std::size_t>(i)])]] =
+      values[sys.velocities[static_cast<std::size_t>(eq.independent[static_cast<std::size_t>(i)])]] =
           x[static_cast<std::size_t>(n + i)];
+    for (int alpha : sys.constrained) values[sys.velocities[static_cast<std::size_t>(alpha)]] = 0;
     for (std::size_t k = 0; k < model.parameters.size(); ++k) values[model.parameters[k].symbol] = p[k];
     for (std::size_t k = 0; k < model.inputs.size(); ++k) values[model.inputs[k]] = in[k];
 
@@ -72,7 +99,7 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
 
     std::vector<double> qdot, gamma, forcing;
     for (const auto& e : eq.kinematics) qdot.push_back(evaluate(e, values));
-    for (const auto& h : d.system.gamma) gamma.push_back(evaluate(h.value, values));
+    for (const auto& h : sys.gamma) gamma.push_back(evaluate(h.value, values));
     Eigen::MatrixXd M(m, m);
     Eigen::VectorXd f(m);
     std::vector<double> mass;
@@ -97,6 +124,37 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
     if (cm.constraint_residual) {
       const std::vector<double> r = run(cm.constraint_residual, static_cast<std::size_t>(cm.n_constraints));
       for (double v : r) EXPECT_NEAR(v, 0.0, 1e-12 * (1 + *std::max_element(qdot.begin(), qdot.end())));
+    }
+    if (!model.bundle) continue;
+
+    const hamel::BundleGeometry& geo = *d.bundle;
+    std::vector<double> xi, connection, locked;
+    for (const auto& e : d.group_velocity) xi.push_back(evaluate(e, values));
+    for (int a = 0; a < g; ++a) {
+      for (int I = 0; I < n; ++I)
+        connection.push_back(evaluate(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I)), values));
+      for (int b = 0; b < g; ++b)
+        locked.push_back(evaluate(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(b)), values));
+    }
+    const std::vector<double> xi_emitted = run(cm.group_velocity, static_cast<std::size_t>(g));
+    expect_close(xi_emitted, xi, cm.name + " group_velocity");
+    expect_close(run(cm.locked_inertia, locked.size()), locked, cm.name + " locked_inertia");
+    if (!cm.connection) continue;
+    const std::vector<double> A = run(cm.connection, connection.size());
+    expect_close(A, connection, cm.name + " connection");
+
+    // ξ^α + A^α_I ṙ^I = u^α (the locked velocity in lp, 0 in ldap), from the kernels alone.
+    ASSERT_NE(*d.form, hamel::BundleForm::euler_poincare);  // there u = ξ and A is not the shift
+    const std::vector<double> r_dot = run(cm.kinematics, static_cast<std::size_t>(n));
+    std::vector<double> u_of(static_cast<std::size_t>(g + n), 0.0);  // all quasi-velocities, held ones 0
+    for (int i = 0; i < m; ++i)
+      u_of[static_cast<std::size_t>(eq.independent[static_cast<std::size_t>(i)])] = x[static_cast<std::size_t>(n + i)];
+    for (int a = 0; a < g; ++a) {
+      double shifted = xi_emitted[static_cast<std::size_t>(a)];
+      for (int I = 0; I < n; ++I)
+        shifted += A[static_cast<std::size_t>(a * n + I)] * r_dot[static_cast<std::size_t>(I)];
+      EXPECT_NEAR(shifted, u_of[static_cast<std::size_t>(a)], 1e-12 * (1 + std::fabs(shifted)))
+          << cm.name << " xi + A r_dot, alpha = " << a;
     }
   }
 }

@@ -16,8 +16,28 @@ GiNaC::ex expand_trig(const GiNaC::ex& e);
 /// Normal form of `e`: one fraction, trigonometric polynomials reduced with sin² + cos² = 1.
 GiNaC::ex simplify(const GiNaC::ex& e);
 
-/// Exact test: true iff `e` simplifies to 0 (not a numerical test).
+/// Zero test in exact arithmetic: a 50-digit evaluation at two fixed points first answers "not zero" when
+/// the value is clearly away from 0; otherwise identically_zero() decides, and if it cannot (expressions
+/// with functions other than sin/cos), the normal form of simplify().
 bool is_zero_exactly(const GiNaC::ex& e);
+
+/// Randomized identity test with exact rational arithmetic (Schwartz–Zippel): sin/cos pairs at random
+/// rational points of the unit circle, other symbols at random rationals; zero at three independent points
+/// means zero (error probability below (degree / 2^31)^3). False when non-zero or not decidable this way.
+bool identically_zero(const GiNaC::ex& e);
+
+/// True when a 50-digit evaluation at one of two fixed points is clearly non-zero (|v| > 1e-25): then e is
+/// certainly not identically zero. False says nothing.
+bool numerically_nonzero(const GiNaC::ex& e);
+
+/// True iff det(m) is identically zero: decided by exact determinants at random rational points (as
+/// identically_zero), falling back to the symbolic determinant only for entries that test cannot evaluate.
+bool identically_singular(const GiNaC::matrix& m);
+
+/// simplify(e) when e is small (at most `limit` nodes); a large e that is identically zero becomes 0; other
+/// large expressions are left as derived: their normal form costs more than it saves (the emitted code
+/// shares subexpressions anyway).
+GiNaC::ex simplify_bounded(const GiNaC::ex& e, std::size_t limit = 400);
 
 /// Applies simplify() to every entry.
 GiNaC::matrix simplify(const GiNaC::matrix& m);

@@ -7,11 +7,10 @@
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
+#include "numeric/integrators.hpp"
 
 #include <hamel/runtime/csv.hpp>
-#include <hamel/runtime/dopri5.hpp>
 #include <hamel/runtime/monitor.hpp>
-#include <hamel/runtime/rk4.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -39,8 +38,9 @@ struct SimulateOptions {
 
 void run(const SimulateOptions& opt) {
   if (!(opt.t_end > 0) || !std::isfinite(opt.t_end)) throw InputError("--t-end: expected a positive finite time");
-  if (opt.integrator == "rk4" && !(opt.dt > 0)) throw InputError("--dt: expected a positive step");
-  if (opt.integrator == "dopri5" && !(opt.tol > 0)) throw InputError("--tol: expected a positive tolerance");
+  const IntegratorInfo& info = find_integrator(opt.integrator);
+  if (!info.adaptive && !(opt.dt > 0)) throw InputError("--dt: expected a positive step");
+  if (info.adaptive && !(opt.tol > 0)) throw InputError("--tol: expected a positive tolerance");
 
   const Model model = load_model(opt.model);
   const std::vector<double> p = parameter_values(model, parse_assignments(opt.params, "--param"));
@@ -118,17 +118,10 @@ void run(const SimulateOptions& opt) {
     }
   };
 
-  runtime::IntegrationResult result;
-  if (opt.integrator == "rk4") {
-    result = runtime::integrate_rk4(rhs, x0, 0.0, opt.t_end, opt.dt, opt.sample, observe);
-  } else if (opt.integrator == "dopri5") {
-    runtime::Dopri5Options o;
-    o.rtol = opt.tol;
-    o.atol = opt.tol;
-    result = runtime::integrate_dopri5(rhs, x0, 0.0, opt.t_end, o, opt.sample, observe);
-  } else {
-    throw InputError("--integrator: unknown integrator '" + opt.integrator + "'; expected rk4 or dopri5");
-  }
+  GraphEvaluator jacobian_kernel(kernels.graph, kernels.get("jacobian").outputs);
+  auto jacobian = [&](double t, const double* x, double* J) { jacobian_kernel.evaluate(t, x, p.data(), in_ptr, J); };
+  const runtime::IntegrationResult result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian,
+                                                      x0, 0.0, opt.t_end, opt.sample, observe);
   if (!to_stdout) {
     file.close();
     if (result.status == runtime::Status::ok)
@@ -146,7 +139,7 @@ void run(const SimulateOptions& opt) {
   }
   std::cerr << "hamel: simulated " << model.name << " with " << opt.integrator << " to t = " << result.t << ": "
             << result.stats.steps << " steps (" << result.stats.rejected << " rejected), " << result.stats.rhs_evals
-            << " right-hand-side evaluations\n";
+            << " right-hand-side evaluations, " << result.stats.jac_evals << " Jacobians\n";
   std::cerr << "  energy: initial " << energy.initial() << ", max relative drift " << energy.max_relative_deviation()
             << (derivation.equations.conservative
                     ? ""
@@ -163,11 +156,12 @@ Run add_simulate_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("simulate", "Integrate a model's equations of motion and write a CSV trajectory");
   cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
   cmd->add_option("--t-end", opt->t_end, "End time (start is 0)")->required();
-  cmd->add_option("--integrator", opt->integrator, "rk4 (fixed step) or dopri5 (adaptive)")
-      ->check(CLI::IsMember({"rk4", "dopri5"}))
+  cmd->add_option("--integrator", opt->integrator,
+                  "rk4, rkmk4 (fixed step), dopri5, dop853 (adaptive explicit) or radau5 = implicit (stiff)")
       ->capture_default_str();
   auto* dt = cmd->add_option("--dt", opt->dt, "Step of rk4")->capture_default_str();
-  auto* tol = cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of dopri5")->capture_default_str();
+  auto* tol = cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of the adaptive integrators")
+                  ->capture_default_str();
   dt->excludes(tol);
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--init", opt->init,

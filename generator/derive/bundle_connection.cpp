@@ -30,7 +30,7 @@ std::vector<BundleCoefficient> curvature_of(const matrix& A, const std::vector<G
         for (const StructureConstant& s : c)
           if (s.upper == static_cast<int>(alpha))
             b += sign * s.value * A(static_cast<unsigned>(s.lower_a), I) * A(static_cast<unsigned>(s.lower_b), J);
-        b = simplify(b);
+        b = simplify_bounded(b);
         if (b.is_zero()) continue;
         out.push_back({static_cast<int>(alpha), static_cast<int>(I), static_cast<int>(J), b});
         out.push_back({static_cast<int>(alpha), static_cast<int>(J), static_cast<int>(I), -b});
@@ -82,7 +82,7 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
       throw InputError(where, "kinetic",
                        "a mechanical connection needs a kinetic energy that is a quadratic form in the group velocity "
                        "and the shape rates (eq. T); this one is not");
-    if (is_zero_exactly(g.L.determinant()))
+    if (identically_singular(g.L))
       throw InputError(where, "kinetic",
                        "the locked inertia L = d2T/dxi dxi is singular (identically, in r), so the mechanical "
                        "connection A = L^-1 K does not exist; every group direction must carry kinetic energy");
@@ -113,13 +113,16 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
         for (const StructureConstant& s : g.structure_constants)
           if (s.upper == static_cast<int>(alpha) && s.lower_a == static_cast<int>(beta))
             e += g.trivialization_sign * s.value * g.connection(static_cast<unsigned>(s.lower_b), I);
-        e = simplify(e);
+        e = simplify_bounded(e);
         if (!e.is_zero()) g.E.push_back({static_cast<int>(alpha), static_cast<int>(beta), static_cast<int>(I), e});
       }
   if (b.mechanical && d > 0) {
     // Eq. (MOmega): the shape block S − AᵀLA.
     const matrix At = g.connection.transpose();
-    g.shape_inertia = simplify(g.S.sub(At.mul(g.L).mul(g.connection)));
+    const GiNaC::matrix block = g.S.sub(At.mul(g.L).mul(g.connection));
+    g.shape_inertia = GiNaC::matrix(d, d);
+    for (unsigned I = 0; I < d; ++I)
+      for (unsigned J = 0; J < d; ++J) g.shape_inertia(I, J) = simplify_bounded(block(I, J));
   }
   return g;
 }

@@ -48,7 +48,7 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
   std::vector<ex> momentum(nu);
   for (unsigned a = 0; a < nu; ++a) momentum[a] = at_constraint(lagrangian.diff(sys.velocities[a]));
 
-  eq.reduced_lagrangian = simplify(at_constraint(lagrangian));
+  eq.reduced_lagrangian = simplify_bounded(at_constraint(lagrangian));
   eq.mass_matrix = GiNaC::matrix(d, d);
   eq.forcing.resize(d);
   // Q_a and ∂ℒ/∂q^a at u^α = 0 do not depend on I: form them once.
@@ -62,7 +62,7 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
     const int I = eq.independent[i];
     const ex& p_I = momentum[static_cast<std::size_t>(I)];
     for (unsigned j = 0; j < d; ++j)
-      eq.mass_matrix(i, j) = simplify(p_I.diff(sys.velocities[static_cast<std::size_t>(eq.independent[j])]));
+      eq.mass_matrix(i, j) = simplify_bounded(p_I.diff(sys.velocities[static_cast<std::size_t>(eq.independent[j])]));
 
     ex f = 0;
     // Generalized force Q_I = B^a_I Q_a and the configuration gradient ∂ℒ/∂q^a B^a_I.
@@ -77,10 +77,10 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
       if (g.lower_a != I || is_constrained(g.lower_b)) continue;
       f -= momentum[static_cast<std::size_t>(g.upper)] * g.value * sys.velocities[static_cast<std::size_t>(g.lower_b)];
     }
-    eq.forcing[i] = simplify(f);
+    eq.forcing[i] = simplify_bounded(f);
   }
 
-  if (is_zero_exactly(eq.mass_matrix.determinant()))
+  if (identically_singular(eq.mass_matrix))
     throw InputError(sys.where, "lagrangian",
                      "the mass matrix ∂²L/∂u^I∂u^J of the independent quasi-velocities is identically singular; "
                      "every independent quasi-velocity must carry kinetic energy");
@@ -88,7 +88,7 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
   ex energy = -eq.reduced_lagrangian;
   for (int I : eq.independent)
     energy += momentum[static_cast<std::size_t>(I)] * sys.velocities[static_cast<std::size_t>(I)];
-  eq.energy_terms = {simplify(energy)};
+  eq.energy_terms = {simplify_bounded(energy)};
   bool forced = false;
   for (const ex& q : sys.forces) forced = forced || !q.is_zero();
   eq.conservative = !forced && !lagrangian.has(time);

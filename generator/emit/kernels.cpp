@@ -106,11 +106,45 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation) {
     rhs.output_names.push_back(name_of(eq.independent[i]) + "_rate");
   }
 
+  // d(x')/dx for implicit integrators: the kinematics rows by differentiation; the acceleration rows from
+  // M u' = f as M d(u')/dx_k = df/dx_k − (dM/dx_k) u', solved with the same LDLᵀ (value numbering shares
+  // the factorization between the columns).
+  Kernel jacobian{"jacobian", "d(x')/dx, row-major n_state x n_state, for implicit integrators", {}, {}};
+  {
+    std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
+    for (int I : eq.independent) state_symbols.push_back(sys.velocities[static_cast<std::size_t>(I)]);
+    const std::size_t nx = state_symbols.size();
+    std::vector<std::vector<int>> column(nx);  // column[k][row]
+    for (std::size_t k = 0; k < nx; ++k) {
+      const GiNaC::ex& x_k = state_symbols[k];
+      for (int a = 0; a < n; ++a)
+        column[k].push_back(node_of(eq.kinematics[static_cast<std::size_t>(a)].diff(GiNaC::ex_to<GiNaC::symbol>(x_k))));
+      std::vector<int> b(d);
+      for (std::size_t i = 0; i < d; ++i) {
+        int r = node_of(eq.forcing[i].diff(GiNaC::ex_to<GiNaC::symbol>(x_k)));
+        for (std::size_t j = 0; j < d; ++j) {
+          const GiNaC::ex dM =
+              eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)).diff(GiNaC::ex_to<GiNaC::symbol>(x_k));
+          if (!dM.is_zero()) r = g.binary(Op::sub, r, g.binary(Op::mul, node_of(dM), accel[j]));
+        }
+        b[i] = r;
+      }
+      const std::vector<int> du = ldlt_solve(g, M, b);
+      column[k].insert(column[k].end(), du.begin(), du.end());
+    }
+    for (std::size_t row = 0; row < nx; ++row)
+      for (std::size_t k = 0; k < nx; ++k) {
+        jacobian.outputs.push_back(column[k][row]);
+        jacobian.output_names.push_back("d" + rhs.output_names[row] + "/d" +
+                                        GiNaC::ex_to<GiNaC::symbol>(state_symbols[k]).get_name());
+      }
+  }
+
   Kernel energy{"energy", "E = dL/du^I u^I - L (invariant when the model is conservative)", {}, {}};
   energy.outputs.push_back(node_of(eq.energy_terms.at(0)));
   energy.output_names.push_back("E");
 
-  set.kernels = {kinematics, mass, forcing, gamma, rhs, energy};
+  set.kernels = {kinematics, mass, forcing, gamma, rhs, jacobian, energy};
   if (!eq.constraint_residual.empty()) {
     Kernel residual{"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", {}, {}};
     for (std::size_t k = 0; k < eq.constraint_residual.size(); ++k) {

@@ -1,0 +1,55 @@
+#include "numeric/integrators.hpp"
+
+#include "model/input_error.hpp"
+
+#include <hamel/runtime/dop853.hpp>
+#include <hamel/runtime/dopri5.hpp>
+#include <hamel/runtime/radau5.hpp>
+#include <hamel/runtime/rk4.hpp>
+
+namespace hamel {
+
+const std::vector<IntegratorInfo>& integrators() {
+  static const std::vector<IntegratorInfo> list = {
+      {"rk4", false, false, "classic Runge-Kutta, fixed step (setting: step)"},
+      {"rkmk4", false, false, "Munthe-Kaas RK4: RK4 on the state, RKMK4 on G for bundle models (setting: step)"},
+      {"dopri5", true, false, "Dormand-Prince 5(4), adaptive (setting: tolerance)"},
+      {"dop853", true, false, "Hairer's DOP853, 8th order, adaptive (setting: tolerance)"},
+      {"radau5", true, true, "Radau IIA order 5, implicit, emitted Jacobian (alias: implicit; setting: tolerance)"},
+  };
+  return list;
+}
+
+const IntegratorInfo& find_integrator(const std::string& name) {
+  const std::string key = name == "implicit" ? "radau5" : name;
+  for (const IntegratorInfo& i : integrators())
+    if (i.name == key) return i;
+  std::string names;
+  for (const IntegratorInfo& i : integrators()) names += (names.empty() ? "" : ", ") + i.name;
+  throw InputError("--integrator: unknown integrator '" + name + "'; expected one of " + names + ", implicit");
+}
+
+runtime::IntegrationResult integrate(const std::string& name, double setting, const RhsFunction& rhs,
+                                     const JacobianFunction& jacobian, std::vector<double> x0, double t0, double t_end,
+                                     double sample_dt, const ObserveFunction& observe) {
+  const IntegratorInfo& info = find_integrator(name);
+  if (!(setting > 0) || !std::isfinite(setting))
+    throw InputError(std::string(info.adaptive ? "--tol" : "--dt") + ": expected a positive finite number");
+  if (info.name == "rk4" || info.name == "rkmk4")
+    return runtime::integrate_rk4(rhs, std::move(x0), t0, t_end, setting, sample_dt, observe);
+  if (info.name == "dopri5") {
+    runtime::Dopri5Options o;
+    o.rtol = o.atol = setting;
+    return runtime::integrate_dopri5(rhs, std::move(x0), t0, t_end, o, sample_dt, observe);
+  }
+  if (info.name == "dop853") {
+    runtime::Dop853Options o;
+    o.rtol = o.atol = setting;
+    return runtime::integrate_dop853(rhs, std::move(x0), t0, t_end, o, sample_dt, observe);
+  }
+  runtime::Radau5Options o;
+  o.rtol = o.atol = setting;
+  return runtime::integrate_radau5(rhs, jacobian, std::move(x0), t0, t_end, o, sample_dt, observe);
+}
+
+}  // namespace hamel

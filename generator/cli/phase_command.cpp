@@ -72,24 +72,12 @@ nlohmann::json pose_json(const GroupPose& p, int cycle) {
 
 std::string trajectory_csv(const std::vector<GroupPose>& trajectory) {
   std::ostringstream s;
-  s << std::setprecision(17);
-  const GroupPose& first = trajectory.front();
-  s << "t";
-  if (first.R)
-    for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) s << ",R" << i << j;
-  if (first.theta)
-    s << ",theta,x,y";
-  else
-    for (std::size_t k = 0; k < first.p.size(); ++k)
-      s << ",p" << (k < 3 ? std::string(1, "xyz"[k]) : std::to_string(k));
+  s << std::setprecision(17) << "t";
+  for (const std::string& c : pose_columns(trajectory.front())) s << "," << c;
   s << "\n";
   for (const GroupPose& p : trajectory) {
     s << p.t;
-    if (p.R)
-      for (double v : *p.R) s << "," << v;
-    if (p.theta) s << "," << *p.theta;
-    for (double v : p.p) s << "," << v;
+    for (double v : pose_values(p)) s << "," << v;
     s << "\n";
   }
   return s.str();

@@ -7,9 +7,11 @@
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
+#include "numeric/group_pose.hpp"
 #include "numeric/integrators.hpp"
 
 #include <hamel/runtime/csv.hpp>
+#include <hamel/runtime/lie/rkmk_coupled.hpp>
 #include <hamel/runtime/monitor.hpp>
 
 #include <cmath>
@@ -105,11 +107,25 @@ void run(const SimulateOptions& opt) {
     if (!file) throw InputError("--out: cannot write '" + opt.out + "'");
   }
   std::ostream& os = to_stdout ? std::cout : file;
-  runtime::CsvWriter csv(os, columns);
-  std::vector<double> row(columns.size());
+  const bool reconstruct = model.bundle && info.name == "rkmk4";
+  GroupPose pose;
+  std::vector<std::string> header = columns;
+  if (reconstruct) {
+    pose = with_group(model.bundle->group, [](auto tag) {
+      using G = typename decltype(tag)::type;
+      return pose_of(0.0, G::identity());
+    });
+    for (const std::string& c : pose_columns(pose)) header.push_back(c);
+  }
+  runtime::CsvWriter csv(os, header);
+  std::vector<double> row(header.size());
   auto observe = [&](double t, const double* x) {
     row[0] = t;
     std::copy(x, x + n_x, row.begin() + 1);
+    if (reconstruct) {
+      const std::vector<double> v = pose_values(pose);
+      std::copy(v.begin(), v.end(), row.begin() + 1 + static_cast<std::ptrdiff_t>(n_x));
+    }
     csv.row(row.data(), row.size());
     energy.update(energy_at(t, x));
     if (constrained) {
@@ -120,8 +136,32 @@ void run(const SimulateOptions& opt) {
 
   GraphEvaluator jacobian_kernel(kernels.graph, kernels.get("jacobian").outputs);
   auto jacobian = [&](double t, const double* x, double* J) { jacobian_kernel.evaluate(t, x, p.data(), in_ptr, J); };
-  const runtime::IntegrationResult result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian,
-                                                      x0, 0.0, opt.t_end, opt.sample, observe);
+  runtime::IntegrationResult result;
+  if (reconstruct) {
+    // Bundle models with rkmk4: the reduced state and g together (RKMK4 on G x R^n), g(0) = identity.
+    GraphEvaluator xi_kernel(kernels.graph, kernels.get("group_velocity").outputs);
+    result = with_group(model.bundle->group, [&](auto tag) {
+      using G = typename decltype(tag)::type;
+      auto f = [&](double t, const double* x, double* xdot) { rhs(t, x, xdot); };
+      auto xi = [&](double t, const double* x, double* out) { xi_kernel.evaluate(t, x, p.data(), in_ptr, out); };
+      auto observe_pose = [&](double t, const double* x, const typename G::Element& g) {
+        pose = pose_of(t, g);
+        observe(t, x);
+      };
+      const auto r = runtime::lie::integrate_rkmk4_coupled<G>(
+          model.bundle->right ? runtime::lie::Trivialization::right : runtime::lie::Trivialization::left, f, xi,
+          G::identity(), x0, 0.0, opt.t_end, opt.dt, opt.sample, observe_pose);
+      runtime::IntegrationResult out;
+      out.status = r.status;
+      out.t = r.t;
+      out.stats = r.stats;
+      out.x = r.x;
+      return out;
+    });
+  } else {
+    result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
+                       observe);
+  }
   if (!to_stdout) {
     file.close();
     if (result.status == runtime::Status::ok)

@@ -5,11 +5,6 @@
 
 #include <hamel/runtime/ldlt.hpp>
 #include <hamel/runtime/lie/rkmk.hpp>
-#include <hamel/runtime/lie/rn.hpp>
-#include <hamel/runtime/lie/se2.hpp>
-#include <hamel/runtime/lie/se3.hpp>
-#include <hamel/runtime/lie/so3.hpp>
-#include <hamel/runtime/lie/so3xr3.hpp>
 
 #include <cmath>
 #include <functional>
@@ -20,37 +15,6 @@ namespace hamel {
 namespace lie = runtime::lie;
 
 namespace {
-
-GroupPose pose_of(double t, const lie::Mat3& R) {
-  GroupPose p;
-  p.t = t;
-  p.R = R;
-  return p;
-}
-GroupPose pose_of(double t, const lie::SE3::Element& g) {
-  GroupPose p = pose_of(t, g.R);
-  p.p.assign(g.p.begin(), g.p.end());
-  return p;
-}
-GroupPose pose_of(double t, const lie::SO3xR3::Element& g) {
-  GroupPose p = pose_of(t, g.R);
-  p.p.assign(g.p.begin(), g.p.end());
-  return p;
-}
-GroupPose pose_of(double t, const lie::SE2::Element& g) {
-  GroupPose p;
-  p.t = t;
-  p.theta = g.theta;
-  p.p = {g.x, g.y};
-  return p;
-}
-template <std::size_t K>
-GroupPose pose_of(double t, const std::array<double, K>& g) {
-  GroupPose p;
-  p.t = t;
-  p.p.assign(g.begin(), g.end());
-  return p;
-}
 
 // Numeric evaluation of A(r), L(r) and of the path r(t), ṙ(t), all from one expression graph.
 class BundleFunctions {
@@ -190,16 +154,8 @@ PhaseResult compute_phase(const Model& model, const Derivation& d, const std::ve
   if (!(req.period > 0) || !std::isfinite(req.period)) throw InputError("--period: expected a positive time");
   if (req.cycles < 1) throw InputError("--cycles: expected at least 1");
   if (req.steps_per_cycle < 1) throw InputError("--steps-per-cycle: expected at least 1");
-  const std::string& g = model.bundle->group;
-  if (g == "SO3") return run<lie::SO3>(model, d, parameters, req);
-  if (g == "SE3") return run<lie::SE3>(model, d, parameters, req);
-  if (g == "SO3xR3") return run<lie::SO3xR3>(model, d, parameters, req);
-  if (g == "SE2") return run<lie::SE2>(model, d, parameters, req);
-  if (g == "R1") return run<lie::Rn<1>>(model, d, parameters, req);
-  if (g == "R2") return run<lie::Rn<2>>(model, d, parameters, req);
-  if (g == "R3") return run<lie::Rn<3>>(model, d, parameters, req);
-  throw InputError("phase: reconstruction on " + g +
-                   " is not available; the runtime has SO3, SE3, SO3xR3, SE2 and R1..R3");
+  return with_group(model.bundle->group,
+                    [&](auto tag) { return run<typename decltype(tag)::type>(model, d, parameters, req); });
 }
 
 }  // namespace hamel

@@ -8,6 +8,7 @@
 
 #include "derive/derivation.hpp"
 #include "model/model.hpp"
+#include "numeric/group_pose.hpp"
 
 #include <array>
 #include <optional>
@@ -28,14 +29,6 @@ struct PhaseRequest {
   PhaseMomentum momentum = PhaseMomentum::zero;
   int steps_per_cycle = 2000;
   int samples_per_cycle = 100;  ///< trajectory points per cycle
-};
-
-/// One group element at time t, in the representation the group suggests.
-struct GroupPose {
-  double t = 0;
-  std::optional<std::array<double, 9>> R;  ///< rotation, row-major (SO3, SE3, SO3xR3)
-  std::optional<double> theta;             ///< planar angle (SE2), not wrapped
-  std::vector<double> p;                   ///< translation (SE3, SO3xR3: 3; SE2: x, y; Rk: k)
 };
 
 struct PhaseResult {

@@ -134,9 +134,12 @@ void run(const PhaseOptions& opt) {
       for (const auto& p : result.cycles) ends.x.push_back(p.p[0]), ends.y.push_back(p.p[1]);
       plot.series = {path, ends};
       if (!result.dynamic.empty()) {
-        PlotSeries dyn{"momentum only, shape at rest (dynamic phase)", {0.0}, {0.0}, true, true, true};
-        for (const auto& p : result.dynamic) dyn.x.push_back(p.p[0]), dyn.y.push_back(p.p[1]);
+        PlotSeries dyn{"momentum only, shape at rest", {}, {}, true, false, true};
+        for (const auto& p : result.dynamic_trajectory) dyn.x.push_back(p.p[0]), dyn.y.push_back(p.p[1]);
+        PlotSeries dyn_ends{"its position after each cycle (dynamic phase)", {0.0}, {0.0}, false, true, false};
+        for (const auto& p : result.dynamic) dyn_ends.x.push_back(p.p[0]), dyn_ends.y.push_back(p.p[1]);
         plot.series.push_back(dyn);
+        plot.series.push_back(dyn_ends);
       }
       const std::string svg = (fs::path(opt.out) / (model.name + "_phase.svg")).string();
       write_file_atomically(svg, render_svg(plot));

@@ -138,7 +138,7 @@ PhaseResult run(const Model& model, const Derivation& d, const std::vector<doubl
     }
   };
   integrate(false, &out.trajectory, out.cycles);
-  if (with_momentum) integrate(true, nullptr, out.dynamic);
+  if (with_momentum) integrate(true, &out.dynamic_trajectory, out.dynamic);
   return out;
 }
 

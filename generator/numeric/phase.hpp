@@ -36,6 +36,7 @@ struct PhaseResult {
   std::vector<GroupPose> cycles;      ///< after each full cycle k = 1..N (the phase)
   std::vector<GroupPose> trajectory;  ///< including t = 0
   std::vector<GroupPose> dynamic;     ///< momentum = rest: the motion with the shape frozen at r(0) (dynamic phase)
+  std::vector<GroupPose> dynamic_trajectory;  ///< momentum = rest: that motion sampled like `trajectory`
   long steps = 0;
 };
 

@@ -144,10 +144,23 @@ std::string render_svg(const PlotSpec& spec) {
       for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
         if (ax.usable(s.x[i]) && ay.usable(s.y[i]))
           o << "<circle cx=\"" << X(s.x[i]) << "\" cy=\"" << Y(s.y[i]) << "\" r=\"3.5\" fill=\"" << colour << "\"/>\n";
-    const double ly = top + 16 + 18 * static_cast<double>(k);
-    o << "<line x1=\"" << left + pw - 170 << "\" y1=\"" << ly << "\" x2=\"" << left + pw - 145 << "\" y2=\"" << ly
-      << "\" stroke=\"" << colour << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "")
-      << "/>\n<text x=\"" << left + pw - 140 << "\" y=\"" << ly + 4 << "\">" << escape(s.label) << "</text>\n";
+  }
+  // Legend: a white box in the upper left corner, sized to the longest label.
+  std::size_t longest = 0;
+  for (const auto& s : spec.series) longest = std::max(longest, s.label.size());
+  const double box_w = 40 + 7.2 * static_cast<double>(longest),
+               box_h = 8 + 18 * static_cast<double>(spec.series.size());
+  o << "<rect x=\"" << left + 8 << "\" y=\"" << top + 8 << "\" width=\"" << box_w << "\" height=\"" << box_h
+    << "\" fill=\"white\" fill-opacity=\"0.85\" stroke=\"#bbbbbb\"/>\n";
+  for (std::size_t k = 0; k < spec.series.size(); ++k) {
+    const PlotSeries& s = spec.series[k];
+    const char* colour = palette[k % (sizeof palette / sizeof *palette)];
+    const double ly = top + 22 + 18 * static_cast<double>(k), lx = left + 14;
+    if (s.line)
+      o << "<line x1=\"" << lx << "\" y1=\"" << ly << "\" x2=\"" << lx + 22 << "\" y2=\"" << ly << "\" stroke=\""
+        << colour << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
+    if (s.markers) o << "<circle cx=\"" << lx + 11 << "\" cy=\"" << ly << "\" r=\"3.5\" fill=\"" << colour << "\"/>\n";
+    o << "<text x=\"" << lx + 28 << "\" y=\"" << ly + 4 << "\">" << escape(s.label) << "</text>\n";
   }
   o << "</svg>\n";
   return o.str();

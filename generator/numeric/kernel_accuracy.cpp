@@ -1,0 +1,591 @@
+#include "numeric/kernel_accuracy.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+
+namespace hamel {
+
+using GiNaC::ex;
+using GiNaC::ex_to;
+using GiNaC::is_a;
+using GiNaC::numeric;
+
+GiNaC::numeric exact_rational(double v) {
+  if (!std::isfinite(v)) throw std::domain_error("exact_rational: not a finite number");
+  if (v == 0) return 0;
+  int e = 0;
+  const double m = std::frexp(v, &e);  // v = m 2^e, 0.5 ≤ |m| < 1
+  const auto mantissa = static_cast<long>(std::ldexp(m, 53));
+  return numeric(mantissa) * GiNaC::pow(numeric(2), numeric(e - 53));
+}
+
+namespace {
+
+numeric to_float(const numeric& v) {
+  if (!v.is_rational()) return v;
+  return ex_to<numeric>(v.evalf());
+}
+
+}  // namespace
+
+GiNaC::numeric high_precision(double v) { return to_float(exact_rational(v)); }
+
+double ulp_of(double y) {
+  y = std::fabs(y);
+  if (!(y >= std::numeric_limits<double>::min())) return std::numeric_limits<double>::denorm_min();
+  if (!std::isfinite(y)) return std::numeric_limits<double>::infinity();
+  return std::ldexp(1.0, std::ilogb(y) - 52);
+}
+
+double ulp_error(double computed, const GiNaC::numeric& reference, double floor) {
+  if (!std::isfinite(computed)) return std::numeric_limits<double>::infinity();
+  const double diff = GiNaC::abs(exact_rational(computed) - reference).to_double();
+  if (diff == 0) return 0;
+  const double magnitude = std::max(GiNaC::abs(reference).to_double(), floor);
+  return diff / ulp_of(magnitude);
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+namespace {
+
+numeric integer_power(const numeric& base, const numeric& exponent) {
+  // CLN's expt with an integer exponent is exact repeated squaring; a negative one divides.
+  if (exponent.is_negative() && base.is_zero()) throw std::domain_error("high precision: 0 to a negative power");
+  return GiNaC::pow(base, exponent);
+}
+
+numeric power(const numeric& base, const numeric& exponent) {
+  if (exponent.is_integer()) return integer_power(base, exponent);
+  if (base.is_negative()) throw std::domain_error("high precision: negative base of a fractional power");
+  if (base.is_zero()) {
+    if (exponent.is_negative()) throw std::domain_error("high precision: 0 to a negative power");
+    return 0;
+  }
+  if ((2 * exponent).is_integer()) return integer_power(GiNaC::sqrt(to_float(base)), 2 * exponent);
+  return GiNaC::exp(to_float(exponent) * GiNaC::log(to_float(base)));
+}
+
+numeric apply_function(const std::string& name, const numeric& argument) {
+  const numeric x = to_float(argument);
+  if (name == "sin") return GiNaC::sin(x);
+  if (name == "cos") return GiNaC::cos(x);
+  if (name == "tan") return GiNaC::tan(x);
+  if (name == "exp") return GiNaC::exp(x);
+  if (name == "log") {
+    if (!x.is_positive()) throw std::domain_error("high precision: log of a non-positive number");
+    return GiNaC::log(x);
+  }
+  if (name == "asin" || name == "acos") {
+    if (GiNaC::abs(x) > 1) throw std::domain_error("high precision: " + name + " outside [-1, 1]");
+    return name == "asin" ? GiNaC::asin(x) : GiNaC::acos(x);
+  }
+  if (name == "atan") return GiNaC::atan(x);
+  if (name == "sinh") return GiNaC::sinh(x);
+  if (name == "cosh") return GiNaC::cosh(x);
+  if (name == "tanh") return GiNaC::tanh(x);
+  if (name == "abs") return GiNaC::abs(x);
+  if (name == "sqrt") return power(x, numeric(1, 2));
+  throw std::logic_error("high precision: function '" + name + "' is not supported");
+}
+
+numeric divide(const numeric& a, const numeric& b) {
+  if (b.is_zero()) throw std::domain_error("high precision: division by zero");
+  return a / b;
+}
+
+}  // namespace
+
+HighPrecisionGraphEvaluator::HighPrecisionGraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs,
+                                                         int digits)
+    : graph_(graph),
+      outputs_(std::move(outputs)),
+      schedule_(graph.schedule(outputs_)),
+      digits_(digits),
+      values_(static_cast<std::size_t>(graph.size())) {}
+
+std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, const double* x, const double* p,
+                                                                  const double* in) {
+  const DigitsGuard digits(digits_);
+  for (int i : schedule_) {
+    const Node& n = graph_.node(i);
+    numeric& v = values_[static_cast<std::size_t>(i)];
+    const auto a = [&]() -> const numeric& { return values_[static_cast<std::size_t>(n.a)]; };
+    const auto b = [&]() -> const numeric& { return values_[static_cast<std::size_t>(n.b)]; };
+    switch (n.op) {
+      case Op::constant:
+        v = high_precision(n.value);
+        break;
+      case Op::input:
+        switch (n.argument) {
+          case Argument::time:
+            v = high_precision(t);
+            break;
+          case Argument::state:
+            v = high_precision(x[n.index]);
+            break;
+          case Argument::parameter:
+            v = high_precision(p[n.index]);
+            break;
+          case Argument::input:
+            v = high_precision(in[n.index]);
+            break;
+        }
+        break;
+      case Op::add:
+        v = a() + b();
+        break;
+      case Op::sub:
+        v = a() - b();
+        break;
+      case Op::mul:
+        v = a() * b();
+        break;
+      case Op::div:
+        v = divide(a(), b());
+        break;
+      case Op::neg:
+        v = -a();
+        break;
+      case Op::pow: {
+        // The exponent node is a double; integral ones are exact integers.
+        const numeric e =
+            exact_rational(graph_.node(n.b).op == Op::constant ? graph_.node(n.b).value : b().to_double());
+        v = power(a(), e.is_integer() ? e : b());
+        break;
+      }
+      case Op::sqrt:
+        v = apply_function("sqrt", a());
+        break;
+      case Op::sin:
+        v = apply_function("sin", a());
+        break;
+      case Op::cos:
+        v = apply_function("cos", a());
+        break;
+      case Op::tan:
+        v = apply_function("tan", a());
+        break;
+      case Op::exp:
+        v = apply_function("exp", a());
+        break;
+      case Op::log:
+        v = apply_function("log", a());
+        break;
+      case Op::asin:
+        v = apply_function("asin", a());
+        break;
+      case Op::acos:
+        v = apply_function("acos", a());
+        break;
+      case Op::atan:
+        v = apply_function("atan", a());
+        break;
+      case Op::sinh:
+        v = apply_function("sinh", a());
+        break;
+      case Op::cosh:
+        v = apply_function("cosh", a());
+        break;
+      case Op::tanh:
+        v = apply_function("tanh", a());
+        break;
+      case Op::abs:
+        v = GiNaC::abs(a());
+        break;
+    }
+  }
+  std::vector<numeric> out;
+  out.reserve(outputs_.size());
+  for (int o : outputs_) out.push_back(values_[static_cast<std::size_t>(o)]);
+  return out;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+void HighPrecisionExpressionEvaluator::assign(const std::map<ex, numeric, GiNaC::ex_is_less>& values) {
+  const DigitsGuard digits(digits_);
+  values_.clear();
+  for (const auto& [symbol, v] : values) values_[symbol] = to_float(v);
+  memo_[0].clear();
+  memo_[1].clear();
+}
+
+GiNaC::numeric HighPrecisionExpressionEvaluator::value(const ex& e) {
+  const DigitsGuard digits(digits_);
+  return eval(e, false);
+}
+
+GiNaC::numeric HighPrecisionExpressionEvaluator::magnitude(const ex& e) {
+  const DigitsGuard digits(digits_);
+  return eval(e, true);
+}
+
+numeric HighPrecisionExpressionEvaluator::eval(const ex& e, bool absolute) {
+  if (is_a<numeric>(e)) {
+    const numeric& v = ex_to<numeric>(e);
+    if (!v.is_real()) throw std::logic_error("high precision: complex number in an expression");
+    return absolute ? GiNaC::abs(v) : v;
+  }
+  auto& memo = memo_[absolute ? 1 : 0];
+  if (auto it = memo.find(e); it != memo.end()) return it->second;
+  numeric v;
+  if (is_a<GiNaC::symbol>(e)) {
+    auto it = values_.find(e);
+    if (it == values_.end())
+      throw std::logic_error("high precision: no value for symbol '" + ex_to<GiNaC::symbol>(e).get_name() + "'");
+    v = absolute ? GiNaC::abs(it->second) : it->second;
+  } else if (is_a<GiNaC::constant>(e)) {
+    v = ex_to<numeric>(e.evalf());
+    if (absolute) v = GiNaC::abs(v);
+  } else if (is_a<GiNaC::add>(e)) {
+    v = 0;
+    for (std::size_t i = 0; i < e.nops(); ++i) v += eval(e.op(i), absolute);
+  } else if (is_a<GiNaC::mul>(e)) {
+    v = 1;
+    for (std::size_t i = 0; i < e.nops(); ++i) v *= eval(e.op(i), absolute);
+  } else if (is_a<GiNaC::power>(e)) {
+    const ex exponent = e.op(1);
+    if (!is_a<numeric>(exponent)) {
+      const numeric base = eval(e.op(0), false), y = eval(exponent, false);
+      v = power(base, y);
+      if (absolute) v = GiNaC::abs(v);
+    } else {
+      const numeric& y = ex_to<numeric>(exponent);
+      // A divisor enters at its true value: |1/x| is not bounded by 1/magnitude(x).
+      const numeric base = eval(e.op(0), absolute && y.is_positive());
+      v = power(base, y);
+      if (absolute) v = GiNaC::abs(v);
+    }
+  } else if (is_a<GiNaC::function>(e)) {
+    const std::string name = ex_to<GiNaC::function>(e).get_name();
+    if (e.nops() != 1) throw std::logic_error("high precision: function '" + name + "' is not supported");
+    v = apply_function(name, eval(e.op(0), false));
+    if (absolute) v = GiNaC::abs(v);
+  } else {
+    throw std::logic_error("high precision: unsupported expression type");
+  }
+  memo.emplace(e, v);
+  return v;
+}
+
+// ---------------------------------------------------------------------------------------------------------
+
+namespace {
+
+std::vector<numeric> solve(std::vector<std::vector<numeric>> A, std::vector<numeric> b) {
+  // Gaussian elimination with partial pivoting, in the current precision.
+  const std::size_t n = b.size();
+  for (std::size_t j = 0; j < n; ++j) {
+    std::size_t pivot = j;
+    for (std::size_t i = j + 1; i < n; ++i)
+      if (GiNaC::abs(A[i][j]) > GiNaC::abs(A[pivot][j])) pivot = i;
+    if (A[pivot][j].is_zero()) throw std::domain_error("high precision: singular mass matrix");
+    std::swap(A[j], A[pivot]);
+    std::swap(b[j], b[pivot]);
+    for (std::size_t i = j + 1; i < n; ++i) {
+      const numeric f = A[i][j] / A[j][j];
+      if (f.is_zero()) continue;
+      for (std::size_t k = j; k < n; ++k) A[i][k] -= f * A[j][k];
+      b[i] -= f * b[j];
+    }
+  }
+  std::vector<numeric> x(n);
+  for (std::size_t i = n; i-- > 0;) {
+    numeric s = b[i];
+    for (std::size_t k = i + 1; k < n; ++k) s -= A[i][k] * x[k];
+    x[i] = s / A[i][i];
+  }
+  return x;
+}
+
+// The symbolic expressions behind the kernels of build_kernels, in the same output order.
+struct ReferenceSet {
+  enum class Kind { direct, rhs, jacobian };
+  struct Entry {
+    Kind kind = Kind::direct;
+    std::vector<ex> expressions;  // direct kernels
+  };
+  std::map<std::string, Entry> kernels;
+
+  std::size_t n = 0, d = 0, nx = 0;
+  std::vector<ex> kinematics, forcing;
+  std::vector<std::vector<ex>> mass;                    // d x d
+  std::vector<std::vector<ex>> kinematics_by_x;         // [k][a]
+  std::vector<std::vector<ex>> forcing_by_x;            // [k][i]
+  std::vector<std::vector<std::vector<ex>>> mass_by_x;  // [k][i][j]
+};
+
+ReferenceSet references(const Model& model, const Derivation& derivation) {
+  ReferenceSet r;
+  const HamelEquations& eq = derivation.equations;
+  const HamelSystem& sys = derivation.system;
+  r.n = sys.coordinates.size();
+  r.d = eq.independent.size();
+  r.kinematics = eq.kinematics;
+  r.forcing = eq.forcing;
+  r.mass.assign(r.d, std::vector<ex>(r.d));
+  for (unsigned i = 0; i < r.d; ++i)
+    for (unsigned j = 0; j < r.d; ++j) r.mass[i][j] = eq.mass_matrix(i, j);
+
+  using Kind = ReferenceSet::Kind;
+  r.kernels["kinematics"] = {Kind::direct, eq.kinematics};
+  {
+    std::vector<ex> m;
+    for (const auto& row : r.mass) m.insert(m.end(), row.begin(), row.end());
+    r.kernels["mass_matrix"] = {Kind::direct, m};
+  }
+  r.kernels["forcing"] = {Kind::direct, eq.forcing};
+  {
+    std::vector<ex> g;
+    for (const HamelCoefficient& h : sys.gamma) g.push_back(h.value);
+    r.kernels["hamel_coefficients"] = {Kind::direct, g};
+  }
+  r.kernels["rhs"] = {Kind::rhs, {}};
+  r.kernels["energy"] = {Kind::direct, {eq.energy_terms.at(0)}};
+  if (!eq.constraint_residual.empty()) r.kernels["constraint_residual"] = {Kind::direct, eq.constraint_residual};
+  if (derivation.bundle) {
+    const BundleGeometry& geo = *derivation.bundle;
+    const std::size_t m = model.bundle->group_velocity.size();
+    r.kernels["group_velocity"] = {Kind::direct, derivation.group_velocity};
+    std::vector<ex> conn, locked;
+    for (unsigned a = 0; a < m; ++a)
+      for (unsigned I = 0; I < r.n; ++I) conn.push_back(geo.connection(a, I));
+    if (r.n > 0) r.kernels["connection"] = {Kind::direct, conn};
+    if (geo.quadratic) {
+      for (unsigned a = 0; a < m; ++a)
+        for (unsigned c = 0; c < m; ++c) locked.push_back(geo.L(a, c));
+      r.kernels["locked_inertia"] = {Kind::direct, locked};
+    }
+  }
+
+  // Jacobian: derivatives with respect to the state (q, u_I).
+  std::vector<GiNaC::symbol> state(sys.coordinates.begin(), sys.coordinates.end());
+  for (int I : eq.independent) state.push_back(sys.velocities[static_cast<std::size_t>(I)]);
+  r.nx = state.size();
+  r.kinematics_by_x.resize(r.nx);
+  r.forcing_by_x.resize(r.nx);
+  r.mass_by_x.resize(r.nx);
+  for (std::size_t k = 0; k < r.nx; ++k) {
+    for (const ex& e : r.kinematics) r.kinematics_by_x[k].push_back(e.diff(state[k]));
+    for (const ex& e : r.forcing) r.forcing_by_x[k].push_back(e.diff(state[k]));
+    r.mass_by_x[k].assign(r.d, std::vector<ex>(r.d));
+    for (std::size_t i = 0; i < r.d; ++i)
+      for (std::size_t j = 0; j < r.d; ++j) r.mass_by_x[k][i][j] = r.mass[i][j].diff(state[k]);
+  }
+  r.kernels["jacobian"] = {Kind::jacobian, {}};
+  return r;
+}
+
+struct Point {
+  double t = 0;
+  std::vector<double> x, in;
+};
+
+}  // namespace
+
+std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const Derivation& derivation,
+                                                    const KernelSet& kernels, const std::vector<double>& p,
+                                                    const AccuracySettings& settings, const std::string& label) {
+  const HamelEquations& eq = derivation.equations;
+  const HamelSystem& sys = derivation.system;
+  const ReferenceSet refs = references(model, derivation);
+  const std::size_t n = refs.n, d = refs.d, nx = refs.nx;
+  if (p.size() != model.parameters.size()) throw std::logic_error("measure_kernel_accuracy: wrong parameter count");
+
+  // State and input names, for pinned values and reports.
+  std::vector<std::string> state_names;
+  for (const auto& q : sys.coordinates) state_names.push_back(q.get_name());
+  for (int I : eq.independent) state_names.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
+  for (const auto& [name, v] : settings.fixed) {
+    bool known = name == "t";
+    for (const auto& s : state_names) known = known || s == name;
+    for (const auto& u : model.inputs) known = known || u.get_name() == name;
+    if (!known) throw std::invalid_argument("'" + name + "' is not a state variable, input or t of the model");
+    (void)v;
+  }
+
+  std::mt19937_64 rng(settings.seed);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const auto sample = [&]() {
+    Point pt;
+    pt.t = 0.5 * (1 + unit(rng));
+    pt.x.resize(nx);
+    for (std::size_t k = 0; k < nx; ++k)
+      pt.x[k] = unit(rng) * (k < n ? settings.coordinate_range : settings.velocity_range);
+    pt.in.resize(model.inputs.size());
+    for (double& v : pt.in) v = unit(rng) * settings.velocity_range;
+    for (std::size_t k = 0; k < nx; ++k)
+      if (auto it = settings.fixed.find(state_names[k]); it != settings.fixed.end()) pt.x[k] = it->second;
+    for (std::size_t k = 0; k < model.inputs.size(); ++k)
+      if (auto it = settings.fixed.find(model.inputs[k].get_name()); it != settings.fixed.end()) pt.in[k] = it->second;
+    if (auto it = settings.fixed.find("t"); it != settings.fixed.end()) pt.t = it->second;
+    return pt;
+  };
+
+  struct Measured {
+    const Kernel* kernel;
+    const ReferenceSet::Entry* ref;
+    GraphEvaluator fast;
+    HighPrecisionGraphEvaluator slow;
+  };
+  std::vector<Measured> measured;
+  std::vector<KernelAccuracy> result;
+  for (const Kernel& k : kernels.kernels) {
+    auto it = refs.kernels.find(k.name);
+    if (it == refs.kernels.end()) throw std::logic_error("kernel accuracy: no reference for kernel " + k.name);
+    const std::size_t want = it->second.kind == ReferenceSet::Kind::direct ? it->second.expressions.size()
+                             : it->second.kind == ReferenceSet::Kind::rhs  ? n + d
+                                                                           : nx * nx;
+    if (want != k.outputs.size())
+      throw std::logic_error("kernel accuracy: reference of " + k.name + " has " + std::to_string(want) +
+                             " entries, the kernel " + std::to_string(k.outputs.size()));
+    measured.push_back({&k, &it->second, GraphEvaluator(kernels.graph, k.outputs),
+                        HighPrecisionGraphEvaluator(kernels.graph, k.outputs, settings.digits)});
+    KernelAccuracy a;
+    a.kernel = k.name;
+    a.outputs = k.outputs.size();
+    result.push_back(a);
+  }
+
+  HighPrecisionExpressionEvaluator exact(settings.digits);
+  const DigitsGuard digits(settings.digits);
+  for (int point = 0; point < settings.points; ++point) {
+    const Point pt = sample();
+    std::map<ex, numeric, GiNaC::ex_is_less> values;
+    values[model.time] = exact_rational(pt.t);
+    for (std::size_t a = 0; a < n; ++a) values[sys.coordinates[a]] = exact_rational(pt.x[a]);
+    for (std::size_t i = 0; i < d; ++i)
+      values[sys.velocities[static_cast<std::size_t>(eq.independent[i])]] = exact_rational(pt.x[n + i]);
+    for (int alpha : sys.constrained) values[sys.velocities[static_cast<std::size_t>(alpha)]] = 0;
+    for (std::size_t k = 0; k < model.parameters.size(); ++k) values[model.parameters[k].symbol] = exact_rational(p[k]);
+    for (std::size_t k = 0; k < model.inputs.size(); ++k) values[model.inputs[k]] = exact_rational(pt.in[k]);
+    exact.assign(values);
+    const double* in = pt.in.empty() ? nullptr : pt.in.data();
+
+    // The accelerations in 50 digits, shared by rhs and jacobian.
+    std::vector<numeric> accel;
+    std::vector<std::vector<numeric>> M(d, std::vector<numeric>(d));
+    const auto accelerations = [&]() -> const std::vector<numeric>& {
+      if (accel.empty() && d > 0) {
+        std::vector<numeric> f(d);
+        for (std::size_t i = 0; i < d; ++i) {
+          f[i] = exact.value(refs.forcing[i]);
+          for (std::size_t j = 0; j < d; ++j) M[i][j] = exact.value(refs.mass[i][j]);
+        }
+        accel = solve(M, f);
+      }
+      return accel;
+    };
+
+    for (std::size_t m = 0; m < measured.size(); ++m) {
+      Measured& km = measured[m];
+      KernelAccuracy& acc = result[m];
+      const std::size_t outputs = km.kernel->outputs.size();
+      if (outputs == 0) continue;
+      std::vector<numeric> ref(outputs);
+      std::vector<numeric> magnitude;
+      try {
+        switch (km.ref->kind) {
+          case ReferenceSet::Kind::direct:
+            for (std::size_t i = 0; i < outputs; ++i) ref[i] = exact.value(km.ref->expressions[i]);
+            break;
+          case ReferenceSet::Kind::rhs: {
+            for (std::size_t a = 0; a < n; ++a) ref[a] = exact.value(refs.kinematics[a]);
+            const std::vector<numeric>& u = accelerations();
+            for (std::size_t i = 0; i < d; ++i) ref[n + i] = u[i];
+            break;
+          }
+          case ReferenceSet::Kind::jacobian: {
+            const std::vector<numeric>& u = accelerations();
+            for (std::size_t k = 0; k < nx; ++k) {
+              for (std::size_t a = 0; a < n; ++a) ref[a * nx + k] = exact.value(refs.kinematics_by_x[k][a]);
+              std::vector<numeric> b(d);
+              for (std::size_t i = 0; i < d; ++i) {
+                b[i] = exact.value(refs.forcing_by_x[k][i]);
+                for (std::size_t j = 0; j < d; ++j) b[i] -= exact.value(refs.mass_by_x[k][i][j]) * u[j];
+              }
+              const std::vector<numeric> du = d > 0 ? solve(M, b) : std::vector<numeric>{};
+              for (std::size_t i = 0; i < d; ++i) ref[(n + i) * nx + k] = du[i];
+            }
+            break;
+          }
+        }
+      } catch (const std::domain_error&) {
+        ++acc.skipped;
+        continue;
+      } catch (const std::runtime_error&) {  // CLN: division by an inexact zero
+        ++acc.skipped;
+        continue;
+      }
+      std::vector<double> computed(outputs);
+      km.fast.evaluate(pt.t, pt.x.data(), p.data(), in, computed.data());
+      std::vector<numeric> graph50;
+      try {
+        graph50 = km.slow.evaluate(pt.t, pt.x.data(), p.data(), in);
+      } catch (const std::exception&) {
+        graph50.clear();
+      }
+
+      double scale = 0;
+      for (const numeric& r : ref) scale = std::max(scale, GiNaC::abs(r).to_double());
+      if (km.ref->kind == ReferenceSet::Kind::direct) {
+        // A kernel that is zero here (the constraint residual is zero everywhere): its reference is 50-digit
+        // noise, and the scale is the size of the terms that cancel.
+        double terms = 0;
+        for (std::size_t i = 0; i < outputs; ++i)
+          terms = std::max(terms, exact.magnitude(km.ref->expressions[i]).to_double());
+        if (scale <= 1e-30 * terms) scale = terms;
+      }
+      const double floor = settings.floor_fraction * scale;
+      ++acc.points;
+      for (std::size_t i = 0; i < outputs; ++i) {
+        const double e = ulp_error(computed[i], ref[i], floor);
+        ++acc.values;
+        acc.sum_ulps += e;
+        if (e > acc.worst_ulps || (std::isinf(e) && !std::isinf(acc.worst_ulps))) {
+          acc.worst_ulps = e;
+          acc.worst_output = km.kernel->output_names[i];
+          acc.worst_setting = label;
+          acc.worst_time = pt.t;
+          acc.worst_state = pt.x;
+          acc.worst_double = computed[i];
+          acc.worst_reference = ref[i].to_double();
+        }
+        if (!graph50.empty())
+          acc.worst_evaluation_ulps = std::max(acc.worst_evaluation_ulps, ulp_error(computed[i], graph50[i], floor));
+      }
+    }
+  }
+  return result;
+}
+
+void merge_accuracy(std::vector<KernelAccuracy>& into, const std::vector<KernelAccuracy>& more) {
+  for (const KernelAccuracy& m : more) {
+    auto it = std::find_if(into.begin(), into.end(), [&](const KernelAccuracy& a) { return a.kernel == m.kernel; });
+    if (it == into.end()) {
+      into.push_back(m);
+      continue;
+    }
+    KernelAccuracy& a = *it;
+    a.points += m.points;
+    a.skipped += m.skipped;
+    a.values += m.values;
+    a.sum_ulps += m.sum_ulps;
+    a.worst_evaluation_ulps = std::max(a.worst_evaluation_ulps, m.worst_evaluation_ulps);
+    if (m.worst_ulps > a.worst_ulps) {
+      a.worst_ulps = m.worst_ulps;
+      a.worst_output = m.worst_output;
+      a.worst_setting = m.worst_setting;
+      a.worst_time = m.worst_time;
+      a.worst_state = m.worst_state;
+      a.worst_double = m.worst_double;
+      a.worst_reference = m.worst_reference;
+    }
+  }
+}
+
+}  // namespace hamel

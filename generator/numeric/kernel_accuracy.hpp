@@ -1,0 +1,141 @@
+// Forward error of the emitted kernels in units in the last place (issue 4, item 3).
+//
+// For every kernel of a model, the double evaluation of its expression graph (GraphEvaluator, the interpreter
+// that evaluates exactly the graph the C++ emitter prints) is compared with a 50-digit evaluation of the
+// derivation's symbolic expressions the kernel outputs come from, at the same double inputs (converted
+// exactly). The rhs and jacobian kernels end in an LDLᵀ solve built in the graph: their reference is
+// M u̇ = f (and M ∂u̇/∂x_k = ∂f/∂x_k − ∂M/∂x_k u̇) solved in 50 digits from the symbolic M, f and their
+// symbolic derivatives. So the error includes everything double arithmetic does: the rounding of constants
+// folded into the graph, of every operation, and the cancellation the generator's choice of form causes.
+//
+// Error of one output value (documented in docs/accuracy.md):
+//
+//   ulps = |double − ref| / ulp(max(|ref|, φ·S)),   ulp(y) = 2^(⌊log2 y⌋ − 52) (the spacing of doubles at y),
+//
+// where S is the kernel's output magnitude at that point, the largest |ref| over its outputs (for a kernel
+// whose outputs are all exactly zero there, such as the constraint residual, the largest magnitude of
+// the terms summed in the outputs, see HighPrecisionExpressionEvaluator::magnitude), and φ is the floor
+// fraction (default 1e-3). Without the floor, an output that is tiny next to its siblings (a velocity
+// component crossing zero) would count its unavoidable absolute error of about eps·S as huge relative
+// error; with it, such noise costs at most 1/φ ulps, while a form that loses digits through cancellation
+// of terms larger than S still shows as more.
+#pragma once
+
+#include "derive/derivation.hpp"
+#include "emit/kernels.hpp"
+#include "model/model.hpp"
+
+#include <ginac/ginac.h>
+
+#include <cstdint>
+#include <map>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+namespace hamel {
+
+/// Sets GiNaC::Digits for its lifetime and restores the previous value.
+class DigitsGuard {
+ public:
+  explicit DigitsGuard(long digits) : saved_(GiNaC::Digits) { GiNaC::Digits = digits; }
+  ~DigitsGuard() { GiNaC::Digits = saved_; }
+  DigitsGuard(const DigitsGuard&) = delete;
+  DigitsGuard& operator=(const DigitsGuard&) = delete;
+
+ private:
+  long saved_;
+};
+
+/// The value of a finite double as an exact GiNaC rational.
+GiNaC::numeric exact_rational(double v);
+
+/// A finite double as a CLN float with the current GiNaC::Digits (exact: doubles have 53 bits).
+GiNaC::numeric high_precision(double v);
+
+/// The spacing of doubles at magnitude y ≥ 0: 2^(⌊log2 y⌋ − 52), at least the smallest subnormal.
+double ulp_of(double y);
+
+/// |computed − reference| / ulp_of(max(|reference|, floor)); infinite when `computed` is not finite.
+double ulp_error(double computed, const GiNaC::numeric& reference, double floor);
+
+/// Evaluates nodes of an ExpressionGraph in CLN floating point (GiNaC::numeric) with `digits` decimal digits:
+/// the same operations as GraphEvaluator, constants and inputs converted exactly from their doubles.
+class HighPrecisionGraphEvaluator {
+ public:
+  HighPrecisionGraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs, int digits = 50);
+  std::vector<GiNaC::numeric> evaluate(double t, const double* x, const double* p, const double* in);
+
+ private:
+  const ExpressionGraph& graph_;
+  std::vector<int> outputs_;
+  std::vector<int> schedule_;
+  int digits_;
+  std::vector<GiNaC::numeric> values_;
+};
+
+/// Evaluates GiNaC expressions numerically with `digits` decimal digits at given symbol values. Shared
+/// subexpressions are evaluated once per set of values. Understands numbers, symbols, constants (Pi),
+/// sums, products, powers and the functions the emitter knows (sin … tanh, abs, sqrt); throws
+/// std::domain_error at a pole and std::logic_error for anything else.
+class HighPrecisionExpressionEvaluator {
+ public:
+  explicit HighPrecisionExpressionEvaluator(int digits = 50) : digits_(digits) {}
+  /// Sets symbol values (numbers converted to floats at the evaluator's precision); forgets cached values.
+  void assign(const std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less>& values);
+  GiNaC::numeric value(const GiNaC::ex& e);
+  /// The expression evaluated with every sum taken over the absolute values of its terms (and products,
+  /// positive powers and arguments of functions likewise; divisors and function values at their true
+  /// values): the size of what is added, the scale below which a result is cancellation noise.
+  GiNaC::numeric magnitude(const GiNaC::ex& e);
+
+ private:
+  GiNaC::numeric eval(const GiNaC::ex& e, bool absolute);
+  struct Hash {
+    std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
+  };
+  int digits_;
+  std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less> values_;
+  std::unordered_map<GiNaC::ex, GiNaC::numeric, Hash, GiNaC::ex_is_equal> memo_[2];
+};
+
+struct AccuracySettings {
+  int points = 200;               ///< random points per parameter setting
+  std::uint64_t seed = 1;         ///< of the random points
+  double coordinate_range = 1.0;  ///< coordinates uniform in [−r, r]
+  double velocity_range = 1.0;    ///< independent velocities and inputs uniform in [−v, v]
+  double floor_fraction = 1e-3;   ///< φ in the definition above
+  int digits = 50;                ///< of the reference
+  /// Pinned values of state variables (coordinate or independent velocity names), inputs or "t".
+  std::map<std::string, double> fixed;
+};
+
+/// The forward error of one kernel over the points of one or more parameter settings.
+struct KernelAccuracy {
+  std::string kernel;
+  std::size_t outputs = 0;
+  long points = 0;                   ///< points evaluated
+  long skipped = 0;                  ///< points where the reference has a pole
+  long values = 0;                   ///< output values compared
+  double worst_ulps = 0;             ///< against the symbolic expressions in 50 digits
+  double sum_ulps = 0;               ///< over all values (mean_ulps = sum_ulps / values)
+  double worst_evaluation_ulps = 0;  ///< against the same graph in 50 digits: rounding of the operations only
+  std::string worst_output;          ///< output name where worst_ulps occurred
+  std::string worst_setting;         ///< label of the parameter setting
+  double worst_time = 0;
+  std::vector<double> worst_state;
+  double worst_double = 0, worst_reference = 0;
+  double mean_ulps() const { return values ? sum_ulps / static_cast<double>(values) : 0.0; }
+};
+
+/// Measures every kernel of `kernels` (built by build_kernels(model, derivation)) at `settings.points`
+/// random points with parameter values `p` (the kernel ABI's p array; folded parameters are constants in
+/// the graph and in the derivation alike). `label` names the setting in the result.
+std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const Derivation& derivation,
+                                                    const KernelSet& kernels, const std::vector<double>& p,
+                                                    const AccuracySettings& settings, const std::string& label = "");
+
+/// Combines the results of another setting into `into` (same kernels, matched by name).
+void merge_accuracy(std::vector<KernelAccuracy>& into, const std::vector<KernelAccuracy>& more);
+
+}  // namespace hamel

@@ -1,0 +1,180 @@
+#include "numeric/work_precision.hpp"
+
+#include "model/input_error.hpp"
+#include "numeric/integrators.hpp"
+#include "report/svg_plot.hpp"
+
+#include <hamel/runtime/monitor.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <iomanip>
+#include <limits>
+#include <ostream>
+#include <sstream>
+
+namespace hamel {
+
+namespace {
+
+double cpu_seconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
+
+// Settings per integrator: steps as fractions of the horizon for fixed-step methods, tolerances otherwise.
+std::vector<double> sweep(const IntegratorInfo& info, double t_end) {
+  std::vector<double> s;
+  if (info.adaptive) {
+    for (int k = 3; k <= 11; ++k) s.push_back(std::pow(10.0, -k));
+  } else {
+    for (int k = 0; k < 8; ++k) s.push_back(t_end / (25.0 * std::pow(2.0, k)));
+  }
+  return s;
+}
+
+std::string number(double v) {
+  if (std::isnan(v)) return "nan";
+  std::ostringstream s;
+  s << std::setprecision(6) << v;
+  return s.str();
+}
+
+}  // namespace
+
+WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, const KernelSet& kernels,
+                                  const WorkPrecisionRequest& req, std::ostream* progress) {
+  if (!(req.t_end > 0) || !std::isfinite(req.t_end)) throw InputError("--t-end: expected a positive finite time");
+  GraphEvaluator rhs_kernel(kernels.graph, kernels.get("rhs").outputs);
+  GraphEvaluator jac_kernel(kernels.graph, kernels.get("jacobian").outputs);
+  GraphEvaluator energy_kernel(kernels.graph, kernels.get("energy").outputs);
+  const bool constrained = !d.equations.constraint_residual.empty();
+  GraphEvaluator residual_kernel(kernels.graph,
+                                 constrained ? kernels.get("constraint_residual").outputs : std::vector<int>{});
+  const double* p = req.parameters.data();
+  const double* in = req.inputs.empty() ? nullptr : req.inputs.data();
+  const RhsFunction rhs = [&](double t, const double* x, double* xdot) { rhs_kernel.evaluate(t, x, p, in, xdot); };
+  const JacobianFunction jac = [&](double t, const double* x, double* J) { jac_kernel.evaluate(t, x, p, in, J); };
+  const std::size_t n = req.x0.size();
+
+  WorkPrecisionStudy study;
+  study.t_end = req.t_end;
+  study.x0 = req.x0;
+  for (const auto& q : d.system.coordinates) study.state_names.push_back(q.get_name());
+  for (int I : d.equations.independent)
+    study.state_names.push_back(d.system.velocities[static_cast<std::size_t>(I)].get_name());
+
+  const runtime::IntegrationResult ref =
+      integrate("dop853", 1e-14, rhs, jac, req.x0, 0.0, req.t_end, 0.0, [](double, const double*) {});
+  if (ref.status != runtime::Status::ok)
+    throw InputError("report: the reference run (dop853, tolerance 1e-14) failed at t = " + std::to_string(ref.t) +
+                     ": " + runtime::describe(ref.status));
+  study.reference = "reference run: dop853 at rtol = atol = 1e-14 (" + std::to_string(ref.stats.steps) +
+                    " steps); no analytic solution is used";
+  double ref_scale = 1;
+  for (double v : ref.x) ref_scale = std::max(ref_scale, std::fabs(v));
+
+  std::vector<std::string> names = req.integrators;
+  if (names.empty()) names = {"rk4", "dopri5", "dop853", "radau5"};
+  for (const std::string& name : names) {
+    const IntegratorInfo& info = find_integrator(name);
+    for (double setting : sweep(info, req.t_end)) {
+      WorkPrecisionRun run;
+      run.integrator = info.name;
+      run.setting = setting;
+      // Invariants along one run (observed at every step).
+      double e0 = 0;
+      energy_kernel.evaluate(0.0, req.x0.data(), p, in, &e0);
+      runtime::DriftMonitor energy(e0);
+      double residual = 0;
+      std::vector<double> r(d.equations.constraint_residual.size());
+      const ObserveFunction observe = [&](double t, const double* x) {
+        double e = 0;
+        energy_kernel.evaluate(t, x, p, in, &e);
+        energy.update(e);
+        if (constrained) {
+          residual_kernel.evaluate(t, x, p, in, r.data());
+          for (double v : r) residual = std::max(residual, std::fabs(v));
+        }
+      };
+      runtime::IntegrationResult result = integrate(info.name, setting, rhs, jac, req.x0, 0.0, req.t_end, 0.0, observe);
+      // CPU time: repeat the run without observer until min_cpu_s has passed, and take the mean.
+      int repeats = 0;
+      const double start = cpu_seconds();
+      double elapsed = 0;
+      do {
+        result = integrate(info.name, setting, rhs, jac, req.x0, 0.0, req.t_end, 0.0, [](double, const double*) {});
+        ++repeats;
+        elapsed = cpu_seconds() - start;
+      } while (elapsed < req.min_cpu_s && repeats < 1000);
+      run.cpu_s = elapsed / repeats;
+      run.status = result.status == runtime::Status::ok ? "ok" : runtime::describe(result.status);
+      run.steps = result.stats.steps;
+      run.rhs_evals = result.stats.rhs_evals;
+      run.jac_evals = result.stats.jac_evals;
+      run.error = std::numeric_limits<double>::quiet_NaN();
+      if (result.status == runtime::Status::ok) {
+        double e = 0;
+        for (std::size_t k = 0; k < n; ++k) e = std::max(e, std::fabs(result.x[k] - ref.x[k]));
+        run.error = e / ref_scale;
+      }
+      run.drift = d.equations.conservative ? energy.max_relative_deviation() : std::numeric_limits<double>::quiet_NaN();
+      run.constraint_residual = residual;
+      if (progress)
+        *progress << "  " << std::setw(7) << run.integrator << "  " << std::setw(9) << number(setting) << "  error "
+                  << std::setw(12) << number(run.error) << "  cpu " << number(run.cpu_s) << " s  " << run.steps
+                  << " steps  " << run.status << "\n";
+      study.runs.push_back(run);
+    }
+  }
+  return study;
+}
+
+std::string work_precision_csv(const WorkPrecisionStudy& study) {
+  std::ostringstream s;
+  s << std::setprecision(17);
+  s << "integrator,setting,error,cpu_s,steps,rhs_evals,jac_evals,drift,constraint_residual,status\n";
+  for (const WorkPrecisionRun& r : study.runs)
+    s << r.integrator << "," << r.setting << "," << r.error << "," << r.cpu_s << "," << r.steps << "," << r.rhs_evals
+      << "," << r.jac_evals << "," << r.drift << "," << r.constraint_residual << "," << r.status << "\n";
+  return s.str();
+}
+
+std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy& study) {
+  std::ostringstream s;
+  s << "# Work–precision: " << model.name << "\n\n"
+    << "Horizon t = 0 … " << number(study.t_end) << "; initial state";
+  for (std::size_t k = 0; k < study.x0.size(); ++k)
+    s << (k ? ", " : " ") << study.state_names[k] << " = " << number(study.x0[k]);
+  s << ".\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
+    << ". CPU time: one run, mean of repeats, right-hand side evaluated by the kernel interpreter (the graph `hamel "
+       "emit` prints; compiled kernels are faster). Drift: max relative energy deviation along the run (nan when the "
+       "model is not conservative).\n\n"
+    << "| integrator | setting | error | CPU [s] | CPU per simulated s | steps | rhs | Jacobians | drift | constraint "
+       "residual | status |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
+  for (const WorkPrecisionRun& r : study.runs)
+    s << "| " << r.integrator << " | " << number(r.setting) << " | " << number(r.error) << " | " << number(r.cpu_s)
+      << " | " << number(r.cpu_s / study.t_end) << " | " << r.steps << " | " << r.rhs_evals << " | " << r.jac_evals
+      << " | " << number(r.drift) << " | " << number(r.constraint_residual) << " | " << r.status << " |\n";
+  return s.str();
+}
+
+std::string work_precision_svg(const Model& model, const WorkPrecisionStudy& study) {
+  PlotSpec plot;
+  plot.title = model.name + ": error against CPU time";
+  plot.x_label = "CPU time per run [s]";
+  plot.y_label = "relative error at t_end";
+  plot.log_x = plot.log_y = true;
+  for (const WorkPrecisionRun& r : study.runs) {
+    if (plot.series.empty() || plot.series.back().label != r.integrator)
+      plot.series.push_back({r.integrator, {}, {}, true, true, false});
+    // Errors at or below the reference's own accuracy are drawn at 1e-16.
+    plot.series.back().x.push_back(r.cpu_s);
+    plot.series.back().y.push_back(std::max(r.error, 1e-16));
+  }
+  return render_svg(plot);
+}
+
+}  // namespace hamel

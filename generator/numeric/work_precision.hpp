@@ -1,0 +1,55 @@
+// Work–precision study (issue "error against run time"): every applicable integrator over a sweep of
+// tolerances or steps on one model and initial state; error against a reference run far below the sweep
+// (DOP853 at rtol = atol = 1e-14), CPU time, work counters and invariant drift per run. The right-hand side
+// is the interpreter of the kernels' expression graph (GraphEvaluator), the same graph `emit` prints.
+#pragma once
+
+#include "derive/derivation.hpp"
+#include "emit/kernels.hpp"
+#include "model/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace hamel {
+
+struct WorkPrecisionRun {
+  std::string integrator;
+  double setting = 0;  ///< tolerance (adaptive) or step
+  std::string status;  ///< "ok" or the runtime's failure
+  double error = 0;    ///< max-norm of x(T) − x_ref(T), relative to max(1, |x_ref(T)|)
+  double cpu_s = 0;    ///< CPU seconds of one run
+  long steps = 0, rhs_evals = 0, jac_evals = 0;
+  double drift = 0;                ///< max relative energy drift (NaN when the model is not conservative)
+  double constraint_residual = 0;  ///< max |A_alpha(q) q_dot| along the run (0 without Pfaffian constraints)
+};
+
+struct WorkPrecisionStudy {
+  std::string reference;  ///< how the error was measured
+  double t_end = 0;
+  std::vector<std::string> state_names;
+  std::vector<double> x0;
+  std::vector<WorkPrecisionRun> runs;
+};
+
+struct WorkPrecisionRequest {
+  double t_end = 10;
+  std::vector<double> x0;  ///< initial state (coordinates, independent velocities)
+  std::vector<double> parameters;
+  std::vector<double> inputs;
+  std::vector<std::string> integrators;  ///< empty: all of rk4, dopri5, dop853, radau5
+  double min_cpu_s = 0.02;               ///< repeat a run until this much CPU time has passed, report the mean
+};
+
+/// Runs the study; progress goes to `progress` (one line per run) when non-null.
+WorkPrecisionStudy work_precision(const Model& model, const Derivation& derivation, const KernelSet& kernels,
+                                  const WorkPrecisionRequest& request, std::ostream* progress);
+
+/// CSV with the columns integrator,setting,error,cpu_s,steps,rhs_evals,jac_evals,drift,constraint_residual,status.
+std::string work_precision_csv(const WorkPrecisionStudy& study);
+/// Markdown: the setup and one table row per run.
+std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy& study);
+/// Log–log SVG: error against CPU time, one line per integrator.
+std::string work_precision_svg(const Model& model, const WorkPrecisionStudy& study);
+
+}  // namespace hamel

@@ -1,0 +1,94 @@
+// `hamel report`: the three files of a work-precision study on a small scene, the CSV contract, and that
+// the numbers mean something: RK4's error falls at order 4 against the reference, the adaptive methods'
+// errors follow their tolerance, and only the implicit method evaluates Jacobians.
+#include <gtest/gtest.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+std::string source_dir() {
+  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
+  return dir ? dir : ".";
+}
+
+std::vector<std::map<std::string, std::string>> read_csv(const fs::path& path, std::vector<std::string>& header) {
+  std::ifstream in(path);
+  std::string line;
+  std::getline(in, line);
+  std::stringstream hs(line);
+  for (std::string cell; std::getline(hs, cell, ',');) header.push_back(cell);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    std::stringstream ls(line);
+    std::map<std::string, std::string> row;
+    std::size_t k = 0;
+    for (std::string cell; std::getline(ls, cell, ',');) row[header.at(k++)] = cell;
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+TEST(ReportCommand, WritesCsvMarkdownAndPlotWithMeaningfulNumbers) {
+  const fs::path out = fs::temp_directory_path() / ("hamel_report_test_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string cmd = std::string(HAMEL_BINARY) + " report " + source_dir() +
+                          "/models/double_pendulum.yaml --t-end 2 --out " + out.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  for (const char* ext : {".csv", ".md", ".svg"})
+    EXPECT_TRUE(fs::exists(out / (std::string("double_pendulum_work_precision") + ext))) << ext;
+
+  std::vector<std::string> header;
+  const auto rows = read_csv(out / "double_pendulum_work_precision.csv", header);
+  for (const char* column : {"integrator", "setting", "error", "cpu_s", "steps", "rhs_evals", "jac_evals", "drift"})
+    EXPECT_NE(std::find(header.begin(), header.end(), column), header.end()) << column;
+  ASSERT_GE(rows.size(), 20u);
+
+  std::vector<double> log_h, log_e;
+  for (const auto& r : rows) {
+    EXPECT_EQ(r.at("status"), "ok");
+    const double error = std::stod(r.at("error")), setting = std::stod(r.at("setting"));
+    EXPECT_TRUE(std::isfinite(error));
+    EXPECT_GT(std::stod(r.at("cpu_s")), 0.0);
+    if (r.at("integrator") == "radau5") {
+      EXPECT_GT(std::stol(r.at("jac_evals")), 0);
+    } else {
+      EXPECT_EQ(std::stol(r.at("jac_evals")), 0);
+    }
+    // Errors above the reference's noise and in the asymptotic range of RK4 give the order.
+    if (r.at("integrator") == "rk4" && error > 1e-12 && setting <= 0.02) {
+      log_h.push_back(std::log(setting));
+      log_e.push_back(std::log(error));
+    }
+    if ((r.at("integrator") == "dopri5" || r.at("integrator") == "dop853") && setting >= 1e-9) {
+      EXPECT_LT(error, 1000 * setting) << r.at("integrator") << " at tol " << setting;
+    }
+  }
+  ASSERT_GE(log_h.size(), 3u);
+  const double n = static_cast<double>(log_h.size());
+  double sx = 0, sy = 0, sxx = 0, sxy = 0;
+  for (std::size_t i = 0; i < log_h.size(); ++i)
+    sx += log_h[i], sy += log_e[i], sxx += log_h[i] * log_h[i], sxy += log_h[i] * log_e[i];
+  const double order = (n * sxy - sx * sy) / (n * sxx - sx * sx);
+  EXPECT_NEAR(order, 4.0, 0.3);
+
+  std::ifstream svg(out / "double_pendulum_work_precision.svg");
+  const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("<svg"), std::string::npos);
+  EXPECT_NE(text.find("radau5"), std::string::npos);
+  fs::remove_all(out);
+}
+
+}  // namespace

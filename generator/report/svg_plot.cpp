@@ -93,6 +93,9 @@ std::string render_svg(const PlotSpec& spec) {
   fit(ax, xs);
   fit(ay, ys);
   const double pw = width - left - right, ph = height - top - bottom;
+  // Head room for the legend box in the upper left corner.
+  const double legend_fraction = (16 + 18 * static_cast<double>(spec.series.size())) / ph;
+  ay.hi += legend_fraction / (1 - legend_fraction) * (ay.hi - ay.lo);
   if (spec.equal_aspect && !spec.log_x && !spec.log_y) {
     // Widen the axis with fewer units per pixel so that both scales agree.
     const double sx = (ax.hi - ax.lo) / pw, sy = (ay.hi - ay.lo) / ph;

@@ -13,17 +13,40 @@ namespace hamel::cli {
 namespace {
 
 struct EmitOptions {
-  std::string model, output, form, fold = "none";
+  std::string model, output, form, fold;
   std::vector<std::string> params;
 };
 
+std::size_t total_operations(const KernelSet& kernels) {
+  std::vector<int> all;
+  for (const Kernel& k : kernels.kernels) all.insert(all.end(), k.outputs.begin(), k.outputs.end());
+  return static_cast<std::size_t>(kernels.graph.count(kernels.graph.schedule(all)).total());
+}
+
 void run(const EmitOptions& opt) {
-  const Model loaded = load_model(opt.model);
-  const Model model = apply_fold(loaded, parameter_values(loaded, parse_assignments(opt.params, "--param")), opt.fold);
+  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
+  const Model& model = target.model;
   std::cerr << "hamel: deriving " << model.name << " ...\n";
-  const Derivation derivation = derive(model, DeriveSettings{opt.form});
-  const KernelSet kernels = build_kernels(model, derivation);
-  const EmittedPackage package = emit_cpp(model, derivation, kernels);
+  const Derivation derivation = derive(model, target.settings);
+  const KernelSet kernels = build_kernels(model, derivation, target.kernels);
+  EmittedPackage package = emit_cpp(model, derivation, kernels);
+  if (target.scene) {
+    // Pruning report: operations of the scene's kernels (shared subexpressions counted once) against all
+    // kernels of the same model, form and fixed parameters. (Unfolded symbolic derivations of models with
+    // many parameters can take very long, so folding is not undone for the comparison.)
+    const std::size_t full = total_operations(build_kernels(model, derivation));
+    const std::string full_model = load_model(target.scene->model_path).name;
+    const std::size_t pruned = total_operations(kernels);
+    std::string kernel_list;
+    for (const Kernel& k : kernels.kernels) kernel_list += (kernel_list.empty() ? "" : ", ") + k.name;
+    const std::string note = "// Scene " + target.scene->name + " on " + full_model + ": kernels " + kernel_list +
+                             "; " + std::to_string(pruned) + " operations, against " + std::to_string(full) +
+                             " for all kernels of the model with the same fixed parameters.\n";
+    const std::size_t at = package.header.find("//\n");
+    package.header.insert(at == std::string::npos ? 0 : at, note);
+    std::cerr << "hamel: scene " << target.scene->name << ": " << pruned << " operations (full model: " << full
+              << ")\n";
+  }
   write_package(package, opt.output);
   std::cerr << "hamel: wrote " << opt.output << "/" << package.header_name << " and " << opt.output << "/"
             << package.source_name << "\n";
@@ -39,12 +62,13 @@ void run(const EmitOptions& opt) {
 Run add_emit_command(CLI::App& app) {
   auto opt = std::make_shared<EmitOptions>();
   CLI::App* cmd = app.add_subcommand("emit", "Emit flat, branch-free C++ kernels for a model");
-  cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
+  cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
   cmd->add_option("-o,--output", opt->output, "Output folder (replaced atomically)")->required();
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
   cmd->add_option("--param", opt->params,
                   "Parameter value name=value for --fold (repeatable; defaults from the model)");
-  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
+  cmd->add_option("--fold", opt->fold,
+                  std::string(fold_help()) + " (default: none for models, the scene's `fixed` for scenes)");
   return [opt] { run(*opt); };
 }
 

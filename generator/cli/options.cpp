@@ -2,8 +2,11 @@
 
 #include "model/fold_parameters.hpp"
 #include "model/input_error.hpp"
+#include "model/load_model.hpp"
 
 #include <cmath>
+#include <fstream>
+#include <sstream>
 
 namespace hamel::cli {
 
@@ -83,6 +86,41 @@ Model apply_fold(const Model& model, const std::vector<double>& values, const st
     }
   }
   return fold_parameters(model, fold);
+}
+
+}  // namespace hamel::cli
+
+namespace hamel::cli {
+
+Target resolve_target(const std::string& file, const std::vector<std::string>& param_args,
+                      const std::string& fold_option, const std::string& form_option, const std::string& default_fold) {
+  Target target;
+  std::string fold = fold_option.empty() ? default_fold : fold_option;
+  std::map<std::string, double> overrides;
+  Model model;
+  if (is_scene_file(file)) {
+    target.scene = load_scene(file);
+    const Scene& scene = *target.scene;
+    model = load_model(scene.model_path);
+    overrides = scene.parameters;
+    if (fold_option.empty()) fold = scene.fixed;
+    target.settings.form = scene.form;
+    target.kernels = scene_kernels(scene);
+    // The emitted code is the scene's: its namespace and its stamp (scene file, hash of scene + model).
+    model.name = scene.name;
+    model.source_path = scene.path;
+    std::ifstream a(scene.path, std::ios::binary), b(scene.model_path, std::ios::binary);
+    std::ostringstream both;
+    both << a.rdbuf() << b.rdbuf();
+    model.source_hash = content_hash(both.str());
+  } else {
+    model = load_model(file);
+  }
+  for (const auto& [name, value] : parse_assignments(param_args, "--param")) overrides[name] = value;
+  target.parameters = parameter_values(model, overrides);
+  if (!form_option.empty()) target.settings.form = form_option;
+  target.model = apply_fold(model, target.parameters, fold);
+  return target;
 }
 
 }  // namespace hamel::cli

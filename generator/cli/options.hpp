@@ -1,7 +1,9 @@
 // Command-line values shared by the verbs: "name=value,..." lists and their validation.
 #pragma once
 
+#include "derive/derivation.hpp"
 #include "model/model.hpp"
+#include "scene/scene.hpp"
 
 #include <map>
 #include <string>
@@ -24,5 +26,19 @@ inline const char* fold_help() {
   return "Parameters fixed at generation time, folded in as numbers (values from --param or the defaults): all, "
          "none or name,name,...; keeps derivations of models with many parameters small";
 }
+
+/// What a verb works on: a model file, or a scene file and its model.
+struct Target {
+  Model model;                     ///< with the fixed parameters folded; for scenes named after the scene
+  std::vector<double> parameters;  ///< values in model.parameters order: defaults < scene < --param
+  DeriveSettings settings;         ///< --form, else the scene's form
+  std::set<std::string> kernels;   ///< the scene's kernels; empty: all
+  std::optional<Scene> scene;
+};
+
+/// Loads `file` (model or scene). fold_option/form_option are the command-line values ("" when not
+/// given); default_fold applies to models when --fold is not given (scenes use their `fixed`).
+Target resolve_target(const std::string& file, const std::vector<std::string>& param_args,
+                      const std::string& fold_option, const std::string& form_option, const std::string& default_fold);
 
 }  // namespace hamel::cli

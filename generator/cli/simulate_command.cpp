@@ -27,30 +27,49 @@ namespace {
 
 struct SimulateOptions {
   std::string model;
-  double t_end = 0;
-  std::string integrator = "dopri5";
-  double dt = 1e-3;
-  double tol = 1e-8;
+  double t_end = 0;  // 0: not given
+  std::string integrator;
+  double dt = 0;
+  double tol = 0;
   std::vector<std::string> params, init, inputs;
   double sample = 0;
   std::string out = "-";
   std::string form;
-  std::string fold = "all";
+  std::string fold;
 };
 
-void run(const SimulateOptions& opt) {
-  if (!(opt.t_end > 0) || !std::isfinite(opt.t_end)) throw InputError("--t-end: expected a positive finite time");
+void run(const SimulateOptions& given) {
+  const Target target = resolve_target(given.model, given.params, given.fold, given.form, "all");
+  const Model& model = target.model;
+  const std::vector<double>& p = target.parameters;
+  // Command-line values win over the scene's, which win over the defaults.
+  SimulateOptions opt = given;
+  std::map<std::string, double> init, input_values;
+  if (target.scene) {
+    const Scene& scene = *target.scene;
+    if (opt.integrator.empty()) opt.integrator = scene.integrator;
+    if (opt.t_end == 0 && scene.t_end) opt.t_end = *scene.t_end;
+    if (opt.dt == 0 && scene.dt) opt.dt = *scene.dt;
+    if (opt.tol == 0 && scene.tol) opt.tol = *scene.tol;
+    if (opt.sample == 0 && scene.sample) opt.sample = *scene.sample;
+    init = scene.initial;
+    input_values = scene.inputs;
+  }
+  if (opt.integrator.empty()) opt.integrator = "dopri5";
+  if (opt.dt == 0) opt.dt = 1e-3;
+  if (opt.tol == 0) opt.tol = 1e-8;
+  for (const auto& [k, v] : parse_assignments(opt.init, "--init")) init[k] = v;
+  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
+  if (!(opt.t_end > 0) || !std::isfinite(opt.t_end))
+    throw InputError("--t-end: expected a positive finite time (required unless the scene gives t_end)");
   const IntegratorInfo& info = find_integrator(opt.integrator);
   if (!info.adaptive && !(opt.dt > 0)) throw InputError("--dt: expected a positive step");
   if (info.adaptive && !(opt.tol > 0)) throw InputError("--tol: expected a positive tolerance");
 
-  const Model model = load_model(opt.model);
-  const std::vector<double> p = parameter_values(model, parse_assignments(opt.params, "--param"));
-  const std::map<std::string, double> init = parse_assignments(opt.init, "--init");
-  const std::map<std::string, double> input_values = parse_assignments(opt.inputs, "--input");
-
-  const Derivation derivation = derive(apply_fold(model, p, opt.fold), DeriveSettings{opt.form});
-  const KernelSet kernels = build_kernels(model, derivation);
+  const Derivation derivation = derive(model, target.settings);
+  std::set<std::string> needed = {"kinematics", "rhs", "energy", "constraint_residual", "group_velocity"};
+  if (info.uses_jacobian) needed.insert("jacobian");
+  const KernelSet kernels = build_kernels(model, derivation, needed);
   const HamelSystem& sys = derivation.system;
   const std::vector<int>& independent = derivation.equations.independent;
 
@@ -134,7 +153,8 @@ void run(const SimulateOptions& opt) {
     }
   };
 
-  GraphEvaluator jacobian_kernel(kernels.graph, kernels.get("jacobian").outputs);
+  GraphEvaluator jacobian_kernel(kernels.graph,
+                                 info.uses_jacobian ? kernels.get("jacobian").outputs : std::vector<int>{});
   auto jacobian = [&](double t, const double* x, double* J) { jacobian_kernel.evaluate(t, x, p.data(), in_ptr, J); };
   runtime::IntegrationResult result;
   if (reconstruct) {
@@ -194,14 +214,13 @@ void run(const SimulateOptions& opt) {
 Run add_simulate_command(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Integrate a model's equations of motion and write a CSV trajectory");
-  cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
-  cmd->add_option("--t-end", opt->t_end, "End time (start is 0)")->required();
+  cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
+  cmd->add_option("--t-end", opt->t_end, "End time (start is 0); required unless the scene gives t_end");
   cmd->add_option("--integrator", opt->integrator,
-                  "rk4, rkmk4 (fixed step), dopri5, dop853 (adaptive explicit) or radau5 = implicit (stiff)")
-      ->capture_default_str();
-  auto* dt = cmd->add_option("--dt", opt->dt, "Step of rk4")->capture_default_str();
-  auto* tol = cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of the adaptive integrators")
-                  ->capture_default_str();
+                  "rk4, rkmk4 (fixed step), dopri5 (default), dop853 (adaptive explicit) or radau5 = implicit (stiff)");
+  auto* dt = cmd->add_option("--dt", opt->dt, "Step of rk4 and rkmk4 (default 1e-3)");
+  auto* tol =
+      cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of the adaptive integrators (default 1e-8)");
   dt->excludes(tol);
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--init", opt->init,
@@ -209,7 +228,7 @@ Run add_simulate_command(CLI::App& app) {
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
-  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
+  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: all, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "CSV file, or - for standard output")->capture_default_str();
   return [opt] { run(*opt); };
 }

@@ -47,7 +47,8 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
 
 }  // namespace
 
-KernelSet build_kernels(const Model& model, const Derivation& derivation) {
+KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only) {
+  const auto want = [&](const char* name) { return only.empty() || only.count(name) > 0; };
   KernelSet set;
   ExpressionGraph& g = set.graph;
   const HamelEquations& eq = derivation.equations;
@@ -110,7 +111,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation) {
   // M u' = f as M d(u')/dx_k = df/dx_k − (dM/dx_k) u', solved with the same LDLᵀ (value numbering shares
   // the factorization between the columns).
   Kernel jacobian{"jacobian", "d(x')/dx, row-major n_state x n_state, for implicit integrators", {}, {}};
-  {
+  if (want("jacobian")) {
     std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
     for (int I : eq.independent) state_symbols.push_back(sys.velocities[static_cast<std::size_t>(I)]);
     const std::size_t nx = state_symbols.size();
@@ -183,6 +184,12 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation) {
         }
       set.kernels.push_back(locked);
     }
+  }
+  if (!only.empty()) {
+    std::vector<Kernel> kept;
+    for (const Kernel& k : set.kernels)
+      if (only.count(k.name)) kept.push_back(k);
+    set.kernels = kept;
   }
   return set;
 }

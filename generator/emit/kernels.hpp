@@ -7,6 +7,7 @@
 #include "emit/expression_graph.hpp"
 #include "model/model.hpp"
 
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,8 @@ struct KernelSet {
 
 /// Kernel ABI: every kernel is `void name(real t, const real* x, const real* p, const real* in, real* out)`
 /// with the state x = (q^1..q^n, u^I...), parameters p in file order and inputs in file order.
-KernelSet build_kernels(const Model& model, const Derivation& derivation);
+/// `only` (if not empty) selects kernels by name; the others are not built (the Jacobian's derivatives are
+/// not even formed), so nothing of them reaches the emitted code.
+KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {});
 
 }  // namespace hamel

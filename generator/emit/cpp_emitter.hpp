@@ -1,5 +1,7 @@
-// Printing a KernelSet as a C++ header and source: flat, branch-free, no heap, no exceptions, only
-// <cmath>. Scalar type selectable at compile time through HAMEL_<NAME>_REAL (default double).
+// Printing a KernelSet as a self-contained C++ package: header, source, CMakeLists.txt and README.md.
+// Kernels are flat, branch-free, use no heap, no exceptions and no RTTI and need only <cmath>; the scalar
+// type is selectable at compile time through HAMEL_<NAME>_REAL (default double). Every emitted file
+// carries the MIT licence (SPDX), whatever the generator's licence.
 #pragma once
 
 #include "derive/derivation.hpp"
@@ -7,12 +9,21 @@
 #include "model/model.hpp"
 
 #include <string>
+#include <vector>
 
 namespace hamel {
+
+struct EmittedFile {
+  std::string name, text;
+};
 
 struct EmittedPackage {
   std::string header_name, header;
   std::string source_name, source;
+  std::vector<EmittedFile> extra;  ///< CMakeLists.txt and README.md
+
+  /// Every file of the package, header and source first.
+  std::vector<EmittedFile> files() const;
 };
 
 EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const KernelSet& kernels);

@@ -1,7 +1,10 @@
 #include "algebra/simplify.hpp"
 
+#include <algorithm>
+#include <optional>
 #include <random>
 #include <set>
+#include <unordered_map>
 
 #include <map>
 #include <vector>
@@ -256,6 +259,114 @@ ex simplify_bounded(const ex& e, std::size_t limit) {
   if (tree_size(e, limit) <= limit) return simplify(e);
   if (!numerically_nonzero(e) && identically_zero(e)) return 0;
   return e;
+}
+
+namespace {
+
+// A polynomial of degree ≤ 2 in velocities v_0 … v_{d−1}: monomial → coefficient (free of the velocities).
+// Keys (a, b), a ≤ b, index the velocities of the monomial, −1 for none: (−1, −1) is the constant term,
+// (−1, j) the term in v_j, (j, k) the term in v_j v_k.
+using Monomial = std::pair<int, int>;
+using QuadraticPolynomial = std::map<Monomial, ex>;
+
+class QuadraticSplitter {
+ public:
+  explicit QuadraticSplitter(const std::vector<ex>& variables) {
+    for (std::size_t j = 0; j < variables.size(); ++j) index_.emplace(variables[j], static_cast<int>(j));
+  }
+
+  // The monomial coefficients of e, built by distributing sums over products only (an identity, so nothing
+  // needs checking afterwards); std::nullopt when e is not a polynomial of degree ≤ 2 in the variables.
+  std::optional<QuadraticPolynomial> split(const ex& e) {
+    if (auto it = memo_.find(e); it != memo_.end()) return it->second;
+    std::optional<QuadraticPolynomial> out = compute(e);
+    memo_.emplace(e, out);
+    return out;
+  }
+
+ private:
+  std::optional<QuadraticPolynomial> compute(const ex& e) {
+    if (is_a<GiNaC::symbol>(e)) {
+      auto it = index_.find(e);
+      if (it != index_.end()) return QuadraticPolynomial{{{-1, it->second}, 1}};
+      return QuadraticPolynomial{{{-1, -1}, e}};
+    }
+    if (is_a<GiNaC::add>(e)) {
+      QuadraticPolynomial sum;
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const auto term = split(e.op(i));
+        if (!term) return std::nullopt;
+        for (const auto& [m, c] : *term) sum[m] += c;
+      }
+      return sum;
+    }
+    if (is_a<GiNaC::mul>(e)) {
+      QuadraticPolynomial product{{{-1, -1}, 1}};
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const auto factor = split(e.op(i));
+        if (!factor) return std::nullopt;
+        product = multiply(product, *factor);
+        if (product.empty()) return std::nullopt;
+      }
+      return product;
+    }
+    if (!has_variable(e)) return QuadraticPolynomial{{{-1, -1}, e}};
+    if (is_a<GiNaC::power>(e) && is_a<GiNaC::numeric>(e.op(1)) && ex_to<GiNaC::numeric>(e.op(1)).is_pos_integer()) {
+      const auto base = split(e.op(0));
+      if (!base) return std::nullopt;
+      QuadraticPolynomial product{{{-1, -1}, 1}};
+      for (long k = ex_to<GiNaC::numeric>(e.op(1)).to_long(); k > 0; --k) {
+        product = multiply(product, *base);
+        if (product.empty()) return std::nullopt;
+      }
+      return product;
+    }
+    return std::nullopt;  // a velocity inside a function, a divisor or a fractional power
+  }
+
+  bool has_variable(const ex& e) const {
+    for (const auto& [v, j] : index_)
+      if (e.has(v)) return true;
+    return false;
+  }
+
+  // The product, or an empty map when its degree exceeds 2.
+  static QuadraticPolynomial multiply(const QuadraticPolynomial& a, const QuadraticPolynomial& b) {
+    QuadraticPolynomial out;
+    for (const auto& [ma, ca] : a)
+      for (const auto& [mb, cb] : b) {
+        std::vector<int> v;
+        for (int j : {ma.first, ma.second, mb.first, mb.second})
+          if (j >= 0) v.push_back(j);
+        if (v.size() > 2) return {};
+        std::sort(v.begin(), v.end());
+        const Monomial m = v.empty() ? Monomial{-1, -1} : v.size() == 1 ? Monomial{-1, v[0]} : Monomial{v[0], v[1]};
+        out[m] += ca * cb;
+      }
+    return out;
+  }
+
+  struct Hash {
+    std::size_t operator()(const ex& e) const { return e.gethash(); }
+  };
+  std::map<ex, int, GiNaC::ex_is_less> index_;
+  std::unordered_map<ex, std::optional<QuadraticPolynomial>, Hash, GiNaC::ex_is_equal> memo_;
+};
+
+}  // namespace
+
+ex simplify_quadratic_form(const ex& e, const std::vector<ex>& variables, std::size_t limit) {
+  QuadraticSplitter splitter(variables);
+  const std::optional<QuadraticPolynomial> poly = splitter.split(e);
+  if (!poly) return simplify_bounded(e, limit);
+  ex form = 0;
+  for (const auto& [m, c] : *poly) {
+    ex monomial = 1;
+    if (m.first >= 0) monomial *= variables[static_cast<std::size_t>(m.first)];
+    if (m.second >= 0) monomial *= variables[static_cast<std::size_t>(m.second)];
+    form += simplify_bounded(c, limit / 8) * monomial;
+  }
+  return form;
 }
 
 GiNaC::matrix simplify(const GiNaC::matrix& m) {

@@ -8,6 +8,8 @@
 
 #include <ginac/ginac.h>
 
+#include <vector>
+
 namespace hamel {
 
 /// sin, cos and tan of a sum or an integer multiple rewritten in sin and cos of the summands/angle.
@@ -38,6 +40,16 @@ bool identically_singular(const GiNaC::matrix& m);
 /// large expressions are left as derived: their normal form costs more than it saves (the emitted code
 /// shares subexpressions anyway).
 GiNaC::ex simplify_bounded(const GiNaC::ex& e, std::size_t limit = 400);
+
+/// `e` as a polynomial of degree at most 2 in `variables` (the velocities of an equation of motion), written
+/// as Σ c_m · m over the monomials m, found by distributing sums over products (velocity-free parts stay
+/// whole), each coefficient c_m passed through simplify_bounded(c_m, limit / 8). Collecting the monomials
+/// in exact arithmetic removes the cancellation a large unsimplified expression leaves to double
+/// arithmetic (products of sums whose expansion cancels: up to 4e4 ulps in the shipped models, see
+/// docs/accuracy.md). Normal forms of larger coefficients cost derivation time and bought no accuracy on
+/// the planar space robot, so those are only tested for zero. If `e` is not such a polynomial (a velocity
+/// in a divisor or a function), simplify_bounded(e, limit).
+GiNaC::ex simplify_quadratic_form(const GiNaC::ex& e, const std::vector<GiNaC::ex>& variables, std::size_t limit = 400);
 
 /// Applies simplify() to every entry.
 GiNaC::matrix simplify(const GiNaC::matrix& m);

@@ -27,7 +27,7 @@ struct AccuracyOptions {
   std::uint64_t seed = 1;
   double range = 1.0, velocity_range = 1.0, floor = 1e-3;
   std::vector<std::string> params, sweeps, at;
-  bool json = false;
+  bool json = false, no_condition = false;
 };
 
 struct Sweep {
@@ -87,6 +87,7 @@ void run(const AccuracyOptions& opt) {
   settings.velocity_range = opt.velocity_range;
   settings.floor_fraction = opt.floor;
   settings.fixed = parse_assignments(opt.at, "--at");
+  settings.condition = !opt.no_condition;
 
   // The settings: the base values, then each sweep with the other parameters at their base values.
   std::vector<std::pair<std::string, std::vector<double>>> cases{{"base", base}};
@@ -140,6 +141,9 @@ void run(const AccuracyOptions& opt) {
       k["worst_ulps"] = std::isinf(a.worst_ulps) ? nlohmann::json("inf") : nlohmann::json(a.worst_ulps);
       k["mean_ulps"] = a.mean_ulps();
       k["worst_evaluation_ulps"] = a.worst_evaluation_ulps;
+      k["condition_at_worst"] = a.condition_at_worst;
+      k["worst_ulps_over_condition"] = a.worst_excess;
+      k["worst_ulps_over_condition_output"] = a.worst_excess_output;
       k["worst_output"] = a.worst_output;
       k["worst_setting"] = a.worst_setting;
       k["worst_t"] = a.worst_time;
@@ -157,14 +161,17 @@ void run(const AccuracyOptions& opt) {
             << ", seed " << opt.seed << "\n"
             << "ulps = |double - ref| / ulp(max(|ref|, " << number(opt.floor)
             << " * largest |ref| of the kernel)), ref = the symbolic expressions in " << settings.digits
-            << " digits; eval-only: against the same graph in " << settings.digits << " digits\n\n";
+            << " digits; eval-only: against the same graph in " << settings.digits
+            << " digits; cond: relative condition number of the worst output (state, inputs, t); eval/cond: worst "
+               "eval-only ulps / max(1, cond) (what the form adds)\n\n";
   std::cout << std::left << std::setw(20) << "kernel" << std::right << std::setw(8) << "outputs" << std::setw(8)
             << "points" << std::setw(12) << "worst ulps" << std::setw(11) << "mean ulps" << std::setw(11) << "eval-only"
             << "  worst at\n";
   for (const KernelAccuracy& a : total) {
     std::cout << std::left << std::setw(20) << a.kernel << std::right << std::setw(8) << a.outputs << std::setw(8)
               << a.points << std::setw(12) << number(a.worst_ulps) << std::setw(11) << number(a.mean_ulps())
-              << std::setw(11) << number(a.worst_evaluation_ulps) << "  ";
+              << std::setw(11) << number(a.worst_evaluation_ulps) << std::setw(10) << number(a.condition_at_worst)
+              << std::setw(11) << number(a.worst_excess) << "  ";
     if (a.worst_ulps > 0) {
       std::cout << a.worst_output;
       if (cases.size() > 1) std::cout << " [" << a.worst_setting << "]";
@@ -197,6 +204,8 @@ Run add_accuracy_command(CLI::App& app) {
                   "Floor fraction: outputs smaller than this fraction of the kernel's largest output count errors "
                   "in ulps of that size")
       ->capture_default_str();
+  cmd->add_flag("--no-condition", opt->no_condition,
+                "Skip the condition numbers (one more 50-digit evaluation per argument and point)");
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
   return [opt] { run(*opt); };
 }

@@ -58,6 +58,8 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
     gradient[a] = at_constraint(lagrangian.diff(sys.coordinates[a]));
   }
 
+  std::vector<ex> velocities;
+  for (int I : eq.independent) velocities.push_back(sys.velocities[static_cast<std::size_t>(I)]);
   for (unsigned i = 0; i < d; ++i) {
     const int I = eq.independent[i];
     const ex& p_I = momentum[static_cast<std::size_t>(I)];
@@ -77,7 +79,9 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
       if (g.lower_a != I || is_constrained(g.lower_b)) continue;
       f -= momentum[static_cast<std::size_t>(g.upper)] * g.value * sys.velocities[static_cast<std::size_t>(g.lower_b)];
     }
-    eq.forcing[i] = simplify_bounded(f);
+    // Monomials in the velocities collected exactly: as derived, f is a sum of products whose expansion
+    // cancels, which costs the double evaluation up to 1e4 ulps (docs/accuracy.md, kernel forward error).
+    eq.forcing[i] = simplify_quadratic_form(f, velocities);
   }
 
   if (identically_singular(eq.mass_matrix))

@@ -1,5 +1,8 @@
 #include "emit/kernels.hpp"
 
+#include "algebra/simplify.hpp"
+
+#include <optional>
 #include <stdexcept>
 
 namespace hamel {
@@ -43,6 +46,28 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
     x[i] = s;
   }
   return x;
+}
+
+// u_I' = M⁻¹ f formed exactly at generation time when M is a matrix of numbers (parameters folded and M
+// independent of q: the free rigid body, the satellites in the Lagrange–Poincaré form, the sleigh), with its
+// monomials in the velocities collected: an LDLᵀ at run time would leave its rounding and the cancellation
+// between the products M⁻¹_IJ f_J to double arithmetic (satellite_se3: 2.3e3 ulps, docs/accuracy.md).
+std::optional<std::vector<GiNaC::ex>> exact_accelerations(const HamelEquations& eq, const HamelSystem& sys) {
+  const unsigned d = static_cast<unsigned>(eq.independent.size());
+  if (d == 0) return std::nullopt;
+  for (unsigned i = 0; i < d; ++i)
+    for (unsigned j = 0; j < d; ++j)
+      if (!GiNaC::is_a<GiNaC::numeric>(eq.mass_matrix(i, j))) return std::nullopt;
+  const GiNaC::matrix inverse = eq.mass_matrix.inverse();
+  std::vector<GiNaC::ex> velocities;
+  for (int I : eq.independent) velocities.push_back(sys.velocities[static_cast<std::size_t>(I)]);
+  std::vector<GiNaC::ex> out(d);
+  for (unsigned i = 0; i < d; ++i) {
+    GiNaC::ex sum = 0;
+    for (unsigned j = 0; j < d; ++j) sum += inverse(i, j) * eq.forcing[j];
+    out[i] = simplify_quadratic_form(sum, velocities);
+  }
+  return out;
 }
 
 }  // namespace
@@ -98,10 +123,19 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     gamma.output_names.push_back("gamma^" + name_of(h.upper) + "_" + name_of(h.lower_a) + "," + name_of(h.lower_b));
   }
 
-  Kernel rhs{"rhs", "x' = (q_dot, u_I') with M u_I' = f solved by unrolled LDL^T", {}, {}};
+  const std::optional<std::vector<GiNaC::ex>> exact_accel = exact_accelerations(eq, sys);
+  Kernel rhs{"rhs",
+             exact_accel ? "x' = (q_dot, u_I') with u_I' = M^-1 f, M constant, inverted at generation time"
+                         : "x' = (q_dot, u_I') with M u_I' = f solved by unrolled LDL^T",
+             {},
+             {}};
   rhs.outputs = kinematics.outputs;
   rhs.output_names = kinematics.output_names;
-  const std::vector<int> accel = ldlt_solve(g, M, forcing.outputs);
+  std::vector<int> accel;
+  if (exact_accel)
+    for (const GiNaC::ex& a : *exact_accel) accel.push_back(node_of(a));
+  else
+    accel = ldlt_solve(g, M, forcing.outputs);
   for (std::size_t i = 0; i < d; ++i) {
     rhs.outputs.push_back(accel[i]);
     rhs.output_names.push_back(name_of(eq.independent[i]) + "_rate");
@@ -109,7 +143,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
 
   // d(x')/dx for implicit integrators: the kinematics rows by differentiation; the acceleration rows from
   // M u' = f as M d(u')/dx_k = df/dx_k − (dM/dx_k) u', solved with the same LDLᵀ (value numbering shares
-  // the factorization between the columns).
+  // the factorization between the columns), or by differentiating u' = M⁻¹ f when M is constant.
   Kernel jacobian{"jacobian", "d(x')/dx, row-major n_state x n_state, for implicit integrators", {}, {}};
   if (want("jacobian")) {
     std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
@@ -120,6 +154,10 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       const GiNaC::ex& x_k = state_symbols[k];
       for (int a = 0; a < n; ++a)
         column[k].push_back(node_of(eq.kinematics[static_cast<std::size_t>(a)].diff(GiNaC::ex_to<GiNaC::symbol>(x_k))));
+      if (exact_accel) {
+        for (const GiNaC::ex& a : *exact_accel) column[k].push_back(node_of(a.diff(GiNaC::ex_to<GiNaC::symbol>(x_k))));
+        continue;
+      }
       std::vector<int> b(d);
       for (std::size_t i = 0; i < d; ++i) {
         int r = node_of(eq.forcing[i].diff(GiNaC::ex_to<GiNaC::symbol>(x_k)));

@@ -110,6 +110,26 @@ HighPrecisionGraphEvaluator::HighPrecisionGraphEvaluator(const ExpressionGraph& 
 std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, const double* x, const double* p,
                                                                   const double* in) {
   const DigitsGuard digits(digits_);
+  int nx = 0, np = 0, nin = 0;
+  for (int i : schedule_) {
+    const Node& n = graph_.node(i);
+    if (n.op != Op::input) continue;
+    if (n.argument == Argument::state) nx = std::max(nx, n.index + 1);
+    if (n.argument == Argument::parameter) np = std::max(np, n.index + 1);
+    if (n.argument == Argument::input) nin = std::max(nin, n.index + 1);
+  }
+  const auto convert = [](const double* v, int count) {
+    std::vector<numeric> out;
+    for (int k = 0; k < count; ++k) out.push_back(high_precision(v[k]));
+    return out;
+  };
+  return evaluate(high_precision(t), convert(x, nx), convert(p, np), convert(in, nin));
+}
+
+std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric& t, const std::vector<numeric>& x,
+                                                                  const std::vector<numeric>& p,
+                                                                  const std::vector<numeric>& in) {
+  const DigitsGuard digits(digits_);
   for (int i : schedule_) {
     const Node& n = graph_.node(i);
     numeric& v = values_[static_cast<std::size_t>(i)];
@@ -122,16 +142,16 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, cons
       case Op::input:
         switch (n.argument) {
           case Argument::time:
-            v = high_precision(t);
+            v = t;
             break;
           case Argument::state:
-            v = high_precision(x[n.index]);
+            v = x.at(static_cast<std::size_t>(n.index));
             break;
           case Argument::parameter:
-            v = high_precision(p[n.index]);
+            v = p.at(static_cast<std::size_t>(n.index));
             break;
           case Argument::input:
-            v = high_precision(in[n.index]);
+            v = in.at(static_cast<std::size_t>(n.index));
             break;
         }
         break;
@@ -453,6 +473,7 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
 
   HighPrecisionExpressionEvaluator exact(settings.digits);
   const DigitsGuard digits(settings.digits);
+  const numeric step = GiNaC::pow(numeric(10), numeric(-(settings.digits / 2)));
   for (int point = 0; point < settings.points; ++point) {
     const Point pt = sample();
     std::map<ex, numeric, GiNaC::ex_is_less> values;
@@ -465,6 +486,11 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
     for (std::size_t k = 0; k < model.inputs.size(); ++k) values[model.inputs[k]] = exact_rational(pt.in[k]);
     exact.assign(values);
     const double* in = pt.in.empty() ? nullptr : pt.in.data();
+    numeric T = high_precision(pt.t);
+    std::vector<numeric> X, P, IN;
+    for (double v : pt.x) X.push_back(high_precision(v));
+    for (double v : p) P.push_back(high_precision(v));
+    for (double v : pt.in) IN.push_back(high_precision(v));
 
     // The accelerations in 50 digits, shared by rhs and jacobian.
     std::vector<numeric> accel;
@@ -487,7 +513,6 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       const std::size_t outputs = km.kernel->outputs.size();
       if (outputs == 0) continue;
       std::vector<numeric> ref(outputs);
-      std::vector<numeric> magnitude;
       try {
         switch (km.ref->kind) {
           case ReferenceSet::Kind::direct:
@@ -525,12 +550,13 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       km.fast.evaluate(pt.t, pt.x.data(), p.data(), in, computed.data());
       std::vector<numeric> graph50;
       try {
-        graph50 = km.slow.evaluate(pt.t, pt.x.data(), p.data(), in);
+        graph50 = km.slow.evaluate(T, X, P, IN);
       } catch (const std::exception&) {
         graph50.clear();
       }
 
       double scale = 0;
+      bool zero_kernel = false;
       for (const numeric& r : ref) scale = std::max(scale, GiNaC::abs(r).to_double());
       if (km.ref->kind == ReferenceSet::Kind::direct) {
         // A kernel that is zero here (the constraint residual is zero everywhere): its reference is 50-digit
@@ -538,9 +564,37 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
         double terms = 0;
         for (std::size_t i = 0; i < outputs; ++i)
           terms = std::max(terms, exact.magnitude(km.ref->expressions[i]).to_double());
-        if (scale <= 1e-30 * terms) scale = terms;
+        if (scale <= 1e-30 * terms) zero_kernel = true, scale = terms;
       }
-      const double floor = settings.floor_fraction * scale;
+      const double floor = zero_kernel ? scale : settings.floor_fraction * scale;
+
+      // κ_i = Σ_k |∂f_i/∂a_k| |a_k| / max(|f_i|, floor) over the arguments a = (t, x, in), by forward
+      // differences of the 50-digit graph with relative steps of 1e-25 (exact to about 20 digits).
+      std::vector<double> condition(outputs, 0.0);
+      if (settings.condition && !graph50.empty()) {
+        std::vector<numeric> sensitivity(outputs, numeric(0));
+        const auto perturbed = [&](numeric& argument) {
+          if (argument.is_zero()) return;
+          const numeric saved = argument, h = GiNaC::abs(argument) * step;
+          argument = saved + h;
+          std::vector<numeric> moved;
+          try {
+            moved = km.slow.evaluate(T, X, P, IN);
+          } catch (const std::exception&) {
+            moved.clear();
+          }
+          argument = saved;
+          if (moved.empty()) return;
+          for (std::size_t i = 0; i < outputs; ++i)
+            sensitivity[i] += GiNaC::abs(moved[i] - graph50[i]) / h * GiNaC::abs(saved);
+        };
+        perturbed(T);
+        for (numeric& v : X) perturbed(v);
+        for (numeric& v : IN) perturbed(v);
+        for (std::size_t i = 0; i < outputs; ++i)
+          condition[i] = sensitivity[i].to_double() / std::max(GiNaC::abs(ref[i]).to_double(), floor);
+      }
+
       ++acc.points;
       for (std::size_t i = 0; i < outputs; ++i) {
         const double e = ulp_error(computed[i], ref[i], floor);
@@ -554,9 +608,17 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
           acc.worst_state = pt.x;
           acc.worst_double = computed[i];
           acc.worst_reference = ref[i].to_double();
+          acc.condition_at_worst = condition[i];
         }
-        if (!graph50.empty())
-          acc.worst_evaluation_ulps = std::max(acc.worst_evaluation_ulps, ulp_error(computed[i], graph50[i], floor));
+        if (!graph50.empty()) {
+          const double ev = ulp_error(computed[i], graph50[i], floor);
+          acc.worst_evaluation_ulps = std::max(acc.worst_evaluation_ulps, ev);
+          const double excess = ev / std::max(1.0, condition[i]);
+          if (settings.condition && excess > acc.worst_excess) {
+            acc.worst_excess = excess;
+            acc.worst_excess_output = km.kernel->output_names[i];
+          }
+        }
       }
     }
   }
@@ -576,6 +638,10 @@ void merge_accuracy(std::vector<KernelAccuracy>& into, const std::vector<KernelA
     a.values += m.values;
     a.sum_ulps += m.sum_ulps;
     a.worst_evaluation_ulps = std::max(a.worst_evaluation_ulps, m.worst_evaluation_ulps);
+    if (m.worst_excess > a.worst_excess) {
+      a.worst_excess = m.worst_excess;
+      a.worst_excess_output = m.worst_excess_output;
+    }
     if (m.worst_ulps > a.worst_ulps) {
       a.worst_ulps = m.worst_ulps;
       a.worst_output = m.worst_output;
@@ -584,6 +650,7 @@ void merge_accuracy(std::vector<KernelAccuracy>& into, const std::vector<KernelA
       a.worst_state = m.worst_state;
       a.worst_double = m.worst_double;
       a.worst_reference = m.worst_reference;
+      a.condition_at_worst = m.condition_at_worst;
     }
   }
 }

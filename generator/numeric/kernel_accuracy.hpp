@@ -12,13 +12,13 @@
 //
 //   ulps = |double − ref| / ulp(max(|ref|, φ·S)),   ulp(y) = 2^(⌊log2 y⌋ − 52) (the spacing of doubles at y),
 //
-// where S is the kernel's output magnitude at that point, the largest |ref| over its outputs (for a kernel
-// whose outputs are all exactly zero there, such as the constraint residual, the largest magnitude of
-// the terms summed in the outputs, see HighPrecisionExpressionEvaluator::magnitude), and φ is the floor
-// fraction (default 1e-3). Without the floor, an output that is tiny next to its siblings (a velocity
-// component crossing zero) would count its unavoidable absolute error of about eps·S as huge relative
-// error; with it, such noise costs at most 1/φ ulps, while a form that loses digits through cancellation
-// of terms larger than S still shows as more.
+// where S is the kernel's output magnitude at that point, the largest |ref| over its outputs, and φ is the
+// floor fraction (default 1e-3). A kernel whose outputs are all exactly zero (the constraint residual) has
+// no relative accuracy: its errors are counted in ulps of the largest magnitude of the terms its outputs sum
+// (HighPrecisionExpressionEvaluator::magnitude), without φ. Without the floor, an output that is tiny next to its
+// siblings (a velocity component crossing zero) would count its unavoidable absolute error of about eps·S as huge
+// relative error; with it, such noise costs at most 1/φ ulps, while a form that loses digits through cancellation of
+// terms larger than S still shows as more.
 #pragma once
 
 #include "derive/derivation.hpp"
@@ -65,6 +65,9 @@ class HighPrecisionGraphEvaluator {
  public:
   HighPrecisionGraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs, int digits = 50);
   std::vector<GiNaC::numeric> evaluate(double t, const double* x, const double* p, const double* in);
+  /// The same at arbitrary (high-precision) arguments: x, p and in must have the kernel ABI's lengths.
+  std::vector<GiNaC::numeric> evaluate(const GiNaC::numeric& t, const std::vector<GiNaC::numeric>& x,
+                                       const std::vector<GiNaC::numeric>& p, const std::vector<GiNaC::numeric>& in);
 
  private:
   const ExpressionGraph& graph_;
@@ -106,6 +109,7 @@ struct AccuracySettings {
   double velocity_range = 1.0;    ///< independent velocities and inputs uniform in [−v, v]
   double floor_fraction = 1e-3;   ///< φ in the definition above
   int digits = 50;                ///< of the reference
+  bool condition = true;          ///< also compute κ (one more 50-digit graph evaluation per argument)
   /// Pinned values of state variables (coordinate or independent velocity names), inputs or "t".
   std::map<std::string, double> fixed;
 };
@@ -120,8 +124,14 @@ struct KernelAccuracy {
   double worst_ulps = 0;             ///< against the symbolic expressions in 50 digits
   double sum_ulps = 0;               ///< over all values (mean_ulps = sum_ulps / values)
   double worst_evaluation_ulps = 0;  ///< against the same graph in 50 digits: rounding of the operations only
-  std::string worst_output;          ///< output name where worst_ulps occurred
-  std::string worst_setting;         ///< label of the parameter setting
+  /// max over values of (evaluation ulps) / max(1, κ), κ the relative condition number of the output with
+  /// respect to the state, inputs and t (with the same floor): what the form adds beyond the error any
+  /// evaluation from rounded arguments has. Large values point at a badly conditioned form.
+  double worst_excess = 0;
+  std::string worst_excess_output;
+  double condition_at_worst = 0;  ///< κ of the output where worst_ulps occurred
+  std::string worst_output;       ///< output name where worst_ulps occurred
+  std::string worst_setting;      ///< label of the parameter setting
   double worst_time = 0;
   std::vector<double> worst_state;
   double worst_double = 0, worst_reference = 0;

@@ -18,23 +18,31 @@ namespace hamel::cli {
 namespace {
 
 struct ReportOptions {
-  std::string model, out = ".", form, fold = "all";
-  double t_end = 10;
+  std::string model, out = ".", form, fold;
+  double t_end = 0;  // 0: the scene's t_end, else 10
   std::vector<std::string> params, init, inputs, integrators;
 };
 
 void run(const ReportOptions& opt) {
-  const Model loaded = load_model(opt.model);
-  const std::vector<double> p = parameter_values(loaded, parse_assignments(opt.params, "--param"));
-  const Model model = apply_fold(loaded, p, opt.fold);
-  const std::map<std::string, double> init = parse_assignments(opt.init, "--init");
-  const std::map<std::string, double> input_values = parse_assignments(opt.inputs, "--input");
+  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "all");
+  const Model& model = target.model;
+  const std::vector<double>& p = target.parameters;
+  std::map<std::string, double> init, input_values;
+  double t_end = opt.t_end;
+  if (target.scene) {
+    init = target.scene->initial;
+    input_values = target.scene->inputs;
+    if (t_end == 0 && target.scene->t_end) t_end = *target.scene->t_end;
+  }
+  if (t_end == 0) t_end = 10;
+  for (const auto& [k, v] : parse_assignments(opt.init, "--init")) init[k] = v;
+  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
   std::cerr << "hamel: deriving " << model.name << " ...\n";
-  const Derivation d = derive(model, DeriveSettings{opt.form});
+  const Derivation d = derive(model, target.settings);
   const KernelSet kernels = build_kernels(model, d);
 
   WorkPrecisionRequest req;
-  req.t_end = opt.t_end;
+  req.t_end = t_end;
   req.parameters = p;
   req.integrators = opt.integrators;
   std::vector<std::string> names;
@@ -61,7 +69,7 @@ void run(const ReportOptions& opt) {
   std::error_code ec;
   fs::create_directories(opt.out, ec);
   if (ec) throw InputError("--out: cannot create '" + opt.out + "': " + ec.message());
-  std::cerr << "hamel: work-precision study of " << model.name << " over t = 0 .. " << opt.t_end << "\n";
+  std::cerr << "hamel: work-precision study of " << model.name << " over t = 0 .. " << t_end << "\n";
   const WorkPrecisionStudy study = work_precision(model, d, kernels, req, &std::cerr);
   const fs::path base = fs::path(opt.out) / (model.name + "_work_precision");
   write_file_atomically(base.string() + ".csv", work_precision_csv(study));
@@ -77,15 +85,15 @@ Run add_report_command(CLI::App& app) {
   auto opt = std::make_shared<ReportOptions>();
   CLI::App* cmd = app.add_subcommand(
       "report", "Work-precision study: error against CPU time for every integrator over a sweep of settings");
-  cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
-  cmd->add_option("--t-end", opt->t_end, "Horizon (start is 0)")->capture_default_str();
+  cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
+  cmd->add_option("--t-end", opt->t_end, "Horizon (start is 0; default: the scene's t_end, else 10)");
   cmd->add_option("--init", opt->init,
                   "Initial values name=value,... (default: coordinates 0.1, 0.2, ..., velocities 0.5)");
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--integrators", opt->integrators, "Integrators to compare (default rk4 dopri5 dop853 radau5)");
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum");
-  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
+  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: all, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "Folder for <model>_work_precision.csv, .md and .svg")->capture_default_str();
   return [opt] { run(*opt); };
 }

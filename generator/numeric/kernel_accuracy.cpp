@@ -171,10 +171,9 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric&
         v = -a();
         break;
       case Op::pow: {
-        // The exponent node is a double; integral ones are exact integers.
-        const numeric e =
-            exact_rational(graph_.node(n.b).op == Op::constant ? graph_.node(n.b).value : b().to_double());
-        v = power(a(), e.is_integer() ? e : b());
+        // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
+        const Node& exponent = graph_.node(n.b);
+        v = power(a(), exponent.op == Op::constant ? exact_rational(exponent.value) : b());
         break;
       }
       case Op::sqrt:

@@ -11,7 +11,7 @@ cd "$(dirname "$0")/.."
 hamel=build/bin/hamel
 doc=docs/accuracy.md
 kernels=(kinematics mass_matrix forcing hamel_coefficients rhs jacobian energy constraint_residual group_velocity
-  connection locked_inertia)
+  connection locked_inertia shape_inertia)
 g3() { if [ "$1" = "inf" ]; then echo inf; else printf '%.3g' "$1"; fi; }
 
 kernel_section=$(mktemp)

@@ -138,6 +138,7 @@ void run(const AccuracyOptions& opt) {
       k["outputs"] = a.outputs;
       k["points"] = a.points;
       k["skipped"] = a.skipped;
+      k["measured"] = a.has_reference;
       k["worst_ulps"] = std::isinf(a.worst_ulps) ? nlohmann::json("inf") : nlohmann::json(a.worst_ulps);
       k["mean_ulps"] = a.mean_ulps();
       k["worst_evaluation_ulps"] = a.worst_evaluation_ulps;
@@ -158,6 +159,7 @@ void run(const AccuracyOptions& opt) {
 
   const auto worst_at = [&](const KernelAccuracy& a) {
     std::string at;
+    if (!a.has_reference) return std::string("not measured: no reference for this kernel");
     if (a.worst_ulps > 0) at = a.worst_output + (cases.size() > 1 ? " [" + a.worst_setting + "]" : "");
     if (a.skipped) at += " (" + std::to_string(a.skipped) + " points at poles skipped)";
     return at;

@@ -2,11 +2,14 @@
 
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
+#include "model/yaml_document.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <set>
@@ -85,6 +88,15 @@ std::string describe_parse_error(std::string msg) {
   return msg;
 }
 
+// " (beyond the range of a double)" if `text` spells a number too large or too small for a double.
+std::string out_of_range(const std::string& text) {
+  if (text.empty()) return {};
+  char* end = nullptr;
+  errno = 0;
+  std::strtod(text.c_str(), &end);
+  return errno == ERANGE && *end == '\0' ? " (beyond the range of a double, about 2.2e-308 to 1.8e308)" : "";
+}
+
 // Reads one file, keeping its name for messages.
 class Loader {
  public:
@@ -135,11 +147,20 @@ class Loader {
   GiNaC::ex expression(const YAML::Node& node, const std::string& key, const GiNaC::symtab& table,
                        const std::string& allowed) const {
     const std::string text = scalar(node, key);
+    GiNaC::ex e;
     try {
-      return parse_expression(text, table);
-    } catch (const std::exception& e) {
-      fail(node, key, "cannot parse expression \"" + text + "\": " + describe_parse_error(e.what()) + "; " + allowed);
+      e = parse_expression(text, table);
+    } catch (const std::exception& error) {
+      fail(node, key,
+           "cannot parse expression " + quote(text) + ": " + describe_parse_error(error.what()) + "; " + allowed);
     }
+    if (const std::string part = unsupported_part(e); !part.empty())
+      fail(node, key,
+           "expression " + quote(text) + " uses " + part +
+               ", which emitted code cannot evaluate; expected real "
+               "numbers, names, + - * / ^, Pi and the functions " +
+               emittable_functions());
+    return e;
   }
 
   GiNaC::matrix matrix_of(const YAML::Node& node, const std::string& key, std::size_t rows, std::size_t cols,
@@ -184,11 +205,7 @@ class Loader {
 };
 
 Model Loader::load() {
-  try {
-    root_ = YAML::Load(text_);
-  } catch (const YAML::Exception& e) {
-    throw InputError(SourceLocation{path_, e.mark.line + 1, e.mark.column + 1}, "", "YAML syntax error: " + e.msg);
-  }
+  root_ = load_yaml_document(text_, path_);
   if (!root_.IsMap()) throw InputError(SourceLocation{path_, 1, 1}, "", "expected a YAML mapping of model keys");
   check_keys(root_, "",
              {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
@@ -205,7 +222,7 @@ Model Loader::load() {
   model.name = name.Scalar();
   {
     std::string why;
-    if (!is_valid_identifier(model.name, &why)) fail(name, "name", why + " (the name becomes a C++ namespace)");
+    if (!is_valid_model_name(model.name, &why)) fail(name, "name", why + " (the name becomes a C++ namespace)");
   }
   if (YAML::Node d = root_["description"]) model.description = scalar(d, "description");
 
@@ -220,9 +237,9 @@ Model Loader::load() {
       try {
         v = kv.second.as<double>();  // YAML's own number syntax, including .inf and .nan
       } catch (const YAML::Exception&) {
-        fail(kv.second, key, "expected a number, got \"" + value + "\"");
+        fail(kv.second, key, "expected a number, got " + quote(value) + out_of_range(value));
       }
-      if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got \"" + value + "\"");
+      if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got " + quote(value));
       model.parameters.push_back({GiNaC::realsymbol(pname), v});
     }
   }
@@ -273,11 +290,11 @@ Model Loader::load() {
       auto it = std::find(names.begin(), names.end(), cname);
       if (it == names.end())
         fail(cons[i], key,
-             "'" + cname + "' is not a quasi-velocity" + did_you_mean(cname, names) +
+             quote(cname) + " is not a quasi-velocity" + did_you_mean(cname, names) +
                  "; expected one of: " + join(names));
       const int index = static_cast<int>(it - names.begin());
       if (std::find(model.constrained.begin(), model.constrained.end(), index) != model.constrained.end())
-        fail(cons[i], key, "'" + cname + "' is listed twice");
+        fail(cons[i], key, quote(cname) + " is listed twice");
       model.constrained.push_back(index);
     }
     if (model.constrained.size() >= n) fail(cons, "constraints", "at least one quasi-velocity must stay independent");

@@ -7,6 +7,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -67,10 +68,14 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
   std::string best;
   std::size_t best_d = 3;
   for (const auto& c : candidates) {
+    std::string lower_word = word, lower_c = c;
+    for (char& ch : lower_word) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    for (char& ch : lower_c) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (lower_word == lower_c) return " (did you mean " + quote(c) + "?)";
     std::size_t d = edit_distance(word, c);
-    if (d < best_d) best_d = d, best = c;
+    if (d < best_d && d < word.size()) best_d = d, best = c;  // never suggest 'm' for 'k'
   }
-  return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
+  return best.empty() ? std::string() : " (did you mean " + quote(best) + "?)";
 }
 
 // GiNaC's messages carry C++ function names and a position that is always 0:0; keep the substance.
@@ -151,8 +156,13 @@ class Loader {
     try {
       e = parse_expression(text, table);
     } catch (const std::exception& error) {
-      fail(node, key,
-           "cannot parse expression " + quote(text) + ": " + describe_parse_error(error.what()) + "; " + allowed);
+      std::string problem = describe_parse_error(error.what());
+      if (const std::string unknown = "unknown name '"; problem.rfind(unknown, 0) == 0) {
+        std::vector<std::string> names;
+        for (const auto& entry : table) names.push_back(entry.first);
+        problem += did_you_mean(problem.substr(unknown.size(), problem.size() - unknown.size() - 1), names);
+      }
+      fail(node, key, "cannot parse expression " + quote(text) + ": " + problem + "; " + allowed);
     }
     if (const std::string part = unsupported_part(e); !part.empty())
       fail(node, key,
@@ -206,7 +216,9 @@ class Loader {
 
 Model Loader::load() {
   root_ = load_yaml_document(text_, path_);
-  if (!root_.IsMap()) throw InputError(SourceLocation{path_, 1, 1}, "", "expected a YAML mapping of model keys");
+  if (!root_.IsMap())
+    throw InputError(root_.Mark().line >= 0 ? where(root_) : SourceLocation{path_, 1, 1}, "",
+                     "expected a YAML mapping of model keys");
   check_keys(root_, "",
              {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
               "lagrangian", "forces", "inputs"});

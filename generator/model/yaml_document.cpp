@@ -19,9 +19,10 @@ SourceLocation where(const std::string& path, const YAML::Mark& m) {
 // bounded by yaml-cpp's own nesting limit.
 class KeyChecker {
  public:
-  explicit KeyChecker(const std::string& path) : path_(path) {}
+  KeyChecker(const std::string& text, const std::string& path) : text_(text), path_(path) {}
 
   void check(const YAML::Node& node, const std::string& context) {
+    if (node.IsScalar()) check_closed(node, context);
     if (!node.IsMap() && !node.IsSequence()) return;
     if (!seen_.insert(node.Mark().pos).second) return;
     if (node.IsSequence()) {
@@ -37,6 +38,7 @@ class KeyChecker {
                                                                             : key.IsMap()    ? "a map"
                                                                                              : "an empty key"));
       const std::string name = key.Scalar();
+      check_closed(key, context);
       const std::string full = context.empty() ? name : context + "." + name;
       auto [it, inserted] = keys.emplace(name, key.Mark());
       if (!inserted)
@@ -48,6 +50,32 @@ class KeyChecker {
   }
 
  private:
+  // yaml-cpp 0.7 accepts a quoted scalar that is never closed when the file ends inside it, taking the
+  // rest of the file as its text. A plain scalar cannot start with a quote, so a scalar whose text
+  // starts with one is quoted and must have its closing quote.
+  void check_closed(const YAML::Node& scalar, const std::string& context) const {
+    const int pos = scalar.Mark().pos;
+    if (pos < 0 || static_cast<std::size_t>(pos) >= text_.size()) return;
+    const char quote_char = text_[static_cast<std::size_t>(pos)];
+    if (quote_char != '"' && quote_char != '\'') return;
+    for (std::size_t i = static_cast<std::size_t>(pos) + 1; i < text_.size(); ++i) {
+      if (quote_char == '"' && text_[i] == '\\') {
+        ++i;  // an escaped character
+      } else if (text_[i] == quote_char) {
+        if (quote_char == '\'' && i + 1 < text_.size() && text_[i + 1] == '\'') {
+          ++i;  // '' is a quote inside single quotes
+        } else {
+          return;
+        }
+      }
+    }
+    throw InputError(where(path_, scalar.Mark()), context,
+                     std::string("YAML syntax error: the quoted text starting here is never closed; expected a "
+                                 "closing ") +
+                         quote_char);
+  }
+
+  const std::string& text_;
   std::string path_;
   std::set<int> seen_;
 };
@@ -65,7 +93,7 @@ YAML::Node load_yaml_document(const std::string& text, const std::string& path) 
     throw InputError(where(path, documents[1].Mark()), "",
                      "a second YAML document ('---') follows the model; expected exactly one document per file");
   YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
-  KeyChecker(path).check(root, "");
+  KeyChecker(text, path).check(root, "");
   return root;
 }
 

@@ -186,7 +186,7 @@ bool is_valid_model_name(const std::string& name, std::string* why) {
   if (!is_valid_identifier(name, why)) return false;
   static const std::set<std::string> taken = {
 #include "model/cmath_global_names.inc"
-      "std", "posix"};
+      "std", "posix", "main"};
   if (taken.count(name)) {
     if (why)
       *why = quote(name) +

@@ -38,7 +38,7 @@ GiNaC::ex exact_number(double value);
 bool is_valid_identifier(const std::string& name, std::string* why = nullptr);
 
 /// True if `name` may also name the namespace (and files, and the macro prefix) of emitted code: a
-/// valid identifier that is not `std` or `posix` and not a name that <cmath> or the compiler already
+/// valid identifier that is not `std`, `posix` or `main` and not a name that <cmath> or the compiler already
 /// defines at global scope (floor, gamma, y0, exit, NAN, linux, ...; see cmath_global_names.inc).
 bool is_valid_model_name(const std::string& name, std::string* why = nullptr);
 

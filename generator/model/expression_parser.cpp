@@ -77,11 +77,18 @@ std::string exact_decimals(const std::string& text) {
 
 namespace {
 
-// GiNaC's recursive-descent parser recurses once per parenthesis and once per prefix sign; refuse
-// input that would nest deeper than any model needs before it can exhaust the stack.
-void check_nesting(const std::string& text) {
+// Input GiNaC's parser (1.8) cannot take: it recurses once per parenthesis and once per prefix sign,
+// so nesting deeper than any model needs would exhaust the stack; and a call with no arguments such
+// as "sin()" crashes it (found by tests/fuzz). Both are refused before parsing.
+void check_structure(const std::string& text) {
   int depth = 0, signs = 0;
-  for (char c : text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '(') {
+      const std::size_t next = text.find_first_not_of(" \t\n\r\f\v", i + 1);
+      if (next != std::string::npos && text[next] == ')')
+        throw std::invalid_argument("empty parentheses '()'; a function takes one argument, as in sin(x)");
+    }
     if (c == '(' || c == '[' || c == '{') {
       if (++depth > max_expression_nesting)
         throw std::invalid_argument("parentheses nest deeper than " + std::to_string(max_expression_nesting));
@@ -106,7 +113,7 @@ const std::set<std::string>& function_set() {
 }  // namespace
 
 GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) {
-  check_nesting(text);
+  check_structure(text);
   GiNaC::parser reader(table, /*strict=*/true);
   return reader(exact_decimals(text));
 }

@@ -2,8 +2,12 @@
 
 #include "model/input_error.hpp"
 
+#include <yaml-cpp/eventhandler.h>
+
+#include <algorithm>
 #include <map>
 #include <set>
+#include <sstream>
 #include <vector>
 
 namespace hamel {
@@ -80,19 +84,54 @@ class KeyChecker {
   std::set<int> seen_;
 };
 
+// Records where the document it is handed starts and whether it holds anything but a lone null.
+class DocumentProbe : public YAML::EventHandler {
+ public:
+  YAML::Mark start;
+  bool content = false;
+  void OnDocumentStart(const YAML::Mark& mark) override { start = mark; }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override { content = true; }
+  void OnScalar(const YAML::Mark&, const std::string&, YAML::anchor_t, const std::string&) override { content = true; }
+  void OnSequenceStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    content = true;
+  }
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&, const std::string&, YAML::anchor_t, YAML::EmitterStyle::value) override {
+    content = true;
+  }
+  void OnMapEnd() override {}
+};
+
+// Throws if a document with content follows the first one. yaml-cpp 0.7 reports endless empty documents
+// for some malformed input (a stray ',' at the top level; found by tests/fuzz: YAML::LoadAll never
+// returns and exhausts memory there), so at most one probe per line of text is made.
+void check_single_document(const std::string& text, const std::string& path) {
+  std::istringstream in(text);
+  YAML::Parser parser(in);
+  DocumentProbe first;
+  if (!parser.HandleNextDocument(first)) return;
+  const std::size_t probes = static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n')) + 2;
+  for (std::size_t i = 0; i < probes; ++i) {
+    DocumentProbe next;
+    if (!parser.HandleNextDocument(next)) return;
+    if (next.content)
+      throw InputError(where(path, next.start), "",
+                       "a second YAML document ('---') follows the model; expected exactly one document per file");
+  }
+}
+
 }  // namespace
 
 YAML::Node load_yaml_document(const std::string& text, const std::string& path) {
-  std::vector<YAML::Node> documents;
+  YAML::Node root;
   try {
-    documents = YAML::LoadAll(text);
+    root = YAML::Load(text);
+    check_single_document(text, path);
   } catch (const YAML::Exception& e) {
     throw InputError(where(path, e.mark), "", "YAML syntax error: " + e.msg);
   }
-  if (documents.size() > 1)
-    throw InputError(where(path, documents[1].Mark()), "",
-                     "a second YAML document ('---') follows the model; expected exactly one document per file");
-  YAML::Node root = documents.empty() ? YAML::Node() : documents.front();
   KeyChecker(text, path).check(root, "");
   return root;
 }

@@ -27,7 +27,7 @@ struct AccuracyOptions {
   std::uint64_t seed = 1;
   double range = 1.0, velocity_range = 1.0, floor = 1e-3;
   std::vector<std::string> params, sweeps, at;
-  bool json = false, no_condition = false;
+  bool json = false, markdown = false, no_condition = false;
 };
 
 struct Sweep {
@@ -138,6 +138,7 @@ void run(const AccuracyOptions& opt) {
       k["outputs"] = a.outputs;
       k["points"] = a.points;
       k["skipped"] = a.skipped;
+      k["measured"] = a.has_reference;
       k["worst_ulps"] = std::isinf(a.worst_ulps) ? nlohmann::json("inf") : nlohmann::json(a.worst_ulps);
       k["mean_ulps"] = a.mean_ulps();
       k["worst_evaluation_ulps"] = a.worst_evaluation_ulps;
@@ -156,29 +157,41 @@ void run(const AccuracyOptions& opt) {
     return;
   }
 
+  const auto worst_at = [&](const KernelAccuracy& a) {
+    std::string at;
+    if (!a.has_reference) return std::string("not measured: no reference for this kernel");
+    if (a.worst_ulps > 0) at = a.worst_output + (cases.size() > 1 ? " [" + a.worst_setting + "]" : "");
+    if (a.skipped) at += " (" + std::to_string(a.skipped) + " points at poles skipped)";
+    return at;
+  };
+  if (opt.markdown) {
+    std::cout << "| kernel | outputs | points | worst ulps | mean ulps | eval-only | cond | eval/cond | worst at |\n"
+              << "|---|---|---|---|---|---|---|---|---|\n";
+    for (const KernelAccuracy& a : total)
+      std::cout << "| " << a.kernel << " | " << a.outputs << " | " << a.points << " | " << number(a.worst_ulps) << " | "
+                << number(a.mean_ulps()) << " | " << number(a.worst_evaluation_ulps) << " | "
+                << number(a.condition_at_worst) << " | " << number(a.worst_excess) << " | " << worst_at(a) << " |\n";
+    return;
+  }
   std::cout << "kernel forward error of " << model.name << " (" << opt.model << "), fold " << opt.fold << ": "
             << opt.points << " random points x " << cases.size() << " setting" << (cases.size() > 1 ? "s" : "")
             << ", seed " << opt.seed << "\n"
-            << "ulps = |double - ref| / ulp(max(|ref|, " << number(opt.floor)
-            << " * largest |ref| of the kernel)), ref = the symbolic expressions in " << settings.digits
-            << " digits; eval-only: against the same graph in " << settings.digits
-            << " digits; cond: relative condition number of the worst output (state, inputs, t); eval/cond: worst "
-               "eval-only ulps / max(1, cond) (what the form adds)\n\n";
+            << "  worst/mean ulps: |double - ref| / ulp(max(|ref|, " << number(opt.floor)
+            << " * the kernel's largest |ref|)), ref = the derivation's expressions in " << settings.digits
+            << " digits\n"
+            << "  eval-only: the same against the kernel graph in " << settings.digits
+            << " digits (rounding of the operations alone)\n"
+            << "  cond: condition number of the worst output w.r.t. state, inputs and t; eval/cond: the largest "
+               "eval-only / max(1, cond) (what the form adds)\n\n";
   std::cout << std::left << std::setw(20) << "kernel" << std::right << std::setw(8) << "outputs" << std::setw(8)
             << "points" << std::setw(12) << "worst ulps" << std::setw(11) << "mean ulps" << std::setw(11) << "eval-only"
+            << std::setw(10) << "cond" << std::setw(11) << "eval/cond"
             << "  worst at\n";
-  for (const KernelAccuracy& a : total) {
+  for (const KernelAccuracy& a : total)
     std::cout << std::left << std::setw(20) << a.kernel << std::right << std::setw(8) << a.outputs << std::setw(8)
               << a.points << std::setw(12) << number(a.worst_ulps) << std::setw(11) << number(a.mean_ulps())
               << std::setw(11) << number(a.worst_evaluation_ulps) << std::setw(10) << number(a.condition_at_worst)
-              << std::setw(11) << number(a.worst_excess) << "  ";
-    if (a.worst_ulps > 0) {
-      std::cout << a.worst_output;
-      if (cases.size() > 1) std::cout << " [" << a.worst_setting << "]";
-    }
-    if (a.skipped) std::cout << " (" << a.skipped << " points at poles skipped)";
-    std::cout << "\n";
-  }
+              << std::setw(11) << number(a.worst_excess) << "  " << worst_at(a) << "\n";
 }
 
 }  // namespace
@@ -206,7 +219,8 @@ Run add_accuracy_command(CLI::App& app) {
       ->capture_default_str();
   cmd->add_flag("--no-condition", opt->no_condition,
                 "Skip the condition numbers (one more 50-digit evaluation per argument and point)");
-  cmd->add_flag("--json", opt->json, "Print JSON instead of text");
+  auto* json = cmd->add_flag("--json", opt->json, "Print JSON instead of text");
+  cmd->add_flag("--markdown", opt->markdown, "Print the table as Markdown")->excludes(json);
   return [opt] { run(*opt); };
 }
 

@@ -298,8 +298,11 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
       if (n.argument == Argument::input && index < input_used.size()) input_used[index] = true;
     }
   }
-  bool has_rhs = false;
-  for (const Kernel& k : kernels.kernels) has_rhs = has_rhs || k.name == "rhs";
+  bool has_rhs = false, has_group_velocity = false;
+  for (const Kernel& k : kernels.kernels) {
+    has_rhs = has_rhs || k.name == "rhs";
+    has_group_velocity = has_group_velocity || k.name == "group_velocity";
+  }
 
   std::ostringstream h;
   h << stamp << "//\n"
@@ -329,7 +332,8 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
     << "constexpr bool conservative = " << (eq.conservative ? "true" : "false") << ";  // energy() is an invariant\n\n"
     << array_decl("const char*", "state_names", state_names, quoted)
     << array_decl("const char*", "parameter_names", parameter_names, quoted)
-    << array_decl("real", "default_parameters", defaults, literal)
+    << (defaults.empty() ? std::string("constexpr const real* default_parameters = nullptr;  // no parameters\n")
+                         : array_decl("real", "default_parameters", defaults, literal))
     << array_decl("const char*", "input_names", input_names, quoted)
     << array_decl("const char*", "constraint_names", constraint_names, quoted)
     << "// gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order\n"
@@ -457,7 +461,12 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
     md << "\n## Integrator step\n\n"
        << "`void rk4_step(real t, real h, real* x, const real* p, const real* in)` advances `x` in place by one "
           "classical Runge-Kutta step of size `h` (4 calls of `rhs`, `rk4_stack_reals` reals of stack, no "
-          "allocation), holding `in` over the step: one call per tick of a fixed-rate loop.\n\n"
+          "allocation), holding `in` over the step: one call per tick of a fixed-rate loop."
+       << (has_group_velocity ? " It advances the reduced state only; the group element g follows from the "
+                                "velocity `group_velocity` returns (xi: g' = g xi^ for left, xi^ g for right "
+                                "trivialization), e.g. integrated alongside as in hamel's tools/control_loop_example."
+                              : "")
+       << "\n\n"
        << "```cpp\n#include \"" << model.name << ".hpp\"\n\n"
        << model.name << "::real x[" << model.name << "::n_state] = {};  // initial state\n"
        << "for (long tick = 0; tick < ticks; ++tick) " << model.name << "::rk4_step(tick * h, h, x, "

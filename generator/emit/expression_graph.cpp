@@ -209,7 +209,8 @@ int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC:
         numerator = binary(Op::mul, numerator, from_expression(factor, leaves));
       }
     }
-    id = binary(Op::mul, constant(coefficient), binary(Op::div, numerator, denominator));
+    const int c = constant(coefficient);  // first: the order of evaluating two arguments is unspecified
+    id = binary(Op::mul, c, binary(Op::div, numerator, denominator));
   } else if (is_a<GiNaC::power>(e)) {
     const ex base = e.op(0), exponent = e.op(1);
     const int b = from_expression(base, leaves);

@@ -222,6 +222,17 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         }
       set.kernels.push_back(locked);
     }
+    if (b.mechanical && n > 0 && want("shape_inertia")) {
+      // The lower block of M^Ω = diag(L, S − AᵀLA) (MOmega); the upper block is locked_inertia.
+      Kernel shape{"shape_inertia", "S - A^T L A, the shape block of M^Omega, row-major, eq. (MOmega)", {}, {}};
+      for (int I = 0; I < n; ++I)
+        for (int J = 0; J < n; ++J) {
+          shape.outputs.push_back(node_of(geo.shape_inertia(static_cast<unsigned>(I), static_cast<unsigned>(J))));
+          shape.output_names.push_back("M_shape[" + sys.coordinates[static_cast<std::size_t>(I)].get_name() + "][" +
+                                       sys.coordinates[static_cast<std::size_t>(J)].get_name() + "]");
+        }
+      set.kernels.push_back(shape);
+    }
   }
   if (!only.empty()) {
     std::vector<Kernel> kept;

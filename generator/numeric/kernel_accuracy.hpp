@@ -118,6 +118,7 @@ struct AccuracySettings {
 struct KernelAccuracy {
   std::string kernel;
   std::size_t outputs = 0;
+  bool has_reference = true;         ///< false: a kernel this module has no symbolic reference for (not measured)
   long points = 0;                   ///< points evaluated
   long skipped = 0;                  ///< points where the reference has a pole
   long values = 0;                   ///< output values compared

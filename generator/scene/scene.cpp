@@ -20,6 +20,7 @@ const std::map<std::string, std::vector<std::string>>& scene_tasks() {
       {"monitors", {"energy", "constraint_residual"}},
       {"reconstruction", {"group_velocity"}},
       {"phase", {"group_velocity", "connection", "locked_inertia"}},
+      {"locked_velocity_blocks", {"locked_inertia", "shape_inertia"}},
   };
   return tasks;
 }

@@ -129,6 +129,7 @@ Measured measure(const std::string& file, int points) {
 void expect_accurate(const Measured& m, const char* model) {
   for (const hamel::KernelAccuracy& k : m.kernels) {
     SCOPED_TRACE(std::string(model) + " " + k.kernel);
+    EXPECT_TRUE(k.has_reference) << "add the kernel's expressions to references() in numeric/kernel_accuracy.cpp";
     if (k.outputs == 0) continue;
     EXPECT_GT(k.points, 0);
     EXPECT_EQ(k.skipped, 0);

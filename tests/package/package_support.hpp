@@ -15,6 +15,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace hamel::package_test {
 
@@ -94,6 +95,33 @@ inline Outcome cmake_build(const std::string& project, const fs::path& build, co
   const Outcome b = run(quote(HAMEL_CMAKE) + " --build " + quote(build.string()) + " -j2");
   if (b.status != 0) return {b.status, "build failed:\n" + b.out};
   return b;
+}
+
+/// A line of generated/packages.txt: the folder under generated/, the model or scene file (relative to the
+/// repository) and the `hamel emit` flags.
+struct ListedPackage {
+  std::string folder, source, flags;
+};
+
+inline std::vector<ListedPackage> listed_packages() {
+  std::vector<ListedPackage> list;
+  std::istringstream lines(slurp(source("generated/packages.txt")));
+  for (std::string line; std::getline(lines, line);) {
+    std::istringstream words(line);
+    ListedPackage p;
+    if (!(words >> p.folder) || p.folder[0] == '#') continue;
+    words >> p.source;
+    for (std::string w; words >> w;) p.flags += (p.flags.empty() ? "" : " ") + w;
+    list.push_back(p);
+  }
+  return list;
+}
+
+inline ListedPackage listed_package(const std::string& folder) {
+  for (const ListedPackage& p : listed_packages())
+    if (p.folder == folder) return p;
+  ADD_FAILURE() << folder << " is not listed in generated/packages.txt";
+  return {};
 }
 
 /// The flags firmware would use; the package must compile cleanly with them.

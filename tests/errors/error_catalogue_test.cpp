@@ -25,7 +25,6 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -82,11 +81,15 @@ Case read_case(const fs::path& file) {
   c.file = file;
   std::istringstream in(slurp(file));
   std::string text;
-  const std::regex directive(R"(^#\s*expect-([a-z]+):\s*(.*?)\s*$)");
   while (std::getline(in, text) && !text.empty() && text[0] == '#') {
-    std::smatch m;
-    if (!std::regex_match(text, m, directive)) continue;
-    const std::string what = m[1], value = m[2];
+    // "# expect-WHAT: VALUE"
+    const std::size_t start = text.find_first_not_of("# \t");
+    const std::size_t colon = text.find(':');
+    if (start == std::string::npos || text.compare(start, 7, "expect-") != 0 || colon == std::string::npos) continue;
+    const std::string what = text.substr(start + 7, colon - start - 7);
+    std::string value = text.substr(colon + 1);
+    value.erase(0, value.find_first_not_of(" \t"));
+    value.erase(value.find_last_not_of(" \t\r") + 1);
     if (what == "line")
       c.line = value;
     else if (what == "column")

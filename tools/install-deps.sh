@@ -1,8 +1,13 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hamel needs to build and test (skips what is already installed).
 set -euo pipefail
+# With --fuzz it also installs clang, libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only;
+# the main build and tests need none of them).
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libgtest-dev
           libyaml-cpp-dev nlohmann-json3-dev libcli11-dev)
+if [ "${1:-}" = "--fuzz" ]; then
+  packages+=(clang libclang-rt-dev llvm)
+fi
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

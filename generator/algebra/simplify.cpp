@@ -106,17 +106,21 @@ class TrigSymbols {
   GiNaC::lst back_;
 };
 
-// Remainder of a polynomial modulo S² + C² − 1 for every (S, C) pair.
+// Remainder of a polynomial modulo S² + C² − 1 for every (S, C) pair. Parts that are no polynomial in
+// S and C, such as sqrt(S) or S^x, stand in as fresh symbols meanwhile (found by tests/fuzz: degree()
+// throws on them).
 ex reduce_pythagoras(const ex& polynomial, const TrigSymbols& trig) {
-  ex p = polynomial.expand();
+  GiNaC::exmap opaque;
+  ex p = polynomial.expand().to_polynomial(opaque);
   for (const auto& [s, c] : trig.pairs()) {
+    if (!p.is_polynomial(GiNaC::lst{s, c})) continue;  // safety net; to_polynomial should leave none
     const int degree = p.degree(s);
     if (degree < 2) continue;
     ex reduced = 0;
     for (int k = 0; k <= degree; ++k) reduced += p.coeff(s, k) * GiNaC::pow(s, k % 2) * GiNaC::pow(1 - c * c, k / 2);
     p = reduced.expand();
   }
-  return p;
+  return p.subs(opaque).expand();
 }
 
 }  // namespace

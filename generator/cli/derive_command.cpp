@@ -142,8 +142,8 @@ void run(const DeriveOptions& opt) {
   for (const auto& [name, v] : at) {
     auto it = table.find(name);
     if (it == table.end() || (name.size() > 4 && name.compare(name.size() - 4, 4, "_dot") == 0))
-      throw InputError("--at: '" + name + "' is not a coordinate, quasi-velocity, input or t of model '" + model.name +
-                       "'");
+      throw InputError("--at: " + quote(name) + " is not a coordinate, quasi-velocity, input or t of model '" +
+                       model.name + "'");
     values[it->second] = exact_number(v);
   }
   if (!at.empty()) values[model.time] = exact_number(at.count("t") ? at.at("t") : 0.0);

@@ -21,18 +21,23 @@ std::map<std::string, double> parse_assignments(const std::vector<std::string>& 
       start = end + 1;
       if (part.empty()) continue;
       const std::size_t eq = part.find('=');
-      if (eq == std::string::npos || eq == 0) throw InputError(option + ": expected name=value, got '" + part + "'");
+      if (eq == std::string::npos || eq == 0) throw InputError(option + ": expected name=value, got " + quote(part));
       const std::string name = part.substr(0, eq), value = part.substr(eq + 1);
       double v = 0;
       try {
         std::size_t used = 0;
         v = std::stod(value, &used);
         if (used != value.size()) throw std::invalid_argument(value);
+      } catch (const std::out_of_range&) {
+        throw InputError(option + ": value of " + quote(name) + " is beyond the range of a double: " + quote(value));
       } catch (const std::exception&) {
-        throw InputError(option + ": value of '" + name + "' is not a number: '" + value + "'");
+        throw InputError(option + ": value of " + quote(name) + " is not a number: " + quote(value));
       }
-      if (!std::isfinite(v)) throw InputError(option + ": value of '" + name + "' is not finite");
-      out[name] = v;
+      if (!std::isfinite(v))
+        throw InputError(option + ": value of " + quote(name) + " is not finite: " + quote(value) +
+                         "; expected a finite number");
+      if (!out.emplace(name, v).second)
+        throw InputError(option + ": " + quote(name) + " is given twice; give each name once");
     }
   }
   return out;
@@ -50,7 +55,7 @@ std::vector<double> parameter_values(const Model& model, const std::map<std::str
     if (!known) {
       std::string list;
       for (const auto& p : model.parameters) list += (list.empty() ? "" : ", ") + p.symbol.get_name();
-      throw InputError("--param: '" + name + "' is not a parameter of model '" + model.name +
+      throw InputError("--param: " + quote(name) + " is not a parameter of model '" + model.name +
                        "' (parameters: " + (list.empty() ? "none" : list) + ")");
     }
   }

@@ -84,7 +84,7 @@ void run(const SimulateOptions& given) {
     if (it == columns.end()) {
       std::string list;
       for (std::size_t k = 1; k < columns.size(); ++k) list += (k > 1 ? ", " : "") + columns[k];
-      throw InputError("--init: '" + name + "' is not a state variable of model '" + model.name +
+      throw InputError("--init: " + quote(name) + " is not a state variable of model '" + model.name +
                        "' (coordinates and independent quasi-velocities: " + list + ")");
     }
     x0[static_cast<std::size_t>(it - columns.begin() - 1)] = v;
@@ -94,7 +94,7 @@ void run(const SimulateOptions& given) {
     std::size_t k = 0;
     while (k < model.inputs.size() && model.inputs[k].get_name() != name) ++k;
     if (k == model.inputs.size())
-      throw InputError("--input: '" + name + "' is not an input of model '" + model.name + "'");
+      throw InputError("--input: " + quote(name) + " is not an input of model '" + model.name + "'");
     in[k] = v;
   }
 
@@ -115,15 +115,27 @@ void run(const SimulateOptions& given) {
   double residual_max = 0;
   std::vector<double> residual(derivation.equations.constraint_residual.size());
 
-  // Output goes to a temporary file renamed on success, so a failed run leaves no partial CSV.
+  // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
+  // (or one that throws) leaves neither a partial CSV nor the temporary file, and keeps an old CSV.
   namespace fs = std::filesystem;
   const bool to_stdout = opt.out == "-";
   fs::path staging;
   std::ofstream file;
+  struct RemoveUnlessKept {
+    fs::path path;
+    ~RemoveUnlessKept() {
+      std::error_code ec;
+      if (!path.empty()) fs::remove(path, ec);
+    }
+  } cleanup;
   if (!to_stdout) {
+    std::error_code ec;
+    if (fs::is_directory(opt.out, ec))
+      throw InputError("--out: " + quote(opt.out) + " is a folder; expected a file name");
     staging = fs::path(opt.out).string() + ".tmp-" + std::to_string(std::random_device{}());
     file.open(staging, std::ios::binary);
-    if (!file) throw InputError("--out: cannot write '" + opt.out + "'");
+    if (!file) throw InputError("--out: cannot write " + quote(opt.out));
+    cleanup.path = staging;
   }
   std::ostream& os = to_stdout ? std::cout : file;
   const bool reconstruct = model.bundle && info.name == "rkmk4";
@@ -184,10 +196,13 @@ void run(const SimulateOptions& given) {
   }
   if (!to_stdout) {
     file.close();
-    if (result.status == runtime::Status::ok)
-      fs::rename(staging, opt.out);
-    else
-      fs::remove(staging);
+    if (!file) throw InputError("--out: cannot write " + quote(opt.out));
+    if (result.status == runtime::Status::ok) {
+      std::error_code ec;
+      fs::rename(staging, opt.out, ec);
+      if (ec) throw InputError("--out: cannot write " + quote(opt.out) + ": " + ec.message());
+      cleanup.path.clear();
+    }
   }
 
   std::ostringstream state;

@@ -1,7 +1,9 @@
 #include "model/expression_parser.hpp"
 
 #include "algebra/expression_text.hpp"
+#include "model/input_error.hpp"
 
+#include <algorithm>
 #include <cctype>
 #include <cstdio>
 #include <cstdlib>
@@ -41,6 +43,7 @@ std::string exact_decimals(const std::string& text) {
       ++i;
       continue;
     }
+    const std::size_t start = i;
     std::string int_part, frac_part;
     while (i < n && std::isdigit(static_cast<unsigned char>(text[i]))) int_part += text[i++];
     bool decimal = false;
@@ -57,7 +60,12 @@ std::string exact_decimals(const std::string& text) {
       if (j < n && std::isdigit(static_cast<unsigned char>(text[j]))) {
         decimal = true;
         long e = 0;
-        while (j < n && std::isdigit(static_cast<unsigned char>(text[j]))) e = e * 10 + (text[j++] - '0');
+        while (j < n && std::isdigit(static_cast<unsigned char>(text[j]))) {
+          e = std::min(e * 10 + (text[j++] - '0'), 10 * max_decimal_exponent);  // saturate, never overflow
+        }
+        if (e > max_decimal_exponent)
+          throw std::invalid_argument("the number " + quote(text.substr(start, j - start)) +
+                                      " has an exponent beyond ±" + std::to_string(max_decimal_exponent));
         exponent = negative ? -e : e;
         i = j;
       }
@@ -67,12 +75,80 @@ std::string exact_decimals(const std::string& text) {
   return out;
 }
 
+namespace {
+
+// Input GiNaC's parser (1.8) cannot take: it recurses once per parenthesis and once per prefix sign,
+// so nesting deeper than any model needs would exhaust the stack; and a call with no arguments such
+// as "sin()" crashes it (found by tests/fuzz). Both are refused before parsing.
+void check_structure(const std::string& text) {
+  int depth = 0, signs = 0;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const char c = text[i];
+    if (c == '(') {
+      const std::size_t next = text.find_first_not_of(" \t\n\r\f\v", i + 1);
+      if (next != std::string::npos && text[next] == ')')
+        throw std::invalid_argument("empty parentheses '()'; a function takes one argument, as in sin(x)");
+    }
+    if (c == '(' || c == '[' || c == '{') {
+      if (++depth > max_expression_nesting)
+        throw std::invalid_argument("parentheses nest deeper than " + std::to_string(max_expression_nesting));
+    } else if (c == ')' || c == ']' || c == '}') {
+      --depth;
+    }
+    if (c == '+' || c == '-') {
+      if (++signs > max_expression_nesting)
+        throw std::invalid_argument("more than " + std::to_string(max_expression_nesting) + " signs in a row");
+    } else if (!std::isspace(static_cast<unsigned char>(c)) && c != '(') {
+      signs = 0;
+    }
+  }
+}
+
+const std::set<std::string>& function_set() {
+  static const std::set<std::string> names = {"sin",  "cos",  "tan", "asin", "acos", "atan", "sinh",
+                                              "cosh", "tanh", "exp", "log",  "sqrt", "abs"};
+  return names;
+}
+
+}  // namespace
+
 GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) {
+  check_structure(text);
   // `pi` is accepted as well as GiNaC's `Pi` (both are reserved as names).
   GiNaC::symtab with_pi = table;
   with_pi.emplace("pi", GiNaC::Pi);
   GiNaC::parser reader(with_pi, /*strict=*/true);
   return reader(exact_decimals(text));
+}
+
+const std::string& emittable_functions() {
+  static const std::string list = [] {
+    std::string s;
+    for (const auto& f : function_set()) s += (s.empty() ? "" : ", ") + f;
+    return s;
+  }();
+  return list;
+}
+
+std::string unsupported_part(const GiNaC::ex& e) {
+  if (GiNaC::is_a<GiNaC::numeric>(e))
+    return GiNaC::ex_to<GiNaC::numeric>(e).is_real() ? std::string() : "the complex number " + to_text(e);
+  if (GiNaC::is_a<GiNaC::symbol>(e)) return {};
+  if (GiNaC::is_a<GiNaC::constant>(e))
+    return e.is_equal(GiNaC::Pi) || e.is_equal(GiNaC::Euler) || e.is_equal(GiNaC::Catalan)
+               ? std::string()
+               : "the constant " + to_text(e);
+  if (GiNaC::is_a<GiNaC::function>(e)) {
+    const std::string name = GiNaC::ex_to<GiNaC::function>(e).get_name();
+    if (!function_set().count(name) || e.nops() != 1)
+      return "the function '" + name + "' (" + std::to_string(e.nops()) +
+             (e.nops() == 1 ? " argument)" : " arguments)");
+  } else if (!GiNaC::is_a<GiNaC::add>(e) && !GiNaC::is_a<GiNaC::mul>(e) && !GiNaC::is_a<GiNaC::power>(e)) {
+    return quote(to_text(e));
+  }
+  for (std::size_t i = 0; i < e.nops(); ++i)
+    if (std::string part = unsupported_part(e.op(i)); !part.empty()) return part;
+  return {};
 }
 
 GiNaC::ex exact_number(double value) { return parse_expression(shortest_decimal(value), GiNaC::symtab()); }
@@ -104,15 +180,30 @@ bool is_valid_identifier(const std::string& name, std::string* why) {
   };
   if (name.empty()) return fail("a name must not be empty");
   if (!(std::isalpha(static_cast<unsigned char>(name[0])) || name[0] == '_'))
-    return fail("'" + name + "' is not a valid C++ identifier (it must start with a letter or '_')");
+    return fail(quote(name) + " is not a valid C++ identifier (it must start with a letter or '_')");
   for (char c : name)
-    if (!is_ident_char(c)) return fail("'" + name + "' is not a valid C++ identifier (letters, digits and '_' only)");
-  if (name[0] == '_') return fail("'" + name + "' starts with '_', which C++ reserves for the implementation");
-  if (name.find("__") != std::string::npos) return fail("'" + name + "' contains '__', which C++ reserves");
-  if (keywords.count(name)) return fail("'" + name + "' is a C++ keyword");
-  if (reserved.count(name)) return fail("'" + name + "' is reserved (a function, constant or emitted-code name)");
+    if (!is_ident_char(c)) return fail(quote(name) + " is not a valid C++ identifier (letters, digits and '_' only)");
+  if (name[0] == '_') return fail(quote(name) + " starts with '_', which C++ reserves for the implementation");
+  if (name.find("__") != std::string::npos) return fail(quote(name) + " contains '__', which C++ reserves");
+  if (keywords.count(name)) return fail(quote(name) + " is a C++ keyword");
+  if (reserved.count(name)) return fail(quote(name) + " is reserved (a function, constant or emitted-code name)");
   if (name.size() > 4 && name.compare(name.size() - 4, 4, "_dot") == 0)
-    return fail("'" + name + "' ends in '_dot', which is reserved for coordinate rates");
+    return fail(quote(name) + " ends in '_dot', which is reserved for coordinate rates");
+  return true;
+}
+
+bool is_valid_model_name(const std::string& name, std::string* why) {
+  if (!is_valid_identifier(name, why)) return false;
+  static const std::set<std::string> taken = {
+#include "model/cmath_global_names.inc"
+      "std", "posix", "main"};
+  if (taken.count(name)) {
+    if (why)
+      *why = quote(name) +
+             " is already defined at global scope by <cmath>, the C library or the compiler, and the "
+             "emitted code includes <cmath>";
+    return false;
+  }
   return true;
 }
 

@@ -2,8 +2,35 @@
 
 namespace hamel {
 
+namespace {
+
+// Control characters as escapes (\n, \t, \x1b, ...), everything else unchanged.
+std::string escape_controls(const std::string& text, std::size_t end) {
+  static const char* hex = "0123456789abcdef";
+  std::string s;
+  for (std::size_t i = 0; i < end; ++i) {
+    const unsigned char c = static_cast<unsigned char>(text[i]);
+    if (c == '\n') {
+      s += "\\n";
+    } else if (c == '\t') {
+      s += "\\t";
+    } else if (c == '\r') {
+      s += "\\r";
+    } else if (c < 0x20 || c == 0x7f) {
+      s += "\\x";
+      s += hex[c >> 4];
+      s += hex[c & 15];
+    } else {
+      s += static_cast<char>(c);
+    }
+  }
+  return s;
+}
+
+}  // namespace
+
 std::string SourceLocation::to_string() const {
-  std::string s = file.empty() ? std::string("<input>") : file;
+  std::string s = file.empty() ? std::string("<input>") : escape_controls(file, file.size());
   if (line > 0) {
     s += ":" + std::to_string(line);
     if (column > 0) s += ":" + std::to_string(column);
@@ -11,9 +38,18 @@ std::string SourceLocation::to_string() const {
   return s;
 }
 
+std::string quote(const std::string& text, std::size_t limit) {
+  std::size_t end = text.size();
+  if (end > limit) {
+    end = limit;
+    while (end > 0 && (static_cast<unsigned char>(text[end]) & 0xC0) == 0x80) --end;  // UTF-8 continuation
+  }
+  return "'" + escape_controls(text, end) + (end < text.size() ? "...'" : "'");
+}
+
 static std::string format(const SourceLocation& where, const std::string& key, const std::string& problem) {
   std::string s = where.to_string() + ": error: ";
-  if (!key.empty()) s += "'" + key + "': ";
+  if (!key.empty()) s += quote(key) + ": ";
   return s + problem;
 }
 

@@ -15,9 +15,15 @@ struct SourceLocation {
   std::string to_string() const;
 };
 
+/// `text` as an error message shows it: in single quotes, control characters escaped (\n, \t,
+/// \x1b, ...) so that input cannot forge lines or terminal sequences, and cut after `limit` bytes
+/// (at a UTF-8 character boundary, marked by "...").
+std::string quote(const std::string& text, std::size_t limit = 80);
+
 /// An error the user can fix in the input. what() is the full, formatted message.
 class InputError : public std::runtime_error {
  public:
+  /// "file:line:column: error: 'key': problem" (the key quoted as by quote()).
   InputError(const SourceLocation& where, const std::string& key, const std::string& problem);
   explicit InputError(const std::string& message) : std::runtime_error(message) {}
 };

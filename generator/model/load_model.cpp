@@ -3,11 +3,15 @@
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
+#include "model/yaml_document.hpp"
 
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <fstream>
 #include <map>
 #include <set>
@@ -67,10 +71,14 @@ std::string did_you_mean(const std::string& word, const std::vector<std::string>
   std::string best;
   std::size_t best_d = 3;
   for (const auto& c : candidates) {
+    std::string lower_word = word, lower_c = c;
+    for (char& ch : lower_word) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    for (char& ch : lower_c) ch = static_cast<char>(std::tolower(static_cast<unsigned char>(ch)));
+    if (lower_word == lower_c) return " (did you mean " + quote(c) + "?)";
     std::size_t d = edit_distance(word, c);
-    if (d < best_d) best_d = d, best = c;
+    if (d < best_d && d < word.size()) best_d = d, best = c;  // never suggest 'm' for 'k'
   }
-  return best.empty() ? std::string() : " (did you mean '" + best + "'?)";
+  return best.empty() ? std::string() : " (did you mean " + quote(best) + "?)";
 }
 
 // GiNaC's messages carry C++ function names and a position that is always 0:0; keep the substance.
@@ -86,6 +94,15 @@ std::string describe_parse_error(std::string msg) {
     if (auto at = msg.find(prefix); at != std::string::npos) msg.erase(at, prefix.size());
   while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
   return msg;
+}
+
+// " (beyond the range of a double)" if `text` spells a number too large or too small for a double.
+std::string out_of_range(const std::string& text) {
+  if (text.empty()) return {};
+  char* end = nullptr;
+  errno = 0;
+  std::strtod(text.c_str(), &end);
+  return errno == ERANGE && *end == '\0' ? " (beyond the range of a double, about 2.2e-308 to 1.8e308)" : "";
 }
 
 // Reads one file, keeping its name for messages.
@@ -138,11 +155,25 @@ class Loader {
   GiNaC::ex expression(const YAML::Node& node, const std::string& key, const GiNaC::symtab& table,
                        const std::string& allowed) const {
     const std::string text = scalar(node, key);
+    GiNaC::ex e;
     try {
-      return parse_expression(text, table);
-    } catch (const std::exception& e) {
-      fail(node, key, "cannot parse expression \"" + text + "\": " + describe_parse_error(e.what()) + "; " + allowed);
+      e = parse_expression(text, table);
+    } catch (const std::exception& error) {
+      std::string problem = describe_parse_error(error.what());
+      if (const std::string unknown = "unknown name '"; problem.rfind(unknown, 0) == 0) {
+        std::vector<std::string> names;
+        for (const auto& entry : table) names.push_back(entry.first);
+        problem += did_you_mean(problem.substr(unknown.size(), problem.size() - unknown.size() - 1), names);
+      }
+      fail(node, key, "cannot parse expression " + quote(text) + ": " + problem + "; " + allowed);
     }
+    if (const std::string part = unsupported_part(e); !part.empty())
+      fail(node, key,
+           "expression " + quote(text) + " uses " + part +
+               ", which emitted code cannot evaluate; expected real "
+               "numbers, names, + - * / ^, Pi and the functions " +
+               emittable_functions());
+    return e;
   }
 
   GiNaC::matrix matrix_of(const YAML::Node& node, const std::string& key, std::size_t rows, std::size_t cols,
@@ -208,12 +239,10 @@ class Loader {
 };
 
 Model Loader::load() {
-  try {
-    root_ = YAML::Load(text_);
-  } catch (const YAML::Exception& e) {
-    throw InputError(SourceLocation{path_, e.mark.line + 1, e.mark.column + 1}, "", "YAML syntax error: " + e.msg);
-  }
-  if (!root_.IsMap()) throw InputError(SourceLocation{path_, 1, 1}, "", "expected a YAML mapping of model keys");
+  root_ = load_yaml_document(text_, path_);
+  if (!root_.IsMap())
+    throw InputError(root_.Mark().line >= 0 ? where(root_) : SourceLocation{path_, 1, 1}, "",
+                     "expected a YAML mapping of model keys");
   bundle_ = static_cast<bool>(root_["group"]);
   if (bundle_)
     check_keys(root_, "",
@@ -235,7 +264,7 @@ Model Loader::load() {
   model.name = name.Scalar();
   {
     std::string why;
-    if (!is_valid_identifier(model.name, &why)) fail(name, "name", why + " (the name becomes a C++ namespace)");
+    if (!is_valid_model_name(model.name, &why)) fail(name, "name", why + " (the name becomes a C++ namespace)");
   }
   if (YAML::Node d = root_["description"]) model.description = scalar(d, "description");
 
@@ -250,9 +279,9 @@ Model Loader::load() {
       try {
         v = kv.second.as<double>();  // YAML's own number syntax, including .inf and .nan
       } catch (const YAML::Exception&) {
-        fail(kv.second, key, "expected a number, got \"" + value + "\"");
+        fail(kv.second, key, "expected a number, got " + quote(value) + out_of_range(value));
       }
-      if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got \"" + value + "\"");
+      if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got " + quote(value));
       model.parameters.push_back({GiNaC::realsymbol(pname), v});
     }
   }
@@ -324,11 +353,11 @@ void Loader::load_core(Model& model) {
       auto it = std::find(names.begin(), names.end(), cname);
       if (it == names.end())
         fail(cons[i], key,
-             "'" + cname + "' is not a quasi-velocity" + did_you_mean(cname, names) +
+             quote(cname) + " is not a quasi-velocity" + did_you_mean(cname, names) +
                  "; expected one of: " + join(names));
       const int index = static_cast<int>(it - names.begin());
       if (std::find(model.constrained.begin(), model.constrained.end(), index) != model.constrained.end())
-        fail(cons[i], key, "'" + cname + "' is listed twice");
+        fail(cons[i], key, quote(cname) + " is listed twice");
       model.constrained.push_back(index);
     }
     if (model.constrained.size() >= n) fail(cons, "constraints", "at least one quasi-velocity must stay independent");

@@ -48,8 +48,9 @@ void run(const EmitOptions& opt) {
               << ")\n";
   }
   write_package(package, opt.output);
-  std::cerr << "hamel: wrote " << opt.output << "/" << package.header_name << " and " << opt.output << "/"
-            << package.source_name << "\n";
+  std::string files;
+  for (const EmittedFile& f : package.files()) files += (files.empty() ? "" : ", ") + f.name;
+  std::cerr << "hamel: wrote " << opt.output << "/: " << files << "\n";
   for (const Kernel& k : kernels.kernels) {
     const OpCounts c = kernels.graph.count(kernels.graph.schedule(k.outputs));
     std::cerr << "  " << k.name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, "

@@ -4,9 +4,9 @@ set -euo pipefail
 # With --fuzz it also installs clang, libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only;
 # the main build and tests need none of them).
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libgtest-dev
-          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev)
+          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang)
 if [ "${1:-}" = "--fuzz" ]; then
-  packages+=(clang libclang-rt-dev llvm)
+  packages+=(libclang-rt-dev llvm)
 fi
 missing=()
 for p in "${packages[@]}"; do

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hamel needs to build and test (skips what is already installed).
 set -euo pipefail
-# With --fuzz it also installs clang, libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only;
-# the main build and tests need none of them).
+# clang is installed for the generated-package tests (they build emitted code with g++ and clang++).
+# With --fuzz it also installs libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only).
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libgtest-dev
           libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang)
 if [ "${1:-}" = "--fuzz" ]; then

@@ -97,10 +97,7 @@ void run(const PhaseOptions& opt) {
   req.momentum = opt.momentum == "rest" ? PhaseMomentum::rest : PhaseMomentum::zero;
   req.steps_per_cycle = opt.steps;
   req.samples_per_cycle = opt.samples;
-  if (req.path.size() != model.coordinates.size())
-    throw InputError("--path: expected " + std::to_string(model.coordinates.size()) +
-                     " expressions separated by ';' (one per shape coordinate of " + model.name + "), got " +
-                     std::to_string(req.path.size()));
+  check_phase_request(model, req);  // before the derivation, which may take long
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   const Derivation d = derive(model, DeriveSettings{model.bundle->mechanical ? "momentum" : "ldap"});
   std::cerr << "hamel: reconstructing " << opt.cycles << " cycle(s) on " << model.bundle->group << " ...\n";

@@ -144,16 +144,21 @@ PhaseResult run(const Model& model, const Derivation& d, const std::vector<doubl
 
 }  // namespace
 
-PhaseResult compute_phase(const Model& model, const Derivation& d, const std::vector<double>& parameters,
-                          const PhaseRequest& req) {
-  if (!model.bundle || !d.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
+void check_phase_request(const Model& model, const PhaseRequest& req) {
+  if (!model.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
   if (req.path.size() != model.coordinates.size())
     throw InputError("--path: expected " + std::to_string(model.coordinates.size()) +
-                     " expressions separated by ';' (one per shape coordinate), got " +
+                     " expressions separated by ';' (one per shape coordinate of " + model.name + "), got " +
                      std::to_string(req.path.size()));
   if (!(req.period > 0) || !std::isfinite(req.period)) throw InputError("--period: expected a positive time");
   if (req.cycles < 1) throw InputError("--cycles: expected at least 1");
   if (req.steps_per_cycle < 1) throw InputError("--steps-per-cycle: expected at least 1");
+}
+
+PhaseResult compute_phase(const Model& model, const Derivation& d, const std::vector<double>& parameters,
+                          const PhaseRequest& req) {
+  check_phase_request(model, req);
+  if (!d.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
   return with_group(model.bundle->group,
                     [&](auto tag) { return run<typename decltype(tag)::type>(model, d, parameters, req); });
 }

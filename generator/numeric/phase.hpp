@@ -40,6 +40,10 @@ struct PhaseResult {
   long steps = 0;
 };
 
+/// Throws InputError when `req` does not fit `model` (path length, period, cycles, steps); compute_phase
+/// calls it too, callers may call it first to fail before the derivation.
+void check_phase_request(const Model& model, const PhaseRequest& req);
+
 /// Runs the reconstruction. `derivation` must be the bundle model's (any form); `parameters` are the
 /// values of model.parameters. Throws InputError for unsupported groups or requests (e.g. rest momentum
 /// with a kinematic connection) and for failures of the integration (with the time).

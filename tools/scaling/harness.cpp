@@ -3,10 +3,13 @@
 //
 //   harness check MODEL.xml STATES.txt   for every line of STATES.txt
 //                                         (quat_w quat_x quat_y quat_z px py pz q_1..q_n w(3) v(3) qdot_1..qdot_n)
-//                                         prints "mujoco a_1..a_m" and, with a package, "hamel a_1..a_m":
-//                                         the accelerations (w_dot, v_dot, q_ddot) in hamel's coordinates.
+//                                         prints "mujoco a_1..a_m" (mj_forward), "mujoco_core a_1..a_m" (the
+//                                         dynamics core alone, see mujoco_core) and, with a package,
+//                                         "hamel a_1..a_m": the accelerations (w_dot, v_dot, q_ddot) in hamel's
+//                                         coordinates.
 //   harness bench MODEL.xml [google-benchmark flags]
-//                                         ns per call of mj_forward and of the package's rhs and mass_matrix.
+//                                         ns per call of mj_forward, of MuJoCo's dynamics core and of the
+//                                         package's rhs and mass_matrix.
 //
 // State mapping. hamel: x = (q, w, v, q_dot), (w, v) the base frame's body twist (angular, then the linear
 // velocity of the base origin, resolved in the base frame). MuJoCo freejoint: qpos = (p, quat), qvel =
@@ -15,6 +18,7 @@
 #include <benchmark/benchmark.h>
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -103,6 +107,19 @@ void mujoco_acc(const Mj& s, const double* pose, const double* x, double* a) {
   for (int i = 0; i < n; ++i) a[6 + i] = qacc[s.dofadr[i]];
 }
 
+// MuJoCo's dynamics core only, without the rest of mj_forward's pipeline (collision, constraints, sensors,
+// actuation, checks): kinematics, composite rigid bodies, M = L^T D L, bias forces by RNE, qacc = -M^-1 c.
+void mujoco_core(const Mj& s, double* qacc, double* work) {
+  mj_kinematics(s.m, s.d);
+  mj_comPos(s.m, s.d);
+  mj_crb(s.m, s.d);
+  mj_factorM(s.m, s.d);
+  mj_comVel(s.m, s.d);
+  mj_rne(s.m, s.d, 0, work);
+  for (int i = 0; i < s.m->nv; ++i) work[i] = -work[i];
+  mj_solveM(s.m, s.d, qacc, work, 1);
+}
+
 std::vector<std::vector<double>> read_states(const char* path) {
   std::vector<std::vector<double>> rows;
   std::ifstream in(path);
@@ -132,6 +149,13 @@ int check(const char* xml, const char* states) {
     std::vector<double> a(m);
     mujoco_acc(s, pose, x, a.data());
     std::printf("mujoco");
+    for (double v : a) std::printf(" %.17g", v);
+    std::printf("\n");
+    std::vector<double> qacc(s.m->nv), work(s.m->nv);
+    mujoco_core(s, qacc.data(), work.data());
+    std::copy(qacc.begin(), qacc.end(), s.d->qacc);
+    mujoco_acc(s, pose, x, a.data());
+    std::printf("mujoco_core");
     for (double v : a) std::printf(" %.17g", v);
     std::printf("\n");
 #ifdef HAMEL_PKG
@@ -174,6 +198,18 @@ void BM_mujoco_forward(benchmark::State& st) {
   }
 }
 
+void BM_mujoco_core(benchmark::State& st) {
+  Mj& s = *g_mj;
+  const auto r = bench_state(s.n);
+  set_state(s, r.data(), r.data() + 7);
+  std::vector<double> qacc(s.m->nv), work(s.m->nv);
+  for (auto _ : st) {
+    mujoco_core(s, qacc.data(), work.data());
+    benchmark::DoNotOptimize(qacc.data());
+    benchmark::ClobberMemory();
+  }
+}
+
 #ifdef HAMEL_PKG
 template <void (*K)(HAMEL_PKG::real, const HAMEL_PKG::real*, const HAMEL_PKG::real*, const HAMEL_PKG::real*,
                     HAMEL_PKG::real*),
@@ -198,6 +234,7 @@ int main(int argc, char** argv) {
     static Mj s = load(argv[2]);
     g_mj = &s;
     benchmark::RegisterBenchmark("mujoco_forward", BM_mujoco_forward);
+    benchmark::RegisterBenchmark("mujoco_core", BM_mujoco_core);
 #ifdef HAMEL_PKG
     benchmark::RegisterBenchmark("hamel_rhs", BM_hamel<HAMEL_PKG::rhs, HAMEL_PKG::n_out_rhs>);
     benchmark::RegisterBenchmark("hamel_mass_matrix",

@@ -80,8 +80,16 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
     e["lambda"] = xi[static_cast<std::size_t>(c.lower_b)];
     j["structure_constants"].push_back(e);
   }
+  if (b.tree) {
+    j["group"]["tree"] = tree_body_names(*b.tree);
+  }
   j["connection"] = nlohmann::json::array();
-  for (unsigned a = 0; a < m; ++a)
+  if (!g.connection_derived)
+    j["connection_note"] =
+        "kinematic tree: A = L^-1 K is not formed symbolically; the connection and shape_inertia kernels solve "
+        "L A = K numerically (L and K are blocks of the mass matrix). Use --form lp or momentum on small trees "
+        "for A, the curvature and E as expressions.";
+  for (unsigned a = 0; a < m && g.connection_derived; ++a)
     for (unsigned I = 0; I < n; ++I) {
       nlohmann::json e = entry(g.connection(a, I), values);
       e["alpha"] = xi[a];
@@ -111,7 +119,7 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
     j["reconstruction"].push_back(e);
   }
   if (g.quadratic) j["locked_inertia"] = matrix_json(g.L, m, m, xi, xi, values);
-  if (b.mechanical) {
+  if (b.mechanical && g.connection_derived) {
     nlohmann::json blocks;
     blocks["locked"] = j["locked_inertia"];
     if (n > 0) {
@@ -154,6 +162,7 @@ void run(const DeriveOptions& opt) {
   const Derivation d = derive(apply_fold(model, params, opt.fold), DeriveSettings{opt.form});
   const HamelSystem& sys = d.system;
   const HamelEquations& eq = d.equations;
+  if (!at.empty()) values = eq.intermediates.evaluate(values);
   const auto u_name = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
   const auto q_name = [&](std::size_t a) { return sys.coordinates[a].get_name(); };
   const auto is_independent = [&](int a) {
@@ -211,6 +220,14 @@ void run(const DeriveOptions& opt) {
     j["kinematics"].push_back(k);
   }
   j["energy"] = entry(eq.energy_terms.at(0), values);
+  if (!eq.intermediates.empty()) {
+    j["intermediates"] = nlohmann::json::array();
+    for (const Intermediates::Definition& def : eq.intermediates.definitions()) {
+      nlohmann::json e = entry(def.value, values);
+      e["name"] = def.symbol.get_name();
+      j["intermediates"].push_back(e);
+    }
+  }
   j["conservative"] = eq.conservative;
 
   if (opt.json) {
@@ -234,12 +251,16 @@ void run(const DeriveOptions& opt) {
       std::cout << "  c^" << e["alpha"].get<std::string>() << "_(" << e["beta"].get<std::string>() << ","
                 << e["lambda"].get<std::string>() << ") = " << show(e) << "\n";
     std::cout << "\nconnection A^alpha_I, eq. (" << (model.bundle->mechanical ? "mechConn" : "KinConnect") << "):\n";
+    if (j.contains("connection_note")) std::cout << "  " << j["connection_note"].get<std::string>() << "\n";
     for (const auto& e : j["connection"])
       if (e["expr"] != "0")
         std::cout << "  A^" << e["alpha"].get<std::string>() << "_" << e["I"].get<std::string>() << " = " << show(e)
                   << "\n";
     std::cout << "\ncurvature B^alpha_IJ, " << j["curvature_sign"].get<std::string>() << ", non-zero:\n";
-    if (j["curvature"].empty()) std::cout << "  none: the connection is flat\n";
+    if (j.contains("connection_note"))
+      std::cout << "  not derived for the recursive tree form (see the connection above)\n";
+    else if (j["curvature"].empty())
+      std::cout << "  none: the connection is flat\n";
     for (const auto& e : j["curvature"])
       std::cout << "  B^" << e["alpha"].get<std::string>() << "_(" << e["I"].get<std::string>() << ","
                 << e["J"].get<std::string>() << ") = " << show(e) << "\n";
@@ -265,6 +286,10 @@ void run(const DeriveOptions& opt) {
     std::cout << "  M[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
               << "\n";
   for (const auto& e : j["forcing"]) std::cout << "  f[" << e["row"].get<std::string>() << "] = " << show(e) << "\n";
+  if (j.contains("intermediates")) {
+    std::cout << "\nintermediate symbols, in evaluation order (" << j["intermediates"].size() << "):\n";
+    for (const auto& e : j["intermediates"]) std::cout << "  " << e["name"].get<std::string>() << " = " << show(e) << "\n";
+  }
   std::cout << "\nkinematics, eq. (qadot):\n";
   for (const auto& e : j["kinematics"]) std::cout << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
   std::cout << "\nenergy E = " << show(j["energy"]) << (eq.conservative ? "   (conserved)" : "") << "\n";
@@ -283,7 +308,8 @@ Run add_derive_command(CLI::App& app) {
       "Values name=value,... of coordinates, quasi-velocities, inputs and t: every entry then also carries its number");
   cmd->add_option("--form", opt->form,
                   "Bundle models: ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare, locked velocity), "
-                  "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection");
+                  "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection, ep for "
+                  "kinematic trees");
   cmd->add_option("--curvature-sign", opt->curvature_sign,
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
   cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();

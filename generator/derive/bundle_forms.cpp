@@ -34,6 +34,7 @@ BundleForm parse_form(const std::string& name) {
 }
 
 BundleForm default_form(const Bundle& bundle) {
+  if (bundle.tree) return BundleForm::euler_poincare;  // the recursive derivation (derive/kinematic_tree.hpp)
   return bundle.mechanical ? BundleForm::lagrange_poincare : BundleForm::ldap;
 }
 

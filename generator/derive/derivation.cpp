@@ -1,5 +1,6 @@
 #include "derive/derivation.hpp"
 
+#include "derive/kinematic_tree.hpp"
 #include "model/input_error.hpp"
 
 namespace hamel {
@@ -35,6 +36,23 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
 
 Derivation derive(const Model& model, const DeriveSettings& settings) {
   Derivation d;
+  if (model.bundle && model.bundle->tree) {
+    d.form = settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form);
+    if (*d.form == BundleForm::euler_poincare) {
+      TreeDerivation tree = derive_tree(model);
+      d.bundle = std::move(tree.geometry);
+      d.system = std::move(tree.system);
+      d.equations = std::move(tree.equations);
+      d.group_velocity.assign(model.bundle->group_velocity.begin(), model.bundle->group_velocity.end());
+      return d;
+    }
+    // The other forms differentiate T as a whole: the tree's kinetic energy as one expression.
+    Model expanded = model;
+    expanded.bundle->kinetic = tree_kinetic_energy(model);
+    expanded.lagrangian = expanded.bundle->kinetic - expanded.bundle->potential;
+    expanded.bundle->tree.reset();
+    return derive(expanded, settings);
+  }
   if (model.bundle) {
     d.bundle = derive_bundle_geometry(model);
     d.form = settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form);

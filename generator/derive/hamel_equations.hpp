@@ -3,6 +3,7 @@
 // the kinematics q̇ = B_I(q) u_I (qadot).
 #pragma once
 
+#include "algebra/intermediates.hpp"
 #include "derive/hamel_system.hpp"
 
 #include <vector>
@@ -18,6 +19,8 @@ struct HamelEquations {
   std::vector<GiNaC::ex> energy_terms;         ///< {E}: E = ∂ℒ/∂u^I u^I − ℒ (Jacobi integral)
   bool conservative = false;                   ///< no forces and no explicit time: E is an invariant
   std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0), if Pfaffian
+  Intermediates intermediates;  ///< definitions of the intermediate symbols the expressions above may use
+                                ///< (recursive derivations, derive/kinematic_tree.hpp); empty otherwise
 };
 
 /// Derives the equations of motion of `system` (with time symbol `t`); throws InputError if the mass matrix

@@ -54,7 +54,7 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
 // between the products M⁻¹_IJ f_J to double arithmetic (satellite_se3: 2.3e3 ulps, docs/accuracy.md).
 std::optional<std::vector<GiNaC::ex>> exact_accelerations(const HamelEquations& eq, const HamelSystem& sys) {
   const unsigned d = static_cast<unsigned>(eq.independent.size());
-  if (d == 0) return std::nullopt;
+  if (d == 0 || !eq.intermediates.empty()) return std::nullopt;
   for (unsigned i = 0; i < d; ++i)
     for (unsigned j = 0; j < d; ++j)
       if (!GiNaC::is_a<GiNaC::numeric>(eq.mass_matrix(i, j))) return std::nullopt;
@@ -92,7 +92,18 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   for (std::size_t k = 0; k < model.inputs.size(); ++k)
     leaves[model.inputs[k]] = g.input(Argument::input, static_cast<int>(k));
 
-  auto node_of = [&](const GiNaC::ex& e) { return g.from_expression(e, leaves); };
+  // Intermediate symbols become the nodes of their definitions, in order; differentiation (the Jacobian)
+  // may add definitions to this copy, so they are synchronized before each conversion.
+  Intermediates tape = eq.intermediates;
+  std::size_t synced = 0;
+  auto node_of = [&](const GiNaC::ex& e) {
+    for (; synced < tape.size(); ++synced) {
+      const Intermediates::Definition& def = tape.definitions()[synced];
+      leaves[def.symbol] = g.from_expression(def.value, leaves);
+    }
+    return g.from_expression(e, leaves);
+  };
+  const auto diff = [&](const GiNaC::ex& e, const GiNaC::ex& x) { return tape.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); };
   const auto name_of = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
 
   Kernel kinematics{"kinematics", "q_dot = B_I(q) u_I, eq. (qadot)", {}, {}};
@@ -153,17 +164,16 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     for (std::size_t k = 0; k < nx; ++k) {
       const GiNaC::ex& x_k = state_symbols[k];
       for (int a = 0; a < n; ++a)
-        column[k].push_back(node_of(eq.kinematics[static_cast<std::size_t>(a)].diff(GiNaC::ex_to<GiNaC::symbol>(x_k))));
+        column[k].push_back(node_of(diff(eq.kinematics[static_cast<std::size_t>(a)], x_k)));
       if (exact_accel) {
-        for (const GiNaC::ex& a : *exact_accel) column[k].push_back(node_of(a.diff(GiNaC::ex_to<GiNaC::symbol>(x_k))));
+        for (const GiNaC::ex& a : *exact_accel) column[k].push_back(node_of(diff(a, x_k)));
         continue;
       }
       std::vector<int> b(d);
       for (std::size_t i = 0; i < d; ++i) {
-        int r = node_of(eq.forcing[i].diff(GiNaC::ex_to<GiNaC::symbol>(x_k)));
+        int r = node_of(diff(eq.forcing[i], x_k));
         for (std::size_t j = 0; j < d; ++j) {
-          const GiNaC::ex dM =
-              eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)).diff(GiNaC::ex_to<GiNaC::symbol>(x_k));
+          const GiNaC::ex dM = diff(eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)), x_k);
           if (!dM.is_zero()) r = g.binary(Op::sub, r, g.binary(Op::mul, node_of(dM), accel[j]));
         }
         b[i] = r;
@@ -202,11 +212,28 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       xi.output_names.push_back(b.group_velocity[a].get_name());
     }
     set.kernels.push_back(xi);
+    // Kinematic trees: A = L⁻¹K solved in the kernel (unrolled LDLᵀ of the locked inertia), not symbolically.
+    std::vector<std::vector<int>> solved_connection(m, std::vector<int>(static_cast<std::size_t>(n)));
+    if (!geo.connection_derived && n > 0 && (want("connection") || want("shape_inertia"))) {
+      std::vector<std::vector<int>> L(m, std::vector<int>(m));
+      for (std::size_t a = 0; a < m; ++a)
+        for (std::size_t c = 0; c < m; ++c) L[a][c] = node_of(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(c)));
+      for (int I = 0; I < n; ++I) {
+        std::vector<int> k(m);
+        for (std::size_t a = 0; a < m; ++a) k[a] = node_of(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I)));
+        const std::vector<int> column = ldlt_solve(g, L, k);
+        for (std::size_t a = 0; a < m; ++a) solved_connection[a][static_cast<std::size_t>(I)] = column[a];
+      }
+    }
+    const auto connection_node = [&](std::size_t a, int I) {
+      return geo.connection_derived ? node_of(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I)))
+                                    : solved_connection[a][static_cast<std::size_t>(I)];
+    };
     if (n > 0) {
       Kernel conn{"connection", "A^alpha_I(r), row-major, eq. (KinConnect)/(mechConn)", {}, {}};
       for (std::size_t a = 0; a < m; ++a)
         for (int I = 0; I < n; ++I) {
-          conn.outputs.push_back(node_of(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I))));
+          conn.outputs.push_back(connection_node(a, I));
           conn.output_names.push_back("A[" + b.group_velocity[a].get_name() + "][" +
                                       sys.coordinates[static_cast<std::size_t>(I)].get_name() + "]");
         }
@@ -227,7 +254,16 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       Kernel shape{"shape_inertia", "S - A^T L A, the shape block of M^Omega, row-major, eq. (MOmega)", {}, {}};
       for (int I = 0; I < n; ++I)
         for (int J = 0; J < n; ++J) {
-          shape.outputs.push_back(node_of(geo.shape_inertia(static_cast<unsigned>(I), static_cast<unsigned>(J))));
+          if (geo.connection_derived) {
+            shape.outputs.push_back(node_of(geo.shape_inertia(static_cast<unsigned>(I), static_cast<unsigned>(J))));
+          } else {  // S − KᵀA with A = L⁻¹K (= S − AᵀLA)
+            int v = node_of(geo.S(static_cast<unsigned>(I), static_cast<unsigned>(J)));
+            for (std::size_t a = 0; a < m; ++a)
+              v = g.binary(Op::sub, v,
+                           g.binary(Op::mul, node_of(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I))),
+                                    solved_connection[a][static_cast<std::size_t>(J)]));
+            shape.outputs.push_back(v);
+          }
           shape.output_names.push_back("M_shape[" + sys.coordinates[static_cast<std::size_t>(I)].get_name() + "][" +
                                        sys.coordinates[static_cast<std::size_t>(J)].get_name() + "]");
         }

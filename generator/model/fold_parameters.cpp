@@ -30,6 +30,24 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
     out.bundle->kinetic = sub(out.bundle->kinetic);
     out.bundle->potential = sub(out.bundle->potential);
     sub_matrix(out.bundle->kinematic_connection);
+    if (out.bundle->tree) {
+      const auto sub_body = [&](RigidBody& b) {
+        b.mass = sub(b.mass);
+        for (int i = 0; i < 3; ++i) {
+          b.com[i] = sub(b.com[i]);
+          for (int j = 0; j < 3; ++j) b.inertia[i][j] = sub(b.inertia[i][j]);
+        }
+      };
+      sub_body(out.bundle->tree->base);
+      for (TreeBody& tb : out.bundle->tree->bodies) {
+        sub_body(tb.body);
+        for (int i = 0; i < 3; ++i) {
+          tb.axis[i] = sub(tb.axis[i]);
+          tb.offset[i] = sub(tb.offset[i]);
+          for (int j = 0; j < 3; ++j) tb.rotation[i][j] = sub(tb.rotation[i][j]);
+        }
+      }
+    }
   }
   return out;
 }

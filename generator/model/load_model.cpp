@@ -30,6 +30,12 @@ std::string content_hash(const std::string& bytes) {
   return buf;
 }
 
+std::vector<std::string> tree_body_names(const KinematicTree& tree) {
+  std::vector<std::string> names{tree.base.name};
+  for (const TreeBody& b : tree.bodies) names.push_back(b.body.name);
+  return names;
+}
+
 std::vector<int> Model::independent() const {
   std::vector<int> idx;
   for (int a = 0; a < static_cast<int>(quasi_velocities.size()); ++a)
@@ -218,6 +224,9 @@ class Loader {
 
   void load_core(Model& model);
   void load_bundle(Model& model);
+  KinematicTree load_tree(const YAML::Node& tree, const Model& model, const GiNaC::symtab& geometric);
+  RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
+                       const std::vector<std::string>& keys);
   GiNaC::ex body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
                                 const GiNaC::symtab& velocities, std::string& name);
   std::vector<GiNaC::ex> vector_of(const YAML::Node& node, const std::string& key, std::size_t size,
@@ -247,7 +256,7 @@ Model Loader::load() {
   if (bundle_)
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "potential", "forces", "inputs"});
+                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
@@ -399,17 +408,47 @@ void Loader::load_bundle(Model& model) {
          "expected " + std::to_string(dim) + " names for " + b.group + " (basis order: angular before linear), got " +
              std::to_string(b.group_velocity.size()));
 
-  if (YAML::Node shape = root_["shape"]) {
-    model.coordinates = name_list(shape, "shape");
-    for (const auto& r : model.coordinates) {
-      const std::string rate = r.get_name() + "_dot";
-      auto [it, inserted] = declared_.emplace(rate, "shape");
-      if (!inserted)
-        fail(shape, "shape",
-             "the rate '" + rate + "' of shape coordinate '" + r.get_name() + "' clashes with the name declared in '" +
-                 it->second + "'");
-      model.rates.emplace_back(rate);
+  const YAML::Node tree = root_["tree"];
+  if (tree) {
+    for (const char* other : {"shape", "kinetic", "bodies"})
+      if (YAML::Node o = root_[other])
+        fail(o, other,
+             "does not belong in a tree model: the shape coordinates are the joints of 'tree' and the kinetic "
+             "energy follows from its bodies");
+    if (b.right)
+      fail(root_["trivialization"], "trivialization",
+           "a kinematic tree needs 'left' (the base frame's body twist); 'right' is not supported for trees");
+    if (b.group != "SE3" && b.group != "SO3" && b.group != "SE2" && b.group != "R1" && b.group != "R2" &&
+        b.group != "R3")
+      fail(group, "group",
+           "a kinematic tree's floating base must be SE3, SO3, SE2, R1, R2 or R3 (the group frame carries the "
+           "base body), got '" + b.group + "'");
+    model.locations["kinetic"] = where(tree);
+    if (!tree.IsMap()) fail(tree, "tree", "expected a map with keys base and bodies");
+    check_keys(tree, "tree", {"base", "bodies"});
+    YAML::Node list = tree["bodies"];
+    if (!list) fail(tree, "tree.bodies", "missing; expected a list of bodies, each with a joint");
+    if (!list.IsSequence() || list.size() == 0) fail(list, "tree.bodies", "expected a non-empty list of bodies");
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string key = "tree.bodies[" + std::to_string(i) + "].joint";
+      YAML::Node joint = list[i]["joint"];
+      if (!list[i].IsMap() || !joint)
+        fail(list[i], key, "missing; every body of a tree needs a joint (name, type, axis, offset)");
+      if (!joint.IsMap() || !joint["name"]) fail(joint, key + ".name", "missing; expected the joint coordinate's name");
+      model.coordinates.emplace_back(scalar(joint["name"], key + ".name"));
+      declare_name(joint["name"], key + ".name", model.coordinates.back().get_name());
     }
+  } else if (YAML::Node shape = root_["shape"]) {
+    model.coordinates = name_list(shape, "shape");
+  }
+  for (const auto& r : model.coordinates) {
+    const std::string rate = r.get_name() + "_dot";
+    auto [it, inserted] = declared_.emplace(rate, "shape");
+    if (!inserted)
+      fail(tree ? tree : root_["shape"], tree ? "tree" : "shape",
+           "the rate '" + rate + "' of shape coordinate '" + r.get_name() + "' clashes with the name declared in '" +
+               it->second + "'");
+    model.rates.emplace_back(rate);
   }
   const std::size_t n = model.coordinates.size();
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
@@ -450,11 +489,17 @@ void Loader::load_bundle(Model& model) {
 
   YAML::Node kinetic = root_["kinetic"];
   YAML::Node bodies = root_["bodies"];
-  if (static_cast<bool>(kinetic) == static_cast<bool>(bodies))
+  if (tree) {
+    b.tree = load_tree(tree, model, geometric);
+    b.kinetic = 0;
+  } else if (static_cast<bool>(kinetic) == static_cast<bool>(bodies))
     throw InputError(where(kinetic ? kinetic : root_), kinetic ? "kinetic" : "bodies",
                      kinetic ? "give the kinetic energy either as 'kinetic' or as 'bodies', not both"
-                             : "missing; expected 'kinetic' (an expression) or 'bodies' (a list of rigid bodies)");
-  if (kinetic) {
+                             : "missing; expected 'kinetic' (an expression), 'bodies' (a list of rigid bodies) "
+                               "or 'tree' (a kinematic tree)");
+  if (tree) {
+    // the tree's kinetic energy is derived from its bodies (derive/kinematic_tree.hpp)
+  } else if (kinetic) {
     model.locations["kinetic"] = where(kinetic);
     b.kinetic = expression(kinetic, "kinetic", velocities,
                            "the kinetic energy may use the group velocity, shape coordinates, their _dot rates and "
@@ -490,43 +535,123 @@ void Loader::load_bundle(Model& model) {
               "inputs and t");
 }
 
-GiNaC::ex Loader::body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
-                                      const GiNaC::symtab& velocities, std::string& name) {
-  if (!body.IsMap()) fail(body, key, "expected a map with keys name, mass, com, inertia and twist");
-  check_keys(body, key, {"name", "mass", "com", "inertia", "twist"});
-  for (const char* k : {"name", "mass", "com", "inertia", "twist"})
-    if (!body[k]) fail(body, key + "." + k, "missing required key of a body");
-  name = scalar(body["name"], key + ".name");
+RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
+                             const std::vector<std::string>& keys) {
+  if (!body.IsMap()) fail(body, key, "expected a map with keys " + join(keys));
+  check_keys(body, key, keys);
+  for (const std::string& k : keys)
+    if (!body[k] && k != "rotation") fail(body, key + "." + k, "missing required key of a body");
+  RigidBody out;
+  out.name = scalar(body["name"], key + ".name");
   const std::string inertial = "mass, com and inertia may use shape coordinates and parameters only";
-  const GiNaC::ex mass = expression(body["mass"], key + ".mass", geometric, inertial);
+  out.mass = expression(body["mass"], key + ".mass", geometric, inertial);
   const std::vector<GiNaC::ex> com = vector_of(body["com"], key + ".com", 3, geometric, inertial);
+  for (std::size_t i = 0; i < 3; ++i) out.com[i] = com[i];
   const YAML::Node in = body["inertia"];
   if (!in.IsSequence() || in.size() != 3) fail(in, key + ".inertia", "expected 3 rows of a 3x3 matrix");
-  GiNaC::ex theta[3][3];
   for (std::size_t i = 0; i < 3; ++i) {
     const std::vector<GiNaC::ex> row =
         vector_of(in[i], key + ".inertia[" + std::to_string(i) + "]", 3, geometric, inertial);
-    for (std::size_t j = 0; j < 3; ++j) theta[i][j] = row[j];
+    for (std::size_t j = 0; j < 3; ++j) out.inertia[i][j] = row[j];
   }
   for (std::size_t i = 0; i < 3; ++i)
     for (std::size_t j = i + 1; j < 3; ++j)
-      if (!(theta[i][j] - theta[j][i]).expand().is_zero())
+      if (!(out.inertia[i][j] - out.inertia[j][i]).expand().is_zero())
         fail(in, key + ".inertia",
              "expected a symmetric matrix; entries (" + std::to_string(i) + "," + std::to_string(j) + ") and (" +
                  std::to_string(j) + "," + std::to_string(i) + ") differ");
+  return out;
+}
+
+GiNaC::ex Loader::body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
+                                      const GiNaC::symtab& velocities, std::string& name) {
+  const RigidBody rb = rigid_body(body, key, geometric, {"name", "mass", "com", "inertia", "twist"});
+  name = rb.name;
   const std::vector<GiNaC::ex> twist =
       vector_of(body["twist"], key + ".twist", 6, velocities,
                 "the twist may use the group velocity, shape coordinates, their _dot rates and parameters");
   // T = ½ m |v + ω × c|² + ½ ωᵀ Θ ω, with (ω, v) = twist and c = com, all resolved in the body's frame.
   const GiNaC::ex w[3] = {twist[0], twist[1], twist[2]};
+  const GiNaC::ex* com = rb.com;
   const GiNaC::ex vc[3] = {twist[3] + w[1] * com[2] - w[2] * com[1], twist[4] + w[2] * com[0] - w[0] * com[2],
                            twist[5] + w[0] * com[1] - w[1] * com[0]};
   GiNaC::ex t = 0;
   for (int i = 0; i < 3; ++i) {
-    t += mass * vc[i] * vc[i] / 2;
-    for (int j = 0; j < 3; ++j) t += w[i] * theta[i][j] * w[j] / 2;
+    t += rb.mass * vc[i] * vc[i] / 2;
+    for (int j = 0; j < 3; ++j) t += w[i] * rb.inertia[i][j] * w[j] / 2;
   }
   return t;
+}
+
+KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model, const GiNaC::symtab& geometric) {
+  KinematicTree out;
+  // Inertial data and joint geometry are constant: parameters only (the joints move the bodies).
+  GiNaC::symtab constants;
+  for (const auto& p : model.parameters) constants[p.symbol.get_name()] = p.symbol;
+  (void)geometric;
+  YAML::Node base = tree["base"];
+  if (!base) fail(tree, "tree.base", "missing; expected the base body (name, mass, com, inertia)");
+  out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"});
+  std::vector<std::string> names{out.base.name};
+  const YAML::Node list = tree["bodies"];
+  const std::string geometry = "joint axes, offsets and rotations may use parameters only";
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "tree.bodies[" + std::to_string(i) + "]";
+    TreeBody tb;
+    tb.body = rigid_body(list[i], key, constants, {"name", "parent", "joint", "mass", "com", "inertia"});
+    if (std::find(names.begin(), names.end(), tb.body.name) != names.end())
+      fail(list[i]["name"], key + ".name", "the body '" + tb.body.name + "' is listed twice");
+    const std::string parent = scalar(list[i]["parent"], key + ".parent");
+    const auto it = std::find(names.begin(), names.end(), parent);
+    if (it == names.end())
+      fail(list[i]["parent"], key + ".parent",
+           quote(parent) + " is not an earlier body" + did_you_mean(parent, names) +
+               "; expected the base or a body listed before this one: " + join(names));
+    tb.parent = static_cast<int>(it - names.begin()) - 1;
+    names.push_back(tb.body.name);
+
+    const YAML::Node joint = list[i]["joint"];
+    const std::string jkey = key + ".joint";
+    check_keys(joint, jkey, {"name", "type", "axis", "offset", "rotation"});
+    for (const char* k : {"type", "axis", "offset"})
+      if (!joint[k]) fail(joint, jkey + "." + k, "missing required key of a joint");
+    const std::string type = scalar(joint["type"], jkey + ".type");
+    if (type != "revolute" && type != "prismatic")
+      fail(joint["type"], jkey + ".type", "expected 'revolute' or 'prismatic', got " + quote(type));
+    tb.prismatic = type == "prismatic";
+    tb.coordinate = model.coordinates[i];
+    const std::vector<GiNaC::ex> axis = vector_of(joint["axis"], jkey + ".axis", 3, constants, geometry);
+    const std::vector<GiNaC::ex> offset = vector_of(joint["offset"], jkey + ".offset", 3, constants, geometry);
+    for (std::size_t k = 0; k < 3; ++k) {
+      tb.axis[k] = axis[k];
+      tb.offset[k] = offset[k];
+    }
+    const GiNaC::ex norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).expand();
+    if (GiNaC::is_a<GiNaC::numeric>(norm) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(norm) - 1) > GiNaC::numeric(1, 1000000))
+      fail(joint["axis"], jkey + ".axis", "expected a unit vector (its squared length is " +
+                                               std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
+    for (std::size_t r = 0; r < 3; ++r)
+      for (std::size_t c = 0; c < 3; ++c) tb.rotation[r][c] = r == c ? 1 : 0;
+    if (YAML::Node rot = joint["rotation"]) {
+      if (!rot.IsSequence() || rot.size() != 3) fail(rot, jkey + ".rotation", "expected 3 rows of a 3x3 rotation");
+      for (std::size_t r = 0; r < 3; ++r) {
+        const std::vector<GiNaC::ex> row =
+            vector_of(rot[r], jkey + ".rotation[" + std::to_string(r) + "]", 3, constants, geometry);
+        for (std::size_t c = 0; c < 3; ++c) tb.rotation[r][c] = row[c];
+      }
+      // RᵀR = I where it can be decided (numbers): a scaled or sheared frame is a modelling error.
+      for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < 3; ++c) {
+          GiNaC::ex dot = 0;
+          for (std::size_t k = 0; k < 3; ++k) dot += tb.rotation[k][r] * tb.rotation[k][c];
+          const GiNaC::ex dev = (dot - (r == c ? 1 : 0)).expand();
+          if (GiNaC::is_a<GiNaC::numeric>(dev) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(dev)) > GiNaC::numeric(1, 1000000))
+            fail(rot, jkey + ".rotation", "expected a rotation matrix (orthonormal columns, R^T R = I)");
+        }
+    }
+    out.bodies.push_back(tb);
+  }
+  return out;
 }
 
 }  // namespace

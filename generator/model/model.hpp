@@ -19,6 +19,36 @@ struct Parameter {
   double default_value = 0.0;
 };
 
+/// A rigid body of a kinematic tree: inertial data in its own frame.
+struct RigidBody {
+  std::string name;
+  GiNaC::ex mass;
+  GiNaC::ex com[3];         ///< centre of mass in the body frame
+  GiNaC::ex inertia[3][3];  ///< about the centre of mass, body-frame axes
+};
+
+/// A body of a kinematic tree joined to its parent by a one-degree-of-freedom joint. Its pose relative to
+/// the parent is g = (rotation, offset) · exp(q S), S = (axis, 0) for a revolute and (0, axis) for a
+/// prismatic joint, axis resolved in the joint frame, which is the body frame at q = 0.
+struct TreeBody {
+  RigidBody body;
+  int parent = -1;  ///< index into KinematicTree::bodies, −1 for the base
+  bool prismatic = false;
+  GiNaC::ex axis[3];
+  GiNaC::ex offset[3];
+  GiNaC::ex rotation[3][3];  ///< identity unless given
+  GiNaC::realsymbol coordinate;  ///< the joint coordinate, a shape coordinate r^I (index = body index)
+};
+
+/// A floating base (the group frame, left-trivialized) carrying a tree of bodies (model key `tree`).
+struct KinematicTree {
+  RigidBody base;
+  std::vector<TreeBody> bodies;  ///< parents before children; body k moves with shape coordinate k
+};
+
+/// The base's name, then every body's, in file order.
+std::vector<std::string> tree_body_names(const KinematicTree& tree);
+
 /// The principal-bundle part of a model (paper Sec. 3–6): configuration (g, r) ∈ G × shape space, with the
 /// group velocity ξ (ξ̂ = g⁻¹ġ left, ġg⁻¹ right) and the shape coordinates r (Model::coordinates).
 struct Bundle {
@@ -30,6 +60,8 @@ struct Bundle {
   GiNaC::ex kinetic;                              ///< T(ξ, r, ṙ), from `kinetic:` or assembled from `bodies:`
   GiNaC::ex potential;                            ///< V(r)
   std::vector<std::string> bodies;                ///< body names when T came from `bodies:`
+  std::optional<KinematicTree> tree;              ///< set when the bodies form a tree (key `tree`); then
+                                                  ///< `kinetic` is empty: see derive/kinematic_tree.hpp
 };
 
 struct Model {

@@ -1,0 +1,59 @@
+// Intermediate symbols: a straight-line program of named subexpressions (s_k := e_k, each e_k in the
+// model's symbols and earlier s_j), the way a derivation avoids expression swell. A recursive derivation
+// (derive/kinematic_tree.cpp) names every body's rotation, twist, momentum and composite inertia here,
+// so each expression stays a few operations long and the whole program grows with the tree, not with
+// the expanded formula. Differentiation follows the chain rule through the definitions (forward mode,
+// memoized), so derivatives are programs of the same kind; the emitter turns the definitions into graph
+// nodes before anything that uses them (emit/kernels.cpp).
+#pragma once
+
+#include <ginac/ginac.h>
+
+#include <map>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace hamel {
+
+class Intermediates {
+ public:
+  struct Definition {
+    GiNaC::realsymbol symbol;
+    GiNaC::ex value;
+  };
+
+  /// `value` itself when it is a number or a symbol, otherwise a fresh symbol defined as `value`.
+  GiNaC::ex define(const GiNaC::ex& value);
+
+  const std::vector<Definition>& definitions() const { return definitions_; }
+  std::size_t size() const { return definitions_.size(); }
+  bool empty() const { return definitions_.empty(); }
+  bool is_intermediate(const GiNaC::ex& e) const { return position_.count(e) > 0; }
+
+  /// d e / d x by the chain rule through the definitions; derivatives of intermediates become new
+  /// definitions (memoized per intermediate and variable). Without intermediates this is e.diff(x).
+  GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::symbol& x);
+
+  /// `e` with every intermediate replaced by its definition, recursively: one expression in the model's
+  /// symbols. It can be exponentially larger than the program; for small systems and cross-checks.
+  GiNaC::ex inline_all(const GiNaC::ex& e) const;
+
+  /// Numeric values of all intermediates at `values` (symbol → number), evaluated in order with evalf at
+  /// the current GiNaC precision; the result extends `values`.
+  GiNaC::exmap evaluate(const GiNaC::exmap& values) const;
+
+ private:
+  std::vector<Definition> definitions_;
+  std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> position_;
+  struct KeyLess {  // std::pair's operator< would call GiNaC's ex < ex, which builds a relational
+    bool operator()(const std::pair<std::size_t, GiNaC::ex>& a, const std::pair<std::size_t, GiNaC::ex>& b) const {
+      if (a.first != b.first) return a.first < b.first;
+      return GiNaC::ex_is_less()(a.second, b.second);
+    }
+  };
+  std::map<std::pair<std::size_t, GiNaC::ex>, GiNaC::ex, KeyLess> derivative_memo_;
+  mutable std::vector<GiNaC::ex> inlined_;  // cache for inline_all, by position
+};
+
+}  // namespace hamel

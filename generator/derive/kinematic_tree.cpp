@@ -1,0 +1,327 @@
+#include "derive/kinematic_tree.hpp"
+
+#include "lie/lie_algebra.hpp"
+
+#include <array>
+#include <string>
+
+namespace hamel {
+
+using GiNaC::ex;
+
+namespace {
+
+using Vec3 = std::array<ex, 3>;
+using Vec6 = std::array<ex, 6>;
+using Mat3 = std::array<Vec3, 3>;
+using Mat6 = std::array<Vec6, 6>;
+
+Vec3 cross(const Vec3& a, const Vec3& b) {
+  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
+}
+Vec3 angular(const Vec6& v) { return {v[0], v[1], v[2]}; }
+Vec3 linear(const Vec6& v) { return {v[3], v[4], v[5]}; }
+Vec6 join(const Vec3& a, const Vec3& b) { return {a[0], a[1], a[2], b[0], b[1], b[2]}; }
+Vec6 zero6() { return {0, 0, 0, 0, 0, 0}; }
+Vec6 unit6(int k) {
+  Vec6 e = zero6();
+  e[static_cast<std::size_t>(k)] = 1;
+  return e;
+}
+Vec6 operator+(const Vec6& a, const Vec6& b) {
+  Vec6 c;
+  for (std::size_t k = 0; k < 6; ++k) c[k] = a[k] + b[k];
+  return c;
+}
+Vec6 operator*(const Vec6& a, const ex& s) {
+  Vec6 c;
+  for (std::size_t k = 0; k < 6; ++k) c[k] = a[k] * s;
+  return c;
+}
+ex dot(const Vec6& a, const Vec6& b) {
+  ex s = 0;
+  for (std::size_t k = 0; k < 6; ++k) s += a[k] * b[k];
+  return s;
+}
+Vec6 times(const Mat6& m, const Vec6& v) {
+  Vec6 out;
+  for (std::size_t r = 0; r < 6; ++r) {
+    ex s = 0;
+    for (std::size_t c = 0; c < 6; ++c) s += m[r][c] * v[c];
+    out[r] = s;
+  }
+  return out;
+}
+Mat3 skew(const Vec3& c) { return {{{0, -c[2], c[1]}, {c[2], 0, -c[0]}, {-c[1], c[0], 0}}}; }
+
+// ad_V W for twists V = (ω, v), W = (a, b): the velocity-product term of a body's acceleration.
+Vec6 ad(const Vec6& V, const Vec6& W) {
+  const Vec3 w = angular(V), v = linear(V), a = angular(W), b = linear(W);
+  const Vec3 top = cross(w, a), l = cross(w, b), r = cross(v, a);
+  return join(top, {l[0] + r[0], l[1] + r[1], l[2] + r[2]});
+}
+
+// −ad*_V h for a twist V = (ω, v) and a momentum h = (l, p): (ω×l + v×p, ω×p), the gyroscopic wrench
+// of the Euler–Poincaré equation on SE(3), left-trivialized.
+Vec6 coadjoint_term(const Vec6& V, const Vec6& h) {
+  const Vec3 w = angular(V), v = linear(V), l = angular(h), p = linear(h);
+  const Vec3 a = cross(w, l), b = cross(v, p);
+  return join({a[0] + b[0], a[1] + b[1], a[2] + b[2]}, cross(w, p));
+}
+
+// 𝕀 = [[Θ − m[c]×², m[c]×], [−m[c]×, m 1]]: the spatial inertia about the body frame's origin, with
+// momentum 𝕀 V = (Θ ω + c × p, p), p = m (v + ω × c).
+Mat6 spatial_inertia(const RigidBody& b) {
+  const Vec3 c{b.com[0], b.com[1], b.com[2]};
+  const Mat3 C = skew(c);
+  Mat6 I;
+  for (std::size_t r = 0; r < 3; ++r)
+    for (std::size_t k = 0; k < 3; ++k) {
+      ex cc = 0;
+      for (std::size_t j = 0; j < 3; ++j) cc += C[r][j] * C[j][k];
+      I[r][k] = (b.inertia[r][k] - b.mass * cc).expand();
+      I[r][k + 3] = (b.mass * C[r][k]).expand();
+      I[r + 3][k] = (-b.mass * C[r][k]).expand();
+      I[r + 3][k + 3] = r == k ? b.mass : ex(0);
+    }
+  return I;
+}
+
+// The columns of the map ξ ↦ base twist (ω, v): which se(3) directions the group moves.
+std::vector<Vec6> base_directions(const std::string& group) {
+  std::vector<Vec6> s;
+  if (group == "SE3")
+    for (int k = 0; k < 6; ++k) s.push_back(unit6(k));
+  else if (group == "SO3")
+    for (int k = 0; k < 3; ++k) s.push_back(unit6(k));
+  else if (group == "SE2")
+    for (int k : {2, 3, 4}) s.push_back(unit6(k));
+  else  // R1..R3, checked by the loader
+    for (int k = 0; k < group[1] - '0'; ++k) s.push_back(unit6(3 + k));
+  return s;
+}
+
+// The pose of a body relative to its parent, g = (R, p), and the two maps it induces: twists from the
+// parent's frame to the body's (Ad_{g⁻¹}) and wrenches back (its transpose).
+struct Link {
+  Mat3 R;
+  Vec3 p;
+  Vec6 to_child(const Vec6& V) const {
+    const Vec3 w = angular(V), v = linear(V), wp = cross(w, p);
+    Vec3 a, b;
+    for (std::size_t r = 0; r < 3; ++r) {
+      a[r] = R[0][r] * w[0] + R[1][r] * w[1] + R[2][r] * w[2];
+      b[r] = R[0][r] * (v[0] + wp[0]) + R[1][r] * (v[1] + wp[1]) + R[2][r] * (v[2] + wp[2]);
+    }
+    return join(a, b);
+  }
+  Vec6 to_parent(const Vec6& F) const {
+    const Vec3 t = angular(F), f = linear(F);
+    Vec3 Rt, Rf;
+    for (std::size_t r = 0; r < 3; ++r) {
+      Rt[r] = R[r][0] * t[0] + R[r][1] * t[1] + R[r][2] * t[2];
+      Rf[r] = R[r][0] * f[0] + R[r][1] * f[1] + R[r][2] * f[2];
+    }
+    const Vec3 m = cross(p, Rf);
+    return join({Rt[0] + m[0], Rt[1] + m[1], Rt[2] + m[2]}, Rf);
+  }
+};
+
+class TreeProgram {
+ public:
+  explicit TreeProgram(Intermediates& tape) : tape_(tape) {}
+  ex name(const ex& e) { return tape_.define(e); }
+  Vec3 name(const Vec3& v) { return {name(v[0]), name(v[1]), name(v[2])}; }
+  Vec6 name(const Vec6& v) {
+    Vec6 out;
+    for (std::size_t k = 0; k < 6; ++k) out[k] = name(v[k]);
+    return out;
+  }
+  // A symmetric 6×6, each distinct entry named once.
+  Mat6 name_symmetric(const Mat6& m) {
+    Mat6 out;
+    for (std::size_t r = 0; r < 6; ++r)
+      for (std::size_t c = r; c < 6; ++c) out[r][c] = out[c][r] = name(m[r][c]);
+    return out;
+  }
+
+  // The joint's pose: (rotation, offset) · exp(q S).
+  Link link(const TreeBody& body) {
+    Link l;
+    const ex q = body.coordinate;
+    Mat3 J;  // the joint's own rotation
+    if (body.prismatic) {
+      for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < 3; ++c) J[r][c] = r == c ? 1 : 0;
+    } else {
+      // Rodrigues: 1 + sin q [a]× + (1 − cos q) [a]×², a unit.
+      const ex s = name(GiNaC::sin(q)), co = name(GiNaC::cos(q));
+      const Mat3 K = skew({body.axis[0], body.axis[1], body.axis[2]});
+      for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t c = 0; c < 3; ++c) {
+          ex k2 = 0;
+          for (std::size_t j = 0; j < 3; ++j) k2 += K[r][j] * K[j][c];
+          J[r][c] = ((r == c ? 1 : 0) + s * K[r][c] + (1 - co) * k2.expand()).expand();
+        }
+    }
+    for (std::size_t r = 0; r < 3; ++r) {
+      for (std::size_t c = 0; c < 3; ++c) {
+        ex e = 0;
+        for (std::size_t j = 0; j < 3; ++j) e += body.rotation[r][j] * J[j][c];
+        l.R[r][c] = name(e.expand());
+      }
+      ex shift = 0;
+      if (body.prismatic)
+        for (std::size_t j = 0; j < 3; ++j) shift += body.rotation[r][j] * body.axis[j] * q;
+      l.p[r] = name((body.offset[r] + shift).expand());
+    }
+    return l;
+  }
+
+ private:
+  Intermediates& tape_;
+};
+
+}  // namespace
+
+TreeDerivation derive_tree(const Model& model) {
+  const Bundle& b = *model.bundle;
+  const KinematicTree& tree = *b.tree;
+  TreeDerivation out;
+  HamelEquations& eq = out.equations;
+  TreeProgram prog(eq.intermediates);
+
+  BundleGeometry& geo = out.geometry;
+  geo.algebra = lie_algebra(b.group);
+  geo.structure_constants = structure_constants(geo.algebra);
+  geo.trivialization_sign = 1;
+  geo.quadratic = true;
+  geo.connection_derived = false;
+
+  const std::size_t m = geo.algebra.dim();
+  const std::size_t n = tree.bodies.size();
+  const std::size_t N = n + 1;  // body 0 is the base, body k + 1 moves with r^k
+  const std::vector<Vec6> base = base_directions(b.group);
+
+  std::vector<int> parent(N, -1);
+  std::vector<Link> link(N);
+  std::vector<Vec6> axis(N), V(N), a(N), h(N), F(N);
+  std::vector<Mat6> inertia(N);
+  inertia[0] = spatial_inertia(tree.base);
+  for (std::size_t i = 1; i < N; ++i) {
+    const TreeBody& body = tree.bodies[i - 1];
+    parent[i] = body.parent + 1;
+    link[i] = prog.link(body);
+    axis[i] = body.prismatic ? join({0, 0, 0}, {body.axis[0], body.axis[1], body.axis[2]})
+                             : join({body.axis[0], body.axis[1], body.axis[2]}, {0, 0, 0});
+    inertia[i] = spatial_inertia(body.body);
+  }
+
+  // Twists V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i, accelerations at u̇ = 0 (the velocity-product terms
+  // ad_{V_i} S_i ṙ_i carried outward), momenta h_i = 𝕀_i V_i and each body's Euler–Poincaré wrench.
+  V[0] = zero6();
+  for (std::size_t alpha = 0; alpha < m; ++alpha) V[0] = V[0] + base[alpha] * b.group_velocity[alpha];
+  a[0] = zero6();
+  ex kinetic = 0;
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i > 0) {
+      const std::size_t p = static_cast<std::size_t>(parent[i]);
+      const Vec6 joint = axis[i] * model.rates[i - 1];
+      V[i] = prog.name(link[i].to_child(V[p]) + joint);
+      a[i] = prog.name(link[i].to_child(a[p]) + ad(V[i], joint));
+    }
+    h[i] = prog.name(times(inertia[i], V[i]));
+    kinetic += dot(V[i], h[i]) / 2;
+    F[i] = times(inertia[i], a[i]) + coadjoint_term(V[i], h[i]);
+  }
+  // Wrenches from the leaves to the base (children come after their parents).
+  for (std::size_t i = N; i-- > 1;) {
+    F[i] = prog.name(F[i]);
+    const std::size_t p = static_cast<std::size_t>(parent[i]);
+    F[p] = F[p] + link[i].to_parent(F[i]);
+  }
+  F[0] = prog.name(F[0]);
+
+  // Composite inertias 𝕀ᶜ_i = 𝕀_i + Σ_children Xᵀ 𝕀ᶜ_c X, column by column through the twist and
+  // wrench maps, and the mass matrix from them (composite-rigid-body projection).
+  std::vector<Mat6> composite = inertia;
+  for (std::size_t i = N; i-- > 0;) {
+    composite[i] = prog.name_symmetric(composite[i]);
+    if (i == 0) break;
+    const std::size_t p = static_cast<std::size_t>(parent[i]);
+    for (int c = 0; c < 6; ++c) {
+      const Vec6 col = link[i].to_parent(times(composite[i], link[i].to_child(unit6(c))));
+      for (std::size_t r = 0; r < 6; ++r) composite[p][r][static_cast<std::size_t>(c)] += col[r];
+    }
+  }
+  const std::size_t d = m + n;
+  eq.mass_matrix = GiNaC::matrix(static_cast<unsigned>(d), static_cast<unsigned>(d));
+  auto set = [&](std::size_t r, std::size_t c, const ex& v) {
+    eq.mass_matrix(static_cast<unsigned>(r), static_cast<unsigned>(c)) = v;
+    eq.mass_matrix(static_cast<unsigned>(c), static_cast<unsigned>(r)) = v;
+  };
+  for (std::size_t alpha = 0; alpha < m; ++alpha)
+    for (std::size_t beta = alpha; beta < m; ++beta) set(alpha, beta, dot(base[alpha], times(composite[0], base[beta])));
+  for (std::size_t i = 1; i < N; ++i) {
+    Vec6 f = prog.name(times(composite[i], axis[i]));
+    set(m + i - 1, m + i - 1, dot(axis[i], f));
+    std::size_t j = i;
+    while (parent[j] != 0) {
+      f = prog.name(link[j].to_parent(f));
+      j = static_cast<std::size_t>(parent[j]);
+      set(m + j - 1, m + i - 1, dot(axis[j], f));
+    }
+    f = prog.name(link[j].to_parent(f));
+    for (std::size_t alpha = 0; alpha < m; ++alpha) set(alpha, m + i - 1, dot(base[alpha], f));
+  }
+
+  // f = Q − (velocity-product part of the projected wrenches); Q_I = forces_I − ∂V/∂r^I, none on the base.
+  eq.forcing.assign(d, 0);
+  for (std::size_t alpha = 0; alpha < m; ++alpha) eq.forcing[alpha] = -dot(base[alpha], F[0]);
+  for (std::size_t i = 1; i < N; ++i)
+    eq.forcing[m + i - 1] =
+        model.forces[i - 1] - b.potential.diff(model.coordinates[i - 1]) - dot(axis[i], F[i]);
+
+  for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));
+  for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
+  const ex T = prog.name(kinetic);
+  eq.reduced_lagrangian = T - b.potential;
+  eq.energy_terms = {T + b.potential};
+  bool forced = false;
+  for (const ex& q : model.forces) forced = forced || !q.is_zero();
+  eq.conservative = !forced;
+
+  const unsigned um = static_cast<unsigned>(m), un = static_cast<unsigned>(n);
+  geo.L = GiNaC::matrix(um, um);
+  geo.K = GiNaC::matrix(um, un);
+  geo.S = GiNaC::matrix(un, un);
+  for (unsigned r = 0; r < um + un; ++r)
+    for (unsigned c = 0; c < um + un; ++c) {
+      const ex& v = eq.mass_matrix(r, c);
+      if (r < um && c < um) geo.L(r, c) = v;
+      else if (r < um) geo.K(r, c - um) = v;
+      else if (c >= um) geo.S(r - um, c - um) = v;
+    }
+
+  HamelSystem& sys = out.system;
+  sys.form = "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
+  sys.coordinates = model.coordinates;
+  sys.velocities = b.group_velocity;
+  sys.velocities.insert(sys.velocities.end(), model.rates.begin(), model.rates.end());
+  sys.B = GiNaC::matrix(un, um + un);
+  for (unsigned I = 0; I < un; ++I) sys.B(I, um + I) = 1;
+  sys.lagrangian = eq.reduced_lagrangian;
+  sys.forces = model.forces;
+  for (const StructureConstant& s : geo.structure_constants) sys.gamma.push_back({s.upper, s.lower_a, s.lower_b, s.value});
+  sys.where =
+      model.locations.count("kinetic") ? model.locations.at("kinetic") : SourceLocation{model.source_path, 0, 0};
+  return out;
+}
+
+GiNaC::ex tree_kinetic_energy(const Model& model) {
+  const TreeDerivation d = derive_tree(model);
+  // energy_terms = {T + V} with T one intermediate: inlining it gives the expression.
+  return d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - model.bundle->potential).expand();
+}
+
+}  // namespace hamel

@@ -1,0 +1,38 @@
+// Kinematic trees with a floating base (model key `tree`, docs/model-format.md): the base body rides on
+// the group frame (left trivialization, body twist ξ), every other body hangs on its parent by a
+// revolute or prismatic joint whose coordinate is a shape coordinate r^I.
+//
+// The equations are the paper's Euler–Poincaré + Euler–Lagrange form (HEorig1, HEorig2) in u = (ξ, ṙ),
+// derived as Hamel's equations of the bodies: every body i has its own body twist V_i as quasi-velocity
+// with the Euler–Poincaré equation d/dt(𝕀_i V_i) − ad*_{V_i} 𝕀_i V_i = W_i (BHEqu2 with γ = c of se(3)),
+// and the joints are the Pfaffian constraints V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i that leave u independent
+// (BHconstr). Projected onto u they read M(r) u̇ = f(r, u): M by composite inertias, f by the recursion of
+// twists, velocity-product accelerations and wrenches from the leaves to the base. Every quantity is
+// an intermediate symbol (algebra/intermediates.hpp), so the program has O(n) definitions for f and
+// O(n·depth) for M instead of the expanded formula's exponential size.
+#pragma once
+
+#include "algebra/intermediates.hpp"
+#include "derive/bundle_connection.hpp"
+#include "derive/hamel_equations.hpp"
+#include "derive/hamel_system.hpp"
+#include "model/model.hpp"
+
+namespace hamel {
+
+struct TreeDerivation {
+  BundleGeometry geometry;  ///< algebra, structure constants, L, K, S (blocks of M); the connection is
+                            ///< not formed symbolically (connection_derived = false)
+  HamelSystem system;       ///< the Euler–Poincaré form's system: u = (ξ, ṙ), γ = c
+  HamelEquations equations;  ///< M, f, kinematics, energy; their intermediates in equations.intermediates
+};
+
+/// The recursive derivation of a tree model (model.bundle->tree set).
+TreeDerivation derive_tree(const Model& model);
+
+/// T(ξ, r, ṙ) = Σ ½ V_iᵀ 𝕀_i V_i of a tree model as one expanded-free expression in the model's symbols
+/// (intermediates inlined). Exponential in the depth of the tree: for small trees and cross-checks, and
+/// for the forms other than ep, which differentiate T as a whole.
+GiNaC::ex tree_kinetic_energy(const Model& model);
+
+}  // namespace hamel

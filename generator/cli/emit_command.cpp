@@ -6,16 +6,40 @@
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
 
+#include <algorithm>
 #include <iostream>
+#include <set>
 
 namespace hamel::cli {
 
 namespace {
 
 struct EmitOptions {
-  std::string model, output, form, fold;
+  std::string model, output, form, fold, kernels;
   std::vector<std::string> params;
 };
+
+constexpr const char* kernel_names[] = {"kinematics",     "mass_matrix",   "forcing",        "hamel_coefficients",
+                                        "rhs",            "jacobian",      "energy",         "constraint_residual",
+                                        "group_velocity", "connection",    "locked_inertia", "shape_inertia"};
+
+// --kernels a,b,c: the kernels to build, each a known name.
+std::set<std::string> parse_kernels(const std::string& list) {
+  std::set<std::string> out;
+  std::string known;
+  for (const char* k : kernel_names) known += (known.empty() ? "" : ", ") + std::string(k);
+  std::size_t start = 0;
+  while (start <= list.size()) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, comma - start);
+    bool ok = false;
+    for (const char* k : kernel_names) ok = ok || name == k;
+    if (!ok) throw InputError("--kernels: unknown kernel '" + name + "'; expected a comma-separated list of: " + known);
+    out.insert(name);
+    start = comma + 1;
+  }
+  return out;
+}
 
 std::size_t total_operations(const KernelSet& kernels) {
   std::vector<int> all;
@@ -25,10 +49,17 @@ std::size_t total_operations(const KernelSet& kernels) {
 
 void run(const EmitOptions& opt) {
   const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
+  std::set<std::string> selected = target.kernels;
+  if (!opt.kernels.empty()) {
+    if (target.scene)
+      throw InputError("--kernels: a scene chooses its kernels by its `compute` tasks; give the model instead of "
+                       "the scene, or drop --kernels");
+    selected = parse_kernels(opt.kernels);
+  }
   const Model& model = target.model;
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   const Derivation derivation = derive(model, target.settings);
-  const KernelSet kernels = build_kernels(model, derivation, target.kernels);
+  const KernelSet kernels = build_kernels(model, derivation, selected);
   EmittedPackage package = emit_cpp(model, derivation, kernels);
   if (target.scene) {
     // Pruning report: operations of the scene's kernels (shared subexpressions counted once) against all
@@ -70,6 +101,9 @@ Run add_emit_command(CLI::App& app) {
                   "Parameter value name=value for --fold (repeatable; defaults from the model)");
   cmd->add_option("--fold", opt->fold,
                   std::string(fold_help()) + " (default: none for models, the scene's `fixed` for scenes)");
+  cmd->add_option("--kernels", opt->kernels,
+                  "Only these kernels, comma-separated (e.g. rhs,mass_matrix; default: all the model has). The "
+                  "jacobian of a large kinematic tree is by far its biggest kernel");
   return [opt] { run(*opt); };
 }
 

@@ -233,6 +233,12 @@ void HighPrecisionExpressionEvaluator::assign(const std::map<ex, numeric, GiNaC:
   memo_[1].clear();
 }
 
+void HighPrecisionExpressionEvaluator::define(const Intermediates& intermediates) {
+  for (const Intermediates::Definition& d : intermediates.definitions()) definitions_[d.symbol] = d.value;
+  memo_[0].clear();
+  memo_[1].clear();
+}
+
 GiNaC::numeric HighPrecisionExpressionEvaluator::value(const ex& e) {
   const DigitsGuard digits(digits_);
   return eval(e, false);
@@ -254,9 +260,13 @@ numeric HighPrecisionExpressionEvaluator::eval(const ex& e, bool absolute) {
   numeric v;
   if (is_a<GiNaC::symbol>(e)) {
     auto it = values_.find(e);
-    if (it == values_.end())
+    if (it != values_.end()) {
+      v = absolute ? GiNaC::abs(it->second) : it->second;
+    } else if (auto def = definitions_.find(e); def != definitions_.end()) {
+      v = eval(def->second, absolute);  // an intermediate: the size of its definition, like the graph's node
+    } else {
       throw std::logic_error("high precision: no value for symbol '" + ex_to<GiNaC::symbol>(e).get_name() + "'");
-    v = absolute ? GiNaC::abs(it->second) : it->second;
+    }
   } else if (is_a<GiNaC::constant>(e)) {
     v = ex_to<numeric>(e.evalf());
     if (absolute) v = GiNaC::abs(v);
@@ -336,6 +346,7 @@ struct ReferenceSet {
   std::vector<std::vector<ex>> kinematics_by_x;         // [k][a]
   std::vector<std::vector<ex>> forcing_by_x;            // [k][i]
   std::vector<std::vector<std::vector<ex>>> mass_by_x;  // [k][i][j]
+  Intermediates intermediates;  // the derivation's, extended by the derivatives above
 };
 
 ReferenceSet references(const Model& model, const Derivation& derivation) {
@@ -371,15 +382,16 @@ ReferenceSet references(const Model& model, const Derivation& derivation) {
     const std::size_t m = model.bundle->group_velocity.size();
     r.kernels["group_velocity"] = {Kind::direct, derivation.group_velocity};
     std::vector<ex> conn, locked;
-    for (unsigned a = 0; a < m; ++a)
+    for (unsigned a = 0; a < m && geo.connection_derived; ++a)
       for (unsigned I = 0; I < r.n; ++I) conn.push_back(geo.connection(a, I));
-    if (r.n > 0) r.kernels["connection"] = {Kind::direct, conn};
+    // Trees: A = L⁻¹K is solved in the kernel, not formed symbolically; not measured (reported as such).
+    if (r.n > 0 && geo.connection_derived) r.kernels["connection"] = {Kind::direct, conn};
     if (geo.quadratic) {
       for (unsigned a = 0; a < m; ++a)
         for (unsigned c = 0; c < m; ++c) locked.push_back(geo.L(a, c));
       r.kernels["locked_inertia"] = {Kind::direct, locked};
     }
-    if (model.bundle->mechanical && r.n > 0) {
+    if (model.bundle->mechanical && r.n > 0 && geo.connection_derived) {
       std::vector<ex> shape;
       for (unsigned I = 0; I < r.n; ++I)
         for (unsigned J = 0; J < r.n; ++J) shape.push_back(geo.shape_inertia(I, J));
@@ -394,12 +406,13 @@ ReferenceSet references(const Model& model, const Derivation& derivation) {
   r.kinematics_by_x.resize(r.nx);
   r.forcing_by_x.resize(r.nx);
   r.mass_by_x.resize(r.nx);
+  r.intermediates = eq.intermediates;
   for (std::size_t k = 0; k < r.nx; ++k) {
-    for (const ex& e : r.kinematics) r.kinematics_by_x[k].push_back(e.diff(state[k]));
-    for (const ex& e : r.forcing) r.forcing_by_x[k].push_back(e.diff(state[k]));
+    for (const ex& e : r.kinematics) r.kinematics_by_x[k].push_back(r.intermediates.diff(e, state[k]));
+    for (const ex& e : r.forcing) r.forcing_by_x[k].push_back(r.intermediates.diff(e, state[k]));
     r.mass_by_x[k].assign(r.d, std::vector<ex>(r.d));
     for (std::size_t i = 0; i < r.d; ++i)
-      for (std::size_t j = 0; j < r.d; ++j) r.mass_by_x[k][i][j] = r.mass[i][j].diff(state[k]);
+      for (std::size_t j = 0; j < r.d; ++j) r.mass_by_x[k][i][j] = r.intermediates.diff(r.mass[i][j], state[k]);
   }
   r.kernels["jacobian"] = {Kind::jacobian, {}};
   return r;
@@ -482,6 +495,7 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
   }
 
   HighPrecisionExpressionEvaluator exact(settings.digits);
+  exact.define(refs.intermediates);
   const DigitsGuard digits(settings.digits);
   const numeric step = GiNaC::pow(numeric(10), numeric(-(settings.digits / 2)));
   for (int point = 0; point < settings.points; ++point) {

@@ -21,6 +21,7 @@
 // terms larger than S still shows as more.
 #pragma once
 
+#include "algebra/intermediates.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/model.hpp"
@@ -86,6 +87,8 @@ class HighPrecisionExpressionEvaluator {
   explicit HighPrecisionExpressionEvaluator(int digits = 50) : digits_(digits) {}
   /// Sets symbol values (numbers converted to floats at the evaluator's precision); forgets cached values.
   void assign(const std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less>& values);
+  /// Intermediate symbols (algebra/intermediates.hpp) are evaluated through their definitions.
+  void define(const Intermediates& intermediates);
   GiNaC::numeric value(const GiNaC::ex& e);
   /// The expression evaluated with every sum taken over the absolute values of its terms (and products,
   /// positive powers and arguments of functions likewise; divisors and function values at their true
@@ -99,6 +102,7 @@ class HighPrecisionExpressionEvaluator {
   };
   int digits_;
   std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less> values_;
+  std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> definitions_;
   std::unordered_map<GiNaC::ex, GiNaC::numeric, Hash, GiNaC::ex_is_equal> memo_[2];
 };
 

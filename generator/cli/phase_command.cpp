@@ -99,7 +99,10 @@ void run(const PhaseOptions& opt) {
   req.samples_per_cycle = opt.samples;
   check_phase_request(model, req);  // before the derivation, which may take long
   std::cerr << "hamel: deriving " << model.name << " ...\n";
-  const Derivation d = derive(model, DeriveSettings{model.bundle->mechanical ? "momentum" : "ldap"});
+  // Trees: the recursive ep derivation, whose connection is solved numerically (phase.cpp); the momentum
+  // form would inline the tree's kinetic energy and invert L symbolically.
+  const Derivation d = derive(
+      model, DeriveSettings{model.bundle->tree ? "ep" : model.bundle->mechanical ? "momentum" : "ldap"});
   std::cerr << "hamel: reconstructing " << opt.cycles << " cycle(s) on " << model.bundle->group << " ...\n";
   const PhaseResult result = compute_phase(model, d, params, req);
 

@@ -320,4 +320,38 @@ void GraphEvaluator::evaluate(double t, const double* x, const double* p, const 
   for (std::size_t k = 0; k < outputs_.size(); ++k) out[k] = values_[static_cast<std::size_t>(outputs_[k])];
 }
 
+// Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
+// square roots): no loops or branches are left in the emitted kernel.
+std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f) {
+  const std::size_t n = f.size();
+  std::vector<std::vector<int>> L(n, std::vector<int>(n, g.constant(0)));
+  std::vector<int> d(n);
+  for (std::size_t j = 0; j < n; ++j) {
+    int dj = M[j][j];
+    for (std::size_t k = 0; k < j; ++k)
+      dj = g.binary(Op::sub, dj, g.binary(Op::mul, g.binary(Op::mul, L[j][k], L[j][k]), d[k]));
+    d[j] = dj;
+    for (std::size_t i = j + 1; i < n; ++i) {
+      int s = M[i][j];
+      for (std::size_t k = 0; k < j; ++k)
+        s = g.binary(Op::sub, s, g.binary(Op::mul, g.binary(Op::mul, L[i][k], L[j][k]), d[k]));
+      L[i][j] = g.binary(Op::div, s, dj);
+    }
+  }
+  std::vector<int> y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    int s = f[i];
+    for (std::size_t k = 0; k < i; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, L[i][k], y[k]));
+    y[i] = s;
+  }
+  std::vector<int> x(n);
+  for (std::size_t i = n; i-- > 0;) {
+    int s = g.binary(Op::div, y[i], d[i]);
+    for (std::size_t k = i + 1; k < n; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, L[k][i], x[k]));
+    x[i] = s;
+  }
+  return x;
+}
+
+
 }  // namespace hamel

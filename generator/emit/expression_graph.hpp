@@ -119,4 +119,8 @@ class GraphEvaluator {
   std::vector<double> values_;
 };
 
+/// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without
+/// pivoting or square roots): no loops or branches in the emitted kernel. M by rows of node indices.
+std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f);
+
 }  // namespace hamel

@@ -67,7 +67,9 @@ TEST(TreePhase, NumericConnectionMatchesSymbolicConnection) {
     }
     // A genuine phase; with zero momentum the rotation of SE(2) adds up cycle by cycle.
     EXPECT_GT(std::abs(*a.cycles[0].theta), 1e-3);
-    if (momentum == hamel::PhaseMomentum::zero) EXPECT_NEAR(*a.cycles[2].theta, 3 * *a.cycles[0].theta, 1e-9);
+    if (momentum == hamel::PhaseMomentum::zero) {
+      EXPECT_NEAR(*a.cycles[2].theta, 3 * *a.cycles[0].theta, 1e-9);
+    }
   }
 }
 

@@ -24,7 +24,6 @@ import json
 import os
 import re
 import shutil
-import signal
 import subprocess
 import sys
 import time
@@ -58,29 +57,35 @@ def log(msg):
 def run_measured(cmd, timeout=None, stdout_path=None, stderr_path=None):
     """Runs cmd (stdout and stderr to files); returns (status, wall seconds, peak RSS MB, stdout text).
 
-    status: ok | timeout | exit N. The peak RSS is the child's own ru_maxrss from wait4 (also after a kill).
+    status: ok | timeout | exit N. The peak RSS comes from /usr/bin/time (%M), which forks from a small
+    process: wait4 on a child forked from this Python would report Python's own RSS (the kernel keeps the
+    pre-exec high-water mark). A time limit is enforced by coreutils timeout under /usr/bin/time, so the
+    peak of a killed run is still reported.
     """
     tmp = stdout_path or os.path.join(WORK_TMP[0], "stdout.txt")
+    mem = os.path.join(WORK_TMP[0], "maxrss.txt")
+    full = ["/usr/bin/time", "-f", "%M", "-o", mem]
+    if timeout is not None:
+        full += ["timeout", "--foreground", "-s", "KILL", f"{timeout:g}"]
+    full += cmd
     with open(tmp, "w") as out, open(stderr_path or os.devnull, "w") as err:
         t0 = time.perf_counter()
-        p = subprocess.Popen(cmd, stdout=out, stderr=err, start_new_session=True)
-        status = None
-        while True:
-            pid, st, ru = os.wait4(p.pid, os.WNOHANG)
-            if pid:
-                wall = time.perf_counter() - t0
-                if status is None:
-                    code = os.waitstatus_to_exitcode(st)
-                    status = "ok" if code == 0 else f"exit {code}"
-                break
-            if status is None and timeout is not None and time.perf_counter() - t0 > timeout:
-                status = "timeout"
-                os.killpg(p.pid, signal.SIGKILL)
-            time.sleep(0.02)
-        p.returncode = 0  # reaped by wait4
+        code = subprocess.run(full, stdout=out, stderr=err).returncode
+        wall = time.perf_counter() - t0
+    if code == 0:
+        status = "ok"
+    elif timeout is not None and wall >= timeout and code in (124, 137, -9):
+        status = "timeout"
+    else:
+        status = f"exit {code}"
+    kb = None
+    with open(mem) as f:
+        for line in f:
+            if line.strip().isdigit():
+                kb = int(line)
     with open(tmp) as f:
         text = f.read()
-    return status, wall, ru.ru_maxrss / 1024.0, text
+    return status, wall, (kb / 1024.0 if kb is not None else None), text
 
 
 WORK_TMP = ["/tmp"]
@@ -226,7 +231,7 @@ def main():
                     [a.hamel, "emit", stem + ".yaml", "-o", pkg, "--fold", "all"], timeout=a.hamel_timeout,
                     stderr_path=stem + ".hamel.log")
                 row.update(hamel_status=status, hamel_emit_s=wall, hamel_peak_mb=mb)
-                log(f"{tag} hamel emit: {status}, {wall:.2f} s, {mb:.0f} MB")
+                log(f"{tag} hamel emit: {status}, {wall:.2f} s, {fmt(mb)} MB")
                 if status == "ok":
                     ops, tmps = parse_ops(pkg, name)
                     row.update(hamel_ops_rhs=ops.get("rhs"), hamel_ops_mass_matrix=ops.get("mass_matrix"),
@@ -299,7 +304,7 @@ def main():
                         if "derive" not in stages:
                             sympy_stopped[topo] = n
                     log(f"{tag} SymPy: {row['sympy_status']}, derive {fmt(row.get('sympy_derive_s'))} s, "
-                        f"{mb:.0f} MB, ops M {fmt(row.get('sympy_ops_mass_matrix'))}, f "
+                        f"{fmt(mb)} MB, ops M {fmt(row.get('sympy_ops_mass_matrix'))}, f "
                         f"{fmt(row.get('sympy_ops_forcing'))}, cse {fmt(row.get('sympy_ops_cse'))}, "
                         f"rel. error vs MuJoCo {fmt(row.get('err_sympy_mujoco'))}")
 

@@ -5,9 +5,11 @@
          [--hamel PATH] [--states K] [--no-hamel] [--no-sympy]
 
 For every topology and n (models.py), one after the other (never two heavy processes at once):
-  hamel   `hamel emit MODEL -o DIR --fold all`: wall time, peak RSS (wait4), the operation counts stated in
-          the emitted .cpp (kernels rhs, mass_matrix, forcing), g++ -O2 compile time of the package;
-          ns per call of rhs and mass_matrix (Google Benchmark, harness.cpp, median of 5 repetitions).
+  hamel   `hamel emit MODEL -o DIR --fold all`: wall time, peak RSS (/usr/bin/time), the operation counts
+          stated in the emitted .cpp (kernels rhs, mass_matrix, forcing); then `--kernels rhs,mass_matrix`
+          (same kernels, checked by their operation counts) compiled with g++ -O2 (the compile time; with
+          --compile-all the whole package instead); ns per call of rhs and mass_matrix (Google Benchmark,
+          harness.cpp, median of 5 repetitions).
   SymPy   sympy_kane.py in a subprocess with a timeout: KanesMethod + kanes_equations time, count_ops of
           M and f, and after cse; peak RSS. After a timeout the larger n of that topology are skipped.
   MuJoCo  ns per call of mj_forward, and of its dynamics core alone (kinematics, CRB, factorM, RNE, solve:
@@ -40,7 +42,8 @@ import report  # noqa: E402
 COLUMNS = [
     "topology", "n", "dof",
     "hamel_status", "hamel_emit_s", "hamel_peak_mb", "hamel_ops_rhs", "hamel_ops_mass_matrix",
-    "hamel_ops_forcing", "hamel_tmp_rhs", "hamel_source_bytes", "hamel_compile_s",
+    "hamel_ops_forcing", "hamel_tmp_rhs", "hamel_source_bytes", "hamel_emit_rhs_mm_s", "hamel_compiled_bytes",
+    "hamel_compile_s",
     "hamel_rhs_ns", "hamel_mass_matrix_ns",
     "sympy_status", "sympy_derive_s", "sympy_peak_mb", "sympy_ops_mass_matrix", "sympy_ops_forcing",
     "sympy_ops_cse", "sympy_cse_s",
@@ -180,6 +183,8 @@ def main():
     ap.add_argument("--states", type=int, default=20)
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--no-hamel", action="store_true")
+    ap.add_argument("--compile-all", action="store_true",
+                    help="compile the whole emitted package (all kernels) instead of one with rhs and mass_matrix")
     ap.add_argument("--no-sympy", action="store_true")
     a = ap.parse_args()
 
@@ -196,6 +201,13 @@ def main():
     harness = os.path.join(HERE, "harness.cpp")
 
     use_hamel = not a.no_hamel
+    if use_hamel and os.access(a.hamel, os.X_OK):
+        # one generator for the whole run, even if build/bin/hamel is rebuilt meanwhile
+        copy = os.path.join(work, "hamel")
+        shutil.copy2(a.hamel, copy)
+        log(f"# hamel: {a.hamel} (modified {time.strftime('%Y-%m-%d %H:%M', time.localtime(os.path.getmtime(a.hamel)))}),"
+            f" copied to {copy}")
+        a.hamel = copy
     if use_hamel:
         models.write_all("chain", 1, os.path.join(work, "probe"))
         ok, why = hamel_supports_trees(a.hamel, os.path.join(work, "probe", "chain_1.yaml"))
@@ -237,13 +249,30 @@ def main():
                     row.update(hamel_ops_rhs=ops.get("rhs"), hamel_ops_mass_matrix=ops.get("mass_matrix"),
                                hamel_ops_forcing=ops.get("forcing"), hamel_tmp_rhs=tmps.get("rhs"),
                                hamel_source_bytes=os.path.getsize(os.path.join(pkg, name + ".cpp")))
-                    log(f"{tag} g++ -O2 {name}.cpp ({row['hamel_source_bytes']} bytes) ...")
+                    # the harness needs only rhs and mass_matrix; the whole package (jacobian and the bundle
+                    # kernels included) takes minutes to compile at n = 30, so a second, smaller package
+                    if a.compile_all:
+                        src_dir = pkg
+                    else:
+                        src_dir = os.path.join(work, "pkg_rhs_mass_matrix", name)
+                        st2, wall2, _, _ = run_measured(
+                            [a.hamel, "emit", stem + ".yaml", "-o", src_dir, "--fold", "all",
+                             "--kernels", "rhs,mass_matrix"], timeout=a.hamel_timeout, stderr_path=stem + ".hamel2.log")
+                        if st2 != "ok":
+                            raise RuntimeError(f"hamel emit --kernels rhs,mass_matrix: {st2} (see {stem}.hamel2.log)")
+                        row["hamel_emit_rhs_mm_s"] = wall2
+                        ops2, _ = parse_ops(src_dir, name)
+                        for k in ("rhs", "mass_matrix"):
+                            if ops2.get(k) != ops.get(k):
+                                raise RuntimeError(f"{k}: {ops2.get(k)} operations with --kernels, {ops.get(k)} without")
+                    row["hamel_compiled_bytes"] = os.path.getsize(os.path.join(src_dir, name + ".cpp"))
+                    log(f"{tag} g++ -O2 {name}.cpp ({row['hamel_compiled_bytes']} bytes) ...")
                     obj = os.path.join(work, name + ".o")
                     t0 = time.perf_counter()
-                    subprocess.run(cxx + ["-c", os.path.join(pkg, name + ".cpp"), "-o", obj], check=True)
+                    subprocess.run(cxx + ["-c", os.path.join(src_dir, name + ".cpp"), "-o", obj], check=True)
                     row["hamel_compile_s"] = time.perf_counter() - t0
                     binary = os.path.join(work, "harness_" + name)
-                    subprocess.run(cxx + [f"-DHAMEL_PKG={name}", f'-DHAMEL_HEADER="{name}.hpp"', "-I", pkg,
+                    subprocess.run(cxx + [f"-DHAMEL_PKG={name}", f'-DHAMEL_HEADER="{name}.hpp"', "-I", src_dir,
                                           harness, obj, "-o", binary] + libs, check=True)
                     log(f"{tag} compiled in {row['hamel_compile_s']:.1f} s")
                 else:

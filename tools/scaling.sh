@@ -8,6 +8,7 @@
 #     --timeout S   SymPy time limit per model in seconds (default 300); after a timeout, the larger n of
 #                   that topology are skipped
 #     --out DIR     output folder (default build-scaling): scaling.csv, scaling.md, figures/*.svg, work/
+#     --docs        also copy scaling.csv, scaling.md to docs/benchmarks/ and the figures to docs/figures/
 # HAMEL=<binary> selects the generator (default build/bin/hamel; tools/build.sh --target hamel builds it).
 set -euo pipefail
 cd "$(dirname "$0")/.."

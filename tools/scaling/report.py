@@ -4,6 +4,7 @@
   report.py SCALING.csv OUT_DIR     writes OUT_DIR/scaling.md and OUT_DIR/figures/scaling_{derive_time,
                                     ops,ns,memory}.svg
 """
+import collections
 import csv
 import math
 import os
@@ -13,6 +14,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 
 matplotlib.rcParams["svg.hashsalt"] = "hamel-scaling"  # reproducible SVG ids
 matplotlib.rcParams["svg.fonttype"] = "none"
@@ -20,7 +22,7 @@ matplotlib.rcParams["svg.fonttype"] = "none"
 
 def load(csv_path):
     with open(csv_path) as f:
-        return list(csv.DictReader(f))
+        return [collections.defaultdict(str, r) for r in csv.DictReader(f)]
 
 
 def num(v):
@@ -85,12 +87,13 @@ def figure(rows, path, title, ylabel, curves, timeouts=None):
     if timeouts:
         label, status_key, y_key, color = timeouts
         for topo in topos:
-            xs = [int(r["n"]) for r in rows if r["topology"] == topo and r[status_key].startswith("timeout")
-                  and not num(r.get(y_key))]
-            if xs:
-                y = max(p[1] for p in allpts) if allpts else 1
-                ax.plot(xs, [y] * len(xs), "x", color=color, markersize=9, mew=2,
-                        label=f"{label} timeout, {topo}")
+            hit = [r for r in rows if r["topology"] == topo and r[status_key].startswith("timeout")
+                   and not num(r.get(y_key))]
+            if hit:
+                ys = [num(r.get("sympy_timeout_s")) or max(p[1] for p in allpts) for r in hit]
+                ax.plot([int(r["n"]) for r in hit], ys, "x", color=color, markersize=9, mew=2,
+                        label=f"{label}: time limit ({ys[0]:g} s) reached, {topo}")
+                allpts += [(int(r["n"]), y) for r, y in zip(hit, ys)]
     if allpts:
         n_min = min(p[0] for p in allpts)
         n_max = max(p[0] for p in allpts)
@@ -102,6 +105,10 @@ def figure(rows, path, title, ylabel, curves, timeouts=None):
                         xytext=(3, 0), textcoords="offset points", va="center")
     ax.set_xscale("log")
     ax.set_yscale("log")
+    ticks = sorted({int(r["n"]) for r in rows})
+    ax.set_xticks(ticks)
+    ax.set_xticklabels([str(t) for t in ticks])
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     ax.set_xlabel("joints n (the base adds 6 degrees of freedom)")
     ax.set_ylabel(ylabel)
     ax.set_title(title, fontsize=10)

@@ -46,7 +46,7 @@ COLUMNS = [
     "hamel_compile_s",
     "hamel_rhs_ns", "hamel_mass_matrix_ns",
     "sympy_status", "sympy_derive_s", "sympy_peak_mb", "sympy_ops_mass_matrix", "sympy_ops_forcing",
-    "sympy_ops_cse", "sympy_cse_s",
+    "sympy_ops_cse", "sympy_cse_s", "sympy_timeout_s",
     "mujoco_forward_ns", "mujoco_core_ns",
     "err_hamel_mujoco", "err_numpy_mujoco", "err_sympy_mujoco", "err_core_mujoco",
     "ratio_hamel_over_sympy_derive", "ratio_hamel_over_mujoco_ns", "ratio_hamel_over_mujoco_core_ns",
@@ -183,6 +183,8 @@ def main():
     ap.add_argument("--states", type=int, default=20)
     ap.add_argument("--seed", type=int, default=2026)
     ap.add_argument("--no-hamel", action="store_true")
+    ap.add_argument("--docs", action="store_true",
+                    help="also copy scaling.csv to docs/benchmarks/ and the figures to docs/figures/")
     ap.add_argument("--compile-all", action="store_true",
                     help="compile the whole emitted package (all kernels) instead of one with rhs and mass_matrix")
     ap.add_argument("--no-sympy", action="store_true")
@@ -325,6 +327,7 @@ def main():
                         row["sympy_cse_s"] = stages["cse"]["seconds"]
                     if "accelerations" in stages:
                         row["err_sympy_mujoco"] = rel_err(np.array(stages["accelerations"]["rows"]), a_mj)
+                    row["sympy_timeout_s"] = a.timeout
                     if status == "ok":
                         row["sympy_status"] = "ok"
                     else:
@@ -351,6 +354,13 @@ def main():
     log(f"# total {time.time() - t_start:.0f} s; {csv_path}")
     report.write(csv_path, out)
     log(f"# {os.path.join(out, 'scaling.md')}, {os.path.join(out, 'figures')}/")
+    if a.docs:
+        os.makedirs(os.path.join(ROOT, "docs", "benchmarks"), exist_ok=True)
+        shutil.copy2(csv_path, os.path.join(ROOT, "docs", "benchmarks", "scaling.csv"))
+        shutil.copy2(os.path.join(out, "scaling.md"), os.path.join(ROOT, "docs", "benchmarks", "scaling.md"))
+        for f in sorted(os.listdir(os.path.join(out, "figures"))):
+            shutil.copy2(os.path.join(out, "figures", f), os.path.join(ROOT, "docs", "figures", f))
+        log("# copied to docs/benchmarks/scaling.{csv,md} and docs/figures/scaling_*.svg")
     return 0
 
 

@@ -118,6 +118,9 @@ TEST(CurvatureIsHamelCoefficient, EveryShippedBundleModelWithShape) {
     if (entry.path().extension() != ".yaml") continue;
     const hamel::Model loaded = hamel::load_model(entry.path().string());
     if (!loaded.bundle || loaded.coordinates.empty()) continue;
+    // Tree models (key `tree`) have no hand-written kinetic energy and a connection far too large to form
+    // symbolically (space_robot); tests/tree checks them against an independent Newton-Euler computation.
+    if (loaded.bundle->tree) continue;
     SCOPED_TRACE(entry.path().string());
     const hamel::Model model = fold_all(loaded);
     const hamel::BundleGeometry geo = hamel::derive_bundle_geometry(model);

@@ -147,6 +147,9 @@ TEST(LockedVelocity, DecouplesTheMassMatrixOfEveryMechanicalBundleModel) {
     if (entry.path().extension() != ".yaml") continue;
     const hamel::Model loaded = hamel::load_model(entry.path().string());
     if (!loaded.bundle || !loaded.bundle->mechanical) continue;
+    // Tree models (key `tree`) have no hand-written kinetic energy and a connection far too large to form
+    // symbolically (space_robot); tests/tree checks them against an independent Newton-Euler computation.
+    if (loaded.bundle->tree) continue;
     SCOPED_TRACE(entry.path().string());
     const hamel::Model model = fold_all(loaded);
     const unsigned m = static_cast<unsigned>(model.bundle->group_velocity.size());

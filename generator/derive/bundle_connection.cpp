@@ -1,6 +1,7 @@
 #include "derive/bundle_connection.hpp"
 
 #include "algebra/simplify.hpp"
+#include "derive/kinematic_tree.hpp"
 #include "model/input_error.hpp"
 
 #include <algorithm>
@@ -42,6 +43,7 @@ std::vector<BundleCoefficient> curvature_of(const matrix& A, const std::vector<G
 }
 
 BundleGeometry derive_bundle_geometry(const Model& model) {
+  if (model.bundle->tree) return derive_bundle_geometry(with_inlined_tree(model));  // symbolic: small trees only
   const Bundle& b = *model.bundle;
   BundleGeometry g;
   g.algebra = lie_algebra(b.group);

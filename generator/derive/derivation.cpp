@@ -47,11 +47,7 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
       return d;
     }
     // The other forms differentiate T as a whole: the tree's kinetic energy as one expression.
-    Model expanded = model;
-    expanded.bundle->kinetic = tree_kinetic_energy(model);
-    expanded.lagrangian = expanded.bundle->kinetic - expanded.bundle->potential;
-    expanded.bundle->tree.reset();
-    return derive(expanded, settings);
+    return derive(with_inlined_tree(model), settings);
   }
   if (model.bundle) {
     d.bundle = derive_bundle_geometry(model);

@@ -324,4 +324,12 @@ GiNaC::ex tree_kinetic_energy(const Model& model) {
   return d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - model.bundle->potential).expand();
 }
 
+Model with_inlined_tree(const Model& model) {
+  Model expanded = model;
+  expanded.bundle->kinetic = tree_kinetic_energy(model);
+  expanded.lagrangian = expanded.bundle->kinetic - expanded.bundle->potential;
+  expanded.bundle->tree.reset();
+  return expanded;
+}
+
 }  // namespace hamel

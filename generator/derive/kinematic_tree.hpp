@@ -35,4 +35,8 @@ TreeDerivation derive_tree(const Model& model);
 /// for the forms other than ep, which differentiate T as a whole.
 GiNaC::ex tree_kinetic_energy(const Model& model);
 
+/// A copy of a tree model as a plain bundle model: `kinetic` = tree_kinetic_energy, no tree. What the
+/// forms other than ep and the symbolic bundle geometry work on.
+Model with_inlined_tree(const Model& model);
+
 }  // namespace hamel

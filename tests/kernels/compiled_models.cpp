@@ -3,11 +3,13 @@
 #include "chaplygin_sleigh.hpp"
 #include "double_pendulum.hpp"
 #include "free_rigid_body.hpp"
+#include "planar_swimmer.hpp"
 #include "rolling_ball.hpp"
 #include "rolling_ball_bundle.hpp"
 #include "rolling_disk.hpp"
 #include "satellite_se3.hpp"
 #include "satellite_so3xr3.hpp"
+#include "space_robot.hpp"
 
 #include <cstdlib>
 #include <stdexcept>
@@ -41,6 +43,9 @@ const std::vector<CompiledModel>& compiled_models() {
       HAMEL_BUNDLE_ENTRY(rolling_ball_bundle, nullptr, "", 3, rolling_ball_bundle::connection),
       HAMEL_BUNDLE_ENTRY(satellite_se3, nullptr, "all", 6, satellite_se3::connection),
       HAMEL_BUNDLE_ENTRY(satellite_so3xr3, nullptr, "all", 6, satellite_so3xr3::connection),
+      // Kinematic trees (recursive ep form, intermediate symbols).
+      HAMEL_BUNDLE_ENTRY(planar_swimmer, nullptr, "all", 3, planar_swimmer::connection),
+      HAMEL_BUNDLE_ENTRY(space_robot, nullptr, "all", 6, space_robot::connection),
   };
   return models;
 }

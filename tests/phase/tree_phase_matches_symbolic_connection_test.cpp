@@ -37,10 +37,7 @@ tree:
 
 TEST(TreePhase, NumericConnectionMatchesSymbolicConnection) {
   const hamel::Model tree = hamel::load_model_from_text(kModel, "two_link_swimmer.yaml");
-  hamel::Model expanded = tree;
-  expanded.bundle->kinetic = hamel::tree_kinetic_energy(tree);
-  expanded.lagrangian = expanded.bundle->kinetic - expanded.bundle->potential;
-  expanded.bundle->tree.reset();
+  const hamel::Model expanded = hamel::with_inlined_tree(tree);
 
   const hamel::Derivation recursive = hamel::derive(tree, hamel::DeriveSettings{"ep"});
   ASSERT_FALSE(recursive.bundle->connection_derived);

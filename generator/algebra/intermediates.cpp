@@ -28,6 +28,12 @@ ex Intermediates::define(const ex& value) {
   return s;
 }
 
+std::vector<std::size_t> Intermediates::used_by(const ex& e) const {
+  std::set<std::size_t> used;
+  collect(e, position_, used);
+  return {used.begin(), used.end()};
+}
+
 ex Intermediates::diff(const ex& e, const GiNaC::symbol& x) {
   ex out = e.diff(x);  // explicit dependence; intermediates are independent symbols to GiNaC
   std::set<std::size_t> used;

@@ -31,6 +31,9 @@ class Intermediates {
   bool empty() const { return definitions_.empty(); }
   bool is_intermediate(const GiNaC::ex& e) const { return position_.count(e) > 0; }
 
+  /// Positions of the intermediates `e` uses directly (not through other definitions), ascending.
+  std::vector<std::size_t> used_by(const GiNaC::ex& e) const;
+
   /// d e / d x by the chain rule through the definitions; derivatives of intermediates become new
   /// definitions (memoized per intermediate and variable). Without intermediates this is e.diff(x).
   GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::symbol& x);

@@ -275,6 +275,29 @@ TreeDerivation derive_tree(const Model& model) {
     for (std::size_t alpha = 0; alpha < m; ++alpha) set(alpha, m + i - 1, dot(base[alpha], f));
   }
 
+  // M a by the same recursion with the velocities at zero (accelerations δ_i = Ad δ_p + S_i a_i, wrenches
+  // 𝕀_i δ_i summed inward): O(n), for the Jacobian (derivative of M u̇ without differentiating every M_IJ).
+  {
+    std::vector<Vec6> delta(N), W(N);
+    for (std::size_t k = 0; k < m + n; ++k)
+      eq.acceleration_symbols.emplace_back(GiNaC::realsymbol("a_" + std::to_string(k)));
+    delta[0] = zero6();
+    for (std::size_t alpha = 0; alpha < m; ++alpha) delta[0] = delta[0] + base[alpha] * eq.acceleration_symbols[alpha];
+    for (std::size_t i = 0; i < N; ++i) {
+      if (i > 0)
+        delta[i] = prog.name(link[i].to_child(delta[static_cast<std::size_t>(parent[i])]) +
+                             axis[i] * eq.acceleration_symbols[m + i - 1]);
+      W[i] = times(inertia[i], delta[i]);
+    }
+    for (std::size_t i = N; i-- > 1;) {
+      W[i] = prog.name(W[i]);
+      W[static_cast<std::size_t>(parent[i])] = W[static_cast<std::size_t>(parent[i])] + link[i].to_parent(W[i]);
+    }
+    W[0] = prog.name(W[0]);
+    for (std::size_t alpha = 0; alpha < m; ++alpha) eq.mass_times_acceleration.push_back(dot(base[alpha], W[0]));
+    for (std::size_t i = 1; i < N; ++i) eq.mass_times_acceleration.push_back(dot(axis[i], W[i]));
+  }
+
   // f = Q − (velocity-product part of the projected wrenches); Q_I = forces_I − ∂V/∂r^I, none on the base.
   eq.forcing.assign(d, 0);
   for (std::size_t alpha = 0; alpha < m; ++alpha) eq.forcing[alpha] = -dot(base[alpha], F[0]);

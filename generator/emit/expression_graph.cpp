@@ -354,4 +354,20 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
 }
 
 
+void ProgramConverter::convert_used(const GiNaC::ex& e) {
+  converted_.resize(tape_.size(), false);
+  for (std::size_t k : tape_.used_by(e)) {
+    if (converted_[k]) continue;
+    const GiNaC::ex value = tape_.definitions()[k].value;
+    convert_used(value);
+    leaves_[tape_.definitions()[k].symbol] = graph_.from_expression(value, leaves_);
+    converted_[k] = true;
+  }
+}
+
+int ProgramConverter::operator()(const GiNaC::ex& e) {
+  convert_used(e);
+  return graph_.from_expression(e, leaves_);
+}
+
 }  // namespace hamel

@@ -5,6 +5,8 @@
 // passes over this list.
 #pragma once
 
+#include "algebra/intermediates.hpp"
+
 #include <ginac/ginac.h>
 
 #include <array>
@@ -117,6 +119,25 @@ class GraphEvaluator {
   std::vector<int> outputs_;
   std::vector<int> schedule_;
   std::vector<double> values_;
+};
+
+/// Converts expressions that may use intermediate symbols (algebra/intermediates.hpp) into `graph`: each
+/// definition becomes a node when an expression first needs it, after the definitions it uses. `tape` may
+/// grow between calls (differentiation adds definitions); symbols that only some definitions use (the
+/// accelerations of HamelEquations::mass_times_acceleration) may get their leaves late.
+class ProgramConverter {
+ public:
+  using Leaves = std::map<GiNaC::ex, int, GiNaC::ex_is_less>;
+  ProgramConverter(ExpressionGraph& graph, Leaves& leaves, const Intermediates& tape)
+      : graph_(graph), leaves_(leaves), tape_(tape) {}
+  int operator()(const GiNaC::ex& e);
+
+ private:
+  void convert_used(const GiNaC::ex& e);
+  ExpressionGraph& graph_;
+  Leaves& leaves_;
+  const Intermediates& tape_;
+  std::vector<bool> converted_;
 };
 
 /// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without

@@ -59,17 +59,11 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   for (std::size_t k = 0; k < model.inputs.size(); ++k)
     leaves[model.inputs[k]] = g.input(Argument::input, static_cast<int>(k));
 
-  // Intermediate symbols become the nodes of their definitions, in order; differentiation (the Jacobian)
-  // may add definitions to this copy, so they are synchronized before each conversion.
+  // Intermediate symbols become the nodes of their definitions when an expression first needs them
+  // (definitions before their users); differentiation (the Jacobian) may add definitions to this copy.
+  // Some definitions use symbols that get their nodes late (the accelerations of mass_times_acceleration).
   Intermediates tape = eq.intermediates;
-  std::size_t synced = 0;
-  auto node_of = [&](const GiNaC::ex& e) {
-    for (; synced < tape.size(); ++synced) {
-      const Intermediates::Definition& def = tape.definitions()[synced];
-      leaves[def.symbol] = g.from_expression(def.value, leaves);
-    }
-    return g.from_expression(e, leaves);
-  };
+  ProgramConverter node_of(g, leaves, tape);
   const auto diff = [&](const GiNaC::ex& e, const GiNaC::ex& x) { return tape.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); };
   const auto name_of = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
 
@@ -124,6 +118,8 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   // the factorization between the columns), or by differentiating u' = M⁻¹ f when M is constant.
   Kernel jacobian{"jacobian", "d(x')/dx, row-major n_state x n_state, for implicit integrators", {}, {}};
   if (want("jacobian")) {
+    // The accelerations a of mass_times_acceleration (M a as a program) are the solved u'.
+    for (std::size_t j = 0; j < eq.acceleration_symbols.size(); ++j) leaves[eq.acceleration_symbols[j]] = accel[j];
     std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
     for (int I : eq.independent) state_symbols.push_back(sys.velocities[static_cast<std::size_t>(I)]);
     const std::size_t nx = state_symbols.size();
@@ -139,6 +135,11 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       std::vector<int> b(d);
       for (std::size_t i = 0; i < d; ++i) {
         int r = node_of(diff(eq.forcing[i], x_k));
+        if (!eq.mass_times_acceleration.empty()) {  // (dM/dx_k) u' as the derivative of the program M a
+          r = g.binary(Op::sub, r, node_of(diff(eq.mass_times_acceleration[i], x_k)));
+          b[i] = r;
+          continue;
+        }
         for (std::size_t j = 0; j < d; ++j) {
           const GiNaC::ex dM = diff(eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)), x_k);
           if (!dM.is_zero()) r = g.binary(Op::sub, r, g.binary(Op::mul, node_of(dM), accel[j]));

@@ -33,22 +33,21 @@ class BundleFunctions {
     // Kinematic trees (ep form): L and K are blocks of the mass matrix, written with intermediate symbols
     // (those of the twists also use ξ, which A and L do not need: 0); A solves L A = K in the graph.
     for (const auto& xi : model.bundle->group_velocity) leaves[xi] = graph_.constant(0);
-    for (const Intermediates::Definition& def : d.equations.intermediates.definitions())
-      leaves[def.symbol] = graph_.from_expression(def.value, leaves);
+    ProgramConverter node_of(graph_, leaves, d.equations.intermediates);
     const BundleGeometry& geo = *d.bundle;
     std::vector<int> geometry, curve, L;
     for (unsigned a = 0; a < m_; ++a)
-      for (unsigned b = 0; b < m_ && geo.quadratic; ++b) L.push_back(graph_.from_expression(geo.L(a, b), leaves));
+      for (unsigned b = 0; b < m_ && geo.quadratic; ++b) L.push_back(node_of(geo.L(a, b)));
     if (geo.connection_derived) {
       for (unsigned a = 0; a < m_; ++a)
-        for (unsigned I = 0; I < n_; ++I) geometry.push_back(graph_.from_expression(geo.connection(a, I), leaves));
+        for (unsigned I = 0; I < n_; ++I) geometry.push_back(node_of(geo.connection(a, I)));
     } else {
       std::vector<std::vector<int>> rows(m_);
       for (unsigned a = 0; a < m_; ++a) rows[a].assign(L.begin() + a * m_, L.begin() + (a + 1) * m_);
       geometry.resize(m_ * n_);
       for (unsigned I = 0; I < n_; ++I) {
         std::vector<int> k;
-        for (unsigned a = 0; a < m_; ++a) k.push_back(graph_.from_expression(geo.K(a, I), leaves));
+        for (unsigned a = 0; a < m_; ++a) k.push_back(node_of(geo.K(a, I)));
         const std::vector<int> column = ldlt_solve(graph_, rows, k);
         for (unsigned a = 0; a < m_; ++a) geometry[a * n_ + I] = column[a];
       }

@@ -56,6 +56,29 @@ namespace detail {
 /// meaningfully different from t, so continuing would only burn time.
 inline double min_step(double t) { return 1e-14 * std::max(1.0, std::fabs(t)); }
 
+/// The grid of a fixed-step method: `count` steps of equal size that cover [t0, t_end] with steps no
+/// longer than h. Status::ok with count 0 when t_end == t0; step_size_underflow for h <= 0 (or NaN) or
+/// steps below min_step; too_many_steps beyond 1e15 steps.
+inline Status fixed_step_count(double t0, double t_end, double h, long& count) {
+  count = 0;
+  const double span = t_end - t0;
+  if (span == 0.0) {
+    return Status::ok;
+  }
+  if (!(h > 0)) {
+    return Status::step_size_underflow;
+  }
+  const double ratio = std::fabs(span) / h;
+  if (!(ratio <= 1e15)) {
+    return Status::too_many_steps;
+  }
+  count = std::max(1L, static_cast<long>(std::ceil(ratio - 1e-9)));
+  if (std::fabs(span) / static_cast<double>(count) < min_step(std::max(std::fabs(t0), std::fabs(t_end)))) {
+    return Status::step_size_underflow;
+  }
+  return Status::ok;
+}
+
 /// Sample times t0 + k*dt (k = 1, 2, ...) strictly inside (t0, t_end), in
 /// either direction of time.
 ///

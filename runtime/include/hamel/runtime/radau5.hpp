@@ -220,14 +220,9 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
   const bool fixed = opt.fixed_step > 0;
   const double span = t_end - t0;
   long count = 0;  // number of steps in fixed-step mode
-  if (fixed && span != 0.0) {
-    const double ratio = std::fabs(span) / opt.fixed_step;
-    if (!(ratio <= 1e15)) {
-      return finish(Status::too_many_steps);
-    }
-    count = std::max(1L, static_cast<long>(std::ceil(ratio - 1e-9)));
-    if (std::fabs(span) / static_cast<double>(count) < detail::min_step(std::max(std::fabs(t0), std::fabs(t_end)))) {
-      return finish(Status::step_size_underflow);
+  if (fixed) {
+    if (const Status grid = detail::fixed_step_count(t0, t_end, opt.fixed_step, count); grid != Status::ok) {
+      return finish(grid);
     }
   }
   observe(t0, x.data());

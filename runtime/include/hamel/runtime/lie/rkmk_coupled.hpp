@@ -115,19 +115,8 @@ CoupledIntegrationResult<Group> integrate_rkmk4_coupled(Trivialization side, F&&
   }
   const double span = t_end - t0;
   long count = 0;
-  if (span != 0.0) {
-    if (!(h > 0)) {
-      return finish(Status::step_size_underflow);
-    }
-    const double ratio = std::fabs(span) / h;
-    if (!(ratio <= 1e15)) {
-      return finish(Status::too_many_steps);
-    }
-    count = std::max(1L, static_cast<long>(std::ceil(ratio - 1e-9)));
-    if (std::fabs(span) / static_cast<double>(count) <
-        hamel::runtime::detail::min_step(std::max(std::fabs(t0), std::fabs(t_end)))) {
-      return finish(Status::step_size_underflow);
-    }
+  if (const Status grid = hamel::runtime::detail::fixed_step_count(t0, t_end, h, count); grid != Status::ok) {
+    return finish(grid);
   }
 
   observe(t0, static_cast<const double*>(result.x.data()), static_cast<const Element&>(result.g));

@@ -5,10 +5,18 @@
 #include <CLI/CLI.hpp>
 
 #include <functional>
+#include <stdexcept>
 
 namespace hamel::cli {
 
 using Run = std::function<void()>;
+
+/// A run that failed for a reason the user can act on but that is not bad input (an integration that
+/// stopped): main prints "hamel: <what>" and exits with status 1, without the "internal error" label.
+class RunFailed : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
 
 Run add_derive_command(CLI::App& app);
 Run add_emit_command(CLI::App& app);

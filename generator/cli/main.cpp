@@ -58,6 +58,9 @@ int main(int argc, char** argv) {
   } catch (const hamel::InputError& e) {
     std::cerr << e.what() << "\n";
     return 2;
+  } catch (const hamel::cli::RunFailed& e) {
+    std::cerr << "hamel: " << e.what() << "\n";
+    return 1;
   } catch (const std::exception& e) {
     std::cerr << "hamel: internal error: " << e.what() << "\n";
     return 1;

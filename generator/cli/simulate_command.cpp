@@ -210,7 +210,8 @@ void run(const SimulateOptions& given) {
   if (result.status != runtime::Status::ok) {
     std::cerr << "hamel: simulation failed at t = " << result.t << ": " << runtime::describe(result.status)
               << "\n  state: " << state.str() << "\n";
-    throw std::runtime_error("integration failed");
+    throw RunFailed(std::string("integration failed (") + runtime::describe(result.status) + ")" +
+                    (opt.out == "-" ? "" : "; " + opt.out + " was not written"));
   }
   std::cerr << "hamel: simulated " << model.name << " with " << opt.integrator << " to t = " << result.t << ": "
             << result.stats.steps << " steps (" << result.stats.rejected << " rejected), " << result.stats.rhs_evals

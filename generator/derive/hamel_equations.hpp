@@ -23,6 +23,7 @@ struct HamelEquations {
   std::vector<GiNaC::ex> mass_times_acceleration;       ///< (M a)_I as a program in the intermediates (trees:
                                                         ///< O(n) by recursion), so that the Jacobian's (∂M/∂x) u̇
                                                         ///< is one derivative of it, not of every M_IJ
+  bool factor_last_first = false;  ///< solve M u̇ = f eliminating from the last index (trees: no fill-in)
   Intermediates intermediates;  ///< definitions of the intermediate symbols the expressions above may use
                                 ///< (recursive derivations, derive/kinematic_tree.hpp); empty otherwise
 };

@@ -306,6 +306,7 @@ TreeDerivation derive_tree(const Model& model) {
         model.forces[i - 1] - b.potential.diff(model.coordinates[i - 1]) - dot(axis[i], F[i]);
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));
+  eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
   const ex T = prog.name(kinetic);
   eq.reduced_lagrangian = T - b.potential;

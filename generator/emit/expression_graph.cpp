@@ -322,8 +322,20 @@ void GraphEvaluator::evaluate(double t, const double* x, const double* p, const 
 
 // Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
 // square roots): no loops or branches are left in the emitted kernel.
-std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f) {
+std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
+                            bool last_first) {
   const std::size_t n = f.size();
+  if (last_first) {  // the same factorization of the reversed system, P M Pᵀ (P y) = P f
+    std::vector<std::vector<int>> R(n, std::vector<int>(n));
+    std::vector<int> r(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      r[i] = f[n - 1 - i];
+      for (std::size_t j = 0; j < n; ++j) R[i][j] = M[n - 1 - i][n - 1 - j];
+    }
+    std::vector<int> y = ldlt_solve(g, R, r, false);
+    std::reverse(y.begin(), y.end());
+    return y;
+  }
   std::vector<std::vector<int>> L(n, std::vector<int>(n, g.constant(0)));
   std::vector<int> d(n);
   for (std::size_t j = 0; j < n; ++j) {

@@ -142,6 +142,10 @@ class ProgramConverter {
 
 /// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without
 /// pivoting or square roots): no loops or branches in the emitted kernel. M by rows of node indices.
-std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f);
+/// `last_first` eliminates from the last index down (M = LᵀDL): for the mass matrix of a kinematic tree,
+/// whose bodies come after their parents, that creates no fill-in, so structural zeros (bodies on
+/// different branches) stay zero and cost nothing.
+std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
+                            bool last_first = false);
 
 }  // namespace hamel

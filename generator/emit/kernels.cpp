@@ -107,7 +107,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   if (exact_accel)
     for (const GiNaC::ex& a : *exact_accel) accel.push_back(node_of(a));
   else
-    accel = ldlt_solve(g, M, forcing.outputs);
+    accel = ldlt_solve(g, M, forcing.outputs, eq.factor_last_first);
   for (std::size_t i = 0; i < d; ++i) {
     rhs.outputs.push_back(accel[i]);
     rhs.output_names.push_back(name_of(eq.independent[i]) + "_rate");
@@ -146,7 +146,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         }
         b[i] = r;
       }
-      const std::vector<int> du = ldlt_solve(g, M, b);
+      const std::vector<int> du = ldlt_solve(g, M, b, eq.factor_last_first);
       column[k].insert(column[k].end(), du.begin(), du.end());
     }
     for (std::size_t row = 0; row < nx; ++row)

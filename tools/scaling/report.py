@@ -32,14 +32,16 @@ def num(v):
         return None
 
 
-def cell(v, digits=3):
+def cell(v, digits=3, integer=False):
     x = num(v)
     if x is None:
         return v if v else "-"
-    if x == int(x) and abs(x) < 1e15 and "." not in v and "e" not in v:
-        return f"{int(x):,}".replace(",", " ")
-    if x != 0 and (abs(x) < 1e-3 or abs(x) >= 1e6):
+    if integer:
+        return f"{int(round(x)):,}".replace(",", " ")
+    if x != 0 and abs(x) < 1e-3:
         return f"{x:.1e}"
+    if abs(x) >= 100:
+        return f"{int(round(x)):,}".replace(",", " ")
     return f"{x:.{digits}g}"
 
 
@@ -145,7 +147,8 @@ def write(csv_path, out_dir):
            [("hamel rhs", "hamel_rhs_ns", "C0"), ("hamel mass_matrix", "hamel_mass_matrix_ns", "C9"),
             ("MuJoCo mj_forward", "mujoco_forward_ns", "C2"),
             ("MuJoCo dynamics core", "mujoco_core_ns", "C8")])
-    figure(rows, os.path.join(fig_dir, "scaling_memory.svg"), "peak resident memory of the derivation", "MB",
+    figure(rows, os.path.join(fig_dir, "scaling_memory.svg"),
+           "peak resident memory of the derivation (SymPy after a timeout: the peak until killed)", "MB",
            [("hamel emit", "hamel_peak_mb", "C0"), ("SymPy Kane (whole process)", "sympy_peak_mb", "C3")])
 
     md = []
@@ -157,10 +160,10 @@ def write(csv_path, out_dir):
     for r in rows:
         md.append("| " + " | ".join([
             r["topology"], r["n"], r["dof"], cell(r["hamel_emit_s"]), cell(r["hamel_peak_mb"]),
-            cell(r["hamel_emit_rhs_mm_s"]), cell(r["hamel_ops_rhs"]), cell(r["hamel_ops_mass_matrix"]),
-            cell(r["hamel_ops_forcing"]), r["sympy_status"] or "-",
-            cell(r["sympy_derive_s"]), cell(r["sympy_peak_mb"]), cell(r["sympy_ops_mass_matrix"]),
-            cell(r["sympy_ops_forcing"]), cell(r["sympy_ops_cse"]), cell(r["ratio_hamel_over_sympy_derive"])]) + " |")
+            cell(r["hamel_emit_rhs_mm_s"]), cell(r["hamel_ops_rhs"], integer=True), cell(r["hamel_ops_mass_matrix"], integer=True),
+            cell(r["hamel_ops_forcing"], integer=True), r["sympy_status"] or "-",
+            cell(r["sympy_derive_s"]), cell(r["sympy_peak_mb"]), cell(r["sympy_ops_mass_matrix"], integer=True),
+            cell(r["sympy_ops_forcing"], integer=True), cell(r["sympy_ops_cse"], integer=True), cell(r["ratio_hamel_over_sympy_derive"])]) + " |")
     md.append("\n### Run time and agreement: hamel vs MuJoCo\n")
     md.append("| topology | n | hamel .cpp bytes (all kernels) | rhs + mass_matrix .cpp bytes | g++ -O2 s | hamel rhs ns | hamel mass_matrix ns | "
               "MuJoCo mj_forward ns | MuJoCo core ns | hamel rhs / mj_forward | hamel rhs / core | "
@@ -168,7 +171,7 @@ def write(csv_path, out_dir):
     md.append("|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|")
     for r in rows:
         md.append("| " + " | ".join([
-            r["topology"], r["n"], cell(r["hamel_source_bytes"]), cell(r.get("hamel_compiled_bytes", "")),
+            r["topology"], r["n"], cell(r["hamel_source_bytes"], integer=True), cell(r.get("hamel_compiled_bytes", ""), integer=True),
             cell(r["hamel_compile_s"]),
             cell(r["hamel_rhs_ns"]), cell(r["hamel_mass_matrix_ns"]), cell(r["mujoco_forward_ns"]),
             cell(r["mujoco_core_ns"]), cell(r["ratio_hamel_over_mujoco_ns"]),

@@ -5,8 +5,13 @@ set -euo pipefail
 # With --fuzz it also installs libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only).
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libgtest-dev
           libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang)
+# With --scaling it also installs the peers of the scaling benchmark (tools/scaling.sh): SymPy, numpy,
+# matplotlib, MuJoCo and Google Benchmark.
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(libclang-rt-dev llvm)
+fi
+if [ "${1:-}" = "--scaling" ]; then
+  packages+=(python3 python3-sympy python3-numpy python3-matplotlib libmujoco-dev libbenchmark-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do

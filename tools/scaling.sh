@@ -27,7 +27,7 @@ command -v g++ > /dev/null || missing+=(g++)
 [[ -f /usr/include/benchmark/benchmark.h ]] || missing+=(libbenchmark-dev)
 if (( ${#missing[@]} )); then
   echo "scaling.sh: missing packages: ${missing[*]}" >&2
-  echo "scaling.sh: install them with: apt-get install -y ${missing[*]}" >&2
+  echo "scaling.sh: install them with: bash tools/install-deps.sh --scaling (or apt-get install -y ${missing[*]})" >&2
   exit 2
 fi
 if [[ ! -x $hamel ]]; then

@@ -153,39 +153,6 @@ constexpr double fac_min = 0.333;  // h_new / h >= 0.333
 constexpr double fac_max = 6.0;    // h_new / h <= 6
 constexpr double expo = 1.0 / 8.0;
 
-/// Hairer's starting-step heuristic (hinit in dop853.f, order 8): an explicit
-/// Euler probe estimates the second derivative, then h is chosen so that
-/// h^8 * max(|x'|, |x''|) is about 0.01 in the scaled norm. Costs one rhs
-/// evaluation.
-template <class Rhs>
-double initial_step(Rhs& rhs, double t, const double* x, const double* f0, double dir, double h_limit,
-                    const Dop853Options& opt, double* x1, double* f1, std::size_t n, long& rhs_evals) {
-  double dnf = 0.0;
-  double dny = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double sk = opt.atol + opt.rtol * std::fabs(x[i]);
-    dnf += (f0[i] / sk) * (f0[i] / sk);
-    dny += (x[i] / sk) * (x[i] / sk);
-  }
-  double h = (dnf <= 1e-10 || dny <= 1e-10) ? 1e-6 : 0.01 * std::sqrt(dny / dnf);
-  h = std::min(h, h_limit);
-
-  for (std::size_t i = 0; i < n; ++i) x1[i] = x[i] + dir * h * f0[i];
-  rhs(t + dir * h, x1, f1);
-  ++rhs_evals;
-  double der2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double sk = opt.atol + opt.rtol * std::fabs(x[i]);
-    der2 += ((f1[i] - f0[i]) / sk) * ((f1[i] - f0[i]) / sk);
-  }
-  der2 = std::sqrt(der2) / h;
-  if (!std::isfinite(der2) || !std::isfinite(dnf)) {
-    return h;  // The guess is unusable; let step rejection shrink h instead.
-  }
-  const double der12 = std::max(der2, std::sqrt(dnf));
-  const double h1 = der12 <= 1e-15 ? std::max(1e-6, h * 1e-3) : std::pow(0.01 / der12, expo);
-  return std::min({100.0 * h, h1, h_limit});
-}
 
 }  // namespace detail::dop853
 
@@ -259,8 +226,8 @@ IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, 
 
   double h = std::fabs(opt.h0);
   if (h == 0.0 || !std::isfinite(h)) {
-    h = k::initial_step(rhs, t, x.data(), f[0], dir, std::min(h_limit, std::fabs(t_end - t0)), opt, stage, f[1], n,
-                        result.stats.rhs_evals);
+    h = detail::hairer_initial_step(rhs, t, x.data(), f[0], dir, std::min(h_limit, std::fabs(t_end - t0)),
+                        opt.atol, opt.rtol, 8, stage, f[1], n, result.stats.rhs_evals);
   }
   h = std::min(h, h_limit);
 

@@ -57,39 +57,6 @@ constexpr double fac_max = 10.0;  // h_new / h <= 10
 constexpr double beta = 0.04;
 constexpr double expo1 = 0.2 - beta * 0.75;
 
-/// Hairer's starting-step heuristic (hinit in dopri5.f): make an explicit Euler
-/// step of a size where the first derivative looks resolved, then pick h so
-/// that the estimated local error of order 5 is about 0.01 in the scaled norm.
-/// Costs one rhs evaluation.
-template <class Rhs>
-double initial_step(Rhs& rhs, double t, const double* x, const double* f0, double dir, double h_limit,
-                    const Dopri5Options& opt, double* x1, double* f1, std::size_t n, long& rhs_evals) {
-  double dnf = 0.0;
-  double dny = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double sk = opt.atol + opt.rtol * std::fabs(x[i]);
-    dnf += (f0[i] / sk) * (f0[i] / sk);
-    dny += (x[i] / sk) * (x[i] / sk);
-  }
-  double h = (dnf <= 1e-10 || dny <= 1e-10) ? 1e-6 : 0.01 * std::sqrt(dny / dnf);
-  h = std::min(h, h_limit);
-
-  for (std::size_t i = 0; i < n; ++i) x1[i] = x[i] + dir * h * f0[i];
-  rhs(t + dir * h, x1, f1);
-  ++rhs_evals;
-  double der2 = 0.0;
-  for (std::size_t i = 0; i < n; ++i) {
-    const double sk = opt.atol + opt.rtol * std::fabs(x[i]);
-    der2 += ((f1[i] - f0[i]) / sk) * ((f1[i] - f0[i]) / sk);
-  }
-  der2 = std::sqrt(der2) / h;
-  if (!std::isfinite(der2) || !std::isfinite(dnf)) {
-    return h;  // The guess is unusable; let step rejection shrink h instead.
-  }
-  const double der12 = std::max(der2, std::sqrt(dnf));
-  const double h1 = der12 <= 1e-15 ? std::max(1e-6, h * 1e-3) : std::pow(0.01 / der12, 1.0 / 5.0);
-  return std::min({100.0 * h, h1, h_limit});
-}
 
 }  // namespace detail::dopri5
 
@@ -156,8 +123,8 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
 
   double h = std::fabs(opt.h0);
   if (h == 0.0 || !std::isfinite(h)) {
-    h = k::initial_step(rhs, t, x.data(), k1, dir, std::min(h_limit, std::fabs(t_end - t0)), opt, stage, k2, n,
-                        result.stats.rhs_evals);
+    h = detail::hairer_initial_step(rhs, t, x.data(), k1, dir, std::min(h_limit, std::fabs(t_end - t0)),
+                        opt.atol, opt.rtol, 5, stage, k2, n, result.stats.rhs_evals);
   }
   h = std::min(h, h_limit);
 

@@ -79,6 +79,41 @@ inline Status fixed_step_count(double t0, double t_end, double h, long& count) {
   return Status::ok;
 }
 
+/// Hairer's starting-step heuristic (hinit in dopri5.f and dop853.f) for an explicit method of order
+/// `order`: an explicit Euler probe of a size where the first derivative looks resolved estimates the
+/// second derivative, then h is chosen so that h^order * max(|x'|, |x''|) is about 0.01 in the norm
+/// scaled by atol + rtol |x|. Costs one rhs evaluation (counted in rhs_evals); x1 and f1 are work space.
+template <class Rhs>
+double hairer_initial_step(Rhs& rhs, double t, const double* x, const double* f0, double dir, double h_limit,
+                           double atol, double rtol, int order, double* x1, double* f1, std::size_t n,
+                           long& rhs_evals) {
+  double dnf = 0.0;
+  double dny = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double sk = atol + rtol * std::fabs(x[i]);
+    dnf += (f0[i] / sk) * (f0[i] / sk);
+    dny += (x[i] / sk) * (x[i] / sk);
+  }
+  double h = (dnf <= 1e-10 || dny <= 1e-10) ? 1e-6 : 0.01 * std::sqrt(dny / dnf);
+  h = std::min(h, h_limit);
+
+  for (std::size_t i = 0; i < n; ++i) x1[i] = x[i] + dir * h * f0[i];
+  rhs(t + dir * h, x1, f1);
+  ++rhs_evals;
+  double der2 = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double sk = atol + rtol * std::fabs(x[i]);
+    der2 += ((f1[i] - f0[i]) / sk) * ((f1[i] - f0[i]) / sk);
+  }
+  der2 = std::sqrt(der2) / h;
+  if (!std::isfinite(der2) || !std::isfinite(dnf)) {
+    return h;  // The guess is unusable; let step rejection shrink h instead.
+  }
+  const double der12 = std::max(der2, std::sqrt(dnf));
+  const double h1 = der12 <= 1e-15 ? std::max(1e-6, h * 1e-3) : std::pow(0.01 / der12, 1.0 / order);
+  return std::min({100.0 * h, h1, h_limit});
+}
+
 /// Sample times t0 + k*dt (k = 1, 2, ...) strictly inside (t0, t_end), in
 /// either direction of time.
 ///

@@ -217,10 +217,25 @@ TreeDerivation derive_tree(const Model& model) {
     inertia[i] = spatial_inertia(body.body);
   }
 
+  // The base's twist (or acceleration) from the group components, and wrenches summed from the leaves to
+  // the base (children come after their parents), each body's total named once.
+  const auto base_twist = [&](const auto& components) {
+    Vec6 v = zero6();
+    for (std::size_t alpha = 0; alpha < m; ++alpha) v = v + base[alpha] * components[alpha];
+    return v;
+  };
+  const auto sum_inward = [&](std::vector<Vec6>& wrench) {
+    for (std::size_t i = N; i-- > 1;) {
+      wrench[i] = prog.name(wrench[i]);
+      const std::size_t p = static_cast<std::size_t>(parent[i]);
+      wrench[p] = wrench[p] + link[i].to_parent(wrench[i]);
+    }
+    wrench[0] = prog.name(wrench[0]);
+  };
+
   // Twists V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i, accelerations at u̇ = 0 (the velocity-product terms
   // ad_{V_i} S_i ṙ_i carried outward), momenta h_i = 𝕀_i V_i and each body's Euler–Poincaré wrench.
-  V[0] = zero6();
-  for (std::size_t alpha = 0; alpha < m; ++alpha) V[0] = V[0] + base[alpha] * b.group_velocity[alpha];
+  V[0] = base_twist(b.group_velocity);
   a[0] = zero6();
   ex kinetic = 0;
   for (std::size_t i = 0; i < N; ++i) {
@@ -234,13 +249,7 @@ TreeDerivation derive_tree(const Model& model) {
     kinetic += dot(V[i], h[i]) / 2;
     F[i] = times(inertia[i], a[i]) + coadjoint_term(V[i], h[i]);
   }
-  // Wrenches from the leaves to the base (children come after their parents).
-  for (std::size_t i = N; i-- > 1;) {
-    F[i] = prog.name(F[i]);
-    const std::size_t p = static_cast<std::size_t>(parent[i]);
-    F[p] = F[p] + link[i].to_parent(F[i]);
-  }
-  F[0] = prog.name(F[0]);
+  sum_inward(F);
 
   // Composite inertias 𝕀ᶜ_i = 𝕀_i + Σ_children Xᵀ 𝕀ᶜ_c X, column by column through the twist and
   // wrench maps, and the mass matrix from them (composite-rigid-body projection).
@@ -281,19 +290,14 @@ TreeDerivation derive_tree(const Model& model) {
     std::vector<Vec6> delta(N), W(N);
     for (std::size_t k = 0; k < m + n; ++k)
       eq.acceleration_symbols.emplace_back(GiNaC::realsymbol("a_" + std::to_string(k)));
-    delta[0] = zero6();
-    for (std::size_t alpha = 0; alpha < m; ++alpha) delta[0] = delta[0] + base[alpha] * eq.acceleration_symbols[alpha];
+    delta[0] = base_twist(eq.acceleration_symbols);
     for (std::size_t i = 0; i < N; ++i) {
       if (i > 0)
         delta[i] = prog.name(link[i].to_child(delta[static_cast<std::size_t>(parent[i])]) +
                              axis[i] * eq.acceleration_symbols[m + i - 1]);
       W[i] = times(inertia[i], delta[i]);
     }
-    for (std::size_t i = N; i-- > 1;) {
-      W[i] = prog.name(W[i]);
-      W[static_cast<std::size_t>(parent[i])] = W[static_cast<std::size_t>(parent[i])] + link[i].to_parent(W[i]);
-    }
-    W[0] = prog.name(W[0]);
+    sum_inward(W);
     for (std::size_t alpha = 0; alpha < m; ++alpha) eq.mass_times_acceleration.push_back(dot(base[alpha], W[0]));
     for (std::size_t i = 1; i < N; ++i) eq.mass_times_acceleration.push_back(dot(axis[i], W[i]));
   }

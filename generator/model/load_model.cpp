@@ -224,9 +224,9 @@ class Loader {
 
   void load_core(Model& model);
   void load_bundle(Model& model);
-  KinematicTree load_tree(const YAML::Node& tree, const Model& model, const GiNaC::symtab& geometric);
-  RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
-                       const std::vector<std::string>& keys);
+  KinematicTree load_tree(const YAML::Node& tree, const Model& model);
+  RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
+                       const std::vector<std::string>& keys, const std::string& allowed);
   GiNaC::ex body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
                                 const GiNaC::symtab& velocities, std::string& name);
   std::vector<GiNaC::ex> vector_of(const YAML::Node& node, const std::string& key, std::size_t size,
@@ -489,16 +489,14 @@ void Loader::load_bundle(Model& model) {
 
   YAML::Node kinetic = root_["kinetic"];
   YAML::Node bodies = root_["bodies"];
-  if (tree) {
-    b.tree = load_tree(tree, model, geometric);
-    b.kinetic = 0;
-  } else if (static_cast<bool>(kinetic) == static_cast<bool>(bodies))
+  if (!tree && static_cast<bool>(kinetic) == static_cast<bool>(bodies))
     throw InputError(where(kinetic ? kinetic : root_), kinetic ? "kinetic" : "bodies",
                      kinetic ? "give the kinetic energy either as 'kinetic' or as 'bodies', not both"
                              : "missing; expected 'kinetic' (an expression), 'bodies' (a list of rigid bodies) "
                                "or 'tree' (a kinematic tree)");
   if (tree) {
-    // the tree's kinetic energy is derived from its bodies (derive/kinematic_tree.hpp)
+    b.tree = load_tree(tree, model);  // T follows from the bodies in the derivation (derive/kinematic_tree.hpp)
+    b.kinetic = 0;
   } else if (kinetic) {
     model.locations["kinetic"] = where(kinetic);
     b.kinetic = expression(kinetic, "kinetic", velocities,
@@ -535,23 +533,22 @@ void Loader::load_bundle(Model& model) {
               "inputs and t");
 }
 
-RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
-                             const std::vector<std::string>& keys) {
+RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
+                             const std::vector<std::string>& keys, const std::string& allowed) {
   if (!body.IsMap()) fail(body, key, "expected a map with keys " + join(keys));
   check_keys(body, key, keys);
   for (const std::string& k : keys)
-    if (!body[k] && k != "rotation") fail(body, key + "." + k, "missing required key of a body");
+    if (!body[k]) fail(body, key + "." + k, "missing required key of a body");
   RigidBody out;
   out.name = scalar(body["name"], key + ".name");
-  const std::string inertial = "mass, com and inertia may use shape coordinates and parameters only";
-  out.mass = expression(body["mass"], key + ".mass", geometric, inertial);
-  const std::vector<GiNaC::ex> com = vector_of(body["com"], key + ".com", 3, geometric, inertial);
+  out.mass = expression(body["mass"], key + ".mass", table, allowed);
+  const std::vector<GiNaC::ex> com = vector_of(body["com"], key + ".com", 3, table, allowed);
   for (std::size_t i = 0; i < 3; ++i) out.com[i] = com[i];
   const YAML::Node in = body["inertia"];
   if (!in.IsSequence() || in.size() != 3) fail(in, key + ".inertia", "expected 3 rows of a 3x3 matrix");
   for (std::size_t i = 0; i < 3; ++i) {
     const std::vector<GiNaC::ex> row =
-        vector_of(in[i], key + ".inertia[" + std::to_string(i) + "]", 3, geometric, inertial);
+        vector_of(in[i], key + ".inertia[" + std::to_string(i) + "]", 3, table, allowed);
     for (std::size_t j = 0; j < 3; ++j) out.inertia[i][j] = row[j];
   }
   for (std::size_t i = 0; i < 3; ++i)
@@ -565,7 +562,8 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
 
 GiNaC::ex Loader::body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
                                       const GiNaC::symtab& velocities, std::string& name) {
-  const RigidBody rb = rigid_body(body, key, geometric, {"name", "mass", "com", "inertia", "twist"});
+  const RigidBody rb = rigid_body(body, key, geometric, {"name", "mass", "com", "inertia", "twist"},
+                                  "mass, com and inertia may use shape coordinates and parameters only");
   name = rb.name;
   const std::vector<GiNaC::ex> twist =
       vector_of(body["twist"], key + ".twist", 6, velocities,
@@ -583,22 +581,22 @@ GiNaC::ex Loader::body_kinetic_energy(const YAML::Node& body, const std::string&
   return t;
 }
 
-KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model, const GiNaC::symtab& geometric) {
+KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
   KinematicTree out;
   // Inertial data and joint geometry are constant: parameters only (the joints move the bodies).
   GiNaC::symtab constants;
   for (const auto& p : model.parameters) constants[p.symbol.get_name()] = p.symbol;
-  (void)geometric;
+  const std::string inertial = "mass, com and inertia of a tree body may use parameters only";
   YAML::Node base = tree["base"];
   if (!base) fail(tree, "tree.base", "missing; expected the base body (name, mass, com, inertia)");
-  out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"});
+  out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"}, inertial);
   std::vector<std::string> names{out.base.name};
   const YAML::Node list = tree["bodies"];
   const std::string geometry = "joint axes, offsets and rotations may use parameters only";
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string key = "tree.bodies[" + std::to_string(i) + "]";
     TreeBody tb;
-    tb.body = rigid_body(list[i], key, constants, {"name", "parent", "joint", "mass", "com", "inertia"});
+    tb.body = rigid_body(list[i], key, constants, {"name", "parent", "joint", "mass", "com", "inertia"}, inertial);
     if (std::find(names.begin(), names.end(), tb.body.name) != names.end())
       fail(list[i]["name"], key + ".name", "the body '" + tb.body.name + "' is listed twice");
     const std::string parent = scalar(list[i]["parent"], key + ".parent");

@@ -31,8 +31,7 @@ class BundleFunctions {
     for (std::size_t k = 0; k < model.parameters.size(); ++k)
       leaves[model.parameters[k].symbol] = graph_.input(Argument::parameter, static_cast<int>(k));
     // Kinematic trees (ep form): L and K are blocks of the mass matrix, written with intermediate symbols
-    // (those of the twists also use ξ, which A and L do not need: 0); A solves L A = K in the graph.
-    for (const auto& xi : model.bundle->group_velocity) leaves[xi] = graph_.constant(0);
+    // (converted as they are needed: those of L and K depend on r only); A solves L A = K in the graph.
     ProgramConverter node_of(graph_, leaves, d.equations.intermediates);
     const BundleGeometry& geo = *d.bundle;
     std::vector<int> geometry, curve, L;

@@ -5,6 +5,7 @@
 #include "emit/cpp_emitter.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "report/progress.hpp"
 
 #include <algorithm>
 #include <iostream>
@@ -59,7 +60,11 @@ void run(const EmitOptions& opt) {
   const Model& model = target.model;
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   const Derivation derivation = derive(model, target.settings);
-  const KernelSet kernels = build_kernels(model, derivation, selected);
+  const KernelSet kernels = [&] {
+    progress::Step step("building the kernels' expression graph");
+    return build_kernels(model, derivation, selected);
+  }();
+  progress::Step writing("printing the C++ package");
   EmittedPackage package = emit_cpp(model, derivation, kernels);
   if (target.scene) {
     // Pruning report: operations of the scene's kernels (shared subexpressions counted once) against all

@@ -3,6 +3,7 @@
 #include "cli/commands.hpp"
 #include "emit/cpp_emitter.hpp"
 #include "model/input_error.hpp"
+#include "report/progress.hpp"
 
 #include <sys/personality.h>
 #include <unistd.h>
@@ -33,6 +34,9 @@ int main(int argc, char** argv) {
   CLI::App app{"hamel: derive Hamel coefficients and equations of motion, emit C++ kernels, simulate"};
   app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());
   app.require_subcommand(1);
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "No progress messages on stderr (steps that run over a second say what they do)");
+  app.fallthrough();
   std::map<const CLI::App*, hamel::cli::Run> runs;
   for (auto add : {hamel::cli::add_derive_command, hamel::cli::add_emit_command, hamel::cli::add_simulate_command,
                    hamel::cli::add_phase_command, hamel::cli::add_report_command, hamel::cli::add_accuracy_command}) {
@@ -51,6 +55,7 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
+  hamel::progress::set_enabled(!quiet);
   try {
     for (const auto& [cmd, run] : runs)
       if (cmd->parsed()) run();

@@ -24,7 +24,7 @@ namespace hamel::cli {
 namespace {
 
 struct PhaseOptions {
-  std::string model, path, momentum = "zero", out = ".", fold = "all";
+  std::string model, path, momentum = "zero", out = ".", fold = "none";
   double period = 1;
   int cycles = 1, steps = 2000, samples = 100;
   std::vector<std::string> params;

@@ -24,7 +24,7 @@ struct ReportOptions {
 };
 
 void run(const ReportOptions& opt) {
-  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "all");
+  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
   std::map<std::string, double> init, input_values;
@@ -93,7 +93,7 @@ Run add_report_command(CLI::App& app) {
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--integrators", opt->integrators, "Integrators to compare (default rk4 dopri5 dop853 radau5)");
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum");
-  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: all, or the scene's `fixed`)");
+  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "Folder for <model>_work_precision.csv, .md and .svg")->capture_default_str();
   return [opt] { run(*opt); };
 }

@@ -35,7 +35,8 @@ struct Derivation {
 Derivation derive(const Model& model, const DeriveSettings& settings = {});
 
 /// The system of a model in general coordinates: ℒ(q, u) = L(q, B u), Q in u, γ from eq. (gamma).
+/// `program` holds the intermediates γ and the model's expressions use (the model's definitions first).
 HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities& qv,
-                                      std::vector<HamelCoefficient> gamma);
+                                      std::vector<HamelCoefficient> gamma, Intermediates program);
 
 }  // namespace hamel

@@ -21,7 +21,7 @@ namespace {
 // between the products M⁻¹_IJ f_J to double arithmetic (satellite_se3: 2.3e3 ulps, docs/accuracy.md).
 std::optional<std::vector<GiNaC::ex>> exact_accelerations(const HamelEquations& eq, const HamelSystem& sys) {
   const unsigned d = static_cast<unsigned>(eq.independent.size());
-  if (d == 0 || !eq.intermediates.empty()) return std::nullopt;
+  if (d == 0) return std::nullopt;
   for (unsigned i = 0; i < d; ++i)
     for (unsigned j = 0; j < d; ++j)
       if (!GiNaC::is_a<GiNaC::numeric>(eq.mass_matrix(i, j))) return std::nullopt;

@@ -8,6 +8,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <functional>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -209,7 +210,7 @@ class Loader {
              "'shape', the Lagrangian by 'kinetic' or 'bodies' and 'potential', constraints by 'connection'");
       if (context.empty() && !bundle_ &&
           (key == "trivialization" || key == "group_velocity" || key == "shape" || key == "connection" ||
-           key == "kinetic" || key == "bodies" || key == "potential"))
+           key == "kinetic"))
         fail(kv.first, key, "is a principal-bundle key: a bundle model needs 'group' (and no 'coordinates')");
       fail(kv.first, context.empty() ? key : context + "." + key,
            "unknown key" + did_you_mean(key, known) + "; expected one of: " + join(known));
@@ -226,9 +227,12 @@ class Loader {
   void load_bundle(Model& model);
   KinematicTree load_tree(const YAML::Node& tree, const Model& model);
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
-                       const std::vector<std::string>& keys, const std::string& allowed);
-  GiNaC::ex body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
-                                const GiNaC::symtab& velocities, std::string& name);
+                       const std::vector<std::string>& keys, const std::string& allowed,
+                       const std::vector<std::string>& optional = {});
+  GiNaC::ex posed_body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                      const GiNaC::symtab& table, std::string& name);
+  GiNaC::ex body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                const GiNaC::symtab& geometric, const GiNaC::symtab& velocities, std::string& name);
   std::vector<GiNaC::ex> vector_of(const YAML::Node& node, const std::string& key, std::size_t size,
                                    const GiNaC::symtab& table, const std::string& allowed) const {
     if (!node.IsSequence() || node.size() != size)
@@ -239,12 +243,17 @@ class Loader {
     return out;
   }
   void load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed);
+  void load_definitions(Model& model, const GiNaC::symtab& all);
+  GiNaC::symtab with_definitions(GiNaC::symtab table) const;
 
   const std::string& text_;
   std::string path_;
   YAML::Node root_;
   bool bundle_ = false;
   std::map<std::string, std::string> declared_;  // name -> key that declared it
+  // Per definition (model key `definitions`): its symbol and the names of the model symbols it depends on,
+  // through earlier definitions too; a key may use a definition only if it may use all of those.
+  std::vector<std::pair<GiNaC::realsymbol, std::set<std::string>>> definition_uses_;
 };
 
 Model Loader::load() {
@@ -256,11 +265,11 @@ Model Loader::load() {
   if (bundle_)
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs"});
+                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs", "definitions"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
-                "lagrangian", "forces", "inputs"});
+                "lagrangian", "forces", "inputs", "definitions", "bodies", "potential"});
 
   Model model;
   model.source_path = path_;
@@ -302,6 +311,47 @@ Model Loader::load() {
   return model;
 }
 
+void Loader::load_definitions(Model& model, const GiNaC::symtab& all) {
+  const YAML::Node defs = root_["definitions"];
+  if (!defs) return;
+  if (!defs.IsMap()) fail(defs, "definitions", "expected an ordered map of name: expression");
+  GiNaC::symtab table = all;
+  for (const auto& kv : defs) {
+    const std::string name = kv.first.as<std::string>();
+    const std::string key = "definitions." + name;
+    declare_name(kv.first, key, name);
+    const GiNaC::ex value =
+        expression(kv.second, key, table,
+                   "a definition may use the model's symbols (parameters, coordinates, rates, velocities, inputs, "
+                   "t) and the definitions above it");
+    std::set<std::string> uses;
+    std::function<void(const GiNaC::ex&)> collect = [&](const GiNaC::ex& e) {
+      if (GiNaC::is_a<GiNaC::symbol>(e)) {
+        const std::string s = GiNaC::ex_to<GiNaC::symbol>(e).get_name();
+        bool is_definition = false;
+        for (const auto& [sym, deps] : definition_uses_)
+          if (sym.get_name() == s) is_definition = true, uses.insert(deps.begin(), deps.end());
+        if (!is_definition) uses.insert(s);
+        return;
+      }
+      for (std::size_t i = 0; i < e.nops(); ++i) collect(e.op(i));
+    };
+    collect(value);
+    const GiNaC::realsymbol symbol = model.definitions.define_named(name, value);
+    definition_uses_.emplace_back(symbol, uses);
+    table[name] = symbol;
+  }
+}
+
+GiNaC::symtab Loader::with_definitions(GiNaC::symtab table) const {
+  for (const auto& [symbol, uses] : definition_uses_) {
+    bool allowed = true;
+    for (const std::string& s : uses) allowed = allowed && table.count(s) > 0;
+    if (allowed) table[symbol.get_name()] = symbol;
+  }
+  return table;
+}
+
 void Loader::load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed) {
   const std::size_t n = model.coordinates.size();
   model.forces.assign(n, GiNaC::ex(0));
@@ -337,10 +387,12 @@ void Loader::load_core(Model& model) {
 
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
 
-  const GiNaC::symtab all = model.symbols();
+  load_definitions(model, model.symbols());
+  const GiNaC::symtab all = with_definitions(model.symbols());
   GiNaC::symtab geometric;  // what A(q) and B(q) may use
   for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
   for (const auto& s : model.coordinates) geometric[s.get_name()] = s;
+  geometric = with_definitions(geometric);
   const std::string geometric_allowed = "A(q) and B(q) may use coordinates and parameters only";
 
   if (!qv["A"]) fail(qv, "quasi_velocities.A", "missing required key; expected an n x n matrix (list of rows)");
@@ -372,13 +424,40 @@ void Loader::load_core(Model& model) {
     if (model.constrained.size() >= n) fail(cons, "constraints", "at least one quasi-velocity must stay independent");
   }
 
-  GiNaC::symtab lagrangian_table = all;
+  GiNaC::symtab lagrangian_table = model.symbols();
   for (const auto& s : model.inputs) lagrangian_table.erase(s.get_name());
-  YAML::Node lag = require("lagrangian", YAML::NodeType::Scalar, "an expression");
-  model.locations["lagrangian"] = where(lag);
-  model.lagrangian = expression(lag, "lagrangian", lagrangian_table,
-                                "the Lagrangian may use coordinates, their _dot rates, quasi-velocities, "
-                                "parameters and t");
+  lagrangian_table = with_definitions(lagrangian_table);
+  // With `bodies`, L = Σ T_body − V + (further terms under `lagrangian`, optional).
+  const YAML::Node bodies = root_["bodies"];
+  model.lagrangian = 0;
+  if (bodies) {
+    model.locations["lagrangian"] = where(bodies);
+    if (!bodies.IsSequence() || bodies.size() == 0) fail(bodies, "bodies", "expected a non-empty list of bodies");
+    GiNaC::symtab pose_table = geometric;
+    pose_table["t"] = model.time;
+    pose_table = with_definitions(pose_table);
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const std::string key = "bodies[" + std::to_string(i) + "]";
+      std::string body_name;
+      model.lagrangian += posed_body_kinetic_energy(model, bodies[i], key, pose_table, body_name);
+      if (std::find(names.begin(), names.end(), body_name) != names.end())
+        fail(bodies[i]["name"], key + ".name", "the body '" + body_name + "' is listed twice");
+      names.push_back(body_name);
+    }
+    if (YAML::Node v = root_["potential"]) {
+      model.locations["potential"] = where(v);
+      model.lagrangian -= expression(v, "potential", pose_table, "the potential V(q, t) may use coordinates, parameters and t");
+    }
+  } else if (YAML::Node v = root_["potential"]) {
+    fail(v, "potential", "goes with 'bodies' in a model in general coordinates; without bodies write L = T - V as 'lagrangian'");
+  }
+  if (YAML::Node lag = bodies ? root_["lagrangian"] : require("lagrangian", YAML::NodeType::Scalar, "an expression")) {
+    model.locations["lagrangian"] = where(lag);
+    model.lagrangian += expression(lag, "lagrangian", lagrangian_table,
+                                   "the Lagrangian may use coordinates, their _dot rates, quasi-velocities, "
+                                   "parameters and t");
+  }
 
   load_forces(model, all, "forces may use coordinates, _dot rates, quasi-velocities, parameters, inputs and t");
 }
@@ -459,6 +538,13 @@ void Loader::load_bundle(Model& model) {
   GiNaC::symtab velocities = geometric;  // plus ξ and ṙ: what the kinetic energy and twists may use
   for (const auto& r : model.rates) velocities[r.get_name()] = r;
   for (const auto& x : b.group_velocity) velocities[x.get_name()] = x;
+  GiNaC::symtab force_table = velocities;
+  force_table["t"] = model.time;
+  for (const auto& u : model.inputs) force_table[u.get_name()] = u;
+  load_definitions(model, force_table);
+  geometric = with_definitions(geometric);
+  velocities = with_definitions(velocities);
+  force_table = with_definitions(force_table);
 
   if (YAML::Node conn = root_["connection"]) {
     model.locations["connection"] = where(conn);
@@ -509,7 +595,7 @@ void Loader::load_bundle(Model& model) {
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       std::string body_name;
       b.kinetic +=
-          body_kinetic_energy(bodies[i], "bodies[" + std::to_string(i) + "]", geometric, velocities, body_name);
+          body_kinetic_energy(model, bodies[i], "bodies[" + std::to_string(i) + "]", geometric, velocities, body_name);
       if (std::find(b.bodies.begin(), b.bodies.end(), body_name) != b.bodies.end())
         fail(bodies[i]["name"], "bodies[" + std::to_string(i) + "].name",
              "the body '" + body_name + "' is listed twice");
@@ -524,9 +610,6 @@ void Loader::load_bundle(Model& model) {
   model.lagrangian = b.kinetic - b.potential;
   model.locations["lagrangian"] = model.locations["kinetic"];
 
-  GiNaC::symtab force_table = velocities;
-  force_table["t"] = model.time;
-  for (const auto& u : model.inputs) force_table[u.get_name()] = u;
   model.bundle = b;
   load_forces(model, force_table,
               "forces on the shape may use shape coordinates, their _dot rates, the group velocity, parameters, "
@@ -534,9 +617,12 @@ void Loader::load_bundle(Model& model) {
 }
 
 RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
-                             const std::vector<std::string>& keys, const std::string& allowed) {
+                             const std::vector<std::string>& keys, const std::string& allowed,
+                             const std::vector<std::string>& optional) {
   if (!body.IsMap()) fail(body, key, "expected a map with keys " + join(keys));
-  check_keys(body, key, keys);
+  std::vector<std::string> known = keys;
+  known.insert(known.end(), optional.begin(), optional.end());
+  check_keys(body, key, known);
   for (const std::string& k : keys)
     if (!body[k]) fail(body, key + "." + k, "missing required key of a body");
   RigidBody out;
@@ -560,19 +646,100 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
   return out;
 }
 
-GiNaC::ex Loader::body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
-                                      const GiNaC::symtab& velocities, std::string& name) {
+// A rigid body of a model in general coordinates (key `bodies` beside `coordinates`): inertial data in its
+// own frame and its pose (R(q, t), p(q, t)) as expressions. Its kinetic energy T = ½ m |ṗ_c|² + ½ ωᵀΘω with
+// p_c = p + R c and ω̂ = RᵀṘ (body frame) is built through named intermediates: the entries of R, the body
+// angular velocity and the centre-of-mass velocity are definitions of the model's program, and Ṙ, ṗ follow
+// by the chain rule through them (Intermediates::diff), so nothing is expanded.
+GiNaC::ex Loader::posed_body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                            const GiNaC::symtab& table, std::string& name) {
+  const std::string allowed = "a body's pose and inertia may use coordinates, parameters, t and definitions of these";
+  const RigidBody rb = rigid_body(body, key, table, {"name", "mass", "com", "inertia", "position"}, allowed, {"rotation"});
+  name = rb.name;
+  Intermediates& program = model.definitions;
+  // R: a 3x3 matrix, or a product of elementary rotations [[axis, angle], ...] applied left to right.
+  GiNaC::matrix R = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
+  const YAML::Node rot = body["rotation"];
+  const bool elementary = rot && rot.IsSequence() && rot.size() > 0 && rot[0].IsSequence() && rot[0].size() == 2;
+  if (!rot) {
+  } else if (elementary) {
+    for (std::size_t k = 0; k < rot.size(); ++k) {
+      const std::string item = key + ".rotation[" + std::to_string(k) + "]";
+      if (!rot[k].IsSequence() || rot[k].size() != 2) fail(rot[k], item, "expected [axis, angle] with axis x, y or z");
+      const std::string axis = scalar(rot[k][0], item + "[0]");
+      if (axis != "x" && axis != "y" && axis != "z")
+        fail(rot[k][0], item + "[0]", "expected the axis x, y or z, got " + quote(axis));
+      const GiNaC::ex angle = expression(rot[k][1], item + "[1]", table, allowed);
+      const GiNaC::ex c = GiNaC::cos(angle), s = GiNaC::sin(angle);
+      GiNaC::matrix E = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
+      const unsigned a = axis == "x" ? 0 : axis == "y" ? 1 : 2, i = (a + 1) % 3, j = (a + 2) % 3;
+      E(i, i) = c, E(i, j) = -s, E(j, i) = s, E(j, j) = c;
+      R = R.mul(E);
+    }
+  } else {
+    const std::vector<std::vector<GiNaC::ex>> rows = [&] {
+      if (!rot.IsSequence() || rot.size() != 3)
+        fail(rot, key + ".rotation", "expected a 3x3 matrix (three rows) or a list of [axis, angle] rotations");
+      std::vector<std::vector<GiNaC::ex>> r;
+      for (std::size_t i = 0; i < 3; ++i) r.push_back(vector_of(rot[i], key + ".rotation[" + std::to_string(i) + "]", 3, table, allowed));
+      return r;
+    }();
+    for (unsigned i = 0; i < 3; ++i)
+      for (unsigned j = 0; j < 3; ++j) R(i, j) = rows[i][j];
+  }
+  const std::vector<GiNaC::ex> position = vector_of(body["position"], key + ".position", 3, table, allowed);
+
+  const auto rate = [&](const GiNaC::ex& e) {  // d/dt along q̇, by the chain rule through the program
+    GiNaC::ex out = program.diff(e, model.time);
+    for (std::size_t a = 0; a < model.coordinates.size(); ++a) out += program.diff(e, model.coordinates[a]) * model.rates[a];
+    return out;
+  };
+  const std::string prefix = "_" + name + "_";
+  GiNaC::matrix Rs(3, 3), Rdot(3, 3);
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j)
+      Rs(i, j) = GiNaC::is_a<GiNaC::numeric>(R(i, j)) ? R(i, j)
+                                                      : GiNaC::ex(program.define_named(prefix + "R" + std::to_string(i) + std::to_string(j), R(i, j)));
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j) Rdot(i, j) = rate(Rs(i, j));
+  // ω̂ = RᵀṘ: ω = ((RᵀṘ)_21, (RᵀṘ)_02, (RᵀṘ)_10).
+  const GiNaC::matrix W = Rs.transpose().mul(Rdot);
+  const GiNaC::ex omega_entries[3] = {W(2, 1), W(0, 2), W(1, 0)};
+  GiNaC::ex omega[3], velocity[3];
+  for (unsigned i = 0; i < 3; ++i) {
+    omega[i] = program.define_named(prefix + "w" + std::to_string(i), omega_entries[i]);
+    GiNaC::ex centre = position[i];
+    for (unsigned j = 0; j < 3; ++j) centre += Rs(i, j) * rb.com[j];
+    velocity[i] = program.define_named(prefix + "v" + std::to_string(i), rate(centre));
+  }
+  GiNaC::ex T = 0;
+  for (unsigned i = 0; i < 3; ++i) {
+    T += rb.mass * velocity[i] * velocity[i] / 2;
+    for (unsigned j = 0; j < 3; ++j) T += omega[i] * rb.inertia[i][j] * omega[j] / 2;
+  }
+  return T;
+}
+
+GiNaC::ex Loader::body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                      const GiNaC::symtab& geometric, const GiNaC::symtab& velocities,
+                                      std::string& name) {
   const RigidBody rb = rigid_body(body, key, geometric, {"name", "mass", "com", "inertia", "twist"},
                                   "mass, com and inertia may use shape coordinates and parameters only");
   name = rb.name;
   const std::vector<GiNaC::ex> twist =
       vector_of(body["twist"], key + ".twist", 6, velocities,
                 "the twist may use the group velocity, shape coordinates, their _dot rates and parameters");
-  // T = ½ m |v + ω × c|² + ½ ωᵀ Θ ω, with (ω, v) = twist and c = com, all resolved in the body's frame.
-  const GiNaC::ex w[3] = {twist[0], twist[1], twist[2]};
+  // T = ½ m |v + ω × c|² + ½ ωᵀ Θ ω, with (ω, v) = twist and c = com, all resolved in the body's frame; ω
+  // and the centre-of-mass velocity are intermediates of the model's program (T stays a short expression).
+  const auto named = [&](const std::string& what, const GiNaC::ex& e) -> GiNaC::ex {
+    if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::numeric>(e)) return e;
+    return model.definitions.define_named("_" + name + "_" + what, e);
+  };
+  const GiNaC::ex w[3] = {named("w0", twist[0]), named("w1", twist[1]), named("w2", twist[2])};
   const GiNaC::ex* com = rb.com;
-  const GiNaC::ex vc[3] = {twist[3] + w[1] * com[2] - w[2] * com[1], twist[4] + w[2] * com[0] - w[0] * com[2],
-                           twist[5] + w[0] * com[1] - w[1] * com[0]};
+  const GiNaC::ex vc[3] = {named("v0", twist[3] + w[1] * com[2] - w[2] * com[1]),
+                           named("v1", twist[4] + w[2] * com[0] - w[0] * com[2]),
+                           named("v2", twist[5] + w[0] * com[1] - w[1] * com[0])};
   GiNaC::ex t = 0;
   for (int i = 0; i < 3; ++i) {
     t += rb.mass * vc[i] * vc[i] / 2;

@@ -21,7 +21,7 @@ namespace {
 struct DeriveOptions {
   std::string model;
   std::vector<std::string> params, at;
-  std::string form, curvature_sign = "paper", fold = "none";
+  std::string form, curvature_sign = "paper", fold = "none", dynamics;
   bool json = false;
 };
 
@@ -159,7 +159,8 @@ void run(const DeriveOptions& opt) {
   if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
     throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
                      opt.curvature_sign + "'");
-  const Derivation d = derive(apply_fold(model, params, opt.fold), DeriveSettings{opt.form});
+  const Derivation d = derive(apply_fold(model, params, opt.fold),
+                                DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
   const HamelSystem& sys = d.system;
   const HamelEquations& eq = d.equations;
   if (!at.empty()) values = eq.intermediates.evaluate(values);
@@ -220,6 +221,11 @@ void run(const DeriveOptions& opt) {
     j["kinematics"].push_back(k);
   }
   j["energy"] = entry(eq.energy_terms.at(0), values);
+  for (std::size_t i = 0; i < eq.recursive_accelerations.size(); ++i) {
+    nlohmann::json a = entry(eq.recursive_accelerations[i], values);
+    a["row"] = sys.velocities[static_cast<std::size_t>(eq.independent[i])].get_name() + "_rate";
+    j["accelerations"].push_back(a);
+  }
   if (!eq.intermediates.empty()) {
     j["intermediates"] = nlohmann::json::array();
     for (const Intermediates::Definition& def : eq.intermediates.definitions()) {
@@ -310,6 +316,9 @@ Run add_derive_command(CLI::App& app) {
                   "Bundle models: ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare, locked velocity), "
                   "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection, ep for "
                   "kinematic trees");
+  cmd->add_option("--dynamics", opt->dynamics,
+                  "Kinematic trees (ep form): aba also derives u' by the articulated-body algorithm (JSON key "
+                  "'accelerations'); ldlt (default here) only M u' = f");
   cmd->add_option("--curvature-sign", opt->curvature_sign,
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
   cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "satellite_compliant_rotor.hpp"
+#include "satellite_compliant_rotor.h"
 
 #include <cmath>
 
@@ -564,6 +565,109 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[3] = w5;  // M_shape[phi2][phi2]
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[7], p[6], in[0]) -> out[12]  ops: 21 add, 34 mul, 15 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = p[0] + p[3];
+  const real w1 = p[1] + p[4];
+  const real w2 = p[0] * p[3];
+  const real w3 = w2 / w0;
+  const real w4 = p[1] * p[4];
+  const real w5 = w4 / w1;
+  const real w6 = p[2] * p[4];
+  const real w7 = x[6] * w6;
+  const real w8 = x[4] * w7;
+  const real w9 = w8 / w1;
+  const real w10 = w1 - p[2];
+  const real w11 = x[3] * w10;
+  const real w12 = x[4] * w11;
+  const real w13 = w9 + w12;
+  const real w14 = x[5] * p[2];
+  const real w15 = p[3] * w14;
+  const real w16 = x[4] * w15;
+  const real w17 = w16 / w0;
+  const real w18 = p[2] - p[3];
+  const real w19 = w18 - p[0];
+  const real w20 = x[2] * w19;
+  const real w21 = x[4] * w20;
+  const real w22 = w21 - w17;
+  const real w23 = p[1] * p[3];
+  const real w24 = p[3] * p[4];
+  const real w25 = w23 + w24;
+  const real w26 = x[5] * w25;
+  const real w27 = x[3] * w26;
+  const real w28 = w27 / w0;
+  const real w29 = x[2] * x[6];
+  const real w30 = p[0] * p[4];
+  const real w31 = w24 + w30;
+  const real w32 = w29 * w31;
+  const real w33 = w32 / w1;
+  const real w34 = w28 - w33;
+  const real w35 = x[2] * x[3];
+  const real w36 = w1 - p[3];
+  const real w37 = w36 - p[0];
+  const real w38 = w35 * w37;
+  const real w39 = w34 - w38;
+  const real w40 = p[2] * p[3];
+  const real w41 = w25 - w40;
+  const real w42 = x[3] * w41;
+  const real w43 = x[4] * w42;
+  const real w44 = w43 / w0;
+  const real w45 = -w44;
+  const real w46 = x[0] * p[5];
+  const real w47 = w45 - w46;
+  const real w48 = w25 + w30;
+  const real w49 = p[0] * p[1];
+  const real w50 = w48 + w49;
+  const real w51 = p[3] * w7;
+  const real w52 = x[4] * w51;
+  const real w53 = w52 / w50;
+  const real w54 = w47 - w53;
+  const real w55 = x[5] * p[4];
+  const real w56 = p[2] * w55;
+  const real w57 = p[3] * w56;
+  const real w58 = x[4] * w57;
+  const real w59 = w58 / w50;
+  const real w60 = w31 - w6;
+  const real w61 = x[2] * w60;
+  const real w62 = x[4] * w61;
+  const real w63 = w62 / w1;
+  const real w64 = w59 + w63;
+  const real w65 = w64 / w5;
+  const real w66 = w54 / w3;
+  const real w67 = w39 / p[2];
+  const real w68 = w22 / w1;
+  const real w69 = w13 / w0;
+  out[0] = x[5];  // phi1_dot
+  out[1] = x[6];  // phi2_dot
+  out[2] = w69;  // wx_locked_rate
+  out[3] = w68;  // wy_locked_rate
+  out[4] = w67;  // wz_locked_rate
+  out[5] = w66;  // phi1_dot_rate
+  out[6] = w65;  // phi2_dot_rate
+  out[7] = w0;  // pivot 0
+  out[8] = w1;  // pivot 1
+  out[9] = p[2];  // pivot 2
+  out[10] = w3;  // pivot 3
+  out[11] = w5;  // pivot 4
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -591,3 +695,20 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace satellite_compliant_rotor
+
+extern "C" {
+
+void satellite_compliant_rotor_kinematics(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::kinematics(t, x, p, in, out); }
+void satellite_compliant_rotor_mass_matrix(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::mass_matrix(t, x, p, in, out); }
+void satellite_compliant_rotor_forcing(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::forcing(t, x, p, in, out); }
+void satellite_compliant_rotor_hamel_coefficients(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::hamel_coefficients(t, x, p, in, out); }
+void satellite_compliant_rotor_rhs(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::rhs(t, x, p, in, out); }
+void satellite_compliant_rotor_jacobian(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::jacobian(t, x, p, in, out); }
+void satellite_compliant_rotor_energy(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::energy(t, x, p, in, out); }
+void satellite_compliant_rotor_group_velocity(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::group_velocity(t, x, p, in, out); }
+void satellite_compliant_rotor_connection(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::connection(t, x, p, in, out); }
+void satellite_compliant_rotor_locked_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::locked_inertia(t, x, p, in, out); }
+void satellite_compliant_rotor_shape_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::shape_inertia(t, x, p, in, out); }
+int satellite_compliant_rotor_rhs_status(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { return satellite_compliant_rotor::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

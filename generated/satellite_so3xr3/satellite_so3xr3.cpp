@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "satellite_so3xr3.hpp"
+#include "satellite_so3xr3.h"
 
 #include <cmath>
 
@@ -1119,6 +1120,212 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[8] = real(1.8467881521552443);  // M_shape[phi3][phi3]
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[12], p[19], in[0]) -> out[12]  ops: 76 add, 96 mul, 0 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)p;
+  (void)in;
+  const real w0 = x[4] * x[10];
+  const real w1 = x[3] * x[4];
+  const real w2 = x[5] * x[10];
+  const real w3 = x[4] * x[4];
+  const real w4 = x[4] * x[11];
+  const real w5 = x[5] * x[9];
+  const real w6 = x[3] * x[10];
+  const real w7 = x[3] * x[11];
+  const real w8 = x[4] * x[9];
+  const real w9 = x[4] * x[5];
+  const real w10 = x[5] * x[5];
+  const real w11 = x[5] * x[11];
+  const real w12 = x[3] * x[5];
+  const real w13 = x[3] * x[9];
+  const real w14 = x[3] * x[3];
+  const real w15 = w0 * real(0.0014003615387964366);
+  const real w16 = -w15;
+  const real w17 = w1 * real(0.0006819740260367753);
+  const real w18 = w16 - w17;
+  const real w19 = w2 * real(0.09868373773874478);
+  const real w20 = w18 + w19;
+  const real w21 = w3 * real(0.008716152994064214);
+  const real w22 = w20 + w21;
+  const real w23 = w4 * real(0.08193247430869222);
+  const real w24 = w22 - w23;
+  const real w25 = w6 * real(0.00010995207195179387);
+  const real w26 = w24 + w25;
+  const real w27 = w14 * real(2.9679042231160865e-07);
+  const real w28 = w26 + w27;
+  const real w29 = w7 * real(0.0005386656228464087);
+  const real w30 = w28 + w29;
+  const real w31 = w9 * real(0.10424612079251101);
+  const real w32 = w30 - w31;
+  const real w33 = w10 * real(0.008716449784486527);
+  const real w34 = w32 - w33;
+  const real w35 = w11 * real(0.0014003615387964366);
+  const real w36 = w34 + w35;
+  const real w37 = w12 * real(0.0030468828525879537);
+  const real w38 = w36 - w37;
+  const real w39 = w1 * real(0.008633100961014366);
+  const real w40 = w3 * real(4.343932544742636e-06);
+  const real w41 = w40 - w39;
+  const real w42 = w4 * real(0.0005386656228464087);
+  const real w43 = w41 - w42;
+  const real w44 = w5 * real(0.09868373773874478);
+  const real w45 = w43 - w44;
+  const real w46 = w14 * real(0.0006719324026140621);
+  const real w47 = w45 + w46;
+  const real w48 = w7 * real(0.07163398609886829);
+  const real w49 = w47 + w48;
+  const real w50 = w8 * real(0.0014003615387964366);
+  const real w51 = w49 + w50;
+  const real w52 = w9 * real(0.003046652615169433);
+  const real w53 = w51 + w52;
+  const real w54 = w10 * real(0.0006762763351588046);
+  const real w55 = w53 - w54;
+  const real w56 = w11 * real(0.00010995207195179387);
+  const real w57 = w55 + w56;
+  const real w58 = w12 * real(0.16247471365345106);
+  const real w59 = w57 + w58;
+  const real w60 = w13 * real(0.00010995207195179387);
+  const real w61 = w59 - w60;
+  const real w62 = w0 * real(0.0005386656228464087);
+  const real w63 = w1 * real(0.059223437097450204);
+  const real w64 = w62 - w63;
+  const real w65 = w2 * real(0.00010995207195179387);
+  const real w66 = w64 - w65;
+  const real w67 = w3 * real(0.0030986161212916154);
+  const real w68 = w66 - w67;
+  const real w69 = w5 * real(0.0014003615387964366);
+  const real w70 = w68 - w69;
+  const real w71 = w6 * real(0.07163398609886829);
+  const real w72 = w70 - w71;
+  const real w73 = w14 * real(0.003098501002582355);
+  const real w74 = w72 + w73;
+  const real w75 = w8 * real(0.08193247430869222);
+  const real w76 = w74 + w75;
+  const real w77 = w9 * real(0.00067328616094729);
+  const real w78 = w76 + w77;
+  const real w79 = w10 * real(1.1511870926026033e-07);
+  const real w80 = w78 + w79;
+  const real w81 = w12 * real(0.008632507380169744);
+  const real w82 = w80 + w81;
+  const real w83 = w13 * real(0.0005386656228464087);
+  const real w84 = w82 - w83;
+  const real w85 = w0 * real(0.0015387348618938219);
+  const real w86 = w1 * real(0.0007489432417782306);
+  const real w87 = w85 + w86;
+  const real w88 = w2 * real(0.10843265674928293);
+  const real w89 = w87 - w88;
+  const real w90 = w3 * real(0.009577404788856518);
+  const real w91 = w89 - w90;
+  const real w92 = w4 * real(0.09002673553420017);
+  const real w93 = w91 + w92;
+  const real w94 = w5 * real(3.5999477039465776e-05);
+  const real w95 = w93 + w94;
+  const real w96 = w6 * real(0.00012511935942978358);
+  const real w97 = w95 - w96;
+  const real w98 = w14 * real(3.8558274692005936e-07);
+  const real w99 = w97 - w98;
+  const real w100 = w7 * real(0.0006180730206681509);
+  const real w101 = w99 - w100;
+  const real w102 = w8 * real(4.412077569887314e-06);
+  const real w103 = w101 + w102;
+  const real w104 = w9 * real(0.11454346442829523);
+  const real w105 = w103 + w104;
+  const real w106 = w10 * real(0.009577790371603438);
+  const real w107 = w105 + w106;
+  const real w108 = w11 * real(0.0015387426921374412);
+  const real w109 = w107 - w108;
+  const real w110 = w12 * real(0.003288992788846512);
+  const real w111 = w109 + w110;
+  const real w112 = w13 * real(7.830243619347016e-09);
+  const real w113 = w111 + w112;
+  const real w114 = w0 * real(1.1460629297407906e-07);
+  const real w115 = w1 * real(0.009469505649823542);
+  const real w116 = w114 + w115;
+  const real w117 = w2 * real(3.600251422486965e-05);
+  const real w118 = w116 - w117;
+  const real w119 = w3 * real(5.64352929582996e-06);
+  const real w120 = w118 - w119;
+  const real w121 = w4 * real(0.0006180699834827471);
+  const real w122 = w120 + w121;
+  const real w123 = w5 * real(0.10774326125710074);
+  const real w124 = w122 + w123;
+  const real w125 = w6 * real(5.2812336348411574e-05);
+  const real w126 = w124 + w125;
+  const real w127 = w14 * real(0.0007358974139758719);
+  const real w128 = w126 - w127;
+  const real w129 = w7 * real(0.07820969169126459);
+  const real w130 = w128 - w129;
+  const real w131 = w8 * real(0.0015893560303238173);
+  const real w132 = w130 - w131;
+  const real w133 = w9 * real(0.0032886936701095075);
+  const real w134 = w132 - w133;
+  const real w135 = w10 * real(0.0007415409432717019);
+  const real w136 = w134 + w135;
+  const real w137 = w11 * real(0.00012055695926088935);
+  const real w138 = w136 - w137;
+  const real w139 = w12 * real(0.1773940331431928);
+  const real w140 = w138 - w139;
+  const real w141 = w13 * real(0.00012044235296791528);
+  const real w142 = w140 + w141;
+  const real w143 = w0 * real(0.0005834384262755702);
+  const real w144 = w1 * real(0.06414304564351095);
+  const real w145 = w144 - w143;
+  const real w146 = w2 * real(0.00012500475313680952);
+  const real w147 = w145 + w146;
+  const real w148 = w3 * real(0.0033562033669323776);
+  const real w149 = w147 + w148;
+  const real w150 = w4 * real(4.526683862861394e-06);
+  const real w151 = w149 - w150;
+  const real w152 = w5 * real(0.001589348200080198);
+  const real w153 = w151 + w152;
+  const real w154 = w6 * real(0.0775768734676248);
+  const real w155 = w153 + w154;
+  const real w156 = w14 * real(0.0033560538075638755);
+  const real w157 = w155 - w156;
+  const real w158 = w7 * real(5.282016659203092e-05);
+  const real w159 = w157 - w158;
+  const real w160 = w8 * real(0.08873076886730417);
+  const real w161 = w159 - w160;
+  const real w162 = w9 * real(0.0007376561831865708);
+  const real w163 = w161 - w162;
+  const real w164 = w10 * real(1.4955936850232604e-07);
+  const real w165 = w163 - w164;
+  const real w166 = w11 * real(3.037185403867934e-09);
+  const real w167 = w165 + w166;
+  const real w168 = w12 * real(0.009468734484329703);
+  const real w169 = w167 - w168;
+  const real w170 = w13 * real(0.0005834353890901664);
+  const real w171 = w169 + w170;
+  out[0] = x[9];  // phi1_dot
+  out[1] = x[10];  // phi2_dot
+  out[2] = x[11];  // phi3_dot
+  out[3] = w38;  // wx_locked_rate
+  out[4] = w61;  // wy_locked_rate
+  out[5] = w84;  // wz_locked_rate
+  out[6] = real(0.0);  // vx_locked_rate
+  out[7] = real(0.0);  // vy_locked_rate
+  out[8] = real(0.0);  // vz_locked_rate
+  out[9] = w113;  // phi1_dot_rate
+  out[10] = w142;  // phi2_dot_rate
+  out[11] = w171;  // phi3_dot_rate
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -1146,3 +1353,20 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace satellite_so3xr3
+
+extern "C" {
+
+void satellite_so3xr3_kinematics(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::kinematics(t, x, p, in, out); }
+void satellite_so3xr3_mass_matrix(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::mass_matrix(t, x, p, in, out); }
+void satellite_so3xr3_forcing(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::forcing(t, x, p, in, out); }
+void satellite_so3xr3_hamel_coefficients(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::hamel_coefficients(t, x, p, in, out); }
+void satellite_so3xr3_rhs(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::rhs(t, x, p, in, out); }
+void satellite_so3xr3_jacobian(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::jacobian(t, x, p, in, out); }
+void satellite_so3xr3_energy(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::energy(t, x, p, in, out); }
+void satellite_so3xr3_group_velocity(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::group_velocity(t, x, p, in, out); }
+void satellite_so3xr3_connection(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::connection(t, x, p, in, out); }
+void satellite_so3xr3_locked_inertia(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::locked_inertia(t, x, p, in, out); }
+void satellite_so3xr3_shape_inertia(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { satellite_so3xr3::shape_inertia(t, x, p, in, out); }
+int satellite_so3xr3_rhs_status(HAMEL_SATELLITE_SO3XR3_REAL t, const HAMEL_SATELLITE_SO3XR3_REAL* x, const HAMEL_SATELLITE_SO3XR3_REAL* p, const HAMEL_SATELLITE_SO3XR3_REAL* in, HAMEL_SATELLITE_SO3XR3_REAL* out) { return satellite_so3xr3::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "satellite_wheels_controlled.hpp"
+#include "satellite_wheels_controlled.h"
 
 #include <cmath>
 
@@ -1139,6 +1140,229 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[8] = real(1.8467881521552443);  // M_shape[phi3][phi3]
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[12], p[19], in[3]) -> out[12]  ops: 85 add, 105 mul, 0 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)p;
+  const real w0 = x[4] * x[4];
+  const real w1 = x[5] * x[9];
+  const real w2 = x[4] * x[11];
+  const real w3 = x[3] * x[9];
+  const real w4 = x[4] * x[10];
+  const real w5 = x[5] * x[10];
+  const real w6 = x[3] * x[5];
+  const real w7 = x[3] * x[11];
+  const real w8 = x[4] * x[9];
+  const real w9 = x[3] * x[10];
+  const real w10 = x[5] * x[11];
+  const real w11 = x[5] * x[5];
+  const real w12 = x[4] * x[5];
+  const real w13 = x[3] * x[4];
+  const real w14 = x[3] * x[3];
+  const real w15 = w0 * real(0.008716152994064214);
+  const real w16 = w2 * real(0.08193247430869222);
+  const real w17 = w15 - w16;
+  const real w18 = w4 * real(0.0014003615387964366);
+  const real w19 = w17 - w18;
+  const real w20 = w5 * real(0.09868373773874478);
+  const real w21 = w19 + w20;
+  const real w22 = w14 * real(2.9679042231160865e-07);
+  const real w23 = w21 + w22;
+  const real w24 = w6 * real(0.0030468828525879537);
+  const real w25 = w23 - w24;
+  const real w26 = w7 * real(0.0005386656228464087);
+  const real w27 = w25 + w26;
+  const real w28 = w9 * real(0.00010995207195179387);
+  const real w29 = w27 + w28;
+  const real w30 = w10 * real(0.0014003615387964366);
+  const real w31 = w29 + w30;
+  const real w32 = w11 * real(0.008716449784486527);
+  const real w33 = w31 - w32;
+  const real w34 = w12 * real(0.10424612079251101);
+  const real w35 = w33 - w34;
+  const real w36 = w13 * real(0.0006819740260367753);
+  const real w37 = w35 - w36;
+  const real w38 = w0 * real(4.343932544742636e-06);
+  const real w39 = w1 * real(0.09868373773874478);
+  const real w40 = w38 - w39;
+  const real w41 = w2 * real(0.0005386656228464087);
+  const real w42 = w40 - w41;
+  const real w43 = w3 * real(0.00010995207195179387);
+  const real w44 = w42 - w43;
+  const real w45 = w14 * real(0.0006719324026140621);
+  const real w46 = w44 + w45;
+  const real w47 = w6 * real(0.16247471365345106);
+  const real w48 = w46 + w47;
+  const real w49 = w7 * real(0.07163398609886829);
+  const real w50 = w48 + w49;
+  const real w51 = w8 * real(0.0014003615387964366);
+  const real w52 = w50 + w51;
+  const real w53 = w10 * real(0.00010995207195179387);
+  const real w54 = w52 + w53;
+  const real w55 = w11 * real(0.0006762763351588046);
+  const real w56 = w54 - w55;
+  const real w57 = w12 * real(0.003046652615169433);
+  const real w58 = w56 + w57;
+  const real w59 = w13 * real(0.008633100961014366);
+  const real w60 = w58 - w59;
+  const real w61 = w0 * real(0.0030986161212916154);
+  const real w62 = -w61;
+  const real w63 = w1 * real(0.0014003615387964366);
+  const real w64 = w62 - w63;
+  const real w65 = w3 * real(0.0005386656228464087);
+  const real w66 = w64 - w65;
+  const real w67 = w4 * real(0.0005386656228464087);
+  const real w68 = w66 + w67;
+  const real w69 = w5 * real(0.00010995207195179387);
+  const real w70 = w68 - w69;
+  const real w71 = w14 * real(0.003098501002582355);
+  const real w72 = w70 + w71;
+  const real w73 = w6 * real(0.008632507380169744);
+  const real w74 = w72 + w73;
+  const real w75 = w8 * real(0.08193247430869222);
+  const real w76 = w74 + w75;
+  const real w77 = w9 * real(0.07163398609886829);
+  const real w78 = w76 - w77;
+  const real w79 = w11 * real(1.1511870926026033e-07);
+  const real w80 = w78 + w79;
+  const real w81 = w12 * real(0.00067328616094729);
+  const real w82 = w80 + w81;
+  const real w83 = w13 * real(0.059223437097450204);
+  const real w84 = w82 - w83;
+  const real w85 = w0 * real(0.009577404788856518);
+  const real w86 = w1 * real(3.5999477039465776e-05);
+  const real w87 = w86 - w85;
+  const real w88 = w2 * real(0.09002673553420017);
+  const real w89 = w87 + w88;
+  const real w90 = w3 * real(7.830243619347016e-09);
+  const real w91 = w89 + w90;
+  const real w92 = w4 * real(0.0015387348618938219);
+  const real w93 = w91 + w92;
+  const real w94 = w5 * real(0.10843265674928293);
+  const real w95 = w93 - w94;
+  const real w96 = in[0] * real(0.5493947261516313);
+  const real w97 = w95 + w96;
+  const real w98 = w14 * real(3.8558274692005936e-07);
+  const real w99 = w97 - w98;
+  const real w100 = w6 * real(0.003288992788846512);
+  const real w101 = w99 + w100;
+  const real w102 = w7 * real(0.0006180730206681509);
+  const real w103 = w101 - w102;
+  const real w104 = w8 * real(4.412077569887314e-06);
+  const real w105 = w103 + w104;
+  const real w106 = w9 * real(0.00012511935942978358);
+  const real w107 = w105 - w106;
+  const real w108 = w10 * real(0.0015387426921374412);
+  const real w109 = w107 - w108;
+  const real w110 = w11 * real(0.009577790371603438);
+  const real w111 = w109 + w110;
+  const real w112 = w12 * real(0.11454346442829523);
+  const real w113 = w111 + w112;
+  const real w114 = in[1] * real(0.00018282464366842934);
+  const real w115 = w113 + w114;
+  const real w116 = in[2] * real(3.004986002259533e-05);
+  const real w117 = w115 - w116;
+  const real w118 = w13 * real(0.0007489432417782306);
+  const real w119 = w117 + w118;
+  const real w120 = w0 * real(5.64352929582996e-06);
+  const real w121 = w1 * real(0.10774326125710074);
+  const real w122 = w121 - w120;
+  const real w123 = w2 * real(0.0006180699834827471);
+  const real w124 = w122 + w123;
+  const real w125 = w3 * real(0.00012044235296791528);
+  const real w126 = w124 + w125;
+  const real w127 = w4 * real(1.1460629297407906e-07);
+  const real w128 = w126 + w127;
+  const real w129 = w5 * real(3.600251422486965e-05);
+  const real w130 = w128 - w129;
+  const real w131 = in[0] * real(0.00018282464366842934);
+  const real w132 = w130 + w131;
+  const real w133 = w14 * real(0.0007358974139758719);
+  const real w134 = w132 - w133;
+  const real w135 = w6 * real(0.1773940331431928);
+  const real w136 = w134 - w135;
+  const real w137 = w7 * real(0.07820969169126459);
+  const real w138 = w136 - w137;
+  const real w139 = w8 * real(0.0015893560303238173);
+  const real w140 = w138 - w139;
+  const real w141 = w9 * real(5.2812336348411574e-05);
+  const real w142 = w140 + w141;
+  const real w143 = w10 * real(0.00012055695926088935);
+  const real w144 = w142 - w143;
+  const real w145 = w11 * real(0.0007415409432717019);
+  const real w146 = w144 + w145;
+  const real w147 = w12 * real(0.0032886936701095075);
+  const real w148 = w146 - w147;
+  const real w149 = in[1] * real(0.5458965708024384);
+  const real w150 = w148 + w149;
+  const real w151 = in[2] * real(0.00036890687733205);
+  const real w152 = w150 + w151;
+  const real w153 = w13 * real(0.009469505649823542);
+  const real w154 = w152 + w153;
+  const real w155 = w0 * real(0.0033562033669323776);
+  const real w156 = w1 * real(0.001589348200080198);
+  const real w157 = w155 + w156;
+  const real w158 = w2 * real(4.526683862861394e-06);
+  const real w159 = w157 - w158;
+  const real w160 = w3 * real(0.0005834353890901664);
+  const real w161 = w159 + w160;
+  const real w162 = w4 * real(0.0005834384262755702);
+  const real w163 = w161 - w162;
+  const real w164 = w5 * real(0.00012500475313680952);
+  const real w165 = w163 + w164;
+  const real w166 = in[0] * real(3.004986002259533e-05);
+  const real w167 = w165 - w166;
+  const real w168 = w14 * real(0.0033560538075638755);
+  const real w169 = w167 - w168;
+  const real w170 = w6 * real(0.009468734484329703);
+  const real w171 = w169 - w170;
+  const real w172 = w7 * real(5.282016659203092e-05);
+  const real w173 = w171 - w172;
+  const real w174 = w8 * real(0.08873076886730417);
+  const real w175 = w173 - w174;
+  const real w176 = w9 * real(0.0775768734676248);
+  const real w177 = w175 + w176;
+  const real w178 = w10 * real(3.037185403867934e-09);
+  const real w179 = w177 + w178;
+  const real w180 = w11 * real(1.4955936850232604e-07);
+  const real w181 = w179 - w180;
+  const real w182 = w12 * real(0.0007376561831865708);
+  const real w183 = w181 - w182;
+  const real w184 = in[1] * real(0.00036890687733205);
+  const real w185 = w183 + w184;
+  const real w186 = in[2] * real(0.5414808744027276);
+  const real w187 = w185 + w186;
+  const real w188 = w13 * real(0.06414304564351095);
+  const real w189 = w187 + w188;
+  out[0] = x[9];  // phi1_dot
+  out[1] = x[10];  // phi2_dot
+  out[2] = x[11];  // phi3_dot
+  out[3] = w37;  // wx_locked_rate
+  out[4] = w60;  // wy_locked_rate
+  out[5] = w84;  // wz_locked_rate
+  out[6] = real(0.0);  // vx_locked_rate
+  out[7] = real(0.0);  // vy_locked_rate
+  out[8] = real(0.0);  // vz_locked_rate
+  out[9] = w119;  // phi1_dot_rate
+  out[10] = w154;  // phi2_dot_rate
+  out[11] = w189;  // phi3_dot_rate
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -1166,3 +1390,20 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace satellite_wheels_controlled
+
+extern "C" {
+
+void satellite_wheels_controlled_kinematics(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::kinematics(t, x, p, in, out); }
+void satellite_wheels_controlled_mass_matrix(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::mass_matrix(t, x, p, in, out); }
+void satellite_wheels_controlled_forcing(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::forcing(t, x, p, in, out); }
+void satellite_wheels_controlled_hamel_coefficients(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::hamel_coefficients(t, x, p, in, out); }
+void satellite_wheels_controlled_rhs(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::rhs(t, x, p, in, out); }
+void satellite_wheels_controlled_jacobian(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::jacobian(t, x, p, in, out); }
+void satellite_wheels_controlled_energy(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::energy(t, x, p, in, out); }
+void satellite_wheels_controlled_group_velocity(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::group_velocity(t, x, p, in, out); }
+void satellite_wheels_controlled_connection(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::connection(t, x, p, in, out); }
+void satellite_wheels_controlled_locked_inertia(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::locked_inertia(t, x, p, in, out); }
+void satellite_wheels_controlled_shape_inertia(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::shape_inertia(t, x, p, in, out); }
+int satellite_wheels_controlled_rhs_status(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { return satellite_wheels_controlled::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

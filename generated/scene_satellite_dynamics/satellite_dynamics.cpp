@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "satellite_dynamics.hpp"
+#include "satellite_dynamics.h"
 
 #include <cmath>
 
@@ -1079,6 +1080,355 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[5] = w35;  // vz
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[12], p[19], in[0]) -> out[12]  ops: 141 add, 174 mul, 0 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)p;
+  (void)in;
+  const real w0 = x[5] * x[5];
+  const real w1 = x[5] * x[11];
+  const real w2 = x[3] * x[10];
+  const real w3 = x[3] * x[4];
+  const real w4 = x[6] * x[9];
+  const real w5 = x[4] * x[9];
+  const real w6 = x[3] * x[8];
+  const real w7 = x[3] * x[9];
+  const real w8 = x[4] * x[6];
+  const real w9 = x[7] * x[11];
+  const real w10 = w9 * real(5.071390281161825e-05);
+  const real w11 = x[5] * x[10];
+  const real w12 = x[8] * x[9];
+  const real w13 = x[4] * x[4];
+  const real w14 = x[7] * x[9];
+  const real w15 = w14 * real(0.0899074318443323);
+  const real w16 = x[6] * x[10];
+  const real w17 = x[4] * x[11];
+  const real w18 = x[3] * x[7];
+  const real w19 = x[8] * x[10];
+  const real w20 = x[5] * x[9];
+  const real w21 = x[5] * x[6];
+  const real w22 = x[4] * x[10];
+  const real w23 = x[6] * x[11];
+  const real w24 = x[7] * x[10];
+  const real w25 = w24 * real(0.00030483074466150495);
+  const real w26 = x[3] * x[11];
+  const real w27 = x[3] * x[5];
+  const real w28 = x[4] * x[5];
+  const real w29 = x[8] * x[11];
+  const real w30 = x[4] * x[8];
+  const real w31 = x[5] * x[7];
+  const real w32 = x[3] * x[3];
+  const real w33 = w9 * real(0.07660592392237783);
+  const real w34 = real(5.071390281161825e-05) * w14;
+  const real w35 = w24 * real(0.0006240297432225561);
+  const real w36 = w0 * real(0.008716449784486527);
+  const real w37 = w1 * real(0.0014003615387964366);
+  const real w38 = w37 - w36;
+  const real w39 = w2 * real(0.00010995207195179387);
+  const real w40 = w38 + w39;
+  const real w41 = w3 * real(0.0006819740260367753);
+  const real w42 = w40 - w41;
+  const real w43 = w11 * real(0.09868373773874478);
+  const real w44 = w42 + w43;
+  const real w45 = w13 * real(0.008716152994064214);
+  const real w46 = w44 + w45;
+  const real w47 = w17 * real(0.08193247430869222);
+  const real w48 = w46 - w47;
+  const real w49 = w22 * real(0.0014003615387964366);
+  const real w50 = w48 - w49;
+  const real w51 = w32 * real(2.9679042231160865e-07);
+  const real w52 = w50 + w51;
+  const real w53 = w26 * real(0.0005386656228464087);
+  const real w54 = w52 + w53;
+  const real w55 = w27 * real(0.0030468828525879537);
+  const real w56 = w54 - w55;
+  const real w57 = w28 * real(0.10424612079251101);
+  const real w58 = w56 - w57;
+  const real w59 = w0 * real(0.0006762763351588046);
+  const real w60 = w1 * real(0.00010995207195179387);
+  const real w61 = w60 - w59;
+  const real w62 = w3 * real(0.008633100961014366);
+  const real w63 = w61 - w62;
+  const real w64 = w5 * real(0.0014003615387964366);
+  const real w65 = w63 + w64;
+  const real w66 = w7 * real(0.00010995207195179387);
+  const real w67 = w65 - w66;
+  const real w68 = w13 * real(4.343932544742636e-06);
+  const real w69 = w67 + w68;
+  const real w70 = w17 * real(0.0005386656228464087);
+  const real w71 = w69 - w70;
+  const real w72 = w20 * real(0.09868373773874478);
+  const real w73 = w71 - w72;
+  const real w74 = w32 * real(0.0006719324026140621);
+  const real w75 = w73 + w74;
+  const real w76 = w26 * real(0.07163398609886829);
+  const real w77 = w75 + w76;
+  const real w78 = w27 * real(0.16247471365345106);
+  const real w79 = w77 + w78;
+  const real w80 = w28 * real(0.003046652615169433);
+  const real w81 = w79 + w80;
+  const real w82 = w0 * real(1.1511870926026033e-07);
+  const real w83 = w2 * real(0.07163398609886829);
+  const real w84 = w82 - w83;
+  const real w85 = w3 * real(0.059223437097450204);
+  const real w86 = w84 - w85;
+  const real w87 = w5 * real(0.08193247430869222);
+  const real w88 = w86 + w87;
+  const real w89 = w7 * real(0.0005386656228464087);
+  const real w90 = w88 - w89;
+  const real w91 = w11 * real(0.00010995207195179387);
+  const real w92 = w90 - w91;
+  const real w93 = w13 * real(0.0030986161212916154);
+  const real w94 = w92 - w93;
+  const real w95 = w20 * real(0.0014003615387964366);
+  const real w96 = w94 - w95;
+  const real w97 = w22 * real(0.0005386656228464087);
+  const real w98 = w96 + w97;
+  const real w99 = w32 * real(0.003098501002582355);
+  const real w100 = w98 + w99;
+  const real w101 = w27 * real(0.008632507380169744);
+  const real w102 = w100 + w101;
+  const real w103 = w28 * real(0.00067328616094729);
+  const real w104 = w102 + w103;
+  const real w105 = w0 * real(0.06926198287022817);
+  const real w106 = w105 - w30;
+  const real w107 = w1 * real(0.005308561751793163);
+  const real w108 = w106 - w107;
+  const real w109 = w2 * real(0.00012450191191058993);
+  const real w110 = w108 + w109;
+  const real w111 = w3 * real(0.007749421779472031);
+  const real w112 = w110 - w111;
+  const real w113 = w5 * real(0.0005445140644150773);
+  const real w114 = w112 + w113;
+  const real w115 = w7 * real(9.353395127396151e-07);
+  const real w116 = w114 + w115;
+  const real w117 = w116 - w33;
+  const real w118 = w11 * real(4.404784431503691e-05);
+  const real w119 = w117 - w118;
+  const real w120 = w12 * real(0.00030483074466150495);
+  const real w121 = w119 + w120;
+  const real w122 = w13 * real(0.06920673323294954);
+  const real w123 = w121 + w122;
+  const real w124 = w34 + w123;
+  const real w125 = w17 * real(1.83405688609581e-05);
+  const real w126 = w124 - w125;
+  const real w127 = w19 * real(0.08407505618790964);
+  const real w128 = w126 + w127;
+  const real w129 = w20 * real(0.004547373000145976);
+  const real w130 = w128 + w129;
+  const real w131 = w22 * real(0.005816437231294926);
+  const real w132 = w130 - w131;
+  const real w133 = w31 + w132;
+  const real w134 = w133 - w35;
+  const real w135 = w32 * real(7.177641639246285e-06);
+  const real w136 = w134 - w135;
+  const real w137 = w26 * real(0.00023427428218676771);
+  const real w138 = w136 + w137;
+  const real w139 = w27 * real(0.05358627518877336);
+  const real w140 = w138 - w139;
+  const real w141 = w28 * real(0.0001354356117697639);
+  const real w142 = w140 - w141;
+  const real w143 = w29 * real(0.0006240297432225561);
+  const real w144 = w142 + w143;
+  const real w145 = w0 * real(0.007290002040189981);
+  const real w146 = w1 * real(0.0005246442668430709);
+  const real w147 = w145 - w146;
+  const real w148 = w2 * real(0.00496200581982203);
+  const real w149 = w147 + w148;
+  const real w150 = w3 * real(0.0651621608483013);
+  const real w151 = w149 - w150;
+  const real w152 = w4 * real(5.071390281161825e-05);
+  const real w153 = w151 - w152;
+  const real w154 = w5 * real(0.0005497718031068541);
+  const real w155 = w153 + w154;
+  const real w156 = w6 + w155;
+  const real w157 = w7 * real(0.0006543033941439586);
+  const real w158 = w156 - w157;
+  const real w159 = w11 * real(0.004557445887206248);
+  const real w160 = w158 + w159;
+  const real w161 = w12 * real(0.0899074318443323);
+  const real w162 = w160 - w161;
+  const real w163 = w13 * real(0.0006168035619693063);
+  const real w164 = w162 + w163;
+  const real w165 = w16 * real(0.0006240297432225561);
+  const real w166 = w164 + w165;
+  const real w167 = w17 * real(0.00024935174956300664);
+  const real w168 = w166 - w167;
+  const real w169 = w19 * real(0.00030483074466150495);
+  const real w170 = w168 - w169;
+  const real w171 = w20 * real(9.733821347676576e-05);
+  const real w172 = w170 + w171;
+  const real w173 = w172 - w21;
+  const real w174 = w22 * real(5.2019266746980134e-05);
+  const real w175 = w173 - w174;
+  const real w176 = w23 * real(0.07660592392237783);
+  const real w177 = w175 + w176;
+  const real w178 = w32 * real(0.0074778097824560975);
+  const real w179 = w177 + w178;
+  const real w180 = w26 * real(2.525159722992362e-05);
+  const real w181 = w179 + w180;
+  const real w182 = w27 * real(0.0007382604887465801);
+  const real w183 = w181 - w182;
+  const real w184 = w28 * real(0.051011817693873786);
+  const real w185 = w183 - w184;
+  const real w186 = real(5.071390281161825e-05) * w29;
+  const real w187 = w185 + w186;
+  const real w188 = w0 * real(2.023048283120988e-05);
+  const real w189 = w1 * real(1.8706790254792303e-06);
+  const real w190 = w188 - w189;
+  const real w191 = w2 * real(1.4914896460929412e-05);
+  const real w192 = w190 - w191;
+  const real w193 = w3 * real(0.000592430266331481);
+  const real w194 = w192 - w193;
+  const real w195 = w4 * real(0.00030483074466150495);
+  const real w196 = w194 - w195;
+  const real w197 = w5 * real(8.287899523999154e-05);
+  const real w198 = w196 + w197;
+  const real w199 = w7 * real(0.004157185843950461);
+  const real w200 = w198 - w199;
+  const real w201 = w8 + w200;
+  const real w202 = w201 - w10;
+  const real w203 = w11 * real(9.127080652985839e-05);
+  const real w204 = w202 - w203;
+  const real w205 = w13 * real(0.04608709955691414);
+  const real w206 = w204 + w205;
+  const real w207 = w15 + w206;
+  const real w208 = w16 * real(0.08407505618790964);
+  const real w209 = w207 - w208;
+  const real w210 = w17 * real(0.0005641561941826092);
+  const real w211 = w209 + w210;
+  const real w212 = w211 - w18;
+  const real w213 = w20 * real(0.0006052455561926987);
+  const real w214 = w212 - w213;
+  const real w215 = w22 * real(0.003869615196835857);
+  const real w216 = w214 - w215;
+  const real w217 = w23 * real(0.0006240297432225561);
+  const real w218 = w216 - w217;
+  const real w219 = w25 + w218;
+  const real w220 = w32 * real(0.04620036226794696);
+  const real w221 = w219 + w220;
+  const real w222 = w26 * real(0.004957473020644907);
+  const real w223 = w221 + w222;
+  const real w224 = w27 * real(0.05795908226358733);
+  const real w225 = w223 - w224;
+  const real w226 = w28 * real(0.0066794923513151085);
+  const real w227 = w225 - w226;
+  const real w228 = w0 * real(0.009577790371603438);
+  const real w229 = w1 * real(0.0015387426921374412);
+  const real w230 = w228 - w229;
+  const real w231 = w2 * real(0.00012511935942978358);
+  const real w232 = w230 - w231;
+  const real w233 = w3 * real(0.0007489432417782306);
+  const real w234 = w232 + w233;
+  const real w235 = w5 * real(4.412077569887314e-06);
+  const real w236 = w234 + w235;
+  const real w237 = w7 * real(7.830243619347016e-09);
+  const real w238 = w236 + w237;
+  const real w239 = w11 * real(0.10843265674928293);
+  const real w240 = w238 - w239;
+  const real w241 = w13 * real(0.009577404788856518);
+  const real w242 = w240 - w241;
+  const real w243 = w17 * real(0.09002673553420017);
+  const real w244 = w242 + w243;
+  const real w245 = w20 * real(3.5999477039465776e-05);
+  const real w246 = w244 + w245;
+  const real w247 = w22 * real(0.0015387348618938219);
+  const real w248 = w246 + w247;
+  const real w249 = w32 * real(3.8558274692005936e-07);
+  const real w250 = w248 - w249;
+  const real w251 = w26 * real(0.0006180730206681509);
+  const real w252 = w250 - w251;
+  const real w253 = w27 * real(0.003288992788846512);
+  const real w254 = w252 + w253;
+  const real w255 = w28 * real(0.11454346442829523);
+  const real w256 = w254 + w255;
+  const real w257 = w0 * real(0.0007415409432717019);
+  const real w258 = w1 * real(0.00012055695926088935);
+  const real w259 = w257 - w258;
+  const real w260 = w2 * real(5.2812336348411574e-05);
+  const real w261 = w259 + w260;
+  const real w262 = w3 * real(0.009469505649823542);
+  const real w263 = w261 + w262;
+  const real w264 = w5 * real(0.0015893560303238173);
+  const real w265 = w263 - w264;
+  const real w266 = w7 * real(0.00012044235296791528);
+  const real w267 = w265 + w266;
+  const real w268 = w11 * real(3.600251422486965e-05);
+  const real w269 = w267 - w268;
+  const real w270 = w13 * real(5.64352929582996e-06);
+  const real w271 = w269 - w270;
+  const real w272 = w17 * real(0.0006180699834827471);
+  const real w273 = w271 + w272;
+  const real w274 = w20 * real(0.10774326125710074);
+  const real w275 = w273 + w274;
+  const real w276 = w22 * real(1.1460629297407906e-07);
+  const real w277 = w275 + w276;
+  const real w278 = w32 * real(0.0007358974139758719);
+  const real w279 = w277 - w278;
+  const real w280 = w26 * real(0.07820969169126459);
+  const real w281 = w279 - w280;
+  const real w282 = w27 * real(0.1773940331431928);
+  const real w283 = w281 - w282;
+  const real w284 = w28 * real(0.0032886936701095075);
+  const real w285 = w283 - w284;
+  const real w286 = w0 * real(1.4955936850232604e-07);
+  const real w287 = w1 * real(3.037185403867934e-09);
+  const real w288 = w287 - w286;
+  const real w289 = w2 * real(0.0775768734676248);
+  const real w290 = w288 + w289;
+  const real w291 = w3 * real(0.06414304564351095);
+  const real w292 = w290 + w291;
+  const real w293 = w5 * real(0.08873076886730417);
+  const real w294 = w292 - w293;
+  const real w295 = w7 * real(0.0005834353890901664);
+  const real w296 = w294 + w295;
+  const real w297 = w11 * real(0.00012500475313680952);
+  const real w298 = w296 + w297;
+  const real w299 = w13 * real(0.0033562033669323776);
+  const real w300 = w298 + w299;
+  const real w301 = w17 * real(4.526683862861394e-06);
+  const real w302 = w300 - w301;
+  const real w303 = w20 * real(0.001589348200080198);
+  const real w304 = w302 + w303;
+  const real w305 = w22 * real(0.0005834384262755702);
+  const real w306 = w304 - w305;
+  const real w307 = w32 * real(0.0033560538075638755);
+  const real w308 = w306 - w307;
+  const real w309 = w26 * real(5.282016659203092e-05);
+  const real w310 = w308 - w309;
+  const real w311 = w27 * real(0.009468734484329703);
+  const real w312 = w310 - w311;
+  const real w313 = w28 * real(0.0007376561831865708);
+  const real w314 = w312 - w313;
+  out[0] = x[9];  // phi1_dot
+  out[1] = x[10];  // phi2_dot
+  out[2] = x[11];  // phi3_dot
+  out[3] = w58;  // wx_locked_rate
+  out[4] = w81;  // wy_locked_rate
+  out[5] = w104;  // wz_locked_rate
+  out[6] = w144;  // vx_locked_rate
+  out[7] = w187;  // vy_locked_rate
+  out[8] = w227;  // vz_locked_rate
+  out[9] = w256;  // phi1_dot_rate
+  out[10] = w285;  // phi2_dot_rate
+  out[11] = w314;  // phi3_dot_rate
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -1106,3 +1456,14 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace satellite_dynamics
+
+extern "C" {
+
+void satellite_dynamics_kinematics(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { satellite_dynamics::kinematics(t, x, p, in, out); }
+void satellite_dynamics_rhs(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { satellite_dynamics::rhs(t, x, p, in, out); }
+void satellite_dynamics_jacobian(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { satellite_dynamics::jacobian(t, x, p, in, out); }
+void satellite_dynamics_energy(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { satellite_dynamics::energy(t, x, p, in, out); }
+void satellite_dynamics_group_velocity(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { satellite_dynamics::group_velocity(t, x, p, in, out); }
+int satellite_dynamics_rhs_status(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { return satellite_dynamics::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

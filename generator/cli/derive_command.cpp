@@ -22,7 +22,7 @@ namespace {
 struct DeriveOptions {
   std::string model;
   std::vector<std::string> params, at;
-  std::string form, curvature_sign = "paper", fold = "none";
+  std::string form, curvature_sign = "paper", fold = "none", dynamics;
   bool json = false, inline_all = false;
 };
 
@@ -154,7 +154,8 @@ void run(const DeriveOptions& opt) {
   if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
     throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
                      opt.curvature_sign + "'");
-  const Derivation d = derive(apply_fold(model, params, opt.fold), DeriveSettings{opt.form});
+  const Derivation d = derive(apply_fold(model, params, opt.fold),
+                                DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
   const HamelSystem& sys = d.system;
   const HamelEquations& eq = d.equations;
   if (opt.inline_all) inline_through = &eq.intermediates;
@@ -234,6 +235,11 @@ void run(const DeriveOptions& opt) {
     j["kinematics"].push_back(k);
   }
   j["energy"] = entry(eq.energy_terms.at(0), values);
+  for (std::size_t i = 0; i < eq.recursive_accelerations.size(); ++i) {
+    nlohmann::json a = entry(eq.recursive_accelerations[i], values);
+    a["row"] = sys.velocities[static_cast<std::size_t>(eq.independent[i])].get_name() + "_rate";
+    j["accelerations"].push_back(a);
+  }
   // The model's own definitions come first in the program, then the intermediates the derivation named.
   const std::size_t user_definitions = model.definitions.size();
   for (std::size_t k = 0; k < eq.intermediates.size(); ++k) {
@@ -328,6 +334,9 @@ Run add_derive_command(CLI::App& app) {
                   "Bundle models: ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare, locked velocity), "
                   "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection, ep for "
                   "kinematic trees");
+  cmd->add_option("--dynamics", opt->dynamics,
+                  "Kinematic trees (ep form): aba also derives u' by the articulated-body algorithm (JSON key "
+                  "'accelerations'); ldlt (default here) only M u' = f");
   cmd->add_option("--curvature-sign", opt->curvature_sign,
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
   cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();

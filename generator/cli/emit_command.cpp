@@ -16,7 +16,7 @@ namespace hamel::cli {
 namespace {
 
 struct EmitOptions {
-  std::string model, output, form, fold, kernels;
+  std::string model, output, form, fold, kernels, dynamics;
   std::vector<std::string> params;
 };
 
@@ -49,7 +49,8 @@ std::size_t total_operations(const KernelSet& kernels) {
 }
 
 void run(const EmitOptions& opt) {
-  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
+  Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
+  target.settings.dynamics = opt.dynamics;
   std::set<std::string> selected = target.kernels;
   if (!opt.kernels.empty()) {
     if (target.scene)
@@ -102,6 +103,7 @@ Run add_emit_command(CLI::App& app) {
   cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
   cmd->add_option("-o,--output", opt->output, "Output folder (replaced atomically)")->required();
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
+  cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
   cmd->add_option("--param", opt->params,
                   "Parameter value name=value for --fold (repeatable; defaults from the model)");
   cmd->add_option("--fold", opt->fold,

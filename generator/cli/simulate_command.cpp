@@ -36,10 +36,12 @@ struct SimulateOptions {
   std::string out = "-";
   std::string form;
   std::string fold;
+  std::string dynamics;
 };
 
 void run(const SimulateOptions& given) {
-  const Target target = resolve_target(given.model, given.params, given.fold, given.form, "none");
+  Target target = resolve_target(given.model, given.params, given.fold, given.form, "none");
+  target.settings.dynamics = given.dynamics;
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
   // Command-line values win over the scene's, which win over the defaults.
@@ -244,6 +246,7 @@ Run add_simulate_command(CLI::App& app) {
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
+  cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
   cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "CSV file, or - for standard output")->capture_default_str();
   return [opt] { run(*opt); };

@@ -38,12 +38,27 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
   return sys;
 }
 
+// One body: the 7×7 (SE3) LDLᵀ of M is as cheap as the recursion (rhs 1.0–1.3× faster with ldlt, 690 against
+// 619 operations for the scaling chain); from two bodies on the articulated-body algorithm is faster and its
+// advantage grows with n (docs/benchmarks.md).
+std::string tree_dynamics_default(std::size_t bodies) { return bodies >= 2 ? "aba" : "ldlt"; }
+
 Derivation derive(const Model& model, const DeriveSettings& settings) {
   Derivation d;
+  if (!settings.dynamics.empty() && settings.dynamics != "aba" && settings.dynamics != "ldlt")
+    throw InputError("--dynamics: expected aba or ldlt, got '" + settings.dynamics + "'");
+  const bool tree_ep = model.bundle && model.bundle->tree &&
+                       (settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form)) ==
+                           BundleForm::euler_poincare;
+  if (settings.dynamics == "aba" && !tree_ep)
+    throw InputError("--dynamics aba applies to kinematic tree models (key 'tree') in the ep form; '" +
+                     model.source_path + "' is " + (model.bundle && model.bundle->tree ? "not in the ep form" : "not a tree"));
   if (model.bundle && model.bundle->tree) {
     d.form = settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form);
     if (*d.form == BundleForm::euler_poincare) {
-      TreeDerivation tree = derive_tree(model);
+      const std::string dynamics =
+          settings.dynamics.empty() ? tree_dynamics_default(model.bundle->tree->bodies.size()) : settings.dynamics;
+      TreeDerivation tree = derive_tree(model, dynamics == "aba");
       d.bundle = std::move(tree.geometry);
       d.system = std::move(tree.system);
       d.equations = std::move(tree.equations);

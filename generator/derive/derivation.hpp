@@ -19,7 +19,11 @@ namespace hamel {
 
 struct DeriveSettings {
   std::string form;  ///< bundle models: "ep", "lp", "ldap" or "momentum"; empty: the connection's default
+  std::string dynamics = "";  ///< kinematic trees in the ep form: "aba" or "ldlt"; empty: tree_dynamics_default
 };
+
+/// The default of --dynamics for a kinematic tree of `bodies` bodies (measured in docs/benchmarks.md).
+std::string tree_dynamics_default(std::size_t bodies);
 
 struct Derivation {
   QuasiVelocities quasi_velocities;       ///< general coordinates only

@@ -373,6 +373,13 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
   }
   if (has_rhs)
     h << "\n"
+      << "/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the\n"
+      << "/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), or\n"
+      << "/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).\n"
+      << "constexpr int n_pivots_rhs = " << kernels.rhs_pivots.size() << ";\n"
+      << "int rhs_status(real t, const real* x, const real* p, const real* in, real* out);\n";
+  if (has_rhs)
+    h << "\n"
       << "/// Reals of stack rk4_step uses (three arrays of n_state) besides the rhs kernel's temporaries.\n"
       << "constexpr int rk4_stack_reals = 3 * n_state;\n"
       << "/// One classical fourth-order Runge-Kutta step of size h from (t, x), in place: 4 rhs calls, no\n"
@@ -381,10 +388,65 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
   h << "\n}  // namespace " << model.name << "\n";
 
   std::ostringstream c;
-  c << stamp << "#include \"" << model.name << ".hpp\"\n\n#include <cmath>\n\nnamespace " << model.name << " {\n";
+  c << stamp << "#include \"" << model.name << ".hpp\"\n#include \"" << model.name
+    << ".h\"\n\n#include <cmath>\n\nnamespace " << model.name << " {\n";
   for (const PrintedKernel& k : printed) c << "\n" << k.text;
-  if (has_rhs) c << rk4_source;
+  if (has_rhs) {
+    // rhs and its pivots in one branch-free pass; the checks are in rhs_status, outside the kernel.
+    Kernel checked = kernels.get("rhs");
+    checked.name = "rhs_with_pivots";
+    checked.summary = "rhs, then the pivots of its solve";
+    for (std::size_t i = 0; i < kernels.rhs_pivots.size(); ++i) {
+      checked.outputs.push_back(kernels.rhs_pivots[i]);
+      checked.output_names.push_back("pivot " + std::to_string(i));
+    }
+    c << "\nnamespace {\n\n" << print_kernel(kernels.graph, checked, s).text << "\n}  // namespace\n\n"
+      << "int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {\n"
+      << "  real all[n_out_rhs + n_pivots_rhs];\n"
+      << "  rhs_with_pivots(t, x, p, in, all);\n"
+      << "  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)\n"
+      << "    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;\n"
+      << "  for (int i = 0; i < n_out_rhs; ++i)\n"
+      << "    if (!std::isfinite(all[i])) return 2;\n"
+      << "  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];\n"
+      << "  return 0;\n"
+      << "}\n";
+    c << rk4_source;
+  }
   c << "\n}  // namespace " << model.name << "\n";
+
+  // The C ABI: extern "C" entry points <name>_<kernel> beside the namespace, declared in <name>.h (C11).
+  const std::string prefix = model.name + "_";
+  const std::string c_real = guard_macro;
+  const auto c_signature = [&](const std::string& ret, const std::string& fn) {
+    return ret + " " + prefix + fn + "(" + c_real + " t, const " + c_real + "* x, const " + c_real + "* p, const " +
+           c_real + "* in, " + c_real + "* out)";
+  };
+  std::ostringstream ch;
+  ch << stamp << "//\n"
+     << "// C entry points of the " << model.name << " kernels (C99/C11 or C++): " << prefix
+     << "<kernel>(t, x, p, in, out) with the\n"
+     << "// arguments and sizes of " << model.name << ".hpp (documented there); link the same library.\n"
+     << "#ifndef HAMEL_" << upper(model.name) << "_H\n#define HAMEL_" << upper(model.name) << "_H\n\n"
+     << "#ifndef " << guard_macro << "\n#define " << guard_macro << " double\n#endif\n\n"
+     << "#define " << upper(prefix) << "N_STATE " << s.n_x << "\n"
+     << "#define " << upper(prefix) << "N_PARAMETERS " << s.n_p << "\n"
+     << "#define " << upper(prefix) << "N_INPUTS " << s.n_in << "\n";
+  for (const Kernel& k : kernels.kernels)
+    ch << "#define " << upper(prefix) << "N_OUT_" << upper(k.name) << " " << k.outputs.size() << "\n";
+  ch << "\n#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n";
+  for (const Kernel& k : kernels.kernels) ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
+  if (has_rhs)
+    ch << "/* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,\n"
+       << "   2 a non-finite result (out untouched when not 0) */\n"
+       << c_signature("int", "rhs_status") << ";\n";
+  ch << "\n#ifdef __cplusplus\n}\n#endif\n\n#endif\n";
+  c << "\nextern \"C\" {\n\n";
+  for (const Kernel& k : kernels.kernels)
+    c << c_signature("void", k.name) << " { " << model.name << "::" << k.name << "(t, x, p, in, out); }\n";
+  if (has_rhs)
+    c << c_signature("int", "rhs_status") << " { return " << model.name << "::rhs_status(t, x, p, in, out); }\n";
+  c << "\n}  // extern \"C\"\n";
 
   // CMakeLists.txt: a static library and nothing else, so that a firmware project can add_subdirectory it.
   std::ostringstream cm;
@@ -398,7 +460,8 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "project(" << library << " LANGUAGES CXX)\n\n"
      << "set(" << guard_macro << " \"\" CACHE STRING \"Scalar type of the " << model.name
      << " kernels (float or double; empty: double)\")\n\n"
-     << "add_library(" << library << " STATIC " << model.name << ".cpp " << model.name << ".hpp)\n"
+     << "add_library(" << library << " STATIC " << model.name << ".cpp " << model.name << ".hpp " << model.name
+     << ".h)\n"
      << "add_library(" << model.name << "::kernels ALIAS " << library << ")\n"
      << "target_include_directories(" << library << " PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})\n"
      << "target_compile_features(" << library << " PUBLIC cxx_std_17)\n"
@@ -420,6 +483,7 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "| File | Content |\n|---|---|\n"
      << "| `" << model.name << ".hpp` | declarations, sizes and names (the ABI, documented at the top) |\n"
      << "| `" << model.name << ".cpp` | the kernels" << (has_rhs ? " and the integrator step `rk4_step`" : "") << " |\n"
+     << "| `" << model.name << ".h` | C entry points `" << model.name << "_<kernel>` (C99/C11) |\n"
      << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name << "::kernels`) |\n\n"
      << "## Kernels\n\n"
      << "Everything is in namespace `" << model.name << "`. Every kernel is\n\n"
@@ -487,6 +551,7 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
         "separately from the generator's (hamel is GPL-licensed, as GiNaC), so they may ship in closed firmware.\n";
 
   EmittedPackage package{model.name + ".hpp", h.str(), model.name + ".cpp", c.str(), {}};
+  package.extra.push_back({model.name + ".h", ch.str()});
   package.extra.push_back({"CMakeLists.txt", cm.str()});
   package.extra.push_back({"README.md", md.str()});
   return package;

@@ -3,6 +3,8 @@
 #include "cli/commands.hpp"
 #include "emit/cpp_emitter.hpp"
 #include "model/input_error.hpp"
+#include "report/atomic_file.hpp"
+#include "report/temporaries.hpp"
 
 #include <sys/personality.h>
 #include <unistd.h>
@@ -30,6 +32,7 @@ void fix_address_layout(char** argv) {
 
 int main(int argc, char** argv) {
   fix_address_layout(argv);
+  hamel::install_cleanup_signal_handlers();
   CLI::App app{"hamel: derive Hamel coefficients and equations of motion, emit C++ kernels, simulate"};
   app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());
   app.require_subcommand(1);
@@ -54,7 +57,12 @@ int main(int argc, char** argv) {
   try {
     for (const auto& [cmd, run] : runs)
       if (cmd->parsed()) run();
+    // Output that did not arrive (a full disk, a closed pipe) is a failure, not a success.
+    hamel::flush_stdout_or_throw();
     return 0;
+  } catch (const hamel::OutputError& e) {
+    std::cerr << "hamel: " << e.what() << "\n";
+    return 1;
   } catch (const hamel::InputError& e) {
     std::cerr << e.what() << "\n";
     return 2;

@@ -17,6 +17,9 @@ constexpr long max_decimal_exponent = 1000;
 /// Deepest nesting of parentheses, and longest run of signs (- - x), accepted in an expression:
 /// GiNaC's parser recurses on both and would exhaust the stack on hostile input.
 constexpr int max_expression_nesting = 200;
+/// Integer (or rational) exponents of non-constant bases beyond this are refused: (x+1)^99999 would take
+/// minutes to differentiate and expand.
+constexpr long max_power_exponent = 256;
 
 /// Parses `text` with the symbols of `table` only. Throws std::invalid_argument with GiNaC's message
 /// (unknown symbol, syntax), or for nesting deeper than max_expression_nesting, on failure.

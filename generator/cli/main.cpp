@@ -10,6 +10,8 @@
 #include <unistd.h>
 
 #include <cstdlib>
+#include <ginac/ginac.h>
+#include <stdexcept>
 #include <iostream>
 #include <map>
 
@@ -65,6 +67,19 @@ int main(int argc, char** argv) {
     return 1;
   } catch (const hamel::InputError& e) {
     std::cerr << e.what() << "\n";
+    return 2;
+  } catch (const GiNaC::pole_error& e) {
+    // A denominator that simplifies to zero (x/(sin(x)^2+cos(x)^2-1)) is found only while deriving: bad input.
+    std::cerr << "hamel: error: an expression of the model divides by zero once simplified (" << e.what()
+              << "); expected denominators that are not identically zero\n";
+    return 2;
+  } catch (const std::domain_error& e) {
+    if (std::string(e.what()).find("division by zero") == std::string::npos) {
+      std::cerr << "hamel: internal error: " << e.what() << "\n";
+      return 1;
+    }
+    std::cerr << "hamel: error: an expression of the model divides by zero once simplified (" << e.what()
+              << "); expected denominators that are not identically zero\n";
     return 2;
   } catch (const hamel::cli::RunFailed& e) {
     std::cerr << "hamel: " << e.what() << "\n";

@@ -224,18 +224,40 @@ const char* rk4_source =
     "  for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);\n"
     "}\n";
 
-// Model descriptions are folded YAML text; keep them as one paragraph.
+// Model descriptions are folded YAML text; keep them as one paragraph. They come from the model file, so
+// what reaches the package README is made inert: control characters (C0, DEL, and C1 such as U+009B, a
+// terminal's CSI) and bidirectional overrides (U+202A..U+202E, U+2066..U+2069) are dropped, and < > & become
+// HTML entities, so a description cannot carry terminal sequences, reorder text or inject HTML.
 std::string one_paragraph(const std::string& text) {
   std::string out;
   bool space = false;
-  for (char ch : text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const unsigned char ch = static_cast<unsigned char>(text[i]);
+    const unsigned char next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0;
+    const unsigned char third = i + 2 < text.size() ? static_cast<unsigned char>(text[i + 2]) : 0;
     if (ch == '\n' || ch == '\r' || ch == '\t' || ch == ' ') {
       space = !out.empty();
       continue;
     }
+    if (ch < 0x20 || ch == 0x7f) continue;
+    if (ch == 0xc2 && next >= 0x80 && next <= 0x9f) {  // U+0080..U+009F
+      ++i;
+      continue;
+    }
+    if (ch == 0xe2 && ((next == 0x80 && third >= 0xaa && third <= 0xae) || (next == 0x81 && third >= 0xa6 && third <= 0xa9))) {
+      i += 2;
+      continue;
+    }
     if (space) out += ' ';
     space = false;
-    out += ch;
+    if (ch == '<')
+      out += "&lt;";
+    else if (ch == '>')
+      out += "&gt;";
+    else if (ch == '&')
+      out += "&amp;";
+    else
+      out += static_cast<char>(ch);
   }
   return out;
 }
@@ -491,6 +513,12 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << guard_macro
      << "` (default `double`); it must be the same for the library and its users (CMake sets it PUBLIC); a "
         "mismatch fails to link.\n\n"
+     << "## Non-finite input and singular mass matrices\n\n"
+        "The kernels are straight-line arithmetic: no branches, no checks, no exceptions. A NaN or infinite "
+        "input (state, parameter or input) propagates into the outputs as NaN or infinity; nothing is raised. "
+        "The right-hand side solves M u' = f without pivoting or checks: a singular mass matrix gives infinities or "
+        "NaN, an indefinite one finite but meaningless values or NaN. Callers check `std::isfinite` on the outputs "
+        "(the hamel runtime's integrators report non-finite values as a non-finite state).\n\n"
      << "## Licence\n\n"
      << "MIT (`SPDX-License-Identifier: MIT` in every file of this folder). The emitted files carry this licence "
         "separately from the generator's (hamel is GPL-licensed, as GiNaC), so they may ship in closed firmware.\n";
@@ -512,7 +540,7 @@ constexpr const char* kManifestName = ".hamel-manifest";
 constexpr const char* kManifestHeader = "hamel-manifest 1";
 
 std::string manifest_text(const std::vector<EmittedFile>& files) {
-  std::string text = std::string(kManifestHeader) + "\n";
+  std::string text = std::string(kManifestHeader) + "\n# SPDX-License-Identifier: MIT\n";
   for (const EmittedFile& f : files) text += content_hash(f.text) + "  " + f.name + "\n";
   return text;
 }
@@ -537,6 +565,7 @@ std::string foreign_content(const fs::path& folder, const std::vector<EmittedFil
     std::string line;
     if (!std::getline(in, line) || line != kManifestHeader) return quote(kManifestName) + " is not a hamel manifest";
     while (std::getline(in, line)) {
+      if (!line.empty() && line[0] == '#') continue;  // the licence line
       const std::size_t gap = line.find("  ");
       if (gap == std::string::npos) return quote(kManifestName) + " is not a hamel manifest";
       listed[line.substr(gap + 2)] = line.substr(0, gap);

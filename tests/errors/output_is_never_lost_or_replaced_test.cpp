@@ -195,4 +195,35 @@ TEST_F(Output, StaleTemporariesOfDeadProcessesAreSweptOthersKept) {
   EXPECT_TRUE(fs::exists(dir / "x.csv.tmp-mine"));
 }
 
+// The description reaches the package README only inert: no ESC, no C1 CSI (U+009B), no bidi override
+// (U+202E), no HTML.
+TEST_F(Output, DescriptionInTheReadmeIsInert) {
+  spit(dir / "d.yaml", std::string(spring) +
+                           "description: \"red \\e[31m csi \\u009B2J flip \\u202E <script>alert(1)</script> & ok\"\n");
+  const Outcome r = hamel("emit " + path("d.yaml") + " -o " + path("pkg"), dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  const std::string readme = slurp(dir / "pkg" / "README.md");
+  EXPECT_NE(readme.find("red [31m csi 2J flip &lt;script&gt;alert(1)&lt;/script&gt; &amp; ok"), std::string::npos)
+      << readme;
+  EXPECT_EQ(readme.find('\x1b'), std::string::npos);
+  EXPECT_EQ(readme.find("\xc2\x9b"), std::string::npos);
+  EXPECT_EQ(readme.find("\xe2\x80\xae"), std::string::npos);
+  EXPECT_EQ(readme.find("<script>"), std::string::npos);
+}
+
+// Inputs are bounded too: `hamel derive /dev/zero` grew to 4.6 GB before this was refused.
+TEST_F(Output, ModelFilesMustBeSmallRegularFiles) {
+  Outcome r = hamel("derive /dev/zero", dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("/dev/zero: error: the model file is not a regular file"), std::string::npos) << r.err;
+  spit(dir / "scene.yaml", "scene: s\nmodel: /dev/zero\n");
+  r = hamel("simulate " + path("scene.yaml") + " --t-end 1 --out " + path("x.csv"), dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("not a regular file"), std::string::npos) << r.err;
+  spit(dir / "big.yaml", std::string(spring) + "# " + std::string(1 << 20, 'x') + "\n");
+  r = hamel("derive " + path("big.yaml"), dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("more than the limit of 1048576"), std::string::npos) << r.err;
+}
+
 }  // namespace

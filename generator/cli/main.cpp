@@ -66,7 +66,7 @@ int main(int argc, char** argv) {
     std::cerr << "hamel: " << e.what() << "\n";
     return 1;
   } catch (const hamel::InputError& e) {
-    std::cerr << e.what() << "\n";
+    std::cerr << hamel::printable(e.what()) << "\n";
     return 2;
   } catch (const GiNaC::pole_error& e) {
     // A denominator that simplifies to zero (x/(sin(x)^2+cos(x)^2-1)) is found only while deriving: bad input.

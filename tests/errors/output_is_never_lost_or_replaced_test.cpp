@@ -211,6 +211,14 @@ TEST_F(Output, DescriptionInTheReadmeIsInert) {
   EXPECT_EQ(readme.find("<script>"), std::string::npos);
 }
 
+// Paths from the command line are printed escaped: a newline in -o cannot forge a line on stderr.
+TEST_F(Output, OutputPathIsPrintedEscaped) {
+  const Outcome r = hamel("emit " + path("spring.yaml") + " -o " + shell_quote((dir / "a\nb").string()), dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("a\\nb/"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("a\nb"), std::string::npos) << r.err;
+}
+
 // Inputs are bounded too: `hamel derive /dev/zero` grew to 4.6 GB before this was refused.
 TEST_F(Output, ModelFilesMustBeSmallRegularFiles) {
   Outcome r = hamel("derive /dev/zero", dir);

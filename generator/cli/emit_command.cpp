@@ -1,6 +1,7 @@
 // `hamel emit MODEL -o DIR`: the model's kernels as a C++ header and source in DIR.
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "model/input_error.hpp"
 #include "derive/derivation.hpp"
 #include "emit/cpp_emitter.hpp"
 #include "emit/kernels.hpp"
@@ -87,7 +88,7 @@ void run(const EmitOptions& opt) {
   write_package(package, opt.output);
   std::string files;
   for (const EmittedFile& f : package.files()) files += (files.empty() ? "" : ", ") + f.name;
-  std::cerr << "hamel: wrote " << opt.output << "/: " << files << "\n";
+  std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << "\n";
   for (const Kernel& k : kernels.kernels) {
     const OpCounts c = kernels.graph.count(kernels.graph.schedule(k.outputs));
     std::cerr << "  " << k.name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, "

@@ -72,9 +72,9 @@ void run(const ReportOptions& opt) {
   std::cerr << "hamel: work-precision study of " << model.name << " over t = 0 .. " << t_end << "\n";
   const WorkPrecisionStudy study = work_precision(model, d, kernels, req, &std::cerr);
   const fs::path base = fs::path(opt.out) / (model.name + "_work_precision");
-  write_file_atomically(base.string() + ".csv", work_precision_csv(study));
-  write_file_atomically(base.string() + ".md", work_precision_markdown(model, study));
-  write_file_atomically(base.string() + ".svg", work_precision_svg(model, study));
+  write_file_atomically(base.string() + ".csv", work_precision_csv(study), "--out");
+  write_file_atomically(base.string() + ".md", work_precision_markdown(model, study), "--out");
+  write_file_atomically(base.string() + ".svg", work_precision_svg(model, study), "--out");
   std::cout << "wrote " << base.string() << ".csv, .md and .svg (" << study.runs.size() << " runs; " << study.reference
             << ")\n";
 }

@@ -1,4 +1,5 @@
 #include "model/load_model.hpp"
+#include "model/physical_checks.hpp"
 
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
@@ -13,6 +14,7 @@
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -300,6 +302,9 @@ Model Loader::load() {
         fail(kv.second, key, "expected a number, got " + quote(value) + out_of_range(value));
       }
       if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got " + quote(value));
+      // yaml-cpp reads 1e-400 as 0 without a word; --param refuses it, so the default does too.
+      if (const std::string note = out_of_range(value); !note.empty())
+        fail(kv.second, key, "expected a number, got " + quote(value) + note);
       model.parameters.push_back({GiNaC::realsymbol(pname), v});
     }
   }
@@ -458,6 +463,8 @@ void Loader::load_core(Model& model) {
                                    "the Lagrangian may use coordinates, their _dot rates, quasi-velocities, "
                                    "parameters and t");
   }
+  if (const std::string problem = kinetic_energy_problem(model); !problem.empty())
+    fail(bodies ? bodies : root_["lagrangian"], bodies ? "bodies" : "lagrangian", problem);
 
   load_forces(model, all, "forces may use coordinates, _dot rates, quasi-velocities, parameters, inputs and t");
 }
@@ -757,6 +764,13 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
   YAML::Node base = tree["base"];
   if (!base) fail(tree, "tree.base", "missing; expected the base body (name, mass, com, inertia)");
   out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"}, inertial);
+  const GiNaC::exmap defaults = parameter_defaults(model);
+  auto check_body = [&](const YAML::Node& node, const std::string& key, const RigidBody& body) {
+    std::string subkey;
+    if (const std::string problem = rigid_body_problem(body, defaults, subkey); !problem.empty())
+      fail(node[subkey], key + "." + subkey, problem);
+  };
+  check_body(base, "tree.base", out.base);
   std::vector<std::string> names{out.base.name};
   const YAML::Node list = tree["bodies"];
   const std::string geometry = "joint axes, offsets and rotations may use parameters only";
@@ -764,6 +778,7 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
     const std::string key = "tree.bodies[" + std::to_string(i) + "]";
     TreeBody tb;
     tb.body = rigid_body(list[i], key, constants, {"name", "parent", "joint", "mass", "com", "inertia"}, inertial);
+    check_body(list[i], key, tb.body);
     if (std::find(names.begin(), names.end(), tb.body.name) != names.end())
       fail(list[i]["name"], key + ".name", "the body '" + tb.body.name + "' is listed twice");
     const std::string parent = scalar(list[i]["parent"], key + ".parent");
@@ -795,6 +810,8 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
     if (GiNaC::is_a<GiNaC::numeric>(norm) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(norm) - 1) > GiNaC::numeric(1, 1000000))
       fail(joint["axis"], jkey + ".axis", "expected a unit vector (its squared length is " +
                                                std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
+    if (const std::string problem = joint_axis_problem(tb, defaults); !problem.empty())
+      fail(joint["axis"], jkey + ".axis", problem);
     for (std::size_t r = 0; r < 3; ++r)
       for (std::size_t c = 0; c < 3; ++c) tb.rotation[r][c] = r == c ? 1 : 0;
     if (YAML::Node rot = joint["rotation"]) {
@@ -826,12 +843,32 @@ Model load_model_from_text(const std::string& text, const std::string& path) {
   return loader.load();
 }
 
-Model load_model(const std::string& path) {
+std::string read_input_file(const std::string& path, const std::string& what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError(SourceLocation{path, 0, 0}, "",
+                     "the " + what + " is not a regular file (a device, pipe or folder); expected a YAML file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxInputFileBytes)
+    throw InputError(SourceLocation{path, 0, 0}, "",
+                     "the " + what + " has " + std::to_string(size) + " bytes, more than the limit of " +
+                         std::to_string(kMaxInputFileBytes) + "; expected a model of at most 1 MiB");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the model file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return load_model_from_text(buffer.str(), path);
+  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the " + what);
+  // Read at most one byte beyond the limit: a file that grows while it is read is bounded too.
+  std::string text(kMaxInputFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxInputFileBytes)
+    throw InputError(SourceLocation{path, 0, 0}, "",
+                     "the " + what + " is larger than the limit of " + std::to_string(kMaxInputFileBytes) + " bytes");
+  return text;
+}
+
+Model load_model(const std::string& path) {
+  return load_model_from_text(read_input_file(path, "model file"), path);
 }
 
 }  // namespace hamel

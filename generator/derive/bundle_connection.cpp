@@ -1,7 +1,6 @@
 #include "derive/bundle_connection.hpp"
 
 #include "algebra/identity_test.hpp"
-#include "algebra/simplify.hpp"
 #include "derive/kinematic_tree.hpp"
 #include "model/input_error.hpp"
 

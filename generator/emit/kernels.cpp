@@ -181,11 +181,42 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       }
   }
 
+  // A = d(x')/dx and B = d(x')/d(in) along any state: forward mode through the rhs program (one tangent pass
+  // per state and input component; no symbolic derivative is formed). Built only when asked for by name.
+  Kernel linearization{"linearization",
+                       "A = d(x')/dx (n_state x n_state) then B = d(x')/d(in) (n_state x n_in), row-major, forward "
+                       "mode through rhs",
+                       {},
+                       {}};
+  if (only.count("linearization")) {
+    const int nx = static_cast<int>(rhs.outputs.size());
+    const int ni = static_cast<int>(model.inputs.size());
+    std::vector<std::vector<int>> a_columns, b_columns;
+    for (int k = 0; k < nx; ++k) a_columns.push_back(tangent(g, rhs.outputs, {{g.input(Argument::state, k), g.constant(1)}}));
+    for (int k = 0; k < ni; ++k) b_columns.push_back(tangent(g, rhs.outputs, {{g.input(Argument::input, k), g.constant(1)}}));
+    const auto state_name = [&](int k) {
+      return k < n ? sys.coordinates[static_cast<std::size_t>(k)].get_name()
+                   : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
+    };
+    for (int row = 0; row < nx; ++row)
+      for (int k = 0; k < nx; ++k) {
+        linearization.outputs.push_back(a_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
+        linearization.output_names.push_back("A[" + rhs.output_names[static_cast<std::size_t>(row)] + "][" + state_name(k) + "]");
+      }
+    for (int row = 0; row < nx; ++row)
+      for (int k = 0; k < ni; ++k) {
+        linearization.outputs.push_back(b_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
+        linearization.output_names.push_back("B[" + rhs.output_names[static_cast<std::size_t>(row)] + "][" +
+                                             model.inputs[static_cast<std::size_t>(k)].get_name() + "]");
+      }
+  }
+
   Kernel energy{"energy", "E = dL/du^I u^I - L (invariant when the model is conservative)", {}, {}};
   energy.outputs.push_back(node_of(eq.energy_terms.at(0)));
   energy.output_names.push_back("E");
 
   set.kernels = {kinematics, mass, forcing, gamma, rhs, jacobian, energy};
+  if (only.count("linearization")) set.kernels.push_back(linearization);
   if (!eq.constraint_residual.empty()) {
     Kernel residual{"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", {}, {}};
     for (std::size_t k = 0; k < eq.constraint_residual.size(); ++k) {

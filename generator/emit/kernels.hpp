@@ -26,7 +26,8 @@ struct KernelSet {
 /// Kernel ABI: every kernel is `void name(real t, const real* x, const real* p, const real* in, real* out)`
 /// with the state x = (q^1..q^n, u^I...), parameters p in file order and inputs in file order.
 /// `only` (if not empty) selects kernels by name; the others are not built (the Jacobian's derivatives are
-/// not even formed), so nothing of them reaches the emitted code.
+/// not even formed), so nothing of them reaches the emitted code. `linearization` (A and B of the linearized
+/// state equations, forward mode through rhs) is built only when `only` names it.
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {});
 
 }  // namespace hamel

@@ -1,6 +1,7 @@
 #include "emit/kernels.hpp"
 
 #include "algebra/simplify.hpp"
+#include "derive/riemann.hpp"
 
 #include <optional>
 #include <stdexcept>
@@ -261,6 +262,30 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         }
       set.kernels.push_back(shape);
     }
+  }
+  // The Riemannian view (derive/riemann.hpp), built only when asked for by name: it is defined only for
+  // unconstrained models in general coordinates with L = ½ g_ab q̇ᵃq̇ᵇ − V. Matrices in the coordinate basis
+  // ∂/∂qᵃ at the state's velocity q̇ = B(q) u_I (qadot); for A = I that is q̇ = u.
+  if (only.count("riemann_linearization")) {
+    const RiemannGeometry riemann = derive_riemann(model, tape);
+    for (int a = 0; a < n; ++a)
+      leaves[model.rates[static_cast<std::size_t>(a)]] = node_of(eq.kinematics[static_cast<std::size_t>(a)]);
+    Kernel linearization{"riemann_linearization",
+                         "g_ab, G^a_c = Gamma^a_bc q_dot^b, K_ab = R_cbda q_dot^c q_dot^d - nabla_b Q_a at q_dot = B u: "
+                         "g D2x/dt2 + K x = Phi, D x/dt = x_dot + G x; three n x n blocks, row-major",
+                         {},
+                         {}};
+    const std::pair<const char*, const GiNaC::matrix*> blocks[] = {
+        {"g", &riemann.metric}, {"G", &riemann.connection_rate}, {"K", &riemann.stiffness}};
+    for (const auto& [label, m] : blocks)
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+          linearization.outputs.push_back(node_of((*m)(static_cast<unsigned>(a), static_cast<unsigned>(b))));
+          linearization.output_names.push_back(std::string(label) + "[" +
+                                               sys.coordinates[static_cast<std::size_t>(a)].get_name() + "][" +
+                                               sys.coordinates[static_cast<std::size_t>(b)].get_name() + "]");
+        }
+    set.kernels.push_back(linearization);
   }
   if (!want("rhs")) set.rhs_pivots.clear();
   if (!only.empty()) {

@@ -14,6 +14,7 @@
 #include "algebra/quadratic_form.hpp"
 #include "algebra/simplify.hpp"
 #include "model/input_error.hpp"
+#include "report/progress.hpp"
 
 #include <algorithm>
 #include <string>
@@ -59,6 +60,8 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
                      std::string(purpose) +
                          " applies to unconstrained models: with constraints the motion is not "
                          "geodesic for the metric of the configuration space");
+  progress::Step step("deriving the Riemannian view of " + model.name + " (metric, Christoffel symbols, curvature)");
+  const std::size_t program_size = program.size();
   const unsigned n = static_cast<unsigned>(model.n());
   const SourceLocation where = location_of(model, "lagrangian");
   RiemannGeometry r;
@@ -202,6 +205,8 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
         }
       r.stiffness(a, b) = shown_zero(k, program) ? ex(0) : program.keep(k);
     }
+  step.detail(std::to_string(r.curvature.size()) + " non-zero curvature components, " +
+              std::to_string(program.size() - program_size) + " intermediates");
   return r;
 }
 

@@ -8,8 +8,9 @@
 //   K_ab = R_cbda q̇ᶜq̇ᵈ − (∂_b Q_a − Γᶜ_ba Q_c),  Q_a = F_a − ∂V/∂qᵃ,  V = −L(q, 0).
 // Every component of Γ (both kinds), R and K is compared, not only those hamel reports as non-zero. Models:
 // the double pendulum, the rigid body in ZYX Euler angles (3-D, quasi-velocities ≠ rates), the spherical
-// pendulum (constant curvature, known exactly), the forced pendulum of tests/generator/riemann_models; flat
-// metrics (Cartesian particles: no Γ, no R; polar coordinates: Γ ≠ 0, R = 0 exactly).
+// pendulum (constant curvature, known exactly), the forced pendulum and a rod on a gimbal given by `bodies`
+// (tests/generator/riemann_models); flat metrics (Cartesian particles: no Γ, no R; polar coordinates: Γ ≠ 0,
+// R = 0 exactly).
 #include "algebra/identity_test.hpp"
 #include "derive/riemann.hpp"
 #include "model/load_model.hpp"
@@ -301,6 +302,11 @@ TEST_F(RiemannAgainstFiniteDifferences, SphericalPendulum) {
 
 TEST_F(RiemannAgainstFiniteDifferences, ForcedPendulumWithQuasiVelocitiesAndDefinitions) {
   check_model("tests/generator/riemann_models/forced_pendulum.yaml", 1e-14);
+}
+
+// T assembled from `bodies` through intermediates that depend on the rates.
+TEST_F(RiemannAgainstFiniteDifferences, GimballedRodFromBodies) {
+  check_model("tests/generator/riemann_models/gimballed_rod.yaml", 1e-14);
 }
 
 TEST_F(RiemannAgainstFiniteDifferences, FlatMetrics) {

@@ -413,8 +413,10 @@ void Loader::load_forces(Model& model, const GiNaC::symtab& table, const std::st
       fail(forces, "forces",
            "expected a list of " + std::to_string(n) + " expressions (one per " +
                (bundle_ ? "shape coordinate)" : "coordinate)"));
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n; ++i) {
+      model.locations["forces[" + std::to_string(i) + "]"] = where(forces[i]);
       model.forces[i] = expression(forces[i], "forces[" + std::to_string(i) + "]", table, allowed);
+    }
   }
 }
 
@@ -459,6 +461,7 @@ void Loader::load_core(Model& model) {
 
   if (YAML::Node cons = root_["constraints"]) {
     if (!cons.IsSequence()) fail(cons, "constraints", "expected a list of quasi-velocity names");
+    model.locations["constraints"] = where(cons);
     std::vector<std::string> names;
     for (const auto& u : model.quasi_velocities) names.push_back(u.get_name());
     for (std::size_t i = 0; i < cons.size(); ++i) {
@@ -520,6 +523,7 @@ void Loader::load_core(Model& model) {
 void Loader::load_bundle(Model& model) {
   Bundle b;
   YAML::Node group = require("group", YAML::NodeType::Scalar, "a group name");
+  model.locations["group"] = where(group);
   b.group = group.Scalar();
   unsigned dim = 0;
   try {

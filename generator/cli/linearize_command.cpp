@@ -252,22 +252,18 @@ void run(const LinearizeOptions& opt) {
       PlotSpec spec;
       spec.title = model.name + ": eigenvalues against " + sweep_spec->name;
       spec.x_label = sweep_spec->name;
-      spec.y_label = "eigenvalue (real part solid, imaginary part dashed)";
-      // One series per sorted position: eigenvalues are plotted as points so branches that swap order stay
-      // readable.
-      for (int k = 0; k < nx; ++k) {
-        PlotSeries re{"Re", {}, {}, false, true, false}, im{"Im", {}, {}, false, true, true};
-        for (std::size_t i = 0; i < result.values.size(); ++i) {
-          const Eigenvalue& e = result.spectra[i].values[static_cast<std::size_t>(k)];
+      spec.y_label = "eigenvalues [1/s]";
+      // All real parts as one series of points, the positive imaginary parts as another (as in Meijaard et
+      // al.'s Fig. 3); exact zeros of decoupled components are left out.
+      PlotSeries re{"real parts", {}, {}, false, true, false}, im{"imaginary parts (> 0)", {}, {}, false, true, false};
+      for (std::size_t i = 0; i < result.values.size(); ++i)
+        for (const Eigenvalue& e : result.spectra[i].values) {
+          if (e.re == 0 && e.im == 0) continue;
           re.x.push_back(result.values[i]);
           re.y.push_back(e.re);
           if (e.im > 0) im.x.push_back(result.values[i]), im.y.push_back(e.im);
         }
-        re.label = k == 0 ? "real part" : "";
-        im.label = k == 0 ? "imaginary part (> 0)" : "";
-        spec.series.push_back(re);
-        if (!im.x.empty()) spec.series.push_back(im);
-      }
+      spec.series = {re, im};
       write_file_atomically(opt.plot, render_svg(spec), "--plot");
       std::cerr << "hamel: wrote " << opt.plot << "\n";
     }

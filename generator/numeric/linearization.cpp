@@ -177,7 +177,11 @@ Sweep sweep(const std::function<Spectrum(double)>& spectrum_at, double from, dou
     // crossing), down to the last representable digits of the swept value.
     double a = out.values[k], b = out.values[k + 1];
     Eigenvalue ea = nearest_axis(out.spectra[k], structural), eb = nearest_axis(out.spectra[k + 1], structural);
-    const bool signs_differ = (ea.re < 0) != (eb.re < 0);
+    // The sign of that real part is meaningful only where it is clearly off the axis on both sides: a
+    // conservative system's stable side has real parts of rounding size (the sleeping top), and there the
+    // count of eigenvalues right of the axis decides instead (its real part grows like a square root).
+    const bool signs_differ = (ea.re < 0) != (eb.re < 0) && std::fabs(ea.re) > tolerance(out.spectra[k]) &&
+                              std::fabs(eb.re) > tolerance(out.spectra[k + 1]);
     for (int it = 0; it < 200 && b - a > 4e-16 * std::max(1.0, std::fabs(a)); ++it) {
       const double m = 0.5 * (a + b);
       const Spectrum sm = spectrum_at(m);

@@ -143,10 +143,12 @@ std::string render_svg(const PlotSpec& spec) {
     if (s.line)
       o << "<polyline fill=\"none\" stroke=\"" << colour << "\" stroke-width=\"1.6\""
         << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << " points=\"" << points.str() << "\"/>\n";
+    const char* radius = s.x.size() > 400 ? "1.4" : "3.5";  // dense point clouds (eigenvalue sweeps) stay legible
     if (s.markers)
       for (std::size_t i = 0; i < s.x.size() && i < s.y.size(); ++i)
         if (ax.usable(s.x[i]) && ay.usable(s.y[i]))
-          o << "<circle cx=\"" << X(s.x[i]) << "\" cy=\"" << Y(s.y[i]) << "\" r=\"3.5\" fill=\"" << colour << "\"/>\n";
+          o << "<circle cx=\"" << X(s.x[i]) << "\" cy=\"" << Y(s.y[i]) << "\" r=\"" << radius << "\" fill=\"" << colour
+            << "\"/>\n";
   }
   // Legend: a white box in the upper left corner, sized to the longest label.
   std::size_t longest = 0;

@@ -12,10 +12,16 @@
 //     kinematics give q̇.
 // (b) The emitted rhs (state (q, u_I)) and the KKT system (state (q, q̇)), both integrated with dopri5 at
 //     rtol = atol = 1e-11, end at the same q(T), and the KKT trajectory keeps A_α q̇ ≈ 0.
+// (c) `hamel linearize`'s A = dx'/dx and B = dx'/d(in) (the `linearization` kernel: forward mode through the
+//     rhs program, derived with every parameter symbolic) against central differences of the reduced KKT flow
+//     F(q, u_I) = (B_I u_I, A_I q̈ + Ȧ_I q̇), for holonomic and nonholonomic models.
 #include "compiled_models.hpp"
 
 #include "hamel/runtime/dopri5.hpp"
+#include "derive/derivation.hpp"
+#include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "numeric/linearization.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -428,6 +434,81 @@ TEST_P(ConstrainedHamel, TrajectoriesMatchKkt) {
       scene.model.c_str(), scene.t_end, worst_q, q_scale, worst_u, worst_constraint, hamel_result.stats.steps,
       kkt_result.stats.steps);
 }
+
+class Linearization : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Linearization, MatchesCentralDifferencesOfKkt) {
+  const hamel::Model model = hamel::load_model(hamel::test::source_path("models/" + GetParam() + ".yaml"));
+  const hamel::Derivation derivation = hamel::derive(model, {});
+  const hamel::KernelSet kernels = hamel::build_kernels(model, derivation, {"rhs", "linearization"});
+  const int n = static_cast<int>(model.n()), m = static_cast<int>(model.independent().size());
+  const int ni = static_cast<int>(model.inputs.size());
+  const hamel::Linearizer linearizer(kernels, n + m, ni);
+  // The reference reads the model's definitions (bodies: poses as intermediates) inlined.
+  hamel::Model flat = model;
+  flat.lagrangian = model.definitions.inline_all(model.lagrangian);
+  for (GiNaC::ex& f : flat.forces) f = model.definitions.inline_all(f);
+  for (unsigned i = 0; i < flat.A.rows(); ++i)
+    for (unsigned j = 0; j < flat.A.cols(); ++j) flat.A(i, j) = model.definitions.inline_all(flat.A(i, j));
+  LagrangeMultiplierSystem ref(flat);
+  const auto flow = [&](double t, const std::vector<double>& x) {
+    const Eigen::VectorXd qdot = ref.qdot_from_u(x.data(), x.data() + n);
+    const LagrangeMultiplierSystem::Terms s = ref.evaluate(t, x.data(), qdot.data());
+    const Eigen::VectorXd qddot = ref.acceleration(s);
+    Eigen::VectorXd out(n + m);
+    out.head(n) = qdot;
+    for (int i = 0; i < m; ++i) {
+      const int I = ref.independent()[static_cast<std::size_t>(i)];
+      out(n + i) = s.A.row(I).dot(qddot) + s.Adot_qdot(I);
+    }
+    return out;
+  };
+  std::mt19937 rng(4711);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  double worst = 0;
+  for (int trial = 0; trial < 5; ++trial) {
+    const double t = uniform(rng);
+    std::vector<double> x(static_cast<std::size_t>(n + m)), p, in(static_cast<std::size_t>(ni));
+    for (double& v : x) v = uniform(rng);
+    for (const hamel::Parameter& par : model.parameters) p.push_back(par.default_value * (1.0 + 0.1 * uniform(rng)));
+    for (double& v : in) v = uniform(rng);
+    ref.set_parameters(p, in);
+    const hamel::LinearSystem s = linearizer.at(t, x, p, in);
+    const Eigen::VectorXd f0 = flow(t, x);
+    double scale = 1;
+    for (int k = 0; k < n + m; ++k) scale = std::max(scale, std::fabs(f0(k)));
+    for (int k = 0; k < n + m + ni; ++k) {
+      // Central differences, h ~ 1e-5: truncation ~ h^2, rounding ~ 1e-16 / h.
+      const double h = 1e-5;
+      std::vector<double> xp = x, xm = x, inp = in, inm = in;
+      if (k < n + m) {
+        xp[static_cast<std::size_t>(k)] += h, xm[static_cast<std::size_t>(k)] -= h;
+      } else {
+        inp[static_cast<std::size_t>(k - n - m)] += h, inm[static_cast<std::size_t>(k - n - m)] -= h;
+        ref.set_parameters(p, inp);
+      }
+      const Eigen::VectorXd fp = flow(t, xp);
+      if (k >= n + m) ref.set_parameters(p, inm);
+      const Eigen::VectorXd fm = flow(t, xm);
+      ref.set_parameters(p, in);
+      for (int row = 0; row < n + m; ++row) {
+        const double reference = (fp(row) - fm(row)) / (2 * h);
+        const double derived = k < n + m ? s.a(row, k) : s.B[static_cast<std::size_t>(row * ni + (k - n - m))];
+        const double tolerance = 1e-7 * std::max(scale, std::fabs(reference));
+        EXPECT_NEAR(derived, reference, tolerance) << GetParam() << ": d x'[" << row << "]/d " << k << " at trial " << trial;
+        worst = std::max(worst, std::fabs(derived - reference) / std::max(scale, std::fabs(reference)));
+      }
+    }
+    for (int row = 0; row < n + m; ++row)
+      EXPECT_NEAR(s.residual[static_cast<std::size_t>(row)], f0(row), 1e-10 * scale) << GetParam() << " x'[" << row << "]";
+  }
+  std::printf("[measured] %s: linearization against central differences of the KKT flow: max relative %.3g\n",
+              GetParam().c_str(), worst);
+}
+
+INSTANTIATE_TEST_SUITE_P(GeneralAndConstrainedModels, Linearization,
+                         ::testing::Values("double_pendulum", "rigid_body_euler_zyx", "chaplygin_sleigh", "rolling_disk",
+                                           "rolling_ball", "rolling_disk_routh"));
 
 // Initial states and constant inputs. The ball rolls along a direction 0.6 rad from the y axis, so that its
 // ZYX Euler angle theta stays well away from the singularity ±π/2 (|sin theta| ≤ sin 0.6 from the identity).

@@ -14,12 +14,17 @@
 //     rtol = atol = 1e-11, end at the same q(T), and the KKT trajectory keeps A_α q̇ ≈ 0.
 // (c) `hamel linearize`'s A = dx'/dx and B = dx'/d(in) (the `linearization` kernel: forward mode through the
 //     rhs program, derived with every parameter symbolic) against central differences of the reduced KKT flow
-//     F(q, u_I) = (B_I u_I, A_I q̈ + Ȧ_I q̇), for holonomic and nonholonomic models.
+//     F(q, u_I) = (B_I u_I, A_I q̈ + Ȧ_I q̇), for holonomic and nonholonomic models; a steady circular
+//     motion of Routh's disk found by `linearize --steady` is a relative equilibrium of the KKT flow; and for
+//     bundle models (no Lagrange-multiplier form here) A against central differences of the compiled emitted
+//     rhs, whose dynamics the bundle tests check against independent references: this checks the forward-mode
+//     differentiation and the state layout.
 #include "compiled_models.hpp"
 
 #include "hamel/runtime/dopri5.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
+#include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/linearization.hpp"
 
@@ -505,6 +510,82 @@ TEST_P(Linearization, MatchesCentralDifferencesOfKkt) {
   std::printf("[measured] %s: linearization against central differences of the KKT flow: max relative %.3g\n",
               GetParam().c_str(), worst);
 }
+
+TEST(LinearizationSteady, RouthDiskCircleIsARelativeEquilibriumOfTheKktFlow) {
+  const hamel::Model model = hamel::load_model(hamel::test::source_path("models/rolling_disk_routh.yaml"));
+  const hamel::Derivation derivation = hamel::derive(model, {});
+  const hamel::KernelSet kernels = hamel::build_kernels(model, derivation, {"rhs", "linearization"});
+  const hamel::Linearizer linearizer(kernels, 8, 0);
+  std::vector<double> p;
+  for (const hamel::Parameter& par : model.parameters) p.push_back(par.default_value);
+  // State (x, y, psi, theta, phi, w_psi, w_theta, w_phi): leaning 0.3 rad, spinning at 20 rad/s (held), a
+  // guess of the precession; x, y, psi and phi advance.
+  const auto linearize = [&](const std::vector<double>& x) { return linearizer.at(0.0, x, p, {}); };
+  const hamel::SteadyResult r =
+      hamel::find_steady_motion(linearize, {0, 0, 0, 0.3, 0, 1.0, 0, 20.0}, {3, 5, 6}, {0, 1, 2, 4});
+  EXPECT_GT(std::fabs(r.x[3]), 0.1) << "Newton fell back to upright rolling";
+  EXPECT_GT(std::fabs(r.x[5]), 1e-3) << "no precession";
+  hamel::Model flat = model;
+  flat.lagrangian = model.definitions.inline_all(model.lagrangian);
+  LagrangeMultiplierSystem ref(flat);
+  ref.set_parameters(p, {});
+  const Eigen::VectorXd qdot = ref.qdot_from_u(r.x.data(), r.x.data() + 5);
+  const LagrangeMultiplierSystem::Terms s = ref.evaluate(0.0, r.x.data(), qdot.data());
+  const Eigen::VectorXd qddot = ref.acceleration(s);
+  EXPECT_NEAR(qdot(3), 0.0, 1e-10);  // the lean stays
+  for (int i = 0; i < 3; ++i) {
+    const int I = ref.independent()[static_cast<std::size_t>(i)];
+    EXPECT_NEAR(s.A.row(I).dot(qddot) + s.Adot_qdot(I), 0.0, 1e-9) << "u_dot[" << I << "]";
+  }
+  std::printf("[measured] Routh's disk steady circle: lean %.6f rad, precession %.6f rad/s at spin 20 rad/s\n", r.x[3],
+              r.x[5]);
+}
+
+class BundleLinearization : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(BundleLinearization, MatchesCentralDifferencesOfTheEmittedRhs) {
+  const CompiledModel& cm = hamel::test::compiled_model(GetParam());
+  hamel::Model model = hamel::load_model(hamel::test::source_path(cm.model_file));
+  if (cm.fold == "all") {
+    std::map<std::string, double> values;
+    for (const hamel::Parameter& par : model.parameters) values[par.symbol.get_name()] = par.default_value;
+    model = hamel::fold_parameters(model, values);
+  }
+  const hamel::Derivation derivation = hamel::derive(model, {});
+  const hamel::KernelSet kernels = hamel::build_kernels(model, derivation, {"rhs", "linearization"});
+  const int nx = cm.n_coordinates + cm.n_independent;
+  const hamel::Linearizer linearizer(kernels, nx, cm.n_inputs);
+  std::mt19937 rng(99);
+  std::uniform_real_distribution<double> uniform(-1.0, 1.0);
+  const std::vector<double> p(cm.default_parameters, cm.default_parameters + cm.n_parameters);
+  double worst = 0;
+  for (int trial = 0; trial < 3; ++trial) {
+    std::vector<double> x(static_cast<std::size_t>(nx)), in(static_cast<std::size_t>(cm.n_inputs));
+    for (double& v : x) v = uniform(rng);
+    for (double& v : in) v = uniform(rng);
+    const hamel::LinearSystem s = linearizer.at(0.0, x, p, in);
+    std::vector<double> fp(static_cast<std::size_t>(nx)), fm(static_cast<std::size_t>(nx));
+    for (int k = 0; k < nx; ++k) {
+      const double h = 1e-5;
+      std::vector<double> xp = x, xm = x;
+      xp[static_cast<std::size_t>(k)] += h, xm[static_cast<std::size_t>(k)] -= h;
+      cm.rhs(0.0, xp.data(), p.data(), in.empty() ? nullptr : in.data(), fp.data());
+      cm.rhs(0.0, xm.data(), p.data(), in.empty() ? nullptr : in.data(), fm.data());
+      for (int row = 0; row < nx; ++row) {
+        const double reference = (fp[static_cast<std::size_t>(row)] - fm[static_cast<std::size_t>(row)]) / (2 * h);
+        const double scale = std::max(1.0, std::fabs(reference));
+        EXPECT_NEAR(s.a(row, k), reference, 1e-7 * scale) << GetParam() << ": d x'[" << row << "]/d x[" << k << "]";
+        worst = std::max(worst, std::fabs(s.a(row, k) - reference) / scale);
+      }
+    }
+  }
+  std::printf("[measured] %s: linearization against central differences of the emitted rhs: max relative %.3g\n",
+              GetParam().c_str(), worst);
+}
+
+INSTANTIATE_TEST_SUITE_P(BundleModels, BundleLinearization,
+                         ::testing::Values("free_rigid_body", "rolling_ball_bundle", "satellite_se3", "satellite_so3xr3",
+                                           "planar_swimmer"));
 
 INSTANTIATE_TEST_SUITE_P(GeneralAndConstrainedModels, Linearization,
                          ::testing::Values("double_pendulum", "rigid_body_euler_zyx", "chaplygin_sleigh", "rolling_disk",

@@ -182,6 +182,16 @@ class TreeProgram {
   Intermediates& tape_;
 };
 
+// Σ ½ k_i (r_i − reference_i)²: the joint springs, a potential on the shape.
+ex joint_springs(const Model& model, const KinematicTree& tree) {
+  ex v = 0;
+  for (std::size_t i = 0; i < tree.bodies.size(); ++i) {
+    const TreeBody& b = tree.bodies[i];
+    v += b.stiffness * GiNaC::pow(model.coordinates[i] - b.reference, 2) / 2;
+  }
+  return v;
+}
+
 }  // namespace
 
 TreeDerivation derive_tree(const Model& model) {
@@ -247,6 +257,7 @@ TreeDerivation derive_tree(const Model& model) {
     }
     h[i] = prog.name(times(inertia[i], V[i]));
     kinetic += dot(V[i], h[i]) / 2;
+    if (i > 0) kinetic += tree.bodies[i - 1].armature * GiNaC::pow(model.rates[i - 1], 2) / 2;
     F[i] = times(inertia[i], a[i]) + coadjoint_term(V[i], h[i]);
   }
   sum_inward(F);
@@ -273,7 +284,7 @@ TreeDerivation derive_tree(const Model& model) {
     for (std::size_t beta = alpha; beta < m; ++beta) set(alpha, beta, dot(base[alpha], times(composite[0], base[beta])));
   for (std::size_t i = 1; i < N; ++i) {
     Vec6 f = prog.name(times(composite[i], axis[i]));
-    set(m + i - 1, m + i - 1, dot(axis[i], f));
+    set(m + i - 1, m + i - 1, dot(axis[i], f) + tree.bodies[i - 1].armature);
     std::size_t j = i;
     while (parent[j] != 0) {
       f = prog.name(link[j].to_parent(f));
@@ -299,24 +310,30 @@ TreeDerivation derive_tree(const Model& model) {
     }
     sum_inward(W);
     for (std::size_t alpha = 0; alpha < m; ++alpha) eq.mass_times_acceleration.push_back(dot(base[alpha], W[0]));
-    for (std::size_t i = 1; i < N; ++i) eq.mass_times_acceleration.push_back(dot(axis[i], W[i]));
+    for (std::size_t i = 1; i < N; ++i)
+      eq.mass_times_acceleration.push_back(dot(axis[i], W[i]) +
+                                           tree.bodies[i - 1].armature * eq.acceleration_symbols[m + i - 1]);
   }
 
   // f = Q − (velocity-product part of the projected wrenches); Q_I = forces_I − ∂V/∂r^I, none on the base.
   eq.forcing.assign(d, 0);
   for (std::size_t alpha = 0; alpha < m; ++alpha) eq.forcing[alpha] = -dot(base[alpha], F[0]);
-  for (std::size_t i = 1; i < N; ++i)
-    eq.forcing[m + i - 1] =
-        model.forces[i - 1] - b.potential.diff(model.coordinates[i - 1]) - dot(axis[i], F[i]);
+  const ex springs = joint_springs(model, tree);
+  for (std::size_t i = 1; i < N; ++i) {
+    const TreeBody& body = tree.bodies[i - 1];
+    eq.forcing[m + i - 1] = model.forces[i - 1] - (b.potential + springs).diff(model.coordinates[i - 1]) -
+                            body.damping * model.rates[i - 1] - dot(axis[i], F[i]);
+  }
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
   const ex T = prog.name(kinetic);
-  eq.reduced_lagrangian = T - b.potential;
-  eq.energy_terms = {T + b.potential};
+  eq.reduced_lagrangian = T - b.potential - springs;
+  eq.energy_terms = {T + b.potential + springs};
   bool forced = false;
   for (const ex& q : model.forces) forced = forced || !q.is_zero();
+  for (const TreeBody& body : tree.bodies) forced = forced || !body.damping.is_zero();
   eq.conservative = !forced;
 
   const unsigned um = static_cast<unsigned>(m), un = static_cast<unsigned>(n);
@@ -349,12 +366,18 @@ TreeDerivation derive_tree(const Model& model) {
 GiNaC::ex tree_kinetic_energy(const Model& model) {
   const TreeDerivation d = derive_tree(model);
   // energy_terms = {T + V} with T one intermediate: inlining it gives the expression.
-  return d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - model.bundle->potential).expand();
+  const ex potential = model.bundle->potential + joint_springs(model, *model.bundle->tree);
+  return d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - potential).expand();
 }
 
 Model with_inlined_tree(const Model& model) {
   Model expanded = model;
   expanded.bundle->kinetic = tree_kinetic_energy(model);
+  // The joints' springs and dampers become the potential and shape forces of the general bundle path.
+  const KinematicTree& tree = *model.bundle->tree;
+  expanded.bundle->potential = model.bundle->potential + joint_springs(model, tree);
+  for (std::size_t i = 0; i < tree.bodies.size(); ++i)
+    expanded.forces[i] = model.forces[i] - tree.bodies[i].damping * model.rates[i];
   expanded.lagrangian = expanded.bundle->kinetic - expanded.bundle->potential;
   expanded.bundle->tree.reset();
   return expanded;

@@ -46,6 +46,7 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
           tb.offset[i] = sub(tb.offset[i]);
           for (int j = 0; j < 3; ++j) tb.rotation[i][j] = sub(tb.rotation[i][j]);
         }
+        for (GiNaC::ex* e : {&tb.armature, &tb.damping, &tb.stiffness, &tb.reference}) *e = sub(*e);
       }
     }
   }

@@ -610,7 +610,7 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
 
     const YAML::Node joint = list[i]["joint"];
     const std::string jkey = key + ".joint";
-    check_keys(joint, jkey, {"name", "type", "axis", "offset", "rotation"});
+    check_keys(joint, jkey, {"name", "type", "axis", "offset", "rotation", "armature", "damping", "stiffness", "reference"});
     for (const char* k : {"type", "axis", "offset"})
       if (!joint[k]) fail(joint, jkey + "." + k, "missing required key of a joint");
     const std::string type = scalar(joint["type"], jkey + ".type");
@@ -628,6 +628,11 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
     if (GiNaC::is_a<GiNaC::numeric>(norm) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(norm) - 1) > GiNaC::numeric(1, 1000000))
       fail(joint["axis"], jkey + ".axis", "expected a unit vector (its squared length is " +
                                                std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
+    const std::pair<const char*, GiNaC::ex*> properties[] = {
+        {"armature", &tb.armature}, {"damping", &tb.damping}, {"stiffness", &tb.stiffness}, {"reference", &tb.reference}};
+    for (const auto& [k, target] : properties)
+      if (YAML::Node v = joint[k])
+        *target = expression(v, jkey + "." + k, constants, "joint armature, damping, stiffness and reference may use parameters only");
     for (std::size_t r = 0; r < 3; ++r)
       for (std::size_t c = 0; c < 3; ++c) tb.rotation[r][c] = r == c ? 1 : 0;
     if (YAML::Node rot = joint["rotation"]) {

@@ -38,6 +38,9 @@ struct TreeBody {
   GiNaC::ex offset[3];
   GiNaC::ex rotation[3][3];  ///< identity unless given
   GiNaC::realsymbol coordinate;  ///< the joint coordinate, a shape coordinate r^I (index = body index)
+  // Joint properties as robot files give them (zero when absent): armature a adds ½ a ṙ² to T (a rotor's
+  // reflected inertia), damping d the force −d ṙ, stiffness k the potential ½ k (r − reference)².
+  GiNaC::ex armature = 0, damping = 0, stiffness = 0, reference = 0;
 };
 
 /// A floating base (the group frame, left-trivialized) carrying a tree of bodies (model key `tree`).

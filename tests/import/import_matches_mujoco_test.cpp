@@ -1,0 +1,193 @@
+// Imported robots against peers that share nothing with hamel's derivation:
+//  - MuJoCo's sample humanoid (21 hinges on a free torso, joints with several hinges per body, fixed head
+//    and hands merged, inertias MuJoCo infers from capsules, armature, damping, stiffness, motors with
+//    gears), imported from MJCF with contacts, limits and gravity left out, emitted and compiled: its rhs
+//    against mj_forward with contacts and limits disabled and gravity off, at 20 random states and controls;
+//  - the 7-joint URDF arm (make_arm7.py: rotated joint origins, inclined axes, damping, a continuous joint,
+//    a fixed flange merged into link 7), imported from URDF with --floating: against its MJCF twin in MuJoCo
+//    (written independently from the same numbers) and against the Eigen Newton-Euler of tests/tree.
+// State mapping (as tools/scaling/harness.cpp): hamel x = (q, w, v, q_dot) with (w, v) the base frame's body
+// twist; MuJoCo's free joint qpos = (p, quat), qvel = (R v, w). Back: w_dot = qacc_ang, v_dot = Rᵀ qacc_lin −
+// w × v. Tolerance: |a_hamel − a_ref|_inf ≤ 1e-10 max(1, |a_ref|_inf).
+#include "tree_from_model.hpp"
+#include "tree_reference.hpp"
+
+#include "arm7.hpp"
+#include "humanoid.hpp"
+#include "model/load_model.hpp"
+
+#include <gtest/gtest.h>
+#include <mujoco/mujoco.h>
+
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+constexpr double kTolerance = 1e-10;
+constexpr int kStates = 20;
+
+using Kernel = void (*)(double, const double*, const double*, const double*, double*);
+
+struct Package {
+  Kernel rhs;
+  int n;  // joints
+  const char* const* state_names;
+  const char* const* input_names;
+  int n_inputs;
+  std::string input_prefix;  // input = prefix + actuator name
+};
+
+struct Mujoco {
+  mjModel* m = nullptr;
+  mjData* d = nullptr;
+  explicit Mujoco(const char* path) {
+    char err[1000] = "";
+    m = mj_loadXML(path, nullptr, err, sizeof err);
+    if (!m) throw std::runtime_error(std::string("MuJoCo: ") + err);
+    // The import left contacts, limits and gravity out: MuJoCo without them.
+    m->opt.disableflags |= mjDSBL_CONSTRAINT;
+    m->opt.gravity[0] = m->opt.gravity[1] = m->opt.gravity[2] = 0;
+    d = mj_makeData(m);
+  }
+  ~Mujoco() {
+    mj_deleteData(d);
+    mj_deleteModel(m);
+  }
+};
+
+void quat_to_R(const double* q, double R[3][3]) {
+  const double w = q[0], x = q[1], y = q[2], z = q[3];
+  R[0][0] = 1 - 2 * (y * y + z * z), R[0][1] = 2 * (x * y - w * z), R[0][2] = 2 * (x * z + w * y);
+  R[1][0] = 2 * (x * y + w * z), R[1][1] = 1 - 2 * (x * x + z * z), R[1][2] = 2 * (y * z - w * x);
+  R[2][0] = 2 * (x * z - w * y), R[2][1] = 2 * (y * z + w * x), R[2][2] = 1 - 2 * (x * x + y * y);
+}
+
+struct Sample {
+  std::vector<double> x, in, quat, p;
+};
+
+Sample random_sample(std::mt19937_64& rng, const Package& pkg) {
+  std::uniform_real_distribution<double> u(-1, 1);
+  Sample s;
+  for (int i = 0; i < 2 * pkg.n + 6; ++i) s.x.push_back(i < pkg.n ? 1.5 * u(rng) : 2 * u(rng));
+  for (int k = 0; k < pkg.n_inputs; ++k) s.in.push_back(u(rng));
+  double n = 0;
+  for (int k = 0; k < 4; ++k) {
+    s.quat.push_back(u(rng));
+    n += s.quat.back() * s.quat.back();
+  }
+  for (double& c : s.quat) c /= std::sqrt(n);
+  for (int k = 0; k < 3; ++k) s.p.push_back(u(rng));
+  return s;
+}
+
+// (w_dot, v_dot, q_ddot) from MuJoCo for the hamel state of a sample.
+std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const Sample& s) {
+  const int n = pkg.n;
+  double R[3][3];
+  quat_to_R(s.quat.data(), R);
+  const double* w = s.x.data() + n;
+  const double* v = s.x.data() + n + 3;
+  mj_resetData(mj.m, mj.d);
+  for (int k = 0; k < 3; ++k) mj.d->qpos[k] = s.p[static_cast<std::size_t>(k)];
+  for (int k = 0; k < 4; ++k) mj.d->qpos[3 + k] = s.quat[static_cast<std::size_t>(k)];
+  for (int i = 0; i < 3; ++i) {
+    mj.d->qvel[i] = R[i][0] * v[0] + R[i][1] * v[1] + R[i][2] * v[2];
+    mj.d->qvel[3 + i] = w[i];
+  }
+  std::vector<int> dof(static_cast<std::size_t>(n));
+  for (int i = 0; i < n; ++i) {
+    const int j = mj_name2id(mj.m, mjOBJ_JOINT, pkg.state_names[i]);
+    if (j < 0) throw std::runtime_error(std::string("no MuJoCo joint ") + pkg.state_names[i]);
+    mj.d->qpos[mj.m->jnt_qposadr[j]] = s.x[static_cast<std::size_t>(i)];
+    dof[static_cast<std::size_t>(i)] = mj.m->jnt_dofadr[j];
+    mj.d->qvel[dof[static_cast<std::size_t>(i)]] = s.x[static_cast<std::size_t>(n + 6 + i)];
+  }
+  for (int k = 0; k < pkg.n_inputs; ++k) {
+    const std::string name = std::string(pkg.input_names[k]).substr(pkg.input_prefix.size());
+    const int a = mj_name2id(mj.m, mjOBJ_ACTUATOR, name.c_str());
+    if (a < 0) throw std::runtime_error("no MuJoCo actuator " + name);
+    mj.d->ctrl[a] = s.in[static_cast<std::size_t>(k)];
+  }
+  mj_forward(mj.m, mj.d);
+  const double* qacc = mj.d->qacc;
+  const double wxv[3] = {w[1] * v[2] - w[2] * v[1], w[2] * v[0] - w[0] * v[2], w[0] * v[1] - w[1] * v[0]};
+  std::vector<double> a;
+  for (int i = 0; i < 3; ++i) a.push_back(qacc[3 + i]);
+  for (int i = 0; i < 3; ++i) a.push_back(R[0][i] * qacc[0] + R[1][i] * qacc[1] + R[2][i] * qacc[2] - wxv[i]);
+  for (int i = 0; i < n; ++i) a.push_back(qacc[dof[static_cast<std::size_t>(i)]]);
+  return a;
+}
+
+std::vector<double> hamel_accelerations(const Package& pkg, const Sample& s) {
+  std::vector<double> out(static_cast<std::size_t>(2 * pkg.n + 6));
+  pkg.rhs(0, s.x.data(), nullptr, s.in.data(), out.data());
+  return std::vector<double>(out.begin() + pkg.n, out.end());
+}
+
+double relative_error(const std::vector<double>& a, const std::vector<double>& ref) {
+  double err = 0, scale = 1;
+  for (std::size_t k = 0; k < ref.size(); ++k) {
+    err = std::max(err, std::abs(a[k] - ref[k]));
+    scale = std::max(scale, std::abs(ref[k]));
+  }
+  return err / scale;
+}
+
+void expect_matches_mujoco(const Package& pkg, const char* xml, unsigned seed) {
+  Mujoco mj(xml);
+  ASSERT_EQ(mj.m->nv, pkg.n + 6);
+  std::mt19937_64 rng(seed);
+  double worst = 0;
+  for (int k = 0; k < kStates; ++k) {
+    const Sample s = random_sample(rng, pkg);
+    const std::vector<double> ref = mujoco_accelerations(mj, pkg, s);
+    const double e = relative_error(hamel_accelerations(pkg, s), ref);
+    worst = std::max(worst, e);
+    EXPECT_LE(e, kTolerance) << "state " << k;
+  }
+  std::printf("%s: worst relative error against mj_forward %.2e over %d states\n", xml, worst, kStates);
+}
+
+const Package humanoid_pkg{humanoid::rhs,          humanoid::n_coordinates, humanoid::state_names,
+                           humanoid::input_names,  humanoid::n_inputs,      "u_"};
+const Package arm7_pkg{arm7::rhs, arm7::n_coordinates, arm7::state_names, arm7::input_names, arm7::n_inputs, ""};
+
+TEST(ImportedHumanoid, RhsMatchesMujocoForward) {
+  static_assert(humanoid::n_coordinates == 21 && humanoid::n_inputs == 21, "the humanoid has 21 hinges and motors");
+  expect_matches_mujoco(humanoid_pkg, HAMEL_HUMANOID_XML, 15);
+}
+
+TEST(ImportedUrdfArm, RhsMatchesItsMjcfTwinInMujoco) {
+  static_assert(arm7::n_coordinates == 7, "seven revolute joints; the fixed flange is merged");
+  expect_matches_mujoco(arm7_pkg, HAMEL_ARM7_XML, 7);
+}
+
+TEST(ImportedUrdfArm, RhsMatchesNewtonEuler) {
+  const hamel::Model model = hamel::load_model(std::string(HAMEL_IMPORT_DIR) + "/arm7.yaml");
+  const tree_ref::Tree tree = tree_ref::tree_of(model);
+  ASSERT_EQ(tree.n(), 7);
+  std::vector<double> damping;
+  for (const hamel::TreeBody& b : model.bundle->tree->bodies)
+    damping.push_back(GiNaC::ex_to<GiNaC::numeric>(b.damping.evalf()).to_double());
+  std::mt19937_64 rng(3);
+  for (int k = 0; k < kStates; ++k) {
+    const Sample s = random_sample(rng, arm7_pkg);
+    tree_ref::VX q(7), xi(6), qd(7), Q(7);
+    for (int i = 0; i < 7; ++i) {
+      q[i] = s.x[static_cast<std::size_t>(i)];
+      qd[i] = s.x[static_cast<std::size_t>(13 + i)];
+      Q[i] = s.in[static_cast<std::size_t>(i)] - damping[static_cast<std::size_t>(i)] * qd[i];
+    }
+    for (int a = 0; a < 6; ++a) xi[a] = s.x[static_cast<std::size_t>(7 + a)];
+    const tree_ref::VX acc = tree_ref::accelerations(tree, q, xi, qd, Q);
+    std::vector<double> ref;
+    for (int i = 0; i < acc.size(); ++i) ref.push_back(static_cast<double>(acc[i]));
+    EXPECT_LE(relative_error(hamel_accelerations(arm7_pkg, s), ref), kTolerance) << "state " << k;
+  }
+}
+
+}  // namespace

@@ -58,10 +58,6 @@ void run(const ImportCliOptions& opt) {
   const Warn warn = [](const std::string& w) { std::cerr << "hamel: warning: " << w << "\n"; };
   const ImportedTree tree =
       is_urdf(opt.input) ? import_urdf(opt.input, options, warn) : import_mjcf(opt.input, options, warn);
-  if (!tree.floating)
-    throw InputError(SourceLocation{opt.input, 0, 0}, "",
-                     "the robot is fixed to the world, and hamel's trees have a floating base only (so far); URDF: "
-                     "import with --floating (the root link floats); MJCF: give the root body a <freejoint/>");
   const std::string yaml = tree_model_yaml(tree);
   // What we write must load: a failure here is ours, not the user's.
   try {

@@ -36,6 +36,16 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
 
 Derivation derive(const Model& model, const DeriveSettings& settings) {
   Derivation d;
+  if (model.tree) {  // fixed base: the recursive derivation in u = q̇
+    if (!settings.form.empty())
+      throw InputError("--form applies to bundle models (with 'group'); '" + model.source_path +
+                       "' is a tree on a fixed base");
+    TreeDerivation tree = derive_tree(model);
+    d.quasi_velocities = {model.A, model.B};
+    d.system = std::move(tree.system);
+    d.equations = std::move(tree.equations);
+    return d;
+  }
   if (model.bundle && model.bundle->tree) {
     d.form = settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form);
     if (*d.form == BundleForm::euler_poincare) {

@@ -195,23 +195,29 @@ ex joint_springs(const Model& model, const KinematicTree& tree) {
 }  // namespace
 
 TreeDerivation derive_tree(const Model& model) {
-  const Bundle& b = *model.bundle;
-  const KinematicTree& tree = *b.tree;
+  // A fixed base (model.tree, no group) is the same recursion with no base directions (m = 0).
+  const bool fixed = !model.bundle;
+  const KinematicTree& tree = fixed ? *model.tree : *model.bundle->tree;
+  const std::vector<GiNaC::realsymbol> group_velocity = fixed ? std::vector<GiNaC::realsymbol>{}
+                                                              : model.bundle->group_velocity;
   TreeDerivation out;
   HamelEquations& eq = out.equations;
   TreeProgram prog(eq.intermediates);
 
   BundleGeometry& geo = out.geometry;
-  geo.algebra = lie_algebra(b.group);
-  geo.structure_constants = structure_constants(geo.algebra);
+  if (!fixed) {
+    geo.algebra = lie_algebra(model.bundle->group);
+    geo.structure_constants = structure_constants(geo.algebra);
+  }
   geo.trivialization_sign = 1;
   geo.quadratic = true;
   geo.connection_derived = false;
 
-  const std::size_t m = geo.algebra.dim();
+  const std::size_t m = group_velocity.size();
   const std::size_t n = tree.bodies.size();
   const std::size_t N = n + 1;  // body 0 is the base, body k + 1 moves with r^k
-  const std::vector<Vec6> base = base_directions(b.group);
+  const std::vector<Vec6> base = fixed ? std::vector<Vec6>{} : base_directions(model.bundle->group);
+  const ex base_potential = fixed ? ex(0) : model.bundle->potential;
 
   std::vector<int> parent(N, -1);
   std::vector<Link> link(N);
@@ -245,8 +251,10 @@ TreeDerivation derive_tree(const Model& model) {
 
   // Twists V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i, accelerations at u̇ = 0 (the velocity-product terms
   // ad_{V_i} S_i ṙ_i carried outward), momenta h_i = 𝕀_i V_i and each body's Euler–Poincaré wrench.
-  V[0] = base_twist(b.group_velocity);
-  a[0] = zero6();
+  V[0] = base_twist(group_velocity);
+  // Gravity as an upward acceleration of the fixed base (Featherstone): every body's wrench then carries
+  // its weight without a separate potential gradient.
+  a[0] = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
   ex kinetic = 0;
   for (std::size_t i = 0; i < N; ++i) {
     if (i > 0) {
@@ -321,7 +329,7 @@ TreeDerivation derive_tree(const Model& model) {
   const ex springs = joint_springs(model, tree);
   for (std::size_t i = 1; i < N; ++i) {
     const TreeBody& body = tree.bodies[i - 1];
-    eq.forcing[m + i - 1] = model.forces[i - 1] - (b.potential + springs).diff(model.coordinates[i - 1]) -
+    eq.forcing[m + i - 1] = model.forces[i - 1] - (base_potential + springs).diff(model.coordinates[i - 1]) -
                             body.damping * model.rates[i - 1] - dot(axis[i], F[i]);
   }
 
@@ -329,18 +337,52 @@ TreeDerivation derive_tree(const Model& model) {
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
   const ex T = prog.name(kinetic);
-  eq.reduced_lagrangian = T - b.potential - springs;
-  eq.energy_terms = {T + b.potential + springs};
+  // The weight's potential −Σ m_i g·(p_i + R_i c_i), with each body's pose in the world composed outward.
+  ex weight = 0;
+  if (!(tree.gravity[0].is_zero() && tree.gravity[1].is_zero() && tree.gravity[2].is_zero())) {
+    std::vector<Mat3> R(N);
+    std::vector<Vec3> p(N);
+    R[0] = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    p[0] = {0, 0, 0};
+    const std::vector<RigidBody> mass = [&] {
+      std::vector<RigidBody> all{tree.base};
+      for (const TreeBody& body : tree.bodies) all.push_back(body.body);
+      return all;
+    }();
+    for (std::size_t i = 0; i < N; ++i) {
+      if (i > 0) {
+        const std::size_t q = static_cast<std::size_t>(parent[i]);
+        for (std::size_t r = 0; r < 3; ++r) {
+          ex s = p[q][r];
+          for (std::size_t k = 0; k < 3; ++k) s += R[q][r][k] * link[i].p[k];
+          p[i][r] = prog.name(s);
+          for (std::size_t c = 0; c < 3; ++c) {
+            ex e = 0;
+            for (std::size_t k = 0; k < 3; ++k) e += R[q][r][k] * link[i].R[k][c];
+            R[i][r][c] = prog.name(e);
+          }
+        }
+      }
+      for (std::size_t r = 0; r < 3; ++r) {
+        ex c = p[i][r];
+        for (std::size_t k = 0; k < 3; ++k) c += R[i][r][k] * mass[i].com[k];
+        weight -= mass[i].mass * tree.gravity[r] * c;
+      }
+    }
+    weight = prog.name(weight);
+  }
+  eq.reduced_lagrangian = T - base_potential - springs - weight;
+  eq.energy_terms = {T + base_potential + springs + weight};
   bool forced = false;
   for (const ex& q : model.forces) forced = forced || !q.is_zero();
   for (const TreeBody& body : tree.bodies) forced = forced || !body.damping.is_zero();
   eq.conservative = !forced;
 
   const unsigned um = static_cast<unsigned>(m), un = static_cast<unsigned>(n);
-  geo.L = GiNaC::matrix(um, um);
-  geo.K = GiNaC::matrix(um, un);
+  if (!fixed) geo.L = GiNaC::matrix(um, um);
+  if (!fixed) geo.K = GiNaC::matrix(um, un);
   geo.S = GiNaC::matrix(un, un);
-  for (unsigned r = 0; r < um + un; ++r)
+  for (unsigned r = 0; r < um + un && !fixed; ++r)
     for (unsigned c = 0; c < um + un; ++c) {
       const ex& v = eq.mass_matrix(r, c);
       if (r < um && c < um) geo.L(r, c) = v;
@@ -349,17 +391,18 @@ TreeDerivation derive_tree(const Model& model) {
     }
 
   HamelSystem& sys = out.system;
-  sys.form = "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
+  sys.form = fixed ? "Euler-Lagrange, recursive over the kinematic tree on a fixed base"
+                   : "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
   sys.coordinates = model.coordinates;
-  sys.velocities = b.group_velocity;
+  sys.velocities = group_velocity;
   sys.velocities.insert(sys.velocities.end(), model.rates.begin(), model.rates.end());
   sys.B = GiNaC::matrix(un, um + un);
   for (unsigned I = 0; I < un; ++I) sys.B(I, um + I) = 1;
   sys.lagrangian = eq.reduced_lagrangian;
   sys.forces = model.forces;
   for (const StructureConstant& s : geo.structure_constants) sys.gamma.push_back({s.upper, s.lower_a, s.lower_b, s.value});
-  sys.where =
-      model.locations.count("kinetic") ? model.locations.at("kinetic") : SourceLocation{model.source_path, 0, 0};
+  const char* where = fixed ? "lagrangian" : "kinetic";
+  sys.where = model.locations.count(where) ? model.locations.at(where) : SourceLocation{model.source_path, 0, 0};
   return out;
 }
 

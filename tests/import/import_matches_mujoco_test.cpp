@@ -13,6 +13,7 @@
 #include "tree_reference.hpp"
 
 #include "arm7.hpp"
+#include "arm7_fixed.hpp"
 #include "humanoid.hpp"
 #include "model/load_model.hpp"
 
@@ -32,7 +33,8 @@ constexpr int kStates = 20;
 using Kernel = void (*)(double, const double*, const double*, const double*, double*);
 
 struct Package {
-  Kernel rhs;
+  Kernel rhs, energy;
+  bool floating;
   int n;  // joints
   const char* const* state_names;
   const char* const* input_names;
@@ -43,13 +45,14 @@ struct Package {
 struct Mujoco {
   mjModel* m = nullptr;
   mjData* d = nullptr;
-  explicit Mujoco(const char* path) {
+  Mujoco(const char* path, bool keep_gravity) {
     char err[1000] = "";
     m = mj_loadXML(path, nullptr, err, sizeof err);
     if (!m) throw std::runtime_error(std::string("MuJoCo: ") + err);
-    // The import left contacts, limits and gravity out: MuJoCo without them.
+    // The import left contacts and limits out (and gravity on a floating base): MuJoCo without them.
     m->opt.disableflags |= mjDSBL_CONSTRAINT;
-    m->opt.gravity[0] = m->opt.gravity[1] = m->opt.gravity[2] = 0;
+    if (!keep_gravity) m->opt.gravity[0] = m->opt.gravity[1] = m->opt.gravity[2] = 0;
+    m->opt.enableflags |= mjENBL_ENERGY;
     d = mj_makeData(m);
   }
   ~Mujoco() {
@@ -72,7 +75,8 @@ struct Sample {
 Sample random_sample(std::mt19937_64& rng, const Package& pkg) {
   std::uniform_real_distribution<double> u(-1, 1);
   Sample s;
-  for (int i = 0; i < 2 * pkg.n + 6; ++i) s.x.push_back(i < pkg.n ? 1.5 * u(rng) : 2 * u(rng));
+  const int base = pkg.floating ? 6 : 0;
+  for (int i = 0; i < 2 * pkg.n + base; ++i) s.x.push_back(i < pkg.n ? 1.5 * u(rng) : 2 * u(rng));
   for (int k = 0; k < pkg.n_inputs; ++k) s.in.push_back(u(rng));
   double n = 0;
   for (int k = 0; k < 4; ++k) {
@@ -84,19 +88,23 @@ Sample random_sample(std::mt19937_64& rng, const Package& pkg) {
   return s;
 }
 
-// (w_dot, v_dot, q_ddot) from MuJoCo for the hamel state of a sample.
-std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const Sample& s) {
-  const int n = pkg.n;
+// (w_dot, v_dot, q_ddot) (floating) or q_ddot (fixed base) from MuJoCo for the hamel state of a sample;
+// `energy` gets MuJoCo's potential plus kinetic energy.
+std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const Sample& s, double& energy) {
+  const int n = pkg.n, base = pkg.floating ? 6 : 0;
   double R[3][3];
   quat_to_R(s.quat.data(), R);
-  const double* w = s.x.data() + n;
-  const double* v = s.x.data() + n + 3;
+  const double zero[6] = {0, 0, 0, 0, 0, 0};
+  const double* w = pkg.floating ? s.x.data() + n : zero;
+  const double* v = pkg.floating ? s.x.data() + n + 3 : zero;
   mj_resetData(mj.m, mj.d);
-  for (int k = 0; k < 3; ++k) mj.d->qpos[k] = s.p[static_cast<std::size_t>(k)];
-  for (int k = 0; k < 4; ++k) mj.d->qpos[3 + k] = s.quat[static_cast<std::size_t>(k)];
-  for (int i = 0; i < 3; ++i) {
-    mj.d->qvel[i] = R[i][0] * v[0] + R[i][1] * v[1] + R[i][2] * v[2];
-    mj.d->qvel[3 + i] = w[i];
+  if (pkg.floating) {
+    for (int k = 0; k < 3; ++k) mj.d->qpos[k] = s.p[static_cast<std::size_t>(k)];
+    for (int k = 0; k < 4; ++k) mj.d->qpos[3 + k] = s.quat[static_cast<std::size_t>(k)];
+    for (int i = 0; i < 3; ++i) {
+      mj.d->qvel[i] = R[i][0] * v[0] + R[i][1] * v[1] + R[i][2] * v[2];
+      mj.d->qvel[3 + i] = w[i];
+    }
   }
   std::vector<int> dof(static_cast<std::size_t>(n));
   for (int i = 0; i < n; ++i) {
@@ -104,7 +112,7 @@ std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const S
     if (j < 0) throw std::runtime_error(std::string("no MuJoCo joint ") + pkg.state_names[i]);
     mj.d->qpos[mj.m->jnt_qposadr[j]] = s.x[static_cast<std::size_t>(i)];
     dof[static_cast<std::size_t>(i)] = mj.m->jnt_dofadr[j];
-    mj.d->qvel[dof[static_cast<std::size_t>(i)]] = s.x[static_cast<std::size_t>(n + 6 + i)];
+    mj.d->qvel[dof[static_cast<std::size_t>(i)]] = s.x[static_cast<std::size_t>(n + base + i)];
   }
   for (int k = 0; k < pkg.n_inputs; ++k) {
     const std::string name = std::string(pkg.input_names[k]).substr(pkg.input_prefix.size());
@@ -113,17 +121,20 @@ std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const S
     mj.d->ctrl[a] = s.in[static_cast<std::size_t>(k)];
   }
   mj_forward(mj.m, mj.d);
+  mj_energyVel(mj.m, mj.d);
+  energy = mj.d->energy[0] + mj.d->energy[1];
   const double* qacc = mj.d->qacc;
   const double wxv[3] = {w[1] * v[2] - w[2] * v[1], w[2] * v[0] - w[0] * v[2], w[0] * v[1] - w[1] * v[0]};
   std::vector<double> a;
-  for (int i = 0; i < 3; ++i) a.push_back(qacc[3 + i]);
-  for (int i = 0; i < 3; ++i) a.push_back(R[0][i] * qacc[0] + R[1][i] * qacc[1] + R[2][i] * qacc[2] - wxv[i]);
+  for (int i = 0; i < 3 && pkg.floating; ++i) a.push_back(qacc[3 + i]);
+  for (int i = 0; i < 3 && pkg.floating; ++i)
+    a.push_back(R[0][i] * qacc[0] + R[1][i] * qacc[1] + R[2][i] * qacc[2] - wxv[i]);
   for (int i = 0; i < n; ++i) a.push_back(qacc[dof[static_cast<std::size_t>(i)]]);
   return a;
 }
 
 std::vector<double> hamel_accelerations(const Package& pkg, const Sample& s) {
-  std::vector<double> out(static_cast<std::size_t>(2 * pkg.n + 6));
+  std::vector<double> out(s.x.size());
   pkg.rhs(0, s.x.data(), nullptr, s.in.data(), out.data());
   return std::vector<double>(out.begin() + pkg.n, out.end());
 }
@@ -137,24 +148,33 @@ double relative_error(const std::vector<double>& a, const std::vector<double>& r
   return err / scale;
 }
 
+// Accelerations at kStates random states; the energy kernel against MuJoCo's energy up to a constant (MuJoCo
+// counts the weight of bodies welded to the world too), compared as differences to the first state.
 void expect_matches_mujoco(const Package& pkg, const char* xml, unsigned seed) {
-  Mujoco mj(xml);
-  ASSERT_EQ(mj.m->nv, pkg.n + 6);
+  Mujoco mj(xml, !pkg.floating);
+  ASSERT_EQ(mj.m->nv, pkg.n + (pkg.floating ? 6 : 0));
   std::mt19937_64 rng(seed);
-  double worst = 0;
+  double worst = 0, offset = 0;
   for (int k = 0; k < kStates; ++k) {
     const Sample s = random_sample(rng, pkg);
-    const std::vector<double> ref = mujoco_accelerations(mj, pkg, s);
+    double mj_energy = 0, energy = 0;
+    const std::vector<double> ref = mujoco_accelerations(mj, pkg, s, mj_energy);
     const double e = relative_error(hamel_accelerations(pkg, s), ref);
     worst = std::max(worst, e);
     EXPECT_LE(e, kTolerance) << "state " << k;
+    pkg.energy(0, s.x.data(), nullptr, s.in.data(), &energy);
+    if (k == 0) offset = energy - mj_energy;
+    EXPECT_NEAR(energy - mj_energy, offset, 1e-10 * std::max(1.0, std::abs(mj_energy))) << "state " << k;
   }
   std::printf("%s: worst relative error against mj_forward %.2e over %d states\n", xml, worst, kStates);
 }
 
-const Package humanoid_pkg{humanoid::rhs,          humanoid::n_coordinates, humanoid::state_names,
-                           humanoid::input_names,  humanoid::n_inputs,      "u_"};
-const Package arm7_pkg{arm7::rhs, arm7::n_coordinates, arm7::state_names, arm7::input_names, arm7::n_inputs, ""};
+const Package humanoid_pkg{humanoid::rhs,         humanoid::energy,      true, humanoid::n_coordinates,
+                           humanoid::state_names, humanoid::input_names, humanoid::n_inputs, "u_"};
+const Package arm7_pkg{arm7::rhs,         arm7::energy,      true, arm7::n_coordinates,
+                       arm7::state_names, arm7::input_names, arm7::n_inputs, ""};
+const Package arm7_fixed_pkg{arm7_fixed::rhs,         arm7_fixed::energy,      false, arm7_fixed::n_coordinates,
+                             arm7_fixed::state_names, arm7_fixed::input_names, arm7_fixed::n_inputs, "u_"};
 
 TEST(ImportedHumanoid, RhsMatchesMujocoForward) {
   static_assert(humanoid::n_coordinates == 21 && humanoid::n_inputs == 21, "the humanoid has 21 hinges and motors");
@@ -164,6 +184,11 @@ TEST(ImportedHumanoid, RhsMatchesMujocoForward) {
 TEST(ImportedUrdfArm, RhsMatchesItsMjcfTwinInMujoco) {
   static_assert(arm7::n_coordinates == 7, "seven revolute joints; the fixed flange is merged");
   expect_matches_mujoco(arm7_pkg, HAMEL_ARM7_XML, 7);
+}
+
+TEST(ImportedFixedArm, RhsAndEnergyUnderGravityMatchMujoco) {
+  static_assert(arm7_fixed::n_state == 14, "a fixed base has no group velocity");
+  expect_matches_mujoco(arm7_fixed_pkg, HAMEL_ARM7_FIXED_XML, 11);
 }
 
 TEST(ImportedUrdfArm, RhsMatchesNewtonEuler) {

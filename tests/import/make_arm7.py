@@ -75,3 +75,8 @@ for (name, joint, *_rest) in links:
     x.append(f'    <motor name="tau_{joint}" joint="{joint}" gear="1"/>\n')
 x.append('  </actuator>\n</mujoco>\n')
 open("arm7.xml", "w").write("".join(x))
+# The same arm bolted to the world, under gravity (a fixed-base import with tree.gravity).
+fixed = "".join(x).replace('<option gravity="0 0 0"/>', '<option gravity="0 0 -9.81"/>')
+fixed = fixed.replace('      <freejoint name="root"/>\n', '').replace("with a free root (import --floating)",
+                                                                     "fixed to the world, under gravity")
+open("arm7_fixed.xml", "w").write(fixed.replace('model="arm7"', 'model="arm7_fixed"'))

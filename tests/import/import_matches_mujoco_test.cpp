@@ -15,6 +15,7 @@
 #include "arm7.hpp"
 #include "arm7_fixed.hpp"
 #include "humanoid.hpp"
+#include "import/tree_import.hpp"
 #include "model/load_model.hpp"
 
 #include <gtest/gtest.h>
@@ -213,6 +214,89 @@ TEST(ImportedUrdfArm, RhsMatchesNewtonEuler) {
     for (int i = 0; i < acc.size(); ++i) ref.push_back(static_cast<double>(acc[i]));
     EXPECT_LE(relative_error(hamel_accelerations(arm7_pkg, s), ref), kTolerance) << "state " << k;
   }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------------------
+// What the tree format cannot hold: an error naming the file, the line and the element, or, under --ignore,
+// a warning and a model without it.
+
+namespace {
+
+std::string write_temp(const std::string& name, const std::string& text) {
+  const std::string path = testing::TempDir() + name;
+  std::FILE* f = std::fopen(path.c_str(), "w");
+  std::fputs(text.c_str(), f);
+  std::fclose(f);
+  return path;
+}
+
+std::string import_error(const std::string& path, const hamel::ImportOptions& options, bool urdf) {
+  try {
+    const hamel::Warn quiet = [](const std::string&) {};
+    if (urdf)
+      hamel::import_urdf(path, options, quiet);
+    else
+      hamel::import_mjcf(path, options, quiet);
+  } catch (const hamel::InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+const char* ball_mjcf = R"(<mujoco model="m">
+  <worldbody>
+    <body name="a">
+      <freejoint/>
+      <geom type="sphere" size=".1" contype="0" conaffinity="0"/>
+      <body name="b" pos="0 0 .3">
+        <joint name="shoulder" type="ball"/>
+        <geom type="sphere" size=".1" contype="0" conaffinity="0"/>
+      </body>
+    </body>
+  </worldbody>
+</mujoco>
+)";
+
+TEST(ImportErrors, BallJointNamesFileLineAndJoint) {
+  const std::string path = write_temp("ball.xml", ball_mjcf);
+  const std::string e = import_error(path, {}, false);
+  EXPECT_NE(e.find(path + ":7:"), std::string::npos) << e;
+  EXPECT_NE(e.find("'shoulder'"), std::string::npos) << e;
+  EXPECT_NE(e.find("ball joints"), std::string::npos) << e;
+}
+
+TEST(ImportErrors, ContactsAndTendonsNeedIgnore) {
+  std::string text = ball_mjcf;
+  text.replace(text.find("type=\"ball\""), 11, "type=\"hinge\"");
+  text.replace(text.find("contype=\"0\" conaffinity=\"0\""), 27, "contype=\"1\"");
+  text.replace(text.find("</worldbody>"), 12, "</worldbody><tendon><fixed name=\"tie\"><joint joint=\"shoulder\" coef=\"1\"/></fixed></tendon>");
+  const std::string path = write_temp("contacts.xml", text);
+  const std::string e = import_error(path, {}, false);
+  EXPECT_NE(e.find("--ignore tendons"), std::string::npos) << e;
+  EXPECT_NE(e.find(path + ":"), std::string::npos) << e;
+  hamel::ImportOptions o;
+  o.ignore = {"tendons"};
+  EXPECT_NE(import_error(path, o, false).find("--ignore contacts"), std::string::npos);
+  o.ignore = {"tendons", "contacts", "gravity"};
+  std::vector<std::string> warnings;
+  const hamel::ImportedTree t = hamel::import_mjcf(path, o, [&](const std::string& w) { warnings.push_back(w); });
+  EXPECT_EQ(t.bodies.size(), 1u);
+  EXPECT_EQ(warnings.size(), 3u);
+  EXPECT_NE(hamel::tree_model_yaml(t).find("left out: tendons, contacts, gravity"), std::string::npos);
+}
+
+TEST(ImportErrors, UrdfPlanarJointIsRefused) {
+  const std::string path = write_temp("planar.urdf", R"(<robot name="r">
+  <link name="a"/>
+  <link name="b"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="1" iyz="0" izz="1"/></inertial></link>
+  <joint name="slider" type="planar"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/></joint>
+</robot>
+)");
+  const std::string e = import_error(path, {}, true);
+  EXPECT_NE(e.find(path + ":4:"), std::string::npos) << e;
+  EXPECT_NE(e.find("'joint 'slider''"), std::string::npos) << e;
 }
 
 }  // namespace

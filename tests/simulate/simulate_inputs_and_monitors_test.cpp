@@ -8,7 +8,8 @@
 //  - --monitors energy,momentum: the energy column is ½ m v² + ½ k x², p_v = m v; on the free rigid body
 //    p = Θ ω (Θ from the model's defaults) and the energy ½ ω·Θω, constant;
 //  - --monitors constraint_residual on the rolling ball: one column per constraint, at rounding level;
-//  - errors: an unknown input, a law with an unknown name, a table with decreasing times (file:line).
+//  - errors: an unknown input, a law with an unknown name, a table with decreasing times (file:line);
+//  - and `hamel phase`'s warning for a shape path that does not close.
 #include "run_hamel.hpp"
 
 #include <gtest/gtest.h>
@@ -173,6 +174,25 @@ TEST(SimulateInputs, BadInputsAreInputErrors) {
   r = hamel("simulate " + model + "--monitors power", dir);
   EXPECT_EQ(r.status, 2);
   EXPECT_NE(r.err.find("--monitors"), std::string::npos) << r.err;
+  fs::remove_all(dir);
+}
+
+}  // namespace
+
+namespace {
+
+// `hamel phase` warns when the shape path does not close (r(T) ≠ r(0)), and only then.
+TEST(PhasePath, OpenPathWarnsClosedPathDoesNot) {
+  const fs::path dir = hamel_test::scratch_dir("phase_open_path");
+  const std::string model = hamel_test::shell_quote(source_dir() + "/models/planar_swimmer.yaml");
+  hamel_test::Outcome r =
+      hamel_test::hamel("phase " + model + " --path 't; sin(2*pi*t); 0' --period 1 --cycles 1 --no-files", dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("warning: the path does not close: q1(0) = 0 but q1(1) = 1"), std::string::npos) << r.err;
+  r = hamel_test::hamel("phase " + model + " --path 'cos(2*pi*t); sin(2*pi*t); 0' --period 1 --cycles 1 --no-files",
+                        dir);
+  ASSERT_EQ(r.status, 0) << r.err;
+  EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   fs::remove_all(dir);
 }
 

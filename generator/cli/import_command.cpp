@@ -78,8 +78,8 @@ void run(const ImportCliOptions& opt) {
 
 Run add_import_command(CLI::App& app) {
   auto opt = std::make_shared<ImportCliOptions>();
-  CLI::App* cmd = app.add_subcommand(
-      "import", "Turn a URDF or MJCF robot file into a hamel kinematic-tree model (docs/import.md)");
+  CLI::App* cmd =
+      app.add_subcommand("import", "Turn a URDF or MJCF robot file into a hamel kinematic-tree model (docs/import.md)");
   cmd->add_option("file", opt->input, "Robot file: .urdf (urdfdom) or MuJoCo .xml (MJCF, compiled by MuJoCo)")
       ->required();
   cmd->add_option("-o,--output", opt->output, "Model file to write (YAML, schema 1), or - for stdout")->required();

@@ -73,9 +73,12 @@ void run(const SimulateOptions& given) {
   for (std::size_t start = 0; !opt.monitors.empty() && start <= opt.monitors.size();) {
     const std::size_t comma = std::min(opt.monitors.find(',', start), opt.monitors.size());
     const std::string m = opt.monitors.substr(start, comma - start);
-    if (m == "energy") monitor_energy = true;
-    else if (m == "constraint_residual") monitor_residual = true;
-    else if (m == "momentum") monitor_momentum = true;
+    if (m == "energy")
+      monitor_energy = true;
+    else if (m == "constraint_residual")
+      monitor_residual = true;
+    else if (m == "momentum")
+      monitor_momentum = true;
     else
       throw InputError("--monitors: unknown monitor " + quote(m) +
                        "; expected a comma-separated list of: energy, constraint_residual, momentum");
@@ -174,8 +177,9 @@ void run(const SimulateOptions& given) {
     const std::vector<int>& held = derivation.system.constrained;
     const std::size_t n_res = derivation.equations.constraint_residual.size();
     for (std::size_t k = 0; k < n_res; ++k)
-      header.push_back("residual_" + (held.size() == n_res ? sys.velocities[static_cast<std::size_t>(held[k])].get_name()
-                                                            : std::to_string(k)));
+      header.push_back("residual_" + (held.size() == n_res
+                                          ? sys.velocities[static_cast<std::size_t>(held[k])].get_name()
+                                          : std::to_string(k)));
   }
   if (monitor_momentum)
     for (int I : independent) header.push_back("p_" + sys.velocities[static_cast<std::size_t>(I)].get_name());

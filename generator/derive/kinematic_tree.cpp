@@ -198,8 +198,8 @@ TreeDerivation derive_tree(const Model& model) {
   // A fixed base (model.tree, no group) is the same recursion with no base directions (m = 0).
   const bool fixed = !model.bundle;
   const KinematicTree& tree = fixed ? *model.tree : *model.bundle->tree;
-  const std::vector<GiNaC::realsymbol> group_velocity = fixed ? std::vector<GiNaC::realsymbol>{}
-                                                              : model.bundle->group_velocity;
+  const std::vector<GiNaC::realsymbol> group_velocity =
+      fixed ? std::vector<GiNaC::realsymbol>{} : model.bundle->group_velocity;
   TreeDerivation out;
   HamelEquations& eq = out.equations;
   TreeProgram prog(eq.intermediates);

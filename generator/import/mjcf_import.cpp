@@ -33,7 +33,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
   t.format = "MJCF, compiled by MuJoCo " + std::string(mj_versionString());
   char err[1000] = "";
   std::unique_ptr<mjModel, void (*)(mjModel*)> owned(mj_loadXML(path.c_str(), nullptr, err, sizeof err),
-                                                      mj_deleteModel);
+                                                     mj_deleteModel);
   const mjModel* m = owned.get();
   if (!m) throw InputError(SourceLocation{path, 0, 0}, "", std::string("MuJoCo cannot compile the file: ") + err);
   const std::string text = read_text(path);
@@ -70,15 +70,14 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
                    "it can collide (contype/conaffinity), and hamel's trees have no contact model");
         break;
       }
-  if (m->opt.density != 0 || m->opt.viscosity != 0 || m->opt.wind[0] != 0 || m->opt.wind[1] != 0 ||
-      m->opt.wind[2] != 0)
+  if (m->opt.density != 0 || m->opt.viscosity != 0 || m->opt.wind[0] != 0 || m->opt.wind[1] != 0 || m->opt.wind[2] != 0)
     gate.check("fluid", SourceLocation{path, 0, 0}, "option density/viscosity/wind",
                "fluid forces are not part of hamel's tree format");
 
   // Per MuJoCo body: the tree body it rides on (−1 base, −2 world) and its frame in that tree body's frame.
   std::vector<int> host(static_cast<std::size_t>(m->nbody), -2);
   std::vector<Frame> in_host(static_cast<std::size_t>(m->nbody));
-  std::set<std::string> labels;                                                   // body names
+  std::set<std::string> labels;                                            // body names
   std::set<std::string> symbols{"t", "wx", "wy", "wz", "vx", "vy", "vz"};  // coordinates and inputs
   std::map<int, std::size_t> body_of_joint;
   int free_body = -1;
@@ -88,8 +87,8 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
     const int parent = m->body_parentid[b];
     const std::string bname = mj_name(m, mjOBJ_BODY, b);
     Frame Y = compose(in_host[static_cast<std::size_t>(parent)],
-                            from_quaternion(m->body_pos + 3 * b, m->body_quat[4 * b], m->body_quat[4 * b + 1],
-                                            m->body_quat[4 * b + 2], m->body_quat[4 * b + 3]));
+                      from_quaternion(m->body_pos + 3 * b, m->body_quat[4 * b], m->body_quat[4 * b + 1],
+                                      m->body_quat[4 * b + 2], m->body_quat[4 * b + 3]));
     host[ub] = host[static_cast<std::size_t>(parent)];
     in_host[ub] = Y;
     const int first = m->body_jntadr[b], count = m->body_jntnum[b];

@@ -11,7 +11,7 @@
 namespace hamel {
 
 const std::vector<std::string>& ignorable_categories() {
-  static const std::vector<std::string> c{"contacts", "tendons", "equality", "limits",
+  static const std::vector<std::string> c{"contacts", "tendons",   "equality", "limits",
                                           "gravity",  "actuators", "friction", "fluid"};
   return c;
 }
@@ -100,7 +100,8 @@ std::string tree_model_yaml(const ImportedTree& t) {
                             (t.floating ? "; floating base '" + t.base_name + "' (SE3)" : "; fixed base");
   if (!t.left_out.empty()) {
     description += "; left out:";
-    for (std::size_t i = 0; i < t.left_out.size(); ++i) description += (i ? "," : "") + std::string(" ") + t.left_out[i];
+    for (std::size_t i = 0; i < t.left_out.size(); ++i)
+      description += (i ? "," : "") + std::string(" ") + t.left_out[i];
   }
   y << "description: " << yaml_string(description) << "\n";
   if (t.floating) {

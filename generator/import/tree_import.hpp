@@ -30,13 +30,13 @@ struct MassProperties {
 
 struct ImportedBody {
   std::string name;
-  int parent = -1;  ///< index of an earlier body; −1: the base (floating) or the world (fixed base)
+  int parent = -1;    ///< index of an earlier body; −1: the base (floating) or the world (fixed base)
   std::string joint;  ///< the joint coordinate's name
   bool prismatic = false;
   double axis[3] = {0, 0, 1};
   Frame joint_frame;  ///< the joint frame in the parent body's frame
   double armature = 0, damping = 0, stiffness = 0, reference = 0;
-  MassProperties inertial;  ///< in this body's frame
+  MassProperties inertial;                             ///< in this body's frame
   std::vector<std::pair<std::string, double>> drives;  ///< generalized force Σ gain · input
 };
 
@@ -46,7 +46,7 @@ struct ImportedTree {
   std::string name;
   bool floating = false;
   std::string base_name;
-  MassProperties base;  ///< floating base only
+  MassProperties base;               ///< floating base only
   std::vector<ImportedBody> bodies;  ///< parents before children
   double gravity[3] = {0, 0, 0};     ///< fixed base only, resolved in the world (= base) frame
   std::vector<std::string> inputs;
@@ -54,8 +54,8 @@ struct ImportedTree {
 };
 
 struct ImportOptions {
-  bool floating = false;  ///< URDF: the root link floats (SE3)
-  std::string name;       ///< model name; default: from the file
+  bool floating = false;         ///< URDF: the root link floats (SE3)
+  std::string name;              ///< model name; default: from the file
   std::set<std::string> ignore;  ///< categories left out with a warning
 };
 

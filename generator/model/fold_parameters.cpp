@@ -31,8 +31,8 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
     out.bundle->potential = sub(out.bundle->potential);
     sub_matrix(out.bundle->kinematic_connection);
   }
-  for (KinematicTree* tree : {out.bundle && out.bundle->tree ? &*out.bundle->tree : nullptr,
-                              out.tree ? &*out.tree : nullptr}) {
+  for (KinematicTree* tree :
+       {out.bundle && out.bundle->tree ? &*out.bundle->tree : nullptr, out.tree ? &*out.tree : nullptr}) {
     if (tree) {
       for (GiNaC::ex& g : tree->gravity) g = sub(g);
       const auto sub_body = [&](RigidBody& b) {

@@ -626,7 +626,8 @@ void Loader::load_fixed_tree(Model& model) {
   for (const auto& r : model.rates) table[r.get_name()] = r;
   for (const auto& u : model.inputs) table[u.get_name()] = u;
   table["t"] = model.time;
-  load_forces(model, table, "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs and t");
+  load_forces(model, table,
+              "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs and t");
 }
 
 KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
@@ -649,8 +650,7 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
       for (int j = 0; j < 3; ++j) out.base.inertia[i][j] = 0;
     }
     if (YAML::Node g = tree["gravity"]) {
-      const std::vector<GiNaC::ex> gv = vector_of(g, "tree.gravity", 3, constants,
-                                                   "gravity may use parameters only");
+      const std::vector<GiNaC::ex> gv = vector_of(g, "tree.gravity", 3, constants, "gravity may use parameters only");
       for (int i = 0; i < 3; ++i) out.gravity[i] = gv[static_cast<std::size_t>(i)];
     }
   } else {
@@ -676,7 +676,8 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
 
     const YAML::Node joint = list[i]["joint"];
     const std::string jkey = key + ".joint";
-    check_keys(joint, jkey, {"name", "type", "axis", "offset", "rotation", "armature", "damping", "stiffness", "reference"});
+    check_keys(joint, jkey,
+               {"name", "type", "axis", "offset", "rotation", "armature", "damping", "stiffness", "reference"});
     for (const char* k : {"type", "axis", "offset"})
       if (!joint[k]) fail(joint, jkey + "." + k, "missing required key of a joint");
     const std::string type = scalar(joint["type"], jkey + ".type");
@@ -694,11 +695,14 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
     if (GiNaC::is_a<GiNaC::numeric>(norm) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(norm) - 1) > GiNaC::numeric(1, 1000000))
       fail(joint["axis"], jkey + ".axis", "expected a unit vector (its squared length is " +
                                                std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
-    const std::pair<const char*, GiNaC::ex*> properties[] = {
-        {"armature", &tb.armature}, {"damping", &tb.damping}, {"stiffness", &tb.stiffness}, {"reference", &tb.reference}};
+    const std::pair<const char*, GiNaC::ex*> properties[] = {{"armature", &tb.armature},
+                                                             {"damping", &tb.damping},
+                                                             {"stiffness", &tb.stiffness},
+                                                             {"reference", &tb.reference}};
     for (const auto& [k, target] : properties)
       if (YAML::Node v = joint[k])
-        *target = expression(v, jkey + "." + k, constants, "joint armature, damping, stiffness and reference may use parameters only");
+        *target = expression(v, jkey + "." + k, constants,
+                             "joint armature, damping, stiffness and reference may use parameters only");
     for (std::size_t r = 0; r < 3; ++r)
       for (std::size_t c = 0; c < 3; ++c) tb.rotation[r][c] = r == c ? 1 : 0;
     if (YAML::Node rot = joint["rotation"]) {

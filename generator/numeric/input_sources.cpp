@@ -106,8 +106,9 @@ void InputSources::add_assignments(const std::vector<std::string>& items, const 
       } catch (const std::exception& err) {
         std::string names;
         for (const auto& s : state_names_) names += (names.empty() ? "" : ", ") + s;
-        throw InputError(option + ": the law of " + quote(name) + " is not a number or an expression in t, the state (" +
-                         names + ") and parameters: " + err.what());
+        throw InputError(option + ": the law of " + quote(name) +
+                         " is not a number or an expression in t, the state (" + names +
+                         ") and parameters: " + err.what());
       }
       claim(k, option, option);
       sources_[k].kind = Source::law;
@@ -165,7 +166,8 @@ void InputSources::load_csv(const std::string& path) {
     }
     rows_.push_back(values);
   }
-  if (targets.empty()) throw InputError(SourceLocation{path, 0, 0}, "", "the input file is empty; expected a header t,<input names>");
+  if (targets.empty())
+    throw InputError(SourceLocation{path, 0, 0}, "", "the input file is empty; expected a header t,<input names>");
   if (times_.empty()) throw InputError(SourceLocation{path, line_no, 0}, "", "expected at least one row of values");
   varying_ = varying_ || times_.size() > 1;
 }

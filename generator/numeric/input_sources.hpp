@@ -33,7 +33,7 @@ class InputSources {
     enum Kind { constant, law, table } kind = constant;
     double value = 0;
     GiNaC::ex expression;
-    int column = 0;  // into the table
+    int column = 0;      // into the table
     std::string origin;  // where it was set, for "given twice"
   };
   std::size_t index_of(const std::string& name, const std::string& option) const;

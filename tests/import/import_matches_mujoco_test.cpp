@@ -170,12 +170,14 @@ void expect_matches_mujoco(const Package& pkg, const char* xml, unsigned seed) {
   std::printf("%s: worst relative error against mj_forward %.2e over %d states\n", xml, worst, kStates);
 }
 
-const Package humanoid_pkg{humanoid::rhs,         humanoid::energy,      true, humanoid::n_coordinates,
-                           humanoid::state_names, humanoid::input_names, humanoid::n_inputs, "u_"};
-const Package arm7_pkg{arm7::rhs,         arm7::energy,      true, arm7::n_coordinates,
+const Package humanoid_pkg{
+    humanoid::rhs,         humanoid::energy,   true, humanoid::n_coordinates, humanoid::state_names,
+    humanoid::input_names, humanoid::n_inputs, "u_"};
+const Package arm7_pkg{arm7::rhs,         arm7::energy,      true,           arm7::n_coordinates,
                        arm7::state_names, arm7::input_names, arm7::n_inputs, ""};
-const Package arm7_fixed_pkg{arm7_fixed::rhs,         arm7_fixed::energy,      false, arm7_fixed::n_coordinates,
-                             arm7_fixed::state_names, arm7_fixed::input_names, arm7_fixed::n_inputs, "u_"};
+const Package arm7_fixed_pkg{
+    arm7_fixed::rhs,         arm7_fixed::energy,   false, arm7_fixed::n_coordinates, arm7_fixed::state_names,
+    arm7_fixed::input_names, arm7_fixed::n_inputs, "u_"};
 
 TEST(ImportedHumanoid, RhsMatchesMujocoForward) {
   static_assert(humanoid::n_coordinates == 21 && humanoid::n_inputs == 21, "the humanoid has 21 hinges and motors");
@@ -271,7 +273,8 @@ TEST(ImportErrors, ContactsAndTendonsNeedIgnore) {
   std::string text = ball_mjcf;
   text.replace(text.find("type=\"ball\""), 11, "type=\"hinge\"");
   text.replace(text.find("contype=\"0\" conaffinity=\"0\""), 27, "contype=\"1\"");
-  text.replace(text.find("</worldbody>"), 12, "</worldbody><tendon><fixed name=\"tie\"><joint joint=\"shoulder\" coef=\"1\"/></fixed></tendon>");
+  text.replace(text.find("</worldbody>"), 12,
+               "</worldbody><tendon><fixed name=\"tie\"><joint joint=\"shoulder\" coef=\"1\"/></fixed></tendon>");
   const std::string path = write_temp("contacts.xml", text);
   const std::string e = import_error(path, {}, false);
   EXPECT_NE(e.find("--ignore tendons"), std::string::npos) << e;

@@ -71,8 +71,10 @@ TEST(SimulateInputs, TableIsInterpolatedLinearlyAndHeld) {
   const fs::path dir = scratch_dir("inputs_table");
   spit(dir / "osc.yaml", oscillator);
   spit(dir / "in.csv", "t,F\n0,0\n1,2\n3,2\n");
-  const Outcome r = hamel("simulate " + shell_quote((dir / "osc.yaml").string()) + " --t-end 4 --sample 0.25 --tol 1e-12 "
-                          "--input-file " + shell_quote((dir / "in.csv").string()) + " --monitors energy,momentum",
+  const Outcome r = hamel("simulate " + shell_quote((dir / "osc.yaml").string()) +
+                              " --t-end 4 --sample 0.25 --tol 1e-12 "
+                              "--input-file " +
+                              shell_quote((dir / "in.csv").string()) + " --monitors energy,momentum",
                           dir);
   ASSERT_EQ(r.status, 0) << r.err;
   const Csv csv = parse_csv(r.out);

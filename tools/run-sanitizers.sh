@@ -19,4 +19,7 @@ cmake -S . -B build-asan -DCMAKE_BUILD_TYPE=RelWithDebInfo -DCMAKE_CXX_FLAGS="$f
 rm -f build-asan.configure.log
 cmake --build build-asan -j"$(nproc)"
 cd build-asan
-ctest --output-on-failure -j"$(nproc)" "$@"
+# GeneratedPackages.RegenerateByteIdentically compares emitted files byte for byte with generated/: the
+# sanitized hamel orders GiNaC's terms differently (the type-name pin of generator/stable_type_names.ld does not
+# hold under ASan's instrumentation), so the files differ only in term order. The normal stage runs it.
+ctest --output-on-failure -j"$(nproc)" -E 'GeneratedPackages.RegenerateByteIdentically' "$@"

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "chaplygin_sleigh.hpp"
+#include "chaplygin_sleigh.h"
 
 #include <cmath>
 
@@ -166,6 +167,50 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[0] = real(0.0);  // u_lat
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[5], p[3], in[2]) -> out[7]  ops: 3 add, 10 mul, 2 div, 2 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  const real w0 = std::cos(x[2]);
+  const real w1 = x[3] * w0;
+  const real w2 = std::sin(x[2]);
+  const real w3 = x[3] * w2;
+  const real w4 = p[2] * p[2];
+  const real w5 = p[0] * w4;
+  const real w6 = p[1] + w5;
+  const real w7 = x[4] * x[4];
+  const real w8 = p[2] * w7;
+  const real w9 = p[0] * w8;
+  const real w10 = in[1] + w9;
+  const real w11 = x[4] * p[2];
+  const real w12 = p[0] * w11;
+  const real w13 = x[3] * w12;
+  const real w14 = in[0] - w13;
+  const real w15 = w14 / w6;
+  const real w16 = w10 / p[0];
+  out[0] = w1;  // x_dot
+  out[1] = w3;  // y_dot
+  out[2] = x[4];  // theta_dot
+  out[3] = w16;  // v_rate
+  out[4] = w15;  // omega_rate
+  out[5] = p[0];  // pivot 0
+  out[6] = w6;  // pivot 1
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -193,3 +238,17 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace chaplygin_sleigh
+
+extern "C" {
+
+void chaplygin_sleigh_kinematics(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::kinematics(t, x, p, in, out); }
+void chaplygin_sleigh_mass_matrix(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::mass_matrix(t, x, p, in, out); }
+void chaplygin_sleigh_forcing(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::forcing(t, x, p, in, out); }
+void chaplygin_sleigh_hamel_coefficients(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::hamel_coefficients(t, x, p, in, out); }
+void chaplygin_sleigh_rhs(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::rhs(t, x, p, in, out); }
+void chaplygin_sleigh_jacobian(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::jacobian(t, x, p, in, out); }
+void chaplygin_sleigh_energy(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::energy(t, x, p, in, out); }
+void chaplygin_sleigh_constraint_residual(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::constraint_residual(t, x, p, in, out); }
+int chaplygin_sleigh_rhs_status(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { return chaplygin_sleigh::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "double_pendulum.hpp"
+#include "double_pendulum.h"
 
 #include <cmath>
 
@@ -325,6 +326,85 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w43;  // E
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[6]  ops: 11 add, 34 mul, 3 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = p[2] * p[2];
+  const real w1 = p[0] * w0;
+  const real w2 = p[1] * w0;
+  const real w3 = w1 + w2;
+  const real w4 = p[1] * p[2];
+  const real w5 = std::cos(x[0]);
+  const real w6 = w4 * w5;
+  const real w7 = std::cos(x[1]);
+  const real w8 = w6 * w7;
+  const real w9 = p[3] * w8;
+  const real w10 = std::sin(x[1]);
+  const real w11 = p[1] * w10;
+  const real w12 = p[2] * w11;
+  const real w13 = p[3] * w12;
+  const real w14 = std::sin(x[0]);
+  const real w15 = w13 * w14;
+  const real w16 = w9 + w15;
+  const real w17 = p[3] * p[3];
+  const real w18 = p[1] * w17;
+  const real w19 = p[2] * p[4];
+  const real w20 = p[0] * w19;
+  const real w21 = w14 * w20;
+  const real w22 = -w21;
+  const real w23 = p[1] * p[4];
+  const real w24 = p[2] * w23;
+  const real w25 = w14 * w24;
+  const real w26 = w22 - w25;
+  const real w27 = w5 * w12;
+  const real w28 = p[3] * w27;
+  const real w29 = w4 * w7;
+  const real w30 = p[3] * w29;
+  const real w31 = w14 * w30;
+  const real w32 = w28 - w31;
+  const real w33 = x[3] * x[3];
+  const real w34 = w32 * w33;
+  const real w35 = w26 + w34;
+  const real w36 = x[2] * x[2];
+  const real w37 = w32 * w36;
+  const real w38 = -w37;
+  const real w39 = w10 * w23;
+  const real w40 = p[3] * w39;
+  const real w41 = w38 - w40;
+  const real w42 = w16 / w3;
+  const real w43 = w42 * w42;
+  const real w44 = w3 * w43;
+  const real w45 = w18 - w44;
+  const real w46 = w35 * w42;
+  const real w47 = w41 - w46;
+  const real w48 = w47 / w45;
+  const real w49 = w35 / w3;
+  const real w50 = w42 * w48;
+  const real w51 = w49 - w50;
+  out[0] = x[2];  // theta1_dot
+  out[1] = x[3];  // theta2_dot
+  out[2] = w51;  // omega1_rate
+  out[3] = w48;  // omega2_rate
+  out[4] = w3;  // pivot 0
+  out[5] = w45;  // pivot 1
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -352,3 +432,16 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace double_pendulum
+
+extern "C" {
+
+void double_pendulum_kinematics(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::kinematics(t, x, p, in, out); }
+void double_pendulum_mass_matrix(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::mass_matrix(t, x, p, in, out); }
+void double_pendulum_forcing(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::forcing(t, x, p, in, out); }
+void double_pendulum_hamel_coefficients(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::hamel_coefficients(t, x, p, in, out); }
+void double_pendulum_rhs(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::rhs(t, x, p, in, out); }
+void double_pendulum_jacobian(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::jacobian(t, x, p, in, out); }
+void double_pendulum_energy(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::energy(t, x, p, in, out); }
+int double_pendulum_rhs_status(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { return double_pendulum::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -94,6 +94,12 @@ constexpr kernel_info kernel_table[n_kernels] = {
     {"energy", energy, n_out_energy, n_temporaries_energy},
 };
 
+/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the
+/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), or
+/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).
+constexpr int n_pivots_rhs = 2;
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out);
+
 /// Reals of stack rk4_step uses (three arrays of n_state) besides the rhs kernel's temporaries.
 constexpr int rk4_stack_reals = 3 * n_state;
 /// One classical fourth-order Runge-Kutta step of size h from (t, x), in place: 4 rhs calls, no

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "double_pendulum_mass_ratio.hpp"
+#include "double_pendulum_mass_ratio.h"
 
 #include <cmath>
 
@@ -357,6 +358,93 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w49;  // E
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[6]  ops: 11 add, 42 mul, 3 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = p[2] * p[2];
+  const real w1 = p[1] * w0;
+  const real w2 = p[0] * w1;
+  const real w3 = p[0] * w0;
+  const real w4 = w2 + w3;
+  const real w5 = p[1] * p[2];
+  const real w6 = std::cos(x[0]);
+  const real w7 = w5 * w6;
+  const real w8 = std::cos(x[1]);
+  const real w9 = w7 * w8;
+  const real w10 = p[3] * w9;
+  const real w11 = p[0] * w10;
+  const real w12 = std::sin(x[1]);
+  const real w13 = p[1] * w12;
+  const real w14 = p[2] * w13;
+  const real w15 = p[3] * w14;
+  const real w16 = p[0] * w15;
+  const real w17 = std::sin(x[0]);
+  const real w18 = w16 * w17;
+  const real w19 = w11 + w18;
+  const real w20 = p[3] * p[3];
+  const real w21 = p[1] * w20;
+  const real w22 = p[0] * w21;
+  const real w23 = p[2] * p[4];
+  const real w24 = p[0] * w23;
+  const real w25 = w17 * w24;
+  const real w26 = -w25;
+  const real w27 = p[1] * p[4];
+  const real w28 = p[2] * w27;
+  const real w29 = p[0] * w28;
+  const real w30 = w17 * w29;
+  const real w31 = w26 - w30;
+  const real w32 = w6 * w14;
+  const real w33 = p[3] * w32;
+  const real w34 = p[0] * w33;
+  const real w35 = w5 * w8;
+  const real w36 = p[3] * w35;
+  const real w37 = p[0] * w36;
+  const real w38 = w17 * w37;
+  const real w39 = w34 - w38;
+  const real w40 = x[3] * x[3];
+  const real w41 = w39 * w40;
+  const real w42 = w31 + w41;
+  const real w43 = w12 * w27;
+  const real w44 = p[3] * w43;
+  const real w45 = p[0] * w44;
+  const real w46 = -w45;
+  const real w47 = x[2] * x[2];
+  const real w48 = w39 * w47;
+  const real w49 = w46 - w48;
+  const real w50 = w19 / w4;
+  const real w51 = w50 * w50;
+  const real w52 = w4 * w51;
+  const real w53 = w22 - w52;
+  const real w54 = w42 * w50;
+  const real w55 = w49 - w54;
+  const real w56 = w55 / w53;
+  const real w57 = w42 / w4;
+  const real w58 = w50 * w56;
+  const real w59 = w57 - w58;
+  out[0] = x[2];  // theta1_dot
+  out[1] = x[3];  // theta2_dot
+  out[2] = w59;  // omega1_rate
+  out[3] = w56;  // omega2_rate
+  out[4] = w4;  // pivot 0
+  out[5] = w53;  // pivot 1
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -384,3 +472,16 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace double_pendulum_mass_ratio
+
+extern "C" {
+
+void double_pendulum_mass_ratio_kinematics(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { double_pendulum_mass_ratio::kinematics(t, x, p, in, out); }
+void double_pendulum_mass_ratio_mass_matrix(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { double_pendulum_mass_ratio::mass_matrix(t, x, p, in, out); }
+void double_pendulum_mass_ratio_forcing(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { double_pendulum_mass_ratio::forcing(t, x, p, in, out); }
+void double_pendulum_mass_ratio_hamel_coefficients(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { double_pendulum_mass_ratio::hamel_coefficients(t, x, p, in, out); }
+void double_pendulum_mass_ratio_rhs(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { double_pendulum_mass_ratio::rhs(t, x, p, in, out); }
+void double_pendulum_mass_ratio_jacobian(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { double_pendulum_mass_ratio::jacobian(t, x, p, in, out); }
+void double_pendulum_mass_ratio_energy(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { double_pendulum_mass_ratio::energy(t, x, p, in, out); }
+int double_pendulum_mass_ratio_rhs_status(HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL t, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* x, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* p, const HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* in, HAMEL_DOUBLE_PENDULUM_MASS_RATIO_REAL* out) { return double_pendulum_mass_ratio::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "free_rigid_body.hpp"
+#include "free_rigid_body.h"
 
 #include <cmath>
 
@@ -163,6 +164,46 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[8] = p[2];  // L[wz][wz]
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[3], p[3], in[0]) -> out[6]  ops: 4 add, 6 mul, 3 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[1] * x[2];
+  const real w1 = p[1] - p[2];
+  const real w2 = w0 * w1;
+  const real w3 = p[2] - p[0];
+  const real w4 = x[2] * w3;
+  const real w5 = x[0] * w4;
+  const real w6 = x[0] * x[1];
+  const real w7 = p[1] - p[0];
+  const real w8 = w6 * w7;
+  const real w9 = -w8;
+  const real w10 = w9 / p[2];
+  const real w11 = w5 / p[1];
+  const real w12 = w2 / p[0];
+  out[0] = w12;  // wx_rate
+  out[1] = w11;  // wy_rate
+  out[2] = w10;  // wz_rate
+  out[3] = p[0];  // pivot 0
+  out[4] = p[1];  // pivot 1
+  out[5] = p[2];  // pivot 2
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -190,3 +231,18 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace free_rigid_body
+
+extern "C" {
+
+void free_rigid_body_kinematics(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::kinematics(t, x, p, in, out); }
+void free_rigid_body_mass_matrix(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::mass_matrix(t, x, p, in, out); }
+void free_rigid_body_forcing(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::forcing(t, x, p, in, out); }
+void free_rigid_body_hamel_coefficients(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::hamel_coefficients(t, x, p, in, out); }
+void free_rigid_body_rhs(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::rhs(t, x, p, in, out); }
+void free_rigid_body_jacobian(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::jacobian(t, x, p, in, out); }
+void free_rigid_body_energy(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::energy(t, x, p, in, out); }
+void free_rigid_body_group_velocity(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::group_velocity(t, x, p, in, out); }
+void free_rigid_body_locked_inertia(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::locked_inertia(t, x, p, in, out); }
+int free_rigid_body_rhs_status(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { return free_rigid_body::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

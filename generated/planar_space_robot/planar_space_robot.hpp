@@ -48,25 +48,25 @@ constexpr int hamel_lower_b[26] = {4, 3, 2, 3, 4, 0, 3, 4, 0, 2, 4, 0, 2, 3, 1, 
 constexpr int n_out_kinematics = 2;
 constexpr int n_temporaries_kinematics = 0;
 constexpr int n_out_mass_matrix = 25;
-constexpr int n_temporaries_mass_matrix = 286;
+constexpr int n_temporaries_mass_matrix = 597;
 constexpr int n_out_forcing = 5;
-constexpr int n_temporaries_forcing = 1683;
+constexpr int n_temporaries_forcing = 2689;
 constexpr int n_out_hamel_coefficients = 26;
-constexpr int n_temporaries_hamel_coefficients = 318;
+constexpr int n_temporaries_hamel_coefficients = 1279;
 constexpr int n_out_rhs = 7;
-constexpr int n_temporaries_rhs = 1811;
+constexpr int n_temporaries_rhs = 2972;
 constexpr int n_out_jacobian = 49;
-constexpr int n_temporaries_jacobian = 7233;
+constexpr int n_temporaries_jacobian = 15296;
 constexpr int n_out_energy = 1;
-constexpr int n_temporaries_energy = 441;
+constexpr int n_temporaries_energy = 634;
 constexpr int n_out_group_velocity = 3;
-constexpr int n_temporaries_group_velocity = 147;
+constexpr int n_temporaries_group_velocity = 393;
 constexpr int n_out_connection = 6;
-constexpr int n_temporaries_connection = 135;
+constexpr int n_temporaries_connection = 381;
 constexpr int n_out_locked_inertia = 9;
-constexpr int n_temporaries_locked_inertia = 22;
+constexpr int n_temporaries_locked_inertia = 66;
 constexpr int n_out_shape_inertia = 4;
-constexpr int n_temporaries_shape_inertia = 232;
+constexpr int n_temporaries_shape_inertia = 729;
 constexpr int n_out_max = 49;  // the largest out[] of any kernel
 
 /// q_dot = B_I(q) u_I, eq. (qadot); out[2]
@@ -113,6 +113,12 @@ constexpr kernel_info kernel_table[n_kernels] = {
     {"locked_inertia", locked_inertia, n_out_locked_inertia, n_temporaries_locked_inertia},
     {"shape_inertia", shape_inertia, n_out_shape_inertia, n_temporaries_shape_inertia},
 };
+
+/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the
+/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), or
+/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).
+constexpr int n_pivots_rhs = 5;
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out);
 
 /// Reals of stack rk4_step uses (three arrays of n_state) besides the rhs kernel's temporaries.
 constexpr int rk4_stack_reals = 3 * n_state;

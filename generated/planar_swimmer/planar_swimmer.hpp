@@ -54,9 +54,9 @@ constexpr int n_temporaries_forcing = 160;
 constexpr int n_out_hamel_coefficients = 4;
 constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 9;
-constexpr int n_temporaries_rhs = 533;
+constexpr int n_temporaries_rhs = 433;
 constexpr int n_out_jacobian = 81;
-constexpr int n_temporaries_jacobian = 2294;
+constexpr int n_temporaries_jacobian = 2524;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 101;
 constexpr int n_out_group_velocity = 3;
@@ -77,7 +77,7 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
 void forcing(real t, const real* x, const real* p, const real* in, real* out);
 /// non-zero gamma^c_ab, eq. (gamma); order as in hamel_upper/lower; out[4]
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out);
-/// x' = (q_dot, u_I') with M u_I' = f solved by unrolled LDL^T; out[9]
+/// x' = (q_dot, u_I') with u_I' by the articulated-body algorithm (O(n), no M); out[9]
 void rhs(real t, const real* x, const real* p, const real* in, real* out);
 /// d(x')/dx, row-major n_state x n_state, for implicit integrators; out[81]
 void jacobian(real t, const real* x, const real* p, const real* in, real* out);
@@ -113,6 +113,12 @@ constexpr kernel_info kernel_table[n_kernels] = {
     {"locked_inertia", locked_inertia, n_out_locked_inertia, n_temporaries_locked_inertia},
     {"shape_inertia", shape_inertia, n_out_shape_inertia, n_temporaries_shape_inertia},
 };
+
+/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the
+/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), or
+/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).
+constexpr int n_pivots_rhs = 6;
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out);
 
 /// Reals of stack rk4_step uses (three arrays of n_state) besides the rhs kernel's temporaries.
 constexpr int rk4_stack_reals = 3 * n_state;

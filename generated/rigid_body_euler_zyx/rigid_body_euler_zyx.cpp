@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "rigid_body_euler_zyx.hpp"
+#include "rigid_body_euler_zyx.h"
 
 #include <cmath>
 
@@ -249,6 +250,67 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w10;  // E
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[6], p[3], in[0]) -> out[9]  ops: 8 add, 14 mul, 5 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::cos(x[1]);
+  const real w1 = std::cos(x[2]);
+  const real w2 = x[5] * w1;
+  const real w3 = std::sin(x[2]);
+  const real w4 = x[4] * w3;
+  const real w5 = w2 + w4;
+  const real w6 = w5 / w0;
+  const real w7 = x[5] * w3;
+  const real w8 = x[4] * w1;
+  const real w9 = w8 - w7;
+  const real w10 = std::sin(x[1]);
+  const real w11 = w3 * w10;
+  const real w12 = x[4] * w11;
+  const real w13 = x[3] * w0;
+  const real w14 = w12 + w13;
+  const real w15 = w2 * w10;
+  const real w16 = w14 + w15;
+  const real w17 = w16 / w0;
+  const real w18 = p[1] - p[2];
+  const real w19 = x[5] * w18;
+  const real w20 = x[4] * w19;
+  const real w21 = p[2] - p[0];
+  const real w22 = x[5] * w21;
+  const real w23 = x[3] * w22;
+  const real w24 = p[1] - p[0];
+  const real w25 = x[3] * w24;
+  const real w26 = x[4] * w25;
+  const real w27 = -w26;
+  const real w28 = w27 / p[2];
+  const real w29 = w23 / p[1];
+  const real w30 = w20 / p[0];
+  out[0] = w6;  // psi_dot
+  out[1] = w9;  // theta_dot
+  out[2] = w17;  // phi_dot
+  out[3] = w30;  // wx_rate
+  out[4] = w29;  // wy_rate
+  out[5] = w28;  // wz_rate
+  out[6] = p[0];  // pivot 0
+  out[7] = p[1];  // pivot 1
+  out[8] = p[2];  // pivot 2
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -276,3 +338,16 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace rigid_body_euler_zyx
+
+extern "C" {
+
+void rigid_body_euler_zyx_kinematics(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::kinematics(t, x, p, in, out); }
+void rigid_body_euler_zyx_mass_matrix(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::mass_matrix(t, x, p, in, out); }
+void rigid_body_euler_zyx_forcing(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::forcing(t, x, p, in, out); }
+void rigid_body_euler_zyx_hamel_coefficients(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::hamel_coefficients(t, x, p, in, out); }
+void rigid_body_euler_zyx_rhs(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::rhs(t, x, p, in, out); }
+void rigid_body_euler_zyx_jacobian(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::jacobian(t, x, p, in, out); }
+void rigid_body_euler_zyx_energy(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::energy(t, x, p, in, out); }
+int rigid_body_euler_zyx_rhs_status(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { return rigid_body_euler_zyx::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

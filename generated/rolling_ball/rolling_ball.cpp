@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "rolling_ball.hpp"
+#include "rolling_ball.h"
 
 #include <cmath>
 
@@ -281,6 +282,57 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[2] = w35;  // u3
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[7], p[2], in[0]) -> out[9]  ops: 4 add, 10 mul, 3 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::sin(x[1]);
+  const real w1 = x[5] * w0;
+  const real w2 = std::sin(x[0]);
+  const real w3 = w1 * w2;
+  const real w4 = std::cos(x[0]);
+  const real w5 = w0 * w4;
+  const real w6 = x[6] * w5;
+  const real w7 = w3 - w6;
+  const real w8 = std::cos(x[1]);
+  const real w9 = p[1] * w8;
+  const real w10 = w7 / w9;
+  const real w11 = x[6] * w2;
+  const real w12 = x[5] * w4;
+  const real w13 = w11 + w12;
+  const real w14 = w13 / p[1];
+  const real w15 = x[6] * w4;
+  const real w16 = x[5] * w2;
+  const real w17 = w15 - w16;
+  const real w18 = w17 / w9;
+  const real w19 = -w18;
+  const real w20 = p[0] * real(1.4);
+  out[0] = w10;  // psi_dot
+  out[1] = w14;  // theta_dot
+  out[2] = w19;  // phi_dot
+  out[3] = x[5];  // x_dot
+  out[4] = x[6];  // y_dot
+  out[5] = real(0.0);  // vx_rate
+  out[6] = real(0.0);  // vy_rate
+  out[7] = w20;  // pivot 0
+  out[8] = w20;  // pivot 1
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -308,3 +360,17 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace rolling_ball
+
+extern "C" {
+
+void rolling_ball_kinematics(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::kinematics(t, x, p, in, out); }
+void rolling_ball_mass_matrix(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::mass_matrix(t, x, p, in, out); }
+void rolling_ball_forcing(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::forcing(t, x, p, in, out); }
+void rolling_ball_hamel_coefficients(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::hamel_coefficients(t, x, p, in, out); }
+void rolling_ball_rhs(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::rhs(t, x, p, in, out); }
+void rolling_ball_jacobian(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::jacobian(t, x, p, in, out); }
+void rolling_ball_energy(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::energy(t, x, p, in, out); }
+void rolling_ball_constraint_residual(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::constraint_residual(t, x, p, in, out); }
+int rolling_ball_rhs_status(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { return rolling_ball::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "rolling_ball_bundle.hpp"
+#include "rolling_ball_bundle.h"
 
 #include <cmath>
 
@@ -161,6 +162,34 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[8] = w2;  // L[omega_z][omega_z]
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[4], p[2], in[0]) -> out[6]  ops: 0 add, 1 mul, 0 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = p[0] * real(1.4);
+  out[0] = x[2];  // x_dot
+  out[1] = x[3];  // y_dot
+  out[2] = real(0.0);  // x_dot_rate
+  out[3] = real(0.0);  // y_dot_rate
+  out[4] = w0;  // pivot 0
+  out[5] = w0;  // pivot 1
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -188,3 +217,19 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace rolling_ball_bundle
+
+extern "C" {
+
+void rolling_ball_bundle_kinematics(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::kinematics(t, x, p, in, out); }
+void rolling_ball_bundle_mass_matrix(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::mass_matrix(t, x, p, in, out); }
+void rolling_ball_bundle_forcing(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::forcing(t, x, p, in, out); }
+void rolling_ball_bundle_hamel_coefficients(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::hamel_coefficients(t, x, p, in, out); }
+void rolling_ball_bundle_rhs(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::rhs(t, x, p, in, out); }
+void rolling_ball_bundle_jacobian(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::jacobian(t, x, p, in, out); }
+void rolling_ball_bundle_energy(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::energy(t, x, p, in, out); }
+void rolling_ball_bundle_group_velocity(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::group_velocity(t, x, p, in, out); }
+void rolling_ball_bundle_connection(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::connection(t, x, p, in, out); }
+void rolling_ball_bundle_locked_inertia(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::locked_inertia(t, x, p, in, out); }
+int rolling_ball_bundle_rhs_status(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { return rolling_ball_bundle::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "rolling_disk.hpp"
+#include "rolling_disk.h"
 
 #include <cmath>
 
@@ -163,6 +164,45 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[1] = real(0.0);  // u_y
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[6], p[4], in[2]) -> out[8]  ops: 1 add, 6 mul, 2 div, 2 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  const real w0 = x[5] * p[1];
+  const real w1 = std::cos(x[2]);
+  const real w2 = w0 * w1;
+  const real w3 = std::sin(x[2]);
+  const real w4 = p[1] * w3;
+  const real w5 = x[5] * w4;
+  const real w6 = p[1] * p[1];
+  const real w7 = p[0] * w6;
+  const real w8 = p[3] + w7;
+  const real w9 = in[1] / w8;
+  const real w10 = in[0] / p[2];
+  out[0] = w2;  // x_dot
+  out[1] = w5;  // y_dot
+  out[2] = x[4];  // theta_dot
+  out[3] = x[5];  // phi_dot
+  out[4] = w10;  // omega_heading_rate
+  out[5] = w9;  // omega_roll_rate
+  out[6] = p[2];  // pivot 0
+  out[7] = w8;  // pivot 1
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -190,3 +230,17 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace rolling_disk
+
+extern "C" {
+
+void rolling_disk_kinematics(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::kinematics(t, x, p, in, out); }
+void rolling_disk_mass_matrix(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::mass_matrix(t, x, p, in, out); }
+void rolling_disk_forcing(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::forcing(t, x, p, in, out); }
+void rolling_disk_hamel_coefficients(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::hamel_coefficients(t, x, p, in, out); }
+void rolling_disk_rhs(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::rhs(t, x, p, in, out); }
+void rolling_disk_jacobian(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::jacobian(t, x, p, in, out); }
+void rolling_disk_energy(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::energy(t, x, p, in, out); }
+void rolling_disk_constraint_residual(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::constraint_residual(t, x, p, in, out); }
+int rolling_disk_rhs_status(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { return rolling_disk::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "satellite_compliant_rotor.hpp"
+#include "satellite_compliant_rotor.h"
 
 #include <cmath>
 
@@ -54,74 +55,76 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[24] = w5;  // M[phi2_dot][phi2_dot]
 }
 
-/* forcing: (t, x[7], p[6], in[0]) -> out[5]  ops: 22 add, 29 mul, 8 div, 0 call */
+/* forcing: (t, x[7], p[6], in[0]) -> out[5]  ops: 21 add, 32 mul, 8 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = p[0] + p[3];
   const real w1 = p[1] + p[4];
-  const real w2 = x[4] * p[4];
-  const real w3 = p[2] * w2;
-  const real w4 = x[6] * w3;
+  const real w2 = p[2] * p[4];
+  const real w3 = x[6] * w2;
+  const real w4 = x[4] * w3;
   const real w5 = w4 / w1;
-  const real w6 = x[3] * x[4];
-  const real w7 = w1 - p[2];
-  const real w8 = w6 * w7;
+  const real w6 = w1 - p[2];
+  const real w7 = x[3] * w6;
+  const real w8 = x[4] * w7;
   const real w9 = w5 + w8;
-  const real w10 = x[4] * x[5];
-  const real w11 = p[2] * w10;
-  const real w12 = p[3] * w11;
+  const real w10 = x[5] * p[2];
+  const real w11 = p[3] * w10;
+  const real w12 = x[4] * w11;
   const real w13 = w12 / w0;
-  const real w14 = x[2] * x[4];
-  const real w15 = p[2] - p[3];
-  const real w16 = w15 - p[0];
-  const real w17 = w14 * w16;
+  const real w14 = p[2] - p[3];
+  const real w15 = w14 - p[0];
+  const real w16 = x[2] * w15;
+  const real w17 = x[4] * w16;
   const real w18 = w17 - w13;
-  const real w19 = x[2] * x[6];
+  const real w19 = p[1] * p[3];
   const real w20 = p[3] * p[4];
-  const real w21 = p[0] * p[4];
-  const real w22 = w20 + w21;
-  const real w23 = w19 * w22;
-  const real w24 = w23 / w1;
-  const real w25 = -w24;
-  const real w26 = w1 - p[3];
-  const real w27 = w26 - p[0];
-  const real w28 = x[2] * w27;
-  const real w29 = x[3] * w28;
-  const real w30 = w25 - w29;
-  const real w31 = p[1] * p[3];
-  const real w32 = w20 + w31;
-  const real w33 = x[5] * w32;
-  const real w34 = x[3] * w33;
-  const real w35 = w34 / w0;
-  const real w36 = w30 + w35;
-  const real w37 = p[2] * p[3];
-  const real w38 = w32 - w37;
-  const real w39 = w6 * w38;
+  const real w21 = w19 + w20;
+  const real w22 = x[5] * w21;
+  const real w23 = x[3] * w22;
+  const real w24 = w23 / w0;
+  const real w25 = x[2] * x[6];
+  const real w26 = p[0] * p[4];
+  const real w27 = w20 + w26;
+  const real w28 = w25 * w27;
+  const real w29 = w28 / w1;
+  const real w30 = w24 - w29;
+  const real w31 = x[2] * x[3];
+  const real w32 = w1 - p[3];
+  const real w33 = w32 - p[0];
+  const real w34 = w31 * w33;
+  const real w35 = w30 - w34;
+  const real w36 = p[2] * p[3];
+  const real w37 = w21 - w36;
+  const real w38 = x[3] * w37;
+  const real w39 = x[4] * w38;
   const real w40 = w39 / w0;
   const real w41 = -w40;
   const real w42 = x[0] * p[5];
   const real w43 = w41 - w42;
-  const real w44 = w21 + w32;
+  const real w44 = w21 + w26;
   const real w45 = p[0] * p[1];
   const real w46 = w44 + w45;
-  const real w47 = p[3] * w4;
-  const real w48 = w47 / w46;
-  const real w49 = w43 - w48;
-  const real w50 = p[2] * p[4];
-  const real w51 = w22 - w50;
-  const real w52 = w14 * w51;
-  const real w53 = w52 / w1;
-  const real w54 = x[5] * w2;
-  const real w55 = p[2] * w54;
-  const real w56 = p[3] * w55;
-  const real w57 = w56 / w46;
-  const real w58 = w53 + w57;
+  const real w47 = p[3] * w3;
+  const real w48 = x[4] * w47;
+  const real w49 = w48 / w46;
+  const real w50 = w43 - w49;
+  const real w51 = x[5] * p[4];
+  const real w52 = p[2] * w51;
+  const real w53 = p[3] * w52;
+  const real w54 = x[4] * w53;
+  const real w55 = w54 / w46;
+  const real w56 = w27 - w2;
+  const real w57 = x[2] * w56;
+  const real w58 = x[4] * w57;
+  const real w59 = w58 / w1;
+  const real w60 = w55 + w59;
   out[0] = w9;  // f[wx_locked]
   out[1] = w18;  // f[wy_locked]
-  out[2] = w36;  // f[wz_locked]
-  out[3] = w49;  // f[phi1_dot]
-  out[4] = w58;  // f[phi2_dot]
+  out[2] = w35;  // f[wz_locked]
+  out[3] = w50;  // f[phi1_dot]
+  out[4] = w60;  // f[phi2_dot]
 }
 
 /* hamel_coefficients: (t, x[7], p[6], in[0]) -> out[16]  ops: 8 add, 4 mul, 3 div, 0 call */
@@ -131,18 +134,18 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   (void)in;
   const real w0 = p[0] + p[3];
   const real w1 = p[1] + p[4];
-  const real w2 = p[3] * p[4];
-  const real w3 = p[0] * p[4];
-  const real w4 = p[1] * p[3];
-  const real w5 = w2 + w4;
-  const real w6 = w3 + w5;
+  const real w2 = p[1] * p[3];
+  const real w3 = p[3] * p[4];
+  const real w4 = w2 + w3;
+  const real w5 = p[0] * p[4];
+  const real w6 = w4 + w5;
   const real w7 = p[0] * p[1];
   const real w8 = w6 + w7;
   const real w9 = p[4] / w1;
   const real w10 = -w9;
   const real w11 = p[3] / w0;
   const real w12 = -w11;
-  const real w13 = w2 / w8;
+  const real w13 = w3 / w8;
   const real w14 = -w13;
   out[0] = real(1.0);  // gamma^wx_locked_wy_locked,wz_locked
   out[1] = real(-1.0);  // gamma^wx_locked_wz_locked,wy_locked
@@ -162,7 +165,7 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[15] = w14;  // gamma^wz_locked_phi2_dot,phi1_dot
 }
 
-/* rhs: (t, x[7], p[6], in[0]) -> out[7]  ops: 22 add, 31 mul, 15 div, 0 call */
+/* rhs: (t, x[7], p[6], in[0]) -> out[7]  ops: 21 add, 34 mul, 15 div, 0 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -172,78 +175,80 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   const real w3 = w2 / w0;
   const real w4 = p[1] * p[4];
   const real w5 = w4 / w1;
-  const real w6 = x[4] * p[4];
-  const real w7 = p[2] * w6;
-  const real w8 = x[6] * w7;
+  const real w6 = p[2] * p[4];
+  const real w7 = x[6] * w6;
+  const real w8 = x[4] * w7;
   const real w9 = w8 / w1;
-  const real w10 = x[3] * x[4];
-  const real w11 = w1 - p[2];
-  const real w12 = w10 * w11;
+  const real w10 = w1 - p[2];
+  const real w11 = x[3] * w10;
+  const real w12 = x[4] * w11;
   const real w13 = w9 + w12;
-  const real w14 = x[4] * x[5];
-  const real w15 = p[2] * w14;
-  const real w16 = p[3] * w15;
+  const real w14 = x[5] * p[2];
+  const real w15 = p[3] * w14;
+  const real w16 = x[4] * w15;
   const real w17 = w16 / w0;
-  const real w18 = x[2] * x[4];
-  const real w19 = p[2] - p[3];
-  const real w20 = w19 - p[0];
-  const real w21 = w18 * w20;
+  const real w18 = p[2] - p[3];
+  const real w19 = w18 - p[0];
+  const real w20 = x[2] * w19;
+  const real w21 = x[4] * w20;
   const real w22 = w21 - w17;
-  const real w23 = x[2] * x[6];
+  const real w23 = p[1] * p[3];
   const real w24 = p[3] * p[4];
-  const real w25 = p[0] * p[4];
-  const real w26 = w24 + w25;
-  const real w27 = w23 * w26;
-  const real w28 = w27 / w1;
-  const real w29 = -w28;
-  const real w30 = w1 - p[3];
-  const real w31 = w30 - p[0];
-  const real w32 = x[2] * w31;
-  const real w33 = x[3] * w32;
-  const real w34 = w29 - w33;
-  const real w35 = p[1] * p[3];
-  const real w36 = w24 + w35;
-  const real w37 = x[5] * w36;
-  const real w38 = x[3] * w37;
-  const real w39 = w38 / w0;
-  const real w40 = w34 + w39;
-  const real w41 = p[2] * p[3];
-  const real w42 = w36 - w41;
-  const real w43 = w10 * w42;
+  const real w25 = w23 + w24;
+  const real w26 = x[5] * w25;
+  const real w27 = x[3] * w26;
+  const real w28 = w27 / w0;
+  const real w29 = x[2] * x[6];
+  const real w30 = p[0] * p[4];
+  const real w31 = w24 + w30;
+  const real w32 = w29 * w31;
+  const real w33 = w32 / w1;
+  const real w34 = w28 - w33;
+  const real w35 = x[2] * x[3];
+  const real w36 = w1 - p[3];
+  const real w37 = w36 - p[0];
+  const real w38 = w35 * w37;
+  const real w39 = w34 - w38;
+  const real w40 = p[2] * p[3];
+  const real w41 = w25 - w40;
+  const real w42 = x[3] * w41;
+  const real w43 = x[4] * w42;
   const real w44 = w43 / w0;
   const real w45 = -w44;
   const real w46 = x[0] * p[5];
   const real w47 = w45 - w46;
-  const real w48 = w25 + w36;
+  const real w48 = w25 + w30;
   const real w49 = p[0] * p[1];
   const real w50 = w48 + w49;
-  const real w51 = p[3] * w8;
-  const real w52 = w51 / w50;
-  const real w53 = w47 - w52;
-  const real w54 = p[2] * p[4];
-  const real w55 = w26 - w54;
-  const real w56 = w18 * w55;
-  const real w57 = w56 / w1;
-  const real w58 = x[5] * w6;
-  const real w59 = p[2] * w58;
-  const real w60 = p[3] * w59;
-  const real w61 = w60 / w50;
-  const real w62 = w57 + w61;
-  const real w63 = w62 / w5;
-  const real w64 = w53 / w3;
-  const real w65 = w40 / p[2];
-  const real w66 = w22 / w1;
-  const real w67 = w13 / w0;
+  const real w51 = p[3] * w7;
+  const real w52 = x[4] * w51;
+  const real w53 = w52 / w50;
+  const real w54 = w47 - w53;
+  const real w55 = x[5] * p[4];
+  const real w56 = p[2] * w55;
+  const real w57 = p[3] * w56;
+  const real w58 = x[4] * w57;
+  const real w59 = w58 / w50;
+  const real w60 = w31 - w6;
+  const real w61 = x[2] * w60;
+  const real w62 = x[4] * w61;
+  const real w63 = w62 / w1;
+  const real w64 = w59 + w63;
+  const real w65 = w64 / w5;
+  const real w66 = w54 / w3;
+  const real w67 = w39 / p[2];
+  const real w68 = w22 / w1;
+  const real w69 = w13 / w0;
   out[0] = x[5];  // phi1_dot
   out[1] = x[6];  // phi2_dot
-  out[2] = w67;  // wx_locked_rate
-  out[3] = w66;  // wy_locked_rate
-  out[4] = w65;  // wz_locked_rate
-  out[5] = w64;  // phi1_dot_rate
-  out[6] = w63;  // phi2_dot_rate
+  out[2] = w69;  // wx_locked_rate
+  out[3] = w68;  // wy_locked_rate
+  out[4] = w67;  // wz_locked_rate
+  out[5] = w66;  // phi1_dot_rate
+  out[6] = w65;  // phi2_dot_rate
 }
 
-/* jacobian: (t, x[7], p[6], in[0]) -> out[49]  ops: 26 add, 34 mul, 34 div, 0 call */
+/* jacobian: (t, x[7], p[6], in[0]) -> out[49]  ops: 26 add, 33 mul, 34 div, 0 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -253,94 +258,93 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   const real w3 = w2 / w0;
   const real w4 = p[1] * p[4];
   const real w5 = w4 / w1;
-  const real w6 = x[4] * p[4];
-  const real w7 = p[2] * w6;
+  const real w6 = p[2] * p[4];
+  const real w7 = x[6] * w6;
   const real w8 = w1 - p[2];
-  const real w9 = p[2] - p[3];
-  const real w10 = w9 - p[0];
-  const real w11 = p[3] * p[4];
-  const real w12 = p[0] * p[4];
-  const real w13 = w11 + w12;
-  const real w14 = w1 - p[3];
-  const real w15 = w14 - p[0];
-  const real w16 = x[2] * w15;
-  const real w17 = p[1] * p[3];
-  const real w18 = w11 + w17;
-  const real w19 = x[5] * w18;
-  const real w20 = p[2] * p[3];
-  const real w21 = w18 - w20;
-  const real w22 = w12 + w18;
-  const real w23 = p[0] * p[1];
-  const real w24 = w22 + w23;
-  const real w25 = p[2] * p[4];
-  const real w26 = w13 - w25;
-  const real w27 = -p[5];
-  const real w28 = w27 / w3;
-  const real w29 = x[4] * w10;
-  const real w30 = x[6] * w13;
-  const real w31 = w30 / w1;
-  const real w32 = -w31;
-  const real w33 = x[3] * w15;
-  const real w34 = w32 - w33;
-  const real w35 = x[4] * w26;
-  const real w36 = w35 / w1;
-  const real w37 = w36 / w5;
-  const real w38 = w34 / p[2];
-  const real w39 = w29 / w1;
-  const real w40 = x[4] * w8;
-  const real w41 = w19 / w0;
-  const real w42 = w41 - w16;
-  const real w43 = x[4] * w21;
-  const real w44 = w43 / w0;
-  const real w45 = -w44;
-  const real w46 = w45 / w3;
-  const real w47 = w42 / p[2];
-  const real w48 = w40 / w0;
-  const real w49 = x[3] * w8;
-  const real w50 = x[6] * w25;
-  const real w51 = w50 / w1;
-  const real w52 = w49 + w51;
-  const real w53 = x[5] * p[2];
-  const real w54 = p[3] * w53;
-  const real w55 = w54 / w0;
-  const real w56 = x[2] * w10;
-  const real w57 = w56 - w55;
-  const real w58 = p[3] * w50;
-  const real w59 = w58 / w24;
-  const real w60 = -w59;
-  const real w61 = x[3] * w21;
-  const real w62 = w61 / w0;
-  const real w63 = w60 - w62;
-  const real w64 = x[5] * p[4];
-  const real w65 = p[2] * w64;
-  const real w66 = p[3] * w65;
-  const real w67 = w66 / w24;
-  const real w68 = x[2] * w26;
-  const real w69 = w68 / w1;
-  const real w70 = w67 + w69;
-  const real w71 = w70 / w5;
-  const real w72 = w63 / w3;
-  const real w73 = w57 / w1;
-  const real w74 = w52 / w0;
-  const real w75 = x[4] * p[2];
-  const real w76 = p[3] * w75;
+  const real w9 = x[3] * w8;
+  const real w10 = x[5] * p[2];
+  const real w11 = p[3] * w10;
+  const real w12 = p[2] - p[3];
+  const real w13 = w12 - p[0];
+  const real w14 = x[2] * w13;
+  const real w15 = p[1] * p[3];
+  const real w16 = p[3] * p[4];
+  const real w17 = w15 + w16;
+  const real w18 = x[5] * w17;
+  const real w19 = p[0] * p[4];
+  const real w20 = w16 + w19;
+  const real w21 = w1 - p[3];
+  const real w22 = w21 - p[0];
+  const real w23 = p[2] * p[3];
+  const real w24 = w17 - w23;
+  const real w25 = x[3] * w24;
+  const real w26 = w17 + w19;
+  const real w27 = p[0] * p[1];
+  const real w28 = w26 + w27;
+  const real w29 = p[3] * w7;
+  const real w30 = x[5] * p[4];
+  const real w31 = p[2] * w30;
+  const real w32 = p[3] * w31;
+  const real w33 = w20 - w6;
+  const real w34 = x[2] * w33;
+  const real w35 = -p[5];
+  const real w36 = w35 / w3;
+  const real w37 = x[4] * w13;
+  const real w38 = x[3] * w22;
+  const real w39 = -w38;
+  const real w40 = x[6] * w20;
+  const real w41 = w40 / w1;
+  const real w42 = w39 - w41;
+  const real w43 = x[4] * w33;
+  const real w44 = w43 / w1;
+  const real w45 = w44 / w5;
+  const real w46 = w42 / p[2];
+  const real w47 = w37 / w1;
+  const real w48 = x[4] * w8;
+  const real w49 = w18 / w0;
+  const real w50 = x[2] * w22;
+  const real w51 = w49 - w50;
+  const real w52 = x[4] * w24;
+  const real w53 = w52 / w0;
+  const real w54 = -w53;
+  const real w55 = w54 / w3;
+  const real w56 = w51 / p[2];
+  const real w57 = w48 / w0;
+  const real w58 = w7 / w1;
+  const real w59 = w9 + w58;
+  const real w60 = w11 / w0;
+  const real w61 = w14 - w60;
+  const real w62 = w29 / w28;
+  const real w63 = -w62;
+  const real w64 = w25 / w0;
+  const real w65 = w63 - w64;
+  const real w66 = w32 / w28;
+  const real w67 = w34 / w1;
+  const real w68 = w66 + w67;
+  const real w69 = w68 / w5;
+  const real w70 = w65 / w3;
+  const real w71 = w61 / w1;
+  const real w72 = w59 / w0;
+  const real w73 = x[4] * w23;
+  const real w74 = w73 / w0;
+  const real w75 = -w74;
+  const real w76 = x[3] * w17;
   const real w77 = w76 / w0;
-  const real w78 = -w77;
-  const real w79 = x[3] * w18;
-  const real w80 = w79 / w0;
-  const real w81 = p[3] * w7;
-  const real w82 = w81 / w24;
-  const real w83 = w82 / w5;
-  const real w84 = w80 / p[2];
-  const real w85 = w78 / w1;
-  const real w86 = w7 / w1;
-  const real w87 = x[2] * w13;
-  const real w88 = w87 / w1;
-  const real w89 = -w88;
-  const real w90 = -w82;
-  const real w91 = w90 / w3;
-  const real w92 = w89 / p[2];
-  const real w93 = w86 / w0;
+  const real w78 = p[3] * w6;
+  const real w79 = x[4] * w78;
+  const real w80 = w79 / w28;
+  const real w81 = w80 / w5;
+  const real w82 = w77 / p[2];
+  const real w83 = w75 / w1;
+  const real w84 = x[4] * w6;
+  const real w85 = w84 / w1;
+  const real w86 = x[2] * w20;
+  const real w87 = w86 / w1;
+  const real w88 = -w87;
+  const real w89 = -w80;
+  const real w90 = w89 / w3;
+  const real w91 = w88 / p[2];
+  const real w92 = w85 / w0;
   out[0] = real(0.0);  // dphi1_dot/dphi1
   out[1] = real(0.0);  // dphi1_dot/dphi2
   out[2] = real(0.0);  // dphi1_dot/dwx_locked
@@ -358,139 +362,138 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[14] = real(0.0);  // dwx_locked_rate/dphi1
   out[15] = real(0.0);  // dwx_locked_rate/dphi2
   out[16] = real(0.0);  // dwx_locked_rate/dwx_locked
-  out[17] = w48;  // dwx_locked_rate/dwy_locked
-  out[18] = w74;  // dwx_locked_rate/dwz_locked
+  out[17] = w57;  // dwx_locked_rate/dwy_locked
+  out[18] = w72;  // dwx_locked_rate/dwz_locked
   out[19] = real(0.0);  // dwx_locked_rate/dphi1_dot
-  out[20] = w93;  // dwx_locked_rate/dphi2_dot
+  out[20] = w92;  // dwx_locked_rate/dphi2_dot
   out[21] = real(0.0);  // dwy_locked_rate/dphi1
   out[22] = real(0.0);  // dwy_locked_rate/dphi2
-  out[23] = w39;  // dwy_locked_rate/dwx_locked
+  out[23] = w47;  // dwy_locked_rate/dwx_locked
   out[24] = real(0.0);  // dwy_locked_rate/dwy_locked
-  out[25] = w73;  // dwy_locked_rate/dwz_locked
-  out[26] = w85;  // dwy_locked_rate/dphi1_dot
+  out[25] = w71;  // dwy_locked_rate/dwz_locked
+  out[26] = w83;  // dwy_locked_rate/dphi1_dot
   out[27] = real(0.0);  // dwy_locked_rate/dphi2_dot
   out[28] = real(0.0);  // dwz_locked_rate/dphi1
   out[29] = real(0.0);  // dwz_locked_rate/dphi2
-  out[30] = w38;  // dwz_locked_rate/dwx_locked
-  out[31] = w47;  // dwz_locked_rate/dwy_locked
+  out[30] = w46;  // dwz_locked_rate/dwx_locked
+  out[31] = w56;  // dwz_locked_rate/dwy_locked
   out[32] = real(0.0);  // dwz_locked_rate/dwz_locked
-  out[33] = w84;  // dwz_locked_rate/dphi1_dot
-  out[34] = w92;  // dwz_locked_rate/dphi2_dot
-  out[35] = w28;  // dphi1_dot_rate/dphi1
+  out[33] = w82;  // dwz_locked_rate/dphi1_dot
+  out[34] = w91;  // dwz_locked_rate/dphi2_dot
+  out[35] = w36;  // dphi1_dot_rate/dphi1
   out[36] = real(0.0);  // dphi1_dot_rate/dphi2
   out[37] = real(0.0);  // dphi1_dot_rate/dwx_locked
-  out[38] = w46;  // dphi1_dot_rate/dwy_locked
-  out[39] = w72;  // dphi1_dot_rate/dwz_locked
+  out[38] = w55;  // dphi1_dot_rate/dwy_locked
+  out[39] = w70;  // dphi1_dot_rate/dwz_locked
   out[40] = real(0.0);  // dphi1_dot_rate/dphi1_dot
-  out[41] = w91;  // dphi1_dot_rate/dphi2_dot
+  out[41] = w90;  // dphi1_dot_rate/dphi2_dot
   out[42] = real(0.0);  // dphi2_dot_rate/dphi1
   out[43] = real(0.0);  // dphi2_dot_rate/dphi2
-  out[44] = w37;  // dphi2_dot_rate/dwx_locked
+  out[44] = w45;  // dphi2_dot_rate/dwx_locked
   out[45] = real(0.0);  // dphi2_dot_rate/dwy_locked
-  out[46] = w71;  // dphi2_dot_rate/dwz_locked
-  out[47] = w83;  // dphi2_dot_rate/dphi1_dot
+  out[46] = w69;  // dphi2_dot_rate/dwz_locked
+  out[47] = w81;  // dphi2_dot_rate/dphi1_dot
   out[48] = real(0.0);  // dphi2_dot_rate/dphi2_dot
 }
 
-/* energy: (t, x[7], p[6], in[0]) -> out[1]  ops: 26 add, 67 mul, 1 div, 0 call */
+/* energy: (t, x[7], p[6], in[0]) -> out[1]  ops: 26 add, 66 mul, 1 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = p[1] * p[4];
-  const real w1 = p[3] * p[4];
-  const real w2 = p[0] * p[4];
-  const real w3 = p[1] * p[3];
-  const real w4 = w1 + w3;
-  const real w5 = w2 + w4;
-  const real w6 = p[0] * p[1];
-  const real w7 = w5 + w6;
-  const real w8 = x[2] * x[2];
-  const real w9 = p[4] * w8;
-  const real w10 = p[3] * p[3];
-  const real w11 = w9 * w10;
-  const real w12 = p[4] * p[4];
-  const real w13 = x[3] * x[3];
-  const real w14 = w12 * w13;
-  const real w15 = p[0] * w14;
-  const real w16 = w11 + w15;
-  const real w17 = p[1] * p[5];
-  const real w18 = x[0] * x[0];
-  const real w19 = w17 * w18;
+  const real w1 = p[2] * p[4];
+  const real w2 = p[1] * p[3];
+  const real w3 = p[3] * p[4];
+  const real w4 = w2 + w3;
+  const real w5 = p[0] * p[4];
+  const real w6 = w4 + w5;
+  const real w7 = p[0] * p[1];
+  const real w8 = w6 + w7;
+  const real w9 = p[3] * w1;
+  const real w10 = p[4] * p[4];
+  const real w11 = x[3] * x[3];
+  const real w12 = w10 * w11;
+  const real w13 = p[3] * w12;
+  const real w14 = p[1] * p[5];
+  const real w15 = x[0] * x[0];
+  const real w16 = w14 * w15;
+  const real w17 = p[0] * w16;
+  const real w18 = w13 + w17;
+  const real w19 = p[1] * p[2];
   const real w20 = p[0] * w19;
-  const real w21 = w16 + w20;
-  const real w22 = x[4] * x[4];
-  const real w23 = p[1] * w22;
-  const real w24 = p[2] * w23;
-  const real w25 = p[0] * w24;
-  const real w26 = w21 + w25;
-  const real w27 = p[4] * w22;
-  const real w28 = p[2] * w27;
-  const real w29 = p[0] * w28;
-  const real w30 = w26 + w29;
-  const real w31 = x[5] * x[5];
-  const real w32 = p[1] * w31;
-  const real w33 = p[3] * w32;
-  const real w34 = p[0] * w33;
-  const real w35 = w30 + w34;
-  const real w36 = p[1] * w8;
-  const real w37 = p[3] * w36;
-  const real w38 = p[0] * w37;
-  const real w39 = w38 * real(2.0);
-  const real w40 = w35 + w39;
-  const real w41 = p[4] * w31;
-  const real w42 = p[3] * w41;
+  const real w21 = x[4] * x[4];
+  const real w22 = w20 * w21;
+  const real w23 = w18 + w22;
+  const real w24 = x[5] * x[5];
+  const real w25 = p[1] * w24;
+  const real w26 = p[3] * w25;
+  const real w27 = p[0] * w26;
+  const real w28 = w23 + w27;
+  const real w29 = x[2] * x[2];
+  const real w30 = p[1] * w29;
+  const real w31 = p[0] * p[0];
+  const real w32 = w30 * w31;
+  const real w33 = w28 + w32;
+  const real w34 = p[4] * w24;
+  const real w35 = p[3] * w34;
+  const real w36 = p[0] * w35;
+  const real w37 = w33 + w36;
+  const real w38 = p[0] * w1;
+  const real w39 = w21 * w38;
+  const real w40 = w37 + w39;
+  const real w41 = p[1] * p[1];
+  const real w42 = w11 * w41;
   const real w43 = p[0] * w42;
   const real w44 = w40 + w43;
-  const real w45 = p[3] * w9;
-  const real w46 = p[0] * w45;
-  const real w47 = real(2.0) * w46;
+  const real w45 = x[6] * x[6];
+  const real w46 = w0 * w45;
+  const real w47 = p[3] * w46;
   const real w48 = w44 + w47;
-  const real w49 = p[3] * w12;
-  const real w50 = w13 * w49;
-  const real w51 = w48 + w50;
-  const real w52 = p[0] * p[0];
-  const real w53 = w36 * w52;
-  const real w54 = w51 + w53;
-  const real w55 = x[6] * x[6];
-  const real w56 = w0 * w55;
-  const real w57 = p[3] * w56;
-  const real w58 = w54 + w57;
-  const real w59 = p[4] * p[5];
-  const real w60 = w18 * w59;
-  const real w61 = p[0] * w60;
-  const real w62 = w58 + w61;
-  const real w63 = p[0] * w56;
-  const real w64 = w62 + w63;
-  const real w65 = w0 * w13;
-  const real w66 = p[0] * w65;
-  const real w67 = real(2.0) * w66;
-  const real w68 = w64 + w67;
-  const real w69 = p[3] * w60;
-  const real w70 = w68 + w69;
-  const real w71 = w10 * w36;
-  const real w72 = w70 + w71;
-  const real w73 = p[1] * p[1];
-  const real w74 = w13 * w73;
-  const real w75 = p[0] * w74;
-  const real w76 = w72 + w75;
-  const real w77 = p[3] * w0;
-  const real w78 = w13 * w77;
-  const real w79 = real(2.0) * w78;
-  const real w80 = w76 + w79;
-  const real w81 = p[3] * w28;
-  const real w82 = w80 + w81;
-  const real w83 = w9 * w52;
-  const real w84 = w82 + w83;
-  const real w85 = p[3] * w73;
-  const real w86 = w13 * w85;
-  const real w87 = w84 + w86;
-  const real w88 = p[3] * w24;
-  const real w89 = w87 + w88;
-  const real w90 = p[3] * w19;
-  const real w91 = w89 + w90;
-  const real w92 = w91 / w7;
-  const real w93 = real(0.5) * w92;
-  out[0] = w93;  // E
+  const real w49 = p[4] * w29;
+  const real w50 = p[3] * p[3];
+  const real w51 = w49 * w50;
+  const real w52 = w48 + w51;
+  const real w53 = w0 * w11;
+  const real w54 = p[0] * w53;
+  const real w55 = w54 * real(2.0);
+  const real w56 = w52 + w55;
+  const real w57 = p[4] * p[5];
+  const real w58 = w15 * w57;
+  const real w59 = p[0] * w58;
+  const real w60 = w56 + w59;
+  const real w61 = p[3] * w53;
+  const real w62 = real(2.0) * w61;
+  const real w63 = w60 + w62;
+  const real w64 = p[3] * w49;
+  const real w65 = p[0] * w64;
+  const real w66 = real(2.0) * w65;
+  const real w67 = w63 + w66;
+  const real w68 = p[0] * w46;
+  const real w69 = w67 + w68;
+  const real w70 = w31 * w49;
+  const real w71 = w69 + w70;
+  const real w72 = w9 * w21;
+  const real w73 = w71 + w72;
+  const real w74 = p[3] * w58;
+  const real w75 = w73 + w74;
+  const real w76 = p[3] * w42;
+  const real w77 = w75 + w76;
+  const real w78 = w30 * w50;
+  const real w79 = w77 + w78;
+  const real w80 = p[3] * w30;
+  const real w81 = p[0] * w80;
+  const real w82 = real(2.0) * w81;
+  const real w83 = w79 + w82;
+  const real w84 = p[0] * w12;
+  const real w85 = w83 + w84;
+  const real w86 = p[3] * w19;
+  const real w87 = w21 * w86;
+  const real w88 = w85 + w87;
+  const real w89 = p[3] * w16;
+  const real w90 = w88 + w89;
+  const real w91 = w90 / w8;
+  const real w92 = real(0.5) * w91;
+  out[0] = w92;  // E
 }
 
 /* group_velocity: (t, x[7], p[6], in[0]) -> out[3]  ops: 4 add, 2 mul, 2 div, 0 call */
@@ -562,6 +565,109 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[3] = w5;  // M_shape[phi2][phi2]
 }
 
+namespace {
+
+/* rhs_with_pivots: (t, x[7], p[6], in[0]) -> out[12]  ops: 21 add, 34 mul, 15 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = p[0] + p[3];
+  const real w1 = p[1] + p[4];
+  const real w2 = p[0] * p[3];
+  const real w3 = w2 / w0;
+  const real w4 = p[1] * p[4];
+  const real w5 = w4 / w1;
+  const real w6 = p[2] * p[4];
+  const real w7 = x[6] * w6;
+  const real w8 = x[4] * w7;
+  const real w9 = w8 / w1;
+  const real w10 = w1 - p[2];
+  const real w11 = x[3] * w10;
+  const real w12 = x[4] * w11;
+  const real w13 = w9 + w12;
+  const real w14 = x[5] * p[2];
+  const real w15 = p[3] * w14;
+  const real w16 = x[4] * w15;
+  const real w17 = w16 / w0;
+  const real w18 = p[2] - p[3];
+  const real w19 = w18 - p[0];
+  const real w20 = x[2] * w19;
+  const real w21 = x[4] * w20;
+  const real w22 = w21 - w17;
+  const real w23 = p[1] * p[3];
+  const real w24 = p[3] * p[4];
+  const real w25 = w23 + w24;
+  const real w26 = x[5] * w25;
+  const real w27 = x[3] * w26;
+  const real w28 = w27 / w0;
+  const real w29 = x[2] * x[6];
+  const real w30 = p[0] * p[4];
+  const real w31 = w24 + w30;
+  const real w32 = w29 * w31;
+  const real w33 = w32 / w1;
+  const real w34 = w28 - w33;
+  const real w35 = x[2] * x[3];
+  const real w36 = w1 - p[3];
+  const real w37 = w36 - p[0];
+  const real w38 = w35 * w37;
+  const real w39 = w34 - w38;
+  const real w40 = p[2] * p[3];
+  const real w41 = w25 - w40;
+  const real w42 = x[3] * w41;
+  const real w43 = x[4] * w42;
+  const real w44 = w43 / w0;
+  const real w45 = -w44;
+  const real w46 = x[0] * p[5];
+  const real w47 = w45 - w46;
+  const real w48 = w25 + w30;
+  const real w49 = p[0] * p[1];
+  const real w50 = w48 + w49;
+  const real w51 = p[3] * w7;
+  const real w52 = x[4] * w51;
+  const real w53 = w52 / w50;
+  const real w54 = w47 - w53;
+  const real w55 = x[5] * p[4];
+  const real w56 = p[2] * w55;
+  const real w57 = p[3] * w56;
+  const real w58 = x[4] * w57;
+  const real w59 = w58 / w50;
+  const real w60 = w31 - w6;
+  const real w61 = x[2] * w60;
+  const real w62 = x[4] * w61;
+  const real w63 = w62 / w1;
+  const real w64 = w59 + w63;
+  const real w65 = w64 / w5;
+  const real w66 = w54 / w3;
+  const real w67 = w39 / p[2];
+  const real w68 = w22 / w1;
+  const real w69 = w13 / w0;
+  out[0] = x[5];  // phi1_dot
+  out[1] = x[6];  // phi2_dot
+  out[2] = w69;  // wx_locked_rate
+  out[3] = w68;  // wy_locked_rate
+  out[4] = w67;  // wz_locked_rate
+  out[5] = w66;  // phi1_dot_rate
+  out[6] = w65;  // phi2_dot_rate
+  out[7] = w0;  // pivot 0
+  out[8] = w1;  // pivot 1
+  out[9] = p[2];  // pivot 2
+  out[10] = w3;  // pivot 3
+  out[11] = w5;  // pivot 4
+}
+
+}  // namespace
+
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
+  real all[n_out_rhs + n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all);
+  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
+    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  for (int i = 0; i < n_out_rhs; ++i)
+    if (!std::isfinite(all[i])) return 2;
+  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];
+  return 0;
+}
+
 /* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
 void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   real k[n_state];
@@ -589,3 +695,20 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 }
 
 }  // namespace satellite_compliant_rotor
+
+extern "C" {
+
+void satellite_compliant_rotor_kinematics(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::kinematics(t, x, p, in, out); }
+void satellite_compliant_rotor_mass_matrix(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::mass_matrix(t, x, p, in, out); }
+void satellite_compliant_rotor_forcing(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::forcing(t, x, p, in, out); }
+void satellite_compliant_rotor_hamel_coefficients(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::hamel_coefficients(t, x, p, in, out); }
+void satellite_compliant_rotor_rhs(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::rhs(t, x, p, in, out); }
+void satellite_compliant_rotor_jacobian(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::jacobian(t, x, p, in, out); }
+void satellite_compliant_rotor_energy(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::energy(t, x, p, in, out); }
+void satellite_compliant_rotor_group_velocity(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::group_velocity(t, x, p, in, out); }
+void satellite_compliant_rotor_connection(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::connection(t, x, p, in, out); }
+void satellite_compliant_rotor_locked_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::locked_inertia(t, x, p, in, out); }
+void satellite_compliant_rotor_shape_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::shape_inertia(t, x, p, in, out); }
+int satellite_compliant_rotor_rhs_status(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { return satellite_compliant_rotor::rhs_status(t, x, p, in, out); }
+
+}  // extern "C"

@@ -50,15 +50,15 @@ constexpr int n_temporaries_kinematics = 0;
 constexpr int n_out_mass_matrix = 25;
 constexpr int n_temporaries_mass_matrix = 6;
 constexpr int n_out_forcing = 5;
-constexpr int n_temporaries_forcing = 59;
+constexpr int n_temporaries_forcing = 61;
 constexpr int n_out_hamel_coefficients = 16;
 constexpr int n_temporaries_hamel_coefficients = 15;
 constexpr int n_out_rhs = 7;
-constexpr int n_temporaries_rhs = 68;
+constexpr int n_temporaries_rhs = 70;
 constexpr int n_out_jacobian = 49;
-constexpr int n_temporaries_jacobian = 94;
+constexpr int n_temporaries_jacobian = 93;
 constexpr int n_out_energy = 1;
-constexpr int n_temporaries_energy = 94;
+constexpr int n_temporaries_energy = 93;
 constexpr int n_out_group_velocity = 3;
 constexpr int n_temporaries_group_velocity = 8;
 constexpr int n_out_connection = 6;
@@ -113,6 +113,12 @@ constexpr kernel_info kernel_table[n_kernels] = {
     {"locked_inertia", locked_inertia, n_out_locked_inertia, n_temporaries_locked_inertia},
     {"shape_inertia", shape_inertia, n_out_shape_inertia, n_temporaries_shape_inertia},
 };
+
+/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the
+/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), or
+/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).
+constexpr int n_pivots_rhs = 5;
+int rhs_status(real t, const real* x, const real* p, const real* in, real* out);
 
 /// Reals of stack rk4_step uses (three arrays of n_state) besides the rhs kernel's temporaries.
 constexpr int rk4_stack_reals = 3 * n_state;

@@ -2,6 +2,7 @@
 // SPDX-License-Identifier: MIT
 // Emitted code is under the MIT licence, whatever the generator's licence.
 #include "satellite_reconstruction.hpp"
+#include "satellite_reconstruction.h"
 
 #include <cmath>
 
@@ -52,3 +53,9 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
 }
 
 }  // namespace satellite_reconstruction
+
+extern "C" {
+
+void satellite_reconstruction_group_velocity(HAMEL_SATELLITE_RECONSTRUCTION_REAL t, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* x, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* p, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* in, HAMEL_SATELLITE_RECONSTRUCTION_REAL* out) { satellite_reconstruction::group_velocity(t, x, p, in, out); }
+
+}  // extern "C"

@@ -1,5 +1,7 @@
 #include "algebra/intermediates.hpp"
 
+#include "algebra/simplify.hpp"
+
 #include <set>
 
 namespace hamel {
@@ -28,6 +30,34 @@ ex Intermediates::define(const ex& value) {
   return s;
 }
 
+GiNaC::realsymbol Intermediates::define_named(const std::string& name, const ex& value) {
+  GiNaC::realsymbol s(name);
+  position_[s] = definitions_.size();
+  definitions_.push_back({s, value});
+  return s;
+}
+
+void Intermediates::substitute_in_definitions(const GiNaC::exmap& map) {
+  for (Definition& d : definitions_) d.value = d.value.subs(map);
+  derivative_memo_.clear();
+  inlined_.clear();
+  small_inlined_.clear();
+  small_limit_.clear();
+}
+
+ex Intermediates::keep(const ex& value, std::size_t inline_size) {
+  const ex simplified = simplify_bounded(value);
+  if (node_count(simplified, inline_size) <= inline_size) return simplified;
+  return define(simplified);
+}
+
+std::optional<ex> Intermediates::definition_of(const ex& e) const {
+  if (!GiNaC::is_a<GiNaC::symbol>(e)) return std::nullopt;
+  const auto it = position_.find(e);
+  if (it == position_.end()) return std::nullopt;
+  return definitions_[it->second].value;
+}
+
 std::vector<std::size_t> Intermediates::used_by(const ex& e) const {
   std::set<std::size_t> used;
   collect(e, position_, used);
@@ -49,6 +79,40 @@ ex Intermediates::diff(const ex& e, const GiNaC::symbol& x) {
     if (it->second.is_zero()) continue;
     out += e.diff(definitions_[k].symbol) * it->second;
   }
+  return out;
+}
+
+ex Intermediates::substitute(const ex& e, const GiNaC::exmap& map, SubstitutionMemo& memo) {
+  std::set<std::size_t> used;
+  collect(e, position_, used);
+  GiNaC::exmap with = map;
+  for (std::size_t k : used) {
+    if (memo.replaced.size() <= k) memo.replaced.resize(k + 1);
+    if (!memo.replaced[k]) {
+      const ex value = definitions_[k].value;  // copy: define() below may grow the vector
+      const ex replaced = substitute(value, map, memo);
+      memo.replaced[k] = replaced.is_equal(value) ? ex(definitions_[k].symbol) : define(replaced);
+    }
+    if (!memo.replaced[k]->is_equal(definitions_[k].symbol)) with[definitions_[k].symbol] = *memo.replaced[k];
+  }
+  return e.subs(with);
+}
+
+std::optional<ex> Intermediates::inline_bounded(const ex& e, std::size_t limit) const {
+  std::set<std::size_t> used;
+  collect(e, position_, used);
+  GiNaC::exmap map;
+  for (std::size_t k : used) {
+    if (small_inlined_.size() <= k) small_inlined_.resize(k + 1), small_limit_.resize(k + 1, 0);
+    if (small_limit_[k] < limit && !(small_limit_[k] > 0 && small_inlined_[k])) {
+      small_inlined_[k] = inline_bounded(definitions_[k].value, limit);
+      small_limit_[k] = limit;
+    }
+    if (!small_inlined_[k] || node_count(*small_inlined_[k], limit) > limit) return std::nullopt;
+    map[definitions_[k].symbol] = *small_inlined_[k];
+  }
+  const ex out = map.empty() ? e : e.subs(map);
+  if (node_count(out, limit) > limit) return std::nullopt;
   return out;
 }
 

@@ -10,6 +10,7 @@
 #include <ginac/ginac.h>
 
 #include <map>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +27,21 @@ class Intermediates {
   /// `value` itself when it is a number or a symbol, otherwise a fresh symbol defined as `value`.
   GiNaC::ex define(const GiNaC::ex& value);
 
+  /// A definition with a name of the user's (model key `definitions`), even when `value` is atomic.
+  GiNaC::realsymbol define_named(const std::string& name, const GiNaC::ex& value);
+
+  /// Applies `map` (symbols of the model → numbers, e.g. folded parameters) to every definition in place.
+  void substitute_in_definitions(const GiNaC::exmap& map);
+
+  /// `value` simplified when it is small (algebra/simplify.hpp, simplify_bounded) and kept inline when the
+  /// result has at most `inline_size` nodes; otherwise defined as a new intermediate. Every derivation step
+  /// passes its results through here, so small models keep readable closed forms and large ones stay a
+  /// program that grows with the model, not with the expanded formula.
+  GiNaC::ex keep(const GiNaC::ex& value, std::size_t inline_size = 24);
+
+  /// The definition of `e` if it is an intermediate symbol.
+  std::optional<GiNaC::ex> definition_of(const GiNaC::ex& e) const;
+
   const std::vector<Definition>& definitions() const { return definitions_; }
   std::size_t size() const { return definitions_.size(); }
   bool empty() const { return definitions_.empty(); }
@@ -37,6 +53,18 @@ class Intermediates {
   /// d e / d x by the chain rule through the definitions; derivatives of intermediates become new
   /// definitions (memoized per intermediate and variable). Without intermediates this is e.diff(x).
   GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::symbol& x);
+
+  /// `e` with `map` (symbols of the model → expressions) applied, also inside the definitions `e` uses:
+  /// a definition that changes becomes a new intermediate, one that does not stays as it is. Memoized in
+  /// `memo` (one per map) across calls.
+  struct SubstitutionMemo {
+    std::vector<std::optional<GiNaC::ex>> replaced;  ///< by position
+  };
+  GiNaC::ex substitute(const GiNaC::ex& e, const GiNaC::exmap& map, SubstitutionMemo& memo);
+
+  /// inline_all(e) if that has at most `limit` nodes, else nothing; never builds anything larger (a
+  /// definition whose inlined form exceeds the limit is remembered as such).
+  std::optional<GiNaC::ex> inline_bounded(const GiNaC::ex& e, std::size_t limit) const;
 
   /// `e` with every intermediate replaced by its definition, recursively: one expression in the model's
   /// symbols. It can be exponentially larger than the program; for small systems and cross-checks.
@@ -57,6 +85,8 @@ class Intermediates {
   };
   std::map<std::pair<std::size_t, GiNaC::ex>, GiNaC::ex, KeyLess> derivative_memo_;
   mutable std::vector<GiNaC::ex> inlined_;  // cache for inline_all, by position
+  mutable std::vector<std::optional<GiNaC::ex>> small_inlined_;  // inline_bounded's cache (by position)
+  mutable std::vector<std::size_t> small_limit_;                 // the limit each entry was computed with
 };
 
 }  // namespace hamel

@@ -1,5 +1,7 @@
 #include "algebra/simplify.hpp"
 
+#include "algebra/identity_test.hpp"
+
 #include <algorithm>
 #include <optional>
 #include <random>
@@ -154,13 +156,13 @@ void collect_symbols(const ex& e, std::set<ex, GiNaC::ex_is_less>& out) {
   for (std::size_t i = 0; i < e.nops(); ++i) collect_symbols(e.op(i), out);
 }
 
-std::size_t tree_size(const ex& e, std::size_t limit) {
+}  // namespace
+
+std::size_t node_count(const ex& e, std::size_t limit) {
   std::size_t n = 1;
-  for (std::size_t i = 0; i < e.nops() && n <= limit; ++i) n += tree_size(e.op(i), limit - n);
+  for (std::size_t i = 0; i < e.nops() && n <= limit; ++i) n += node_count(e.op(i), limit - n);
   return n;
 }
-
-}  // namespace
 
 bool numerically_nonzero(const ex& e) {
   std::set<ex, GiNaC::ex_is_less> symbols;
@@ -260,7 +262,15 @@ bool is_zero_exactly(const ex& e) {
 }
 
 ex simplify_bounded(const ex& e, std::size_t limit) {
-  if (tree_size(e, limit) <= limit) return simplify(e);
+  if (node_count(e, limit) <= limit) return simplify(e);
+  switch (hamel::identically_zero(e, Intermediates{})) {  // modular evaluation: cheap for large e
+    case Identity::zero:
+      return 0;
+    case Identity::nonzero:
+      return e;
+    case Identity::undecided:
+      break;
+  }
   if (!numerically_nonzero(e) && identically_zero(e)) return 0;
   return e;
 }

@@ -36,6 +36,9 @@ bool numerically_nonzero(const GiNaC::ex& e);
 /// identically_zero), falling back to the symbolic determinant only for entries that test cannot evaluate.
 bool identically_singular(const GiNaC::matrix& m);
 
+/// The number of nodes of e's expression tree, counted up to a little past `limit`.
+std::size_t node_count(const GiNaC::ex& e, std::size_t limit);
+
 /// simplify(e) when e is small (at most `limit` nodes); a large e that is identically zero becomes 0; other
 /// large expressions are left as derived: their normal form costs more than it saves (the emitted code
 /// shares subexpressions anyway).

@@ -22,7 +22,7 @@ namespace hamel::cli {
 namespace {
 
 struct AccuracyOptions {
-  std::string model, fold = "all", form;
+  std::string model, fold = "none", form;
   int points = 200;
   std::uint64_t seed = 1;
   double range = 1.0, velocity_range = 1.0, floor = 1e-3;

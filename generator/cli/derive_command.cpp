@@ -1,6 +1,7 @@
 // `hamel derive MODEL [--param n=v ...] [--at n=v,...] [--json]`: the derived quantities as expressions,
 // with numbers where --at (and parameter values) determine them.
 #include "algebra/expression_text.hpp"
+#include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
@@ -21,8 +22,8 @@ namespace {
 struct DeriveOptions {
   std::string model;
   std::vector<std::string> params, at;
-  std::string form, curvature_sign = "paper", fold = "none";
-  bool json = false;
+  std::string form, curvature_sign = "paper", fold = "none", dynamics;
+  bool json = false, inline_all = false;
 };
 
 // Numeric value of `e` once every symbol is replaced; empty if a symbol has no value.
@@ -34,9 +35,16 @@ std::optional<double> value_of(const GiNaC::ex& e, const GiNaC::exmap& values) {
   return num.to_double();
 }
 
+// With --inline: the program whose intermediates printed expressions are expanded through (when the result
+// stays below a size a reader can use); values are unaffected.
+const Intermediates* inline_through = nullptr;
+constexpr std::size_t inline_limit = 20000;
+
 nlohmann::json entry(const GiNaC::ex& e, const GiNaC::exmap& values) {
   nlohmann::json j;
-  j["expr"] = to_text(e);
+  std::optional<GiNaC::ex> shown;
+  if (inline_through) shown = inline_through->inline_bounded(e, inline_limit);
+  j["expr"] = to_text(shown ? simplify_bounded(*shown) : e);
   if (auto v = value_of(e, values)) j["value"] = *v;
   return j;
 }
@@ -130,7 +138,7 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
         for (unsigned I = 0; I < n; ++I) {
           GiNaC::ex e = g.K(a, I);
           for (unsigned c = 0; c < m; ++c) e -= g.L(a, c) * g.connection(c, I);
-          off(a, I) = simplify(e);
+          off(a, I) = shown_zero(e, d.equations.intermediates) ? GiNaC::ex(0) : simplify_bounded(e);
         }
       blocks["off_diagonal"] = matrix_json(off, m, n, xi, r, values);
     }
@@ -143,25 +151,32 @@ void run(const DeriveOptions& opt) {
   const std::vector<double> params = parameter_values(model, parse_assignments(opt.params, "--param"));
   const std::map<std::string, double> at = parse_assignments(opt.at, "--at");
 
+  if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
+    throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
+                     opt.curvature_sign + "'");
+  const Derivation d = derive(apply_fold(model, params, opt.fold),
+                                DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
+  const HamelSystem& sys = d.system;
+  const HamelEquations& eq = d.equations;
+  if (opt.inline_all) inline_through = &eq.intermediates;
+
+  // --at takes every name the output lists as coordinate or quasi-velocity (for bundle models the shape
+  // rates r_dot and the shifted group velocities of the form), inputs, the group velocity and t.
   GiNaC::exmap values;
   for (std::size_t k = 0; k < model.parameters.size(); ++k)
     values[model.parameters[k].symbol] = exact_number(params[k]);
-  const GiNaC::symtab table = model.symbols();
+  GiNaC::symtab table = model.symbols();
+  for (const auto& r : model.rates) table.erase(r.get_name());
+  for (const auto& q : sys.coordinates) table[q.get_name()] = q;
+  for (const auto& u : sys.velocities) table[u.get_name()] = u;
   for (const auto& [name, v] : at) {
     auto it = table.find(name);
-    if (it == table.end() || (name.size() > 4 && name.compare(name.size() - 4, 4, "_dot") == 0))
+    if (it == table.end())
       throw InputError("--at: " + quote(name) + " is not a coordinate, quasi-velocity, input or t of model '" +
                        model.name + "'");
     values[it->second] = exact_number(v);
   }
   if (!at.empty()) values[model.time] = exact_number(at.count("t") ? at.at("t") : 0.0);
-
-  if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
-    throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
-                     opt.curvature_sign + "'");
-  const Derivation d = derive(apply_fold(model, params, opt.fold), DeriveSettings{opt.form});
-  const HamelSystem& sys = d.system;
-  const HamelEquations& eq = d.equations;
   if (!at.empty()) values = eq.intermediates.evaluate(values);
   const auto u_name = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
   const auto q_name = [&](std::size_t a) { return sys.coordinates[a].get_name(); };
@@ -220,13 +235,18 @@ void run(const DeriveOptions& opt) {
     j["kinematics"].push_back(k);
   }
   j["energy"] = entry(eq.energy_terms.at(0), values);
-  if (!eq.intermediates.empty()) {
-    j["intermediates"] = nlohmann::json::array();
-    for (const Intermediates::Definition& def : eq.intermediates.definitions()) {
-      nlohmann::json e = entry(def.value, values);
-      e["name"] = def.symbol.get_name();
-      j["intermediates"].push_back(e);
-    }
+  for (std::size_t i = 0; i < eq.recursive_accelerations.size(); ++i) {
+    nlohmann::json a = entry(eq.recursive_accelerations[i], values);
+    a["row"] = sys.velocities[static_cast<std::size_t>(eq.independent[i])].get_name() + "_rate";
+    j["accelerations"].push_back(a);
+  }
+  // The model's own definitions come first in the program, then the intermediates the derivation named.
+  const std::size_t user_definitions = model.definitions.size();
+  for (std::size_t k = 0; k < eq.intermediates.size(); ++k) {
+    const Intermediates::Definition& def = eq.intermediates.definitions()[k];
+    nlohmann::json e = entry(def.value, values);
+    e["name"] = def.symbol.get_name();
+    j[k < user_definitions ? "definitions" : "intermediates"].push_back(e);
   }
   j["conservative"] = eq.conservative;
 
@@ -286,6 +306,10 @@ void run(const DeriveOptions& opt) {
     std::cout << "  M[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
               << "\n";
   for (const auto& e : j["forcing"]) std::cout << "  f[" << e["row"].get<std::string>() << "] = " << show(e) << "\n";
+  if (j.contains("definitions")) {
+    std::cout << "\ndefinitions (model key 'definitions'):\n";
+    for (const auto& e : j["definitions"]) std::cout << "  " << e["name"].get<std::string>() << " = " << show(e) << "\n";
+  }
   if (j.contains("intermediates")) {
     std::cout << "\nintermediate symbols, in evaluation order (" << j["intermediates"].size() << "):\n";
     for (const auto& e : j["intermediates"]) std::cout << "  " << e["name"].get<std::string>() << " = " << show(e) << "\n";
@@ -310,10 +334,16 @@ Run add_derive_command(CLI::App& app) {
                   "Bundle models: ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare, locked velocity), "
                   "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection, ep for "
                   "kinematic trees");
+  cmd->add_option("--dynamics", opt->dynamics,
+                  "Kinematic trees (ep form, or on a fixed base): aba also derives u' by the articulated-body "
+                  "algorithm (JSON key 'accelerations'); ldlt (default here) only M u' = f");
   cmd->add_option("--curvature-sign", opt->curvature_sign,
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
   cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
+  cmd->add_flag("--inline", opt->inline_all,
+                "Print every expression with the intermediate symbols expanded (for small models; expressions that "
+                "would exceed 20000 nodes keep their intermediates)");
   return [opt] { run(*opt); };
 }
 

@@ -1,10 +1,12 @@
 // `hamel emit MODEL -o DIR`: the model's kernels as a C++ header and source in DIR.
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "model/input_error.hpp"
 #include "derive/derivation.hpp"
 #include "emit/cpp_emitter.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "report/progress.hpp"
 
 #include <algorithm>
 #include <iostream>
@@ -15,7 +17,7 @@ namespace hamel::cli {
 namespace {
 
 struct EmitOptions {
-  std::string model, output, form, fold, kernels;
+  std::string model, output, form, fold, kernels, dynamics;
   std::vector<std::string> params;
 };
 
@@ -48,7 +50,8 @@ std::size_t total_operations(const KernelSet& kernels) {
 }
 
 void run(const EmitOptions& opt) {
-  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
+  Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
+  target.settings.dynamics = opt.dynamics;
   std::set<std::string> selected = target.kernels;
   if (!opt.kernels.empty()) {
     if (target.scene)
@@ -59,7 +62,11 @@ void run(const EmitOptions& opt) {
   const Model& model = target.model;
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   const Derivation derivation = derive(model, target.settings);
-  const KernelSet kernels = build_kernels(model, derivation, selected);
+  const KernelSet kernels = [&] {
+    progress::Step step("building the kernels' expression graph");
+    return build_kernels(model, derivation, selected);
+  }();
+  progress::Step writing("printing the C++ package");
   EmittedPackage package = emit_cpp(model, derivation, kernels);
   if (target.scene) {
     // Pruning report: operations of the scene's kernels (shared subexpressions counted once) against all
@@ -81,7 +88,7 @@ void run(const EmitOptions& opt) {
   write_package(package, opt.output);
   std::string files;
   for (const EmittedFile& f : package.files()) files += (files.empty() ? "" : ", ") + f.name;
-  std::cerr << "hamel: wrote " << opt.output << "/: " << files << "\n";
+  std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << "\n";
   for (const Kernel& k : kernels.kernels) {
     const OpCounts c = kernels.graph.count(kernels.graph.schedule(k.outputs));
     std::cerr << "  " << k.name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, "
@@ -97,6 +104,7 @@ Run add_emit_command(CLI::App& app) {
   cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
   cmd->add_option("-o,--output", opt->output, "Output folder (replaced atomically)")->required();
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
+  cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
   cmd->add_option("--param", opt->params,
                   "Parameter value name=value for --fold (repeatable; defaults from the model)");
   cmd->add_option("--fold", opt->fold,

@@ -3,11 +3,16 @@
 #include "cli/commands.hpp"
 #include "emit/cpp_emitter.hpp"
 #include "model/input_error.hpp"
+#include "report/atomic_file.hpp"
+#include "report/progress.hpp"
+#include "report/temporaries.hpp"
 
 #include <sys/personality.h>
 #include <unistd.h>
 
 #include <cstdlib>
+#include <ginac/ginac.h>
+#include <stdexcept>
 #include <iostream>
 #include <map>
 
@@ -30,9 +35,13 @@ void fix_address_layout(char** argv) {
 
 int main(int argc, char** argv) {
   fix_address_layout(argv);
+  hamel::install_cleanup_signal_handlers();
   CLI::App app{"hamel: derive Hamel coefficients and equations of motion, emit C++ kernels, simulate"};
   app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());
   app.require_subcommand(1);
+  bool quiet = false;
+  app.add_flag("-q,--quiet", quiet, "No progress messages on stderr (steps that run over a second say what they do)");
+  app.fallthrough();
   std::map<const CLI::App*, hamel::cli::Run> runs;
   for (auto add : {hamel::cli::add_derive_command, hamel::cli::add_emit_command, hamel::cli::add_simulate_command,
                    hamel::cli::add_phase_command, hamel::cli::add_report_command, hamel::cli::add_accuracy_command,
@@ -52,12 +61,31 @@ int main(int argc, char** argv) {
     app.exit(e);
     return 2;
   }
+  hamel::progress::set_enabled(!quiet);
   try {
     for (const auto& [cmd, run] : runs)
       if (cmd->parsed()) run();
+    // Output that did not arrive (a full disk, a closed pipe) is a failure, not a success.
+    hamel::flush_stdout_or_throw();
     return 0;
+  } catch (const hamel::OutputError& e) {
+    std::cerr << "hamel: " << e.what() << "\n";
+    return 1;
   } catch (const hamel::InputError& e) {
-    std::cerr << e.what() << "\n";
+    std::cerr << hamel::printable(e.what()) << "\n";
+    return 2;
+  } catch (const GiNaC::pole_error& e) {
+    // A denominator that simplifies to zero (x/(sin(x)^2+cos(x)^2-1)) is found only while deriving: bad input.
+    std::cerr << "hamel: error: an expression of the model divides by zero once simplified (" << e.what()
+              << "); expected denominators that are not identically zero\n";
+    return 2;
+  } catch (const std::domain_error& e) {
+    if (std::string(e.what()).find("division by zero") == std::string::npos) {
+      std::cerr << "hamel: internal error: " << e.what() << "\n";
+      return 1;
+    }
+    std::cerr << "hamel: error: an expression of the model divides by zero once simplified (" << e.what()
+              << "); expected denominators that are not identically zero\n";
     return 2;
   } catch (const hamel::cli::RunFailed& e) {
     std::cerr << "hamel: " << e.what() << "\n";

@@ -25,7 +25,7 @@ namespace hamel::cli {
 namespace {
 
 struct PhaseOptions {
-  std::string model, path, momentum = "zero", out = ".", fold = "all";
+  std::string model, path, momentum = "zero", out = ".", fold = "none";
   double period = 1;
   int cycles = 1, steps = 2000, samples = 100;
   std::vector<std::string> params;
@@ -137,7 +137,7 @@ void run(const PhaseOptions& opt) {
   if (!opt.no_files) {
     namespace fs = std::filesystem;
     const std::string csv = (fs::path(opt.out) / (model.name + "_phase.csv")).string();
-    write_file_atomically(csv, trajectory_csv(result.trajectory));
+    write_file_atomically(csv, trajectory_csv(result.trajectory), "--out");
     j["trajectory"] = csv;
     if (result.trajectory.front().p.size() >= 2) {
       PlotSpec plot;
@@ -160,7 +160,7 @@ void run(const PhaseOptions& opt) {
         plot.series.push_back(dyn_ends);
       }
       const std::string svg = (fs::path(opt.out) / (model.name + "_phase.svg")).string();
-      write_file_atomically(svg, render_svg(plot));
+      write_file_atomically(svg, render_svg(plot), "--out");
       j["plot"] = svg;
     }
   }

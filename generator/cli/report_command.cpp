@@ -24,7 +24,7 @@ struct ReportOptions {
 };
 
 void run(const ReportOptions& opt) {
-  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "all");
+  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
   std::map<std::string, double> init, input_values;
@@ -72,9 +72,9 @@ void run(const ReportOptions& opt) {
   std::cerr << "hamel: work-precision study of " << model.name << " over t = 0 .. " << t_end << "\n";
   const WorkPrecisionStudy study = work_precision(model, d, kernels, req, &std::cerr);
   const fs::path base = fs::path(opt.out) / (model.name + "_work_precision");
-  write_file_atomically(base.string() + ".csv", work_precision_csv(study));
-  write_file_atomically(base.string() + ".md", work_precision_markdown(model, study));
-  write_file_atomically(base.string() + ".svg", work_precision_svg(model, study));
+  write_file_atomically(base.string() + ".csv", work_precision_csv(study), "--out");
+  write_file_atomically(base.string() + ".md", work_precision_markdown(model, study), "--out");
+  write_file_atomically(base.string() + ".svg", work_precision_svg(model, study), "--out");
   std::cout << "wrote " << base.string() << ".csv, .md and .svg (" << study.runs.size() << " runs; " << study.reference
             << ")\n";
 }
@@ -93,7 +93,7 @@ Run add_report_command(CLI::App& app) {
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--integrators", opt->integrators, "Integrators to compare (default rk4 dopri5 dop853 radau5)");
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum");
-  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: all, or the scene's `fixed`)");
+  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "Folder for <model>_work_precision.csv, .md and .svg")->capture_default_str();
   return [opt] { run(*opt); };
 }

@@ -10,6 +10,7 @@
 #include "numeric/group_pose.hpp"
 #include "numeric/input_sources.hpp"
 #include "numeric/integrators.hpp"
+#include "report/atomic_file.hpp"
 
 #include <hamel/runtime/csv.hpp>
 #include <hamel/runtime/lie/rkmk_coupled.hpp>
@@ -21,6 +22,7 @@
 #include <fstream>
 #include <iostream>
 #include <random>
+#include <sstream>
 
 namespace hamel::cli {
 
@@ -38,10 +40,23 @@ struct SimulateOptions {
   std::string out = "-";
   std::string form;
   std::string fold;
+  std::string dynamics;
+  bool dt_given = false, tol_given = false, sample_given = false;  // on the command line
 };
 
+// Work refused up front (docs/errors.md, "Limits"): a typo such as --dt 1e-12 must not fill a disk.
+constexpr double kMaxFixedSteps = 1e8;
+constexpr double kMaxOutputRows = 1e7;
+
+std::string number_text(double v) {
+  std::ostringstream s;
+  s << v;
+  return s.str();
+}
+
 void run(const SimulateOptions& given) {
-  const Target target = resolve_target(given.model, given.params, given.fold, given.form, "all");
+  Target target = resolve_target(given.model, given.params, given.fold, given.form, "none");
+  target.settings.dynamics = given.dynamics;
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
   // Command-line values win over the scene's, which win over the defaults.
@@ -58,6 +73,15 @@ void run(const SimulateOptions& given) {
     scene_inputs = scene.inputs;
   }
   if (opt.integrator.empty()) opt.integrator = "dopri5";
+  // A value given as 0 or below is an error, not "use the default"; a value the chosen integrator does not
+  // use is an error, not ignored.
+  if (given.dt_given && !(given.dt > 0 && std::isfinite(given.dt)))
+    throw InputError("--dt: expected a positive finite step, got " + number_text(given.dt));
+  if (given.tol_given && !(given.tol >= 1e-15 && given.tol < 1))
+    throw InputError("--tol: expected a tolerance in [1e-15, 1), got " + number_text(given.tol) +
+                     (given.tol > 0 ? "" : " (a value below the smallest double reads as 0)"));
+  if (given.sample_given && !(given.sample > 0 && std::isfinite(given.sample)))
+    throw InputError("--sample: expected a positive finite output interval, got " + number_text(given.sample));
   if (opt.dt == 0) opt.dt = 1e-3;
   if (opt.tol == 0) opt.tol = 1e-8;
   for (const auto& [k, v] : parse_assignments(opt.init, "--init")) init[k] = v;
@@ -66,6 +90,21 @@ void run(const SimulateOptions& given) {
   const IntegratorInfo& info = find_integrator(opt.integrator);
   if (!info.adaptive && !(opt.dt > 0)) throw InputError("--dt: expected a positive step");
   if (info.adaptive && !(opt.tol > 0)) throw InputError("--tol: expected a positive tolerance");
+  if (info.adaptive && given.dt_given)
+    throw InputError("--dt: " + opt.integrator + " chooses its own steps; give --tol instead, or a fixed-step "
+                     "integrator (--integrator rk4)");
+  if (!info.adaptive && given.tol_given)
+    throw InputError("--tol: " + opt.integrator + " takes fixed steps; give --dt instead, or an adaptive integrator "
+                     "(--integrator dopri5)");
+  if (!info.adaptive && opt.t_end / opt.dt > kMaxFixedSteps)
+    throw InputError("--dt: " + number_text(opt.t_end) + " / " + number_text(opt.dt) + " = " +
+                     number_text(opt.t_end / opt.dt) + " steps, more than the limit of " + number_text(kMaxFixedSteps) +
+                     "; expected a larger --dt or a shorter --t-end");
+  const double rows = opt.sample > 0 ? opt.t_end / opt.sample : info.adaptive ? 0 : opt.t_end / opt.dt;
+  if (rows > kMaxOutputRows)
+    throw InputError(std::string(opt.sample > 0 ? "--sample" : "--dt") + ": " + number_text(rows) +
+                     " output rows, more than the limit of " + number_text(kMaxOutputRows) +
+                     "; expected a larger --sample (output interval)");
 
   const Derivation derivation = derive(model, target.settings);
   // --monitors: extra CSV columns evaluated at every output row.
@@ -139,28 +178,10 @@ void run(const SimulateOptions& given) {
   std::vector<double> residual(derivation.equations.constraint_residual.size());
 
   // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
-  // (or one that throws) leaves neither a partial CSV nor the temporary file, and keeps an old CSV.
-  namespace fs = std::filesystem;
-  const bool to_stdout = opt.out == "-";
-  fs::path staging;
-  std::ofstream file;
-  struct RemoveUnlessKept {
-    fs::path path;
-    ~RemoveUnlessKept() {
-      std::error_code ec;
-      if (!path.empty()) fs::remove(path, ec);
-    }
-  } cleanup;
-  if (!to_stdout) {
-    std::error_code ec;
-    if (fs::is_directory(opt.out, ec))
-      throw InputError("--out: " + quote(opt.out) + " is a folder; expected a file name");
-    staging = fs::path(opt.out).string() + ".tmp-" + std::to_string(std::random_device{}());
-    file.open(staging, std::ios::binary);
-    if (!file) throw InputError("--out: cannot write " + quote(opt.out));
-    cleanup.path = staging;
-  }
-  std::ostream& os = to_stdout ? std::cout : file;
+  // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
+  // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
+  OutputFile output(opt.out, "--out");
+  std::ostream& os = output.stream();
   const bool reconstruct = model.bundle && info.name == "rkmk4";
   GroupPose pose;
   std::vector<std::string> header = columns;
@@ -214,6 +235,7 @@ void run(const SimulateOptions& given) {
       }
     }
     csv.row(row.data(), row.size());
+    output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
   };
 
   GraphEvaluator jacobian_kernel(kernels.graph,
@@ -253,17 +275,7 @@ void run(const SimulateOptions& given) {
     result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
                        observe);
   }
-  if (!to_stdout) {
-    file.close();
-    if (!file) throw InputError("--out: cannot write " + quote(opt.out));
-    if (result.status == runtime::Status::ok) {
-      std::error_code ec;
-      fs::rename(staging, opt.out, ec);
-      if (ec) throw InputError("--out: cannot write " + quote(opt.out) + ": " + ec.message());
-      cleanup.path.clear();
-    }
-  }
-
+  if (result.status == runtime::Status::ok) output.commit();
   std::ostringstream state;
   for (std::size_t k = 0; k < n_x; ++k) state << (k ? ", " : "") << columns[k + 1] << "=" << result.x[k];
   if (result.status != runtime::Status::ok) {
@@ -293,8 +305,8 @@ Run add_simulate_command(CLI::App& app) {
   cmd->add_option("--t-end", opt->t_end, "End time (start is 0); required unless the scene gives t_end");
   cmd->add_option("--integrator", opt->integrator,
                   "rk4, rkmk4 (fixed step), dopri5 (default), dop853 (adaptive explicit) or radau5 = implicit (stiff)");
-  auto* dt = cmd->add_option("--dt", opt->dt, "Step of rk4 and rkmk4 (default 1e-3)");
-  auto* tol =
+  CLI::Option* dt = cmd->add_option("--dt", opt->dt, "Step of rk4 and rkmk4 (default 1e-3)");
+  CLI::Option* tol =
       cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of the adaptive integrators (default 1e-8)");
   dt->excludes(tol);
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
@@ -306,14 +318,20 @@ Run add_simulate_command(CLI::App& app) {
   cmd->add_option("--input-file", opt->input_file,
                   "CSV with a header t,<input names> and rows of values, interpolated linearly in t (held at "
                   "the ends)");
-  cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
+  CLI::Option* sample = cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
   cmd->add_option("--monitors", opt->monitors,
                   "Extra CSV columns, comma-separated: energy, constraint_residual (residual_<u> per constraint), "
                   "momentum (p_<u> = M u per independent quasi-velocity)");
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
-  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: all, or the scene's `fixed`)");
+  cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
+  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "CSV file, or - for standard output")->capture_default_str();
-  return [opt] { run(*opt); };
+  return [opt, dt, tol, sample] {
+    opt->dt_given = dt->count() > 0;
+    opt->tol_given = tol->count() > 0;
+    opt->sample_given = sample->count() > 0;
+    run(*opt);
+  };
 }
 
 }  // namespace hamel::cli

@@ -1,6 +1,6 @@
 #include "derive/bundle_connection.hpp"
 
-#include "algebra/simplify.hpp"
+#include "algebra/identity_test.hpp"
 #include "derive/kinematic_tree.hpp"
 #include "model/input_error.hpp"
 
@@ -20,19 +20,20 @@ std::vector<BundleCoefficient> BundleGeometry::curvature_in(CurvatureSign sign) 
 }
 
 std::vector<BundleCoefficient> curvature_of(const matrix& A, const std::vector<GiNaC::realsymbol>& shape,
-                                            const std::vector<StructureConstant>& c, int sign) {
+                                            const std::vector<StructureConstant>& c, int sign,
+                                            Intermediates& program) {
   const unsigned m = A.rows();
   const unsigned d = static_cast<unsigned>(shape.size());
   std::vector<BundleCoefficient> out;
   for (unsigned alpha = 0; alpha < m; ++alpha)
     for (unsigned I = 0; I < d; ++I)
       for (unsigned J = I + 1; J < d; ++J) {
-        ex b = A(alpha, I).diff(shape[J]) - A(alpha, J).diff(shape[I]);
+        ex b = program.diff(A(alpha, I), shape[J]) - program.diff(A(alpha, J), shape[I]);
         for (const StructureConstant& s : c)
           if (s.upper == static_cast<int>(alpha))
             b += sign * s.value * A(static_cast<unsigned>(s.lower_a), I) * A(static_cast<unsigned>(s.lower_b), J);
-        b = simplify_bounded(b);
-        if (b.is_zero()) continue;
+        if (shown_zero(b, program)) continue;
+        b = program.keep(b);
         out.push_back({static_cast<int>(alpha), static_cast<int>(I), static_cast<int>(J), b});
         out.push_back({static_cast<int>(alpha), static_cast<int>(J), static_cast<int>(I), -b});
       }
@@ -42,10 +43,89 @@ std::vector<BundleCoefficient> curvature_of(const matrix& A, const std::vector<G
   return out;
 }
 
+BundleGeometry inlined(const BundleGeometry& geometry) {
+  BundleGeometry out = geometry;
+  const Intermediates& program = geometry.program;
+  const auto expand = [&](matrix& m) {
+    for (unsigned i = 0; i < m.rows(); ++i)
+      for (unsigned j = 0; j < m.cols(); ++j) m(i, j) = program.inline_all(m(i, j));
+  };
+  for (matrix* m : {&out.L, &out.K, &out.S, &out.connection, &out.shape_inertia}) expand(*m);
+  for (auto* list : {&out.curvature, &out.E})
+    for (BundleCoefficient& c : *list) c.value = program.inline_all(c.value);
+  out.program = Intermediates{};
+  return out;
+}
+
+namespace {
+
+// Eq. (T): T is a quadratic form in v = (ξ, ṙ) iff its third derivatives vanish and T = ½ vᵀ H v with
+// H = ∂²T/∂v∂v. The third derivatives are tested as one trilinear form T‴(v)[a, b, c] in fresh symbols
+// a, b, c (zero as a polynomial iff every third derivative is zero); both tests by identically_zero(),
+// exact for parameters in numerators and denominators alike (not by the shape of the expression).
+bool is_quadratic_form(const ex& T, const std::vector<GiNaC::realsymbol>& v, const matrix& H,
+                       Intermediates& program) {
+  const std::size_t n = v.size();
+  ex derivative = T;
+  for (const char* direction : {"a", "b", "c"}) {
+    ex along = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      along += GiNaC::realsymbol(std::string("_dir_") + direction + std::to_string(i)) * program.diff(derivative, v[i]);
+    derivative = along;
+  }
+  if (!shown_zero(derivative, program)) return false;
+  ex rest = T;
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j)
+      rest -= H(static_cast<unsigned>(i), static_cast<unsigned>(j)) * v[i] * v[j] / 2;
+  return shown_zero(rest, program);
+}
+
+// Eq. (mechConn): A = L⁻¹K by a symbolic LDLᵀ of the locked inertia (positive definite, so no pivoting)
+// and two triangular solves, every step kept through `program`: the entries of L⁻¹K are never expanded.
+matrix solve_locked(const matrix& L, const matrix& K, Intermediates& program) {
+  const unsigned m = L.rows(), d = K.cols();
+  matrix F(m, m);  // unit lower triangle
+  std::vector<ex> D(m);
+  for (unsigned k = 0; k < m; ++k) {
+    ex pivot = L(k, k);
+    for (unsigned j = 0; j < k; ++j)
+      if (!F(k, j).is_zero()) pivot -= F(k, j) * F(k, j) * D[j];
+    D[k] = program.keep(pivot);
+    for (unsigned i = k + 1; i < m; ++i) {
+      ex e = L(i, k);
+      for (unsigned j = 0; j < k; ++j)
+        if (!F(i, j).is_zero() && !F(k, j).is_zero()) e -= F(i, j) * F(k, j) * D[j];
+      F(i, k) = e.is_zero() ? ex(0) : program.keep(e / D[k]);
+    }
+  }
+  matrix X(m, d);
+  for (unsigned c = 0; c < d; ++c) {
+    std::vector<ex> y(m);
+    for (unsigned i = 0; i < m; ++i) {
+      ex e = K(i, c);
+      for (unsigned j = 0; j < i; ++j)
+        if (!F(i, j).is_zero()) e -= F(i, j) * y[j];
+      y[i] = program.keep(e);
+    }
+    for (unsigned i = m; i-- > 0;) {
+      ex e = y[i] / D[i];
+      for (unsigned j = i + 1; j < m; ++j)
+        if (!F(j, i).is_zero()) e -= F(j, i) * X(j, c);
+      X(i, c) = program.keep(e, 400);
+    }
+  }
+  return X;
+}
+
+}  // namespace
+
 BundleGeometry derive_bundle_geometry(const Model& model) {
   if (model.bundle->tree) return derive_bundle_geometry(with_inlined_tree(model));  // symbolic: small trees only
   const Bundle& b = *model.bundle;
   BundleGeometry g;
+  g.program = model.definitions;
+  Intermediates& program = g.program;
   g.algebra = lie_algebra(b.group);
   g.structure_constants = structure_constants(g.algebra);
   g.trivialization_sign = b.right ? -1 : 1;
@@ -54,29 +134,25 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
   const SourceLocation where =
       model.locations.count("kinetic") ? model.locations.at("kinetic") : SourceLocation{model.source_path, 0, 0};
 
-  // Eq. (M): the Hessian of T in v = (ξ, ṙ); T is a quadratic form iff T = ½ vᵀ H v with H free of v.
+  // Eq. (M): the Hessian of T in v = (ξ, ṙ), by the chain rule through the program.
   std::vector<GiNaC::realsymbol> v(b.group_velocity);
   v.insert(v.end(), model.rates.begin(), model.rates.end());
   matrix H(m + d, m + d);
-  ex quadratic_part = 0;
-  bool velocity_free = true;
-  for (unsigned i = 0; i < m + d; ++i)
-    for (unsigned j = 0; j < m + d; ++j) {
-      H(i, j) = b.kinetic.diff(v[i]).diff(v[j]).expand();
-      for (const auto& s : v) velocity_free = velocity_free && !H(i, j).has(s);
-      quadratic_part += H(i, j) * v[i] * v[j] / 2;
-    }
-  g.quadratic = velocity_free && (b.kinetic - quadratic_part).expand().is_zero();
+  for (unsigned i = 0; i < m + d; ++i) {
+    const ex dT = program.diff(b.kinetic, v[i]);
+    for (unsigned j = 0; j <= i; ++j) H(i, j) = H(j, i) = program.keep(program.diff(dT, v[j]), 400);
+  }
+  g.quadratic = is_quadratic_form(b.kinetic, v, H, program);
   if (g.quadratic) {
     g.L = matrix(m, m);
     g.K = matrix(m, d == 0 ? 1 : d);
     g.S = matrix(d == 0 ? 1 : d, d == 0 ? 1 : d);
     for (unsigned i = 0; i < m; ++i)
-      for (unsigned j = 0; j < m; ++j) g.L(i, j) = simplify(H(i, j));
+      for (unsigned j = 0; j < m; ++j) g.L(i, j) = H(i, j);
     for (unsigned i = 0; i < m; ++i)
-      for (unsigned J = 0; J < d; ++J) g.K(i, J) = simplify(H(i, m + J));
+      for (unsigned J = 0; J < d; ++J) g.K(i, J) = H(i, m + J);
     for (unsigned I = 0; I < d; ++I)
-      for (unsigned J = 0; J < d; ++J) g.S(I, J) = simplify(H(m + I, m + J));
+      for (unsigned J = 0; J < d; ++J) g.S(I, J) = H(m + I, m + J);
   }
 
   if (b.mechanical) {
@@ -84,29 +160,16 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
       throw InputError(where, "kinetic",
                        "a mechanical connection needs a kinetic energy that is a quadratic form in the group velocity "
                        "and the shape rates (eq. T); this one is not");
-    if (identically_singular(g.L))
+    if (identically_singular(g.L, program) == Identity::zero)
       throw InputError(where, "kinetic",
                        "the locked inertia L = d2T/dxi dxi is singular (identically, in r), so the mechanical "
                        "connection A = L^-1 K does not exist; every group direction must carry kinetic energy");
-    // Eq. (mechConn): A = L⁻¹K, by solving L A = K (never inverting the full mass matrix).
-    g.connection = matrix(m, d);
-    if (d > 0) {
-      matrix X(m, d);
-      std::vector<GiNaC::symbol> unknowns;
-      matrix vars(m, d);
-      for (unsigned i = 0; i < m; ++i)
-        for (unsigned J = 0; J < d; ++J) {
-          unknowns.emplace_back("X" + std::to_string(i) + "_" + std::to_string(J));
-          vars(i, J) = unknowns.back();
-        }
-      X = g.L.solve(vars, g.K, GiNaC::solve_algo::gauss);
-      g.connection = simplify(X);
-    }
+    g.connection = d > 0 ? solve_locked(g.L, g.K, program) : matrix(m, d);
   } else {
     g.connection = b.kinematic_connection;
   }
 
-  g.curvature = curvature_of(g.connection, model.coordinates, g.structure_constants, g.trivialization_sign);
+  g.curvature = curvature_of(g.connection, model.coordinates, g.structure_constants, g.trivialization_sign, program);
   // Eq. (gamma42): E^α_βI = γ^α_Iβ = ±c^α_βλ A^λ_I.
   for (unsigned alpha = 0; alpha < m; ++alpha)
     for (unsigned beta = 0; beta < m; ++beta)
@@ -115,16 +178,18 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
         for (const StructureConstant& s : g.structure_constants)
           if (s.upper == static_cast<int>(alpha) && s.lower_a == static_cast<int>(beta))
             e += g.trivialization_sign * s.value * g.connection(static_cast<unsigned>(s.lower_b), I);
-        e = simplify_bounded(e);
-        if (!e.is_zero()) g.E.push_back({static_cast<int>(alpha), static_cast<int>(beta), static_cast<int>(I), e});
+        if (shown_zero(e, program)) continue;
+        g.E.push_back({static_cast<int>(alpha), static_cast<int>(beta), static_cast<int>(I), program.keep(e)});
       }
   if (b.mechanical && d > 0) {
-    // Eq. (MOmega): the shape block S − AᵀLA.
-    const matrix At = g.connection.transpose();
-    const GiNaC::matrix block = g.S.sub(At.mul(g.L).mul(g.connection));
+    // Eq. (MOmega): the shape block S − AᵀLA = S − KᵀA (L A = K).
     g.shape_inertia = GiNaC::matrix(d, d);
     for (unsigned I = 0; I < d; ++I)
-      for (unsigned J = 0; J < d; ++J) g.shape_inertia(I, J) = simplify_bounded(block(I, J));
+      for (unsigned J = 0; J < d; ++J) {
+        ex e = g.S(I, J);
+        for (unsigned a = 0; a < m; ++a) e -= g.K(a, I) * g.connection(a, J);
+        g.shape_inertia(I, J) = program.keep(e, 400);
+      }
   }
   return g;
 }

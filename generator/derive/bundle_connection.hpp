@@ -4,6 +4,7 @@
 // gamma43), the coefficients E^α_βI (gamma42) and the block-diagonal mass matrix M^Ω (MOmega).
 #pragma once
 
+#include "algebra/intermediates.hpp"
 #include "lie/lie_algebra.hpp"
 #include "model/model.hpp"
 
@@ -36,6 +37,7 @@ struct BundleGeometry {
   std::vector<BundleCoefficient> curvature;  ///< γ^α_IJ ≠ 0 (paper sign), both orders of (I, J)
   std::vector<BundleCoefficient> E;          ///< E^α_βI = γ^α_Iβ = ±c^α_βλ A^λ_I ≠ 0 (gamma42)
   GiNaC::matrix shape_inertia;  ///< S − AᵀLA, the lower block of M^Ω (eq. MOmega); its upper block is L
+  Intermediates program;        ///< definitions of the intermediate symbols the expressions above may use
 
   /// The curvature in the requested sign convention.
   std::vector<BundleCoefficient> curvature_in(CurvatureSign sign) const;
@@ -45,9 +47,15 @@ struct BundleGeometry {
 /// connection is mechanical and T is not a quadratic form in the velocities, or L is singular.
 BundleGeometry derive_bundle_geometry(const Model& model);
 
+/// The geometry with every intermediate symbol expanded (and an empty program): one expression per entry, in
+/// the model's symbols. Can be far larger than the program; for small models and cross-checks.
+BundleGeometry inlined(const BundleGeometry& geometry);
+
 /// γ^α_IJ = ∂A^α_I/∂r^J − ∂A^α_J/∂r^I ± c^α_λμ A^λ_I A^μ_J (eqs. gamma3, gammaRight, gamma43) for any
-/// connection matrix A (rows α, columns I), simplified; both orders of (I, J).
+/// connection matrix A (rows α, columns I) whose entries may use intermediates of `program` (derivatives
+/// by the chain rule through them); the identically zero ones left out; both orders of (I, J).
 std::vector<BundleCoefficient> curvature_of(const GiNaC::matrix& A, const std::vector<GiNaC::realsymbol>& shape,
-                                            const std::vector<StructureConstant>& c, int trivialization_sign);
+                                            const std::vector<StructureConstant>& c, int trivialization_sign,
+                                            Intermediates& program);
 
 }  // namespace hamel

@@ -89,18 +89,21 @@ BundleSystem bundle_system(const Model& model, const BundleGeometry& geometry, B
   sys.B = GiNaC::matrix(d == 0 ? 1 : d, m + d);
   for (unsigned I = 0; I < d; ++I) sys.B(I, m + I) = 1;
 
-  // ξ^α = u^α − A^α_I ṙ^I, substituted into l and the forces.
+  // ξ^α = u^α − A^α_I ṙ^I, substituted into l and the forces as intermediates: l keeps the shape it has
+  // in ξ, and its derivatives in u and ṙ follow by the chain rule through ξ(u, ṙ) (no expansion).
+  sys.program = geometry.program;
   GiNaC::exmap to_shifted;
   for (unsigned a = 0; a < m; ++a) {
     ex xi = sys.velocities[a];
     for (unsigned I = 0; I < d; ++I) xi -= A(a, I) * model.rates[I];
-    to_shifted[b.group_velocity[a]] = xi;
+    to_shifted[b.group_velocity[a]] = sys.program.define(xi);
     ex xi_held = xi;
     if (held) xi_held = xi.subs(GiNaC::exmap{{sys.velocities[a], 0}});
     out.group_velocity.push_back(xi_held);
   }
-  sys.lagrangian = model.lagrangian.subs(to_shifted);
-  for (const ex& q : model.forces) sys.forces.push_back(q.subs(to_shifted));
+  Intermediates::SubstitutionMemo memo;
+  sys.lagrangian = sys.program.substitute(model.lagrangian, to_shifted, memo);
+  for (const ex& q : model.forces) sys.forces.push_back(sys.program.substitute(q, to_shifted, memo));
   sys.where =
       model.locations.count("kinetic") ? model.locations.at("kinetic") : SourceLocation{model.source_path, 0, 0};
 

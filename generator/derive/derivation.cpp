@@ -2,11 +2,12 @@
 
 #include "derive/kinematic_tree.hpp"
 #include "model/input_error.hpp"
+#include "report/progress.hpp"
 
 namespace hamel {
 
 HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities& qv,
-                                      std::vector<HamelCoefficient> gamma) {
+                                      std::vector<HamelCoefficient> gamma, Intermediates program) {
   const unsigned n = static_cast<unsigned>(model.n());
   HamelSystem sys;
   sys.form = model.constrained.empty() ? "Boltzmann-Hamel (BHEqu2)" : "constrained Hamel (BHconstr)";
@@ -14,15 +15,18 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
   sys.velocities = model.quasi_velocities;
   sys.constrained = model.constrained;
   sys.B = qv.B;
-  // q̇ = B u substituted into L and the forces: ℒ(q, u, t).
+  sys.program = std::move(program);
+  // q̇ = B u substituted into L and the forces as intermediates: ℒ(q, u, t) keeps the shape L has in q̇,
+  // and its derivatives follow by the chain rule through q̇(q, u).
   GiNaC::exmap to_quasi;
   for (unsigned a = 0; a < n; ++a) {
     GiNaC::ex rate = 0;
     for (unsigned b = 0; b < n; ++b) rate += qv.B(a, b) * model.quasi_velocities[b];
-    to_quasi[model.rates[a]] = rate;
+    to_quasi[model.rates[a]] = sys.program.define(rate);
   }
-  sys.lagrangian = model.lagrangian.subs(to_quasi);
-  for (const GiNaC::ex& q : model.forces) sys.forces.push_back(q.subs(to_quasi));
+  Intermediates::SubstitutionMemo memo;
+  sys.lagrangian = sys.program.substitute(model.lagrangian, to_quasi, memo);
+  for (const GiNaC::ex& q : model.forces) sys.forces.push_back(sys.program.substitute(q, to_quasi, memo));
   sys.gamma = std::move(gamma);
   for (int alpha : model.constrained) {
     std::vector<GiNaC::ex> row;
@@ -34,22 +38,49 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
   return sys;
 }
 
+// One body: the 7×7 (SE3) LDLᵀ of M is as cheap as the recursion (rhs 1.0–1.3× faster with ldlt, 690 against
+// 619 operations for the scaling chain); from two bodies on the articulated-body algorithm is faster and its
+// advantage grows with n (docs/benchmarks.md). On a fixed base M is only n×n (no 6×6 base block to factor)
+// and the recursion saves less: rhs operations of fixed chains under gravity with armature and damping
+// (aba/ldlt) 1.22 (n = 2), 1.16 (3), 1.08 (4), 1.00 (5), 0.94 (6), 0.88 (7), 0.86 (8), so aba from 5 bodies.
+std::string tree_dynamics_default(std::size_t bodies, bool fixed_base) {
+  return bodies >= (fixed_base ? 5u : 2u) ? "aba" : "ldlt";
+}
+
 Derivation derive(const Model& model, const DeriveSettings& settings) {
   Derivation d;
+  if (!settings.dynamics.empty() && settings.dynamics != "aba" && settings.dynamics != "ldlt")
+    throw InputError("--dynamics: expected aba or ldlt, got '" + settings.dynamics + "'");
+  const bool tree_ep = model.bundle && model.bundle->tree &&
+                       (settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form)) ==
+                           BundleForm::euler_poincare;
+  if (settings.dynamics == "aba" && !tree_ep && !model.tree)
+    throw InputError(
+        "--dynamics aba applies to kinematic tree models (key 'tree'; on a floating base in the ep "
+        "form); '" +
+        model.source_path + "' is " + (model.bundle && model.bundle->tree ? "not in the ep form" : "not a tree"));
   if (model.tree) {  // fixed base: the recursive derivation in u = q̇
     if (!settings.form.empty())
       throw InputError("--form applies to bundle models (with 'group'); '" + model.source_path +
                        "' is a tree on a fixed base");
-    TreeDerivation tree = derive_tree(model);
+    const std::string dynamics =
+        settings.dynamics.empty() ? tree_dynamics_default(model.tree->bodies.size(), true) : settings.dynamics;
+    progress::Step step("deriving the equations of motion of " + model.name + " (recursive over the tree, " + dynamics +
+                        ")");
+    TreeDerivation tree = derive_tree(model, dynamics == "aba");
     d.quasi_velocities = {model.A, model.B};
     d.system = std::move(tree.system);
     d.equations = std::move(tree.equations);
+    step.detail(std::to_string(d.equations.intermediates.size()) + " intermediates");
     return d;
   }
   if (model.bundle && model.bundle->tree) {
     d.form = settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form);
     if (*d.form == BundleForm::euler_poincare) {
-      TreeDerivation tree = derive_tree(model);
+      const std::string dynamics = settings.dynamics.empty()
+                                       ? tree_dynamics_default(model.bundle->tree->bodies.size(), false)
+                                       : settings.dynamics;
+      TreeDerivation tree = derive_tree(model, dynamics == "aba");
       d.bundle = std::move(tree.geometry);
       d.system = std::move(tree.system);
       d.equations = std::move(tree.equations);
@@ -60,7 +91,11 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
     return derive(with_inlined_tree(model), settings);
   }
   if (model.bundle) {
-    d.bundle = derive_bundle_geometry(model);
+    {
+      progress::Step step("deriving the bundle geometry of " + model.name + " (Hessian of T, connection, curvature)");
+      d.bundle = derive_bundle_geometry(model);
+      step.detail(std::to_string(d.bundle->program.size()) + " intermediates");
+    }
     d.form = settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form);
     BundleSystem bs = bundle_system(model, *d.bundle, *d.form);
     d.system = std::move(bs.system);
@@ -69,10 +104,16 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
     if (!settings.form.empty())
       throw InputError("--form applies to bundle models (with 'group'); '" + model.source_path +
                        "' is in general coordinates");
+    progress::Step step("deriving B = A^-1 and the Hamel coefficients of " + model.name);
     d.quasi_velocities = derive_quasi_velocities(model);
-    d.system = general_coordinate_system(model, d.quasi_velocities, hamel_coefficients(model, d.quasi_velocities));
+    Intermediates program = model.definitions;
+    std::vector<HamelCoefficient> gamma = hamel_coefficients(model, d.quasi_velocities, program);
+    step.detail(std::to_string(gamma.size()) + " non-zero coefficients");
+    d.system = general_coordinate_system(model, d.quasi_velocities, std::move(gamma), std::move(program));
   }
+  progress::Step step("deriving the equations of motion of " + model.name + " (mass matrix, forcing)");
   d.equations = hamel_equations(d.system, model.time);
+  step.detail(std::to_string(d.equations.intermediates.size()) + " intermediates");
   return d;
 }
 

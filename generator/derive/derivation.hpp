@@ -19,7 +19,12 @@ namespace hamel {
 
 struct DeriveSettings {
   std::string form;  ///< bundle models: "ep", "lp", "ldap" or "momentum"; empty: the connection's default
+  std::string dynamics = "";  ///< trees (ep form, fixed base): "aba" or "ldlt"; empty: tree_dynamics_default
 };
+
+/// The default of --dynamics for a kinematic tree of `bodies` bodies, floating or on a fixed base (measured in
+/// docs/benchmarks.md): aba from 2 bodies on a floating base, from 5 on a fixed one.
+std::string tree_dynamics_default(std::size_t bodies, bool fixed_base);
 
 struct Derivation {
   QuasiVelocities quasi_velocities;       ///< general coordinates only
@@ -35,7 +40,8 @@ struct Derivation {
 Derivation derive(const Model& model, const DeriveSettings& settings = {});
 
 /// The system of a model in general coordinates: ℒ(q, u) = L(q, B u), Q in u, γ from eq. (gamma).
+/// `program` holds the intermediates γ and the model's expressions use (the model's definitions first).
 HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities& qv,
-                                      std::vector<HamelCoefficient> gamma);
+                                      std::vector<HamelCoefficient> gamma, Intermediates program);
 
 }  // namespace hamel

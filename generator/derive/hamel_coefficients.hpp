@@ -19,6 +19,11 @@ struct HamelCoefficient {
 
 /// All non-zero γ^c_ab = (∂A^c_r/∂q^s − ∂A^c_s/∂q^r) B^r_a B^s_b, ordered by (c, a, b); zero is decided
 /// exactly (see simplify.hpp). Antisymmetry in (a, b) is used: each pair is computed once.
+/// Derivatives go through the intermediates of `program` (the model's definitions and any the derivation
+/// added); coefficients too large to print are kept there as new intermediates.
+std::vector<HamelCoefficient> hamel_coefficients(const Model& model, const QuasiVelocities& qv, Intermediates& program);
+
+/// The same with a program of the model's own definitions (for expressions without derived intermediates).
 std::vector<HamelCoefficient> hamel_coefficients(const Model& model, const QuasiVelocities& qv);
 
 }  // namespace hamel

@@ -5,10 +5,12 @@
 // only the system (velocities, γ, constraints) differs, see derive/bundle_forms.cpp.
 #include "derive/hamel_equations.hpp"
 
+#include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
 #include "model/input_error.hpp"
 
 #include <algorithm>
+#include <optional>
 
 namespace hamel {
 
@@ -25,16 +27,25 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
   const unsigned n = static_cast<unsigned>(sys.coordinates.size());
   const unsigned nu = static_cast<unsigned>(sys.velocities.size());
   HamelEquations eq;
+  eq.intermediates = sys.program;
+  Intermediates& program = eq.intermediates;
   eq.independent = sys.independent();
   const unsigned d = static_cast<unsigned>(eq.independent.size());
 
   GiNaC::exmap constrained_zero;
   for (int alpha : sys.constrained) constrained_zero[sys.velocities[static_cast<std::size_t>(alpha)]] = 0;
-  const auto at_constraint = [&](const ex& e) { return e.subs(constrained_zero); };
+  Intermediates::SubstitutionMemo held_memo;
+  const auto at_constraint = [&](const ex& e) { return program.substitute(e, constrained_zero, held_memo); };
   const auto is_constrained = [&](int a) {
     return std::find(sys.constrained.begin(), sys.constrained.end(), a) != sys.constrained.end();
   };
   const ex& lagrangian = sys.lagrangian;
+  // Results as closed forms where those are small (readable; f's monomials then collect exactly, see
+  // below), otherwise as expressions in the program's intermediates.
+  const auto closed = [&](const ex& e) {
+    const std::optional<ex> inlined = program.inline_bounded(e, 2000);
+    return inlined ? *inlined : e;
+  };
 
   eq.kinematics.resize(n);
   for (unsigned a = 0; a < n; ++a) {
@@ -46,16 +57,16 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
 
   // ∂ℒ/∂u^a at u^α = 0: the momenta conjugate to all quasi-velocities, needed for the γ terms.
   std::vector<ex> momentum(nu);
-  for (unsigned a = 0; a < nu; ++a) momentum[a] = at_constraint(lagrangian.diff(sys.velocities[a]));
+  for (unsigned a = 0; a < nu; ++a) momentum[a] = at_constraint(program.diff(lagrangian, sys.velocities[a]));
 
-  eq.reduced_lagrangian = simplify_bounded(at_constraint(lagrangian));
+  eq.reduced_lagrangian = simplify_bounded(closed(at_constraint(lagrangian)));
   eq.mass_matrix = GiNaC::matrix(d, d);
   eq.forcing.resize(d);
   // Q_a and ∂ℒ/∂q^a at u^α = 0 do not depend on I: form them once.
   std::vector<ex> force(n), gradient(n);
   for (unsigned a = 0; a < n; ++a) {
     force[a] = at_constraint(sys.forces[a]);
-    gradient[a] = at_constraint(lagrangian.diff(sys.coordinates[a]));
+    gradient[a] = at_constraint(program.diff(lagrangian, sys.coordinates[a]));
   }
 
   std::vector<ex> velocities;
@@ -64,16 +75,17 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
     const int I = eq.independent[i];
     const ex& p_I = momentum[static_cast<std::size_t>(I)];
     for (unsigned j = 0; j < d; ++j)
-      eq.mass_matrix(i, j) = simplify_bounded(p_I.diff(sys.velocities[static_cast<std::size_t>(eq.independent[j])]));
+      eq.mass_matrix(i, j) =
+          simplify_bounded(closed(program.diff(p_I, sys.velocities[static_cast<std::size_t>(eq.independent[j])])));
 
     ex f = 0;
     // Generalized force Q_I = B^a_I Q_a and the configuration gradient ∂ℒ/∂q^a B^a_I.
     for (unsigned a = 0; a < n; ++a) {
       f += sys.B(a, static_cast<unsigned>(I)) * (force[a] + gradient[a]);
       // Convective part of d/dt p_I.
-      f -= p_I.diff(sys.coordinates[a]) * eq.kinematics[a];
+      f -= program.diff(p_I, sys.coordinates[a]) * eq.kinematics[a];
     }
-    f -= p_I.diff(time);
+    f -= program.diff(p_I, time);
     // Non-holonomic part: ∂ℒ/∂u^a γ^a_IJ u^J.
     for (const HamelCoefficient& g : sys.gamma) {
       if (g.lower_a != I || is_constrained(g.lower_b)) continue;
@@ -81,10 +93,12 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
     }
     // Monomials in the velocities collected exactly: as derived, f is a sum of products whose expansion
     // cancels, which costs the double evaluation up to 1e4 ulps (docs/accuracy.md, kernel forward error).
-    eq.forcing[i] = simplify_quadratic_form(f, velocities);
+    eq.forcing[i] = simplify_quadratic_form(closed(f), velocities);
   }
 
-  if (identically_singular(eq.mass_matrix))
+  // A "singular" answer with intermediates read as free symbols is still a proof.
+  const Identity singular = identically_singular(eq.mass_matrix, program);
+  if (singular == Identity::zero || (singular == Identity::undecided && identically_singular(eq.mass_matrix)))
     throw InputError(sys.where, "lagrangian",
                      "the mass matrix ∂²L/∂u^I∂u^J of the independent quasi-velocities is identically singular; "
                      "every independent quasi-velocity must carry kinetic energy");
@@ -92,10 +106,10 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
   ex energy = -eq.reduced_lagrangian;
   for (int I : eq.independent)
     energy += momentum[static_cast<std::size_t>(I)] * sys.velocities[static_cast<std::size_t>(I)];
-  eq.energy_terms = {simplify_bounded(energy)};
+  eq.energy_terms = {simplify_bounded(closed(energy))};
   bool forced = false;
   for (const ex& q : sys.forces) forced = forced || !q.is_zero();
-  eq.conservative = !forced && !lagrangian.has(time);
+  eq.conservative = !forced && shown_zero(program.diff(lagrangian, time), program);
 
   for (const std::vector<ex>& row : sys.constraint_form) {
     ex r = 0;

@@ -23,6 +23,9 @@ struct HamelEquations {
   std::vector<GiNaC::ex> mass_times_acceleration;       ///< (M a)_I as a program in the intermediates (trees:
                                                         ///< O(n) by recursion), so that the Jacobian's (∂M/∂x) u̇
                                                         ///< is one derivative of it, not of every M_IJ
+  std::vector<GiNaC::ex> recursive_accelerations;  ///< u̇ by the articulated-body algorithm (trees with
+                                                   ///< --dynamics aba), in the intermediates; empty otherwise
+  std::vector<GiNaC::ex> recursive_pivots;  ///< its pivots (articulated inertias D_i, the base's LDLᵀ d_k)
   bool factor_last_first = false;  ///< solve M u̇ = f eliminating from the last index (trees: no fill-in)
   Intermediates intermediates;  ///< definitions of the intermediate symbols the expressions above may use
                                 ///< (recursive derivations, derive/kinematic_tree.hpp); empty otherwise

@@ -6,6 +6,7 @@
 // (bundle path: γ from structure constants, connection and curvature, eqs. gamma41–gamma43).
 #pragma once
 
+#include "algebra/intermediates.hpp"
 #include "derive/hamel_coefficients.hpp"
 #include "model/input_error.hpp"
 
@@ -28,6 +29,7 @@ struct HamelSystem {
   std::vector<std::vector<GiNaC::ex>> constraint_form;  ///< per constrained u^α: A^α_a(q) with u^α = A^α_a q̇^a,
                                                         ///< for the residual monitor; empty if not in q̇ alone
   SourceLocation where;                                 ///< for errors about the Lagrangian
+  Intermediates program;  ///< definitions of the intermediate symbols the expressions above may use
 
   std::vector<int> independent() const;
 };

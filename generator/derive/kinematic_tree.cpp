@@ -145,6 +145,38 @@ class TreeProgram {
     return out;
   }
 
+  // A x = b for a small symmetric positive definite A (the floating base's articulated inertia on its
+  // directions) by LDLᵀ without pivoting, every factor named; the pivots d_k go to `pivots`.
+  std::vector<ex> solve_symmetric(const std::vector<std::vector<ex>>& A, const std::vector<ex>& b,
+                                  std::vector<ex>& pivots) {
+    const std::size_t k = b.size();
+    std::vector<std::vector<ex>> L(k, std::vector<ex>(k, ex(0)));
+    std::vector<ex> d(k), inverse(k), y(k), x(k);
+    for (std::size_t j = 0; j < k; ++j) {
+      ex dj = A[j][j];
+      for (std::size_t l = 0; l < j; ++l) dj -= L[j][l] * L[j][l] * d[l];
+      d[j] = name(dj);
+      pivots.push_back(d[j]);
+      inverse[j] = name(1 / d[j]);
+      for (std::size_t i = j + 1; i < k; ++i) {
+        ex s = A[i][j];
+        for (std::size_t l = 0; l < j; ++l) s -= L[i][l] * L[j][l] * d[l];
+        L[i][j] = name(s * inverse[j]);
+      }
+    }
+    for (std::size_t i = 0; i < k; ++i) {
+      ex s = b[i];
+      for (std::size_t l = 0; l < i; ++l) s -= L[i][l] * y[l];
+      y[i] = name(s);
+    }
+    for (std::size_t i = k; i-- > 0;) {
+      ex s = y[i] * inverse[i];
+      for (std::size_t l = i + 1; l < k; ++l) s -= L[l][i] * x[l];
+      x[i] = name(s);
+    }
+    return x;
+  }
+
   // The joint's pose: (rotation, offset) · exp(q S).
   Link link(const TreeBody& body) {
     Link l;
@@ -194,7 +226,7 @@ ex joint_springs(const Model& model, const KinematicTree& tree) {
 
 }  // namespace
 
-TreeDerivation derive_tree(const Model& model) {
+TreeDerivation derive_tree(const Model& model, bool articulated) {
   // A fixed base (model.tree, no group) is the same recursion with no base directions (m = 0).
   const bool fixed = !model.bundle;
   const KinematicTree& tree = fixed ? *model.tree : *model.bundle->tree;
@@ -202,6 +234,8 @@ TreeDerivation derive_tree(const Model& model) {
       fixed ? std::vector<GiNaC::realsymbol>{} : model.bundle->group_velocity;
   TreeDerivation out;
   HamelEquations& eq = out.equations;
+  // The model's definitions come first (forces and the potential may use them), then the recursion's names.
+  eq.intermediates = model.definitions;
   TreeProgram prog(eq.intermediates);
 
   BundleGeometry& geo = out.geometry;
@@ -324,13 +358,78 @@ TreeDerivation derive_tree(const Model& model) {
   }
 
   // f = Q − (velocity-product part of the projected wrenches); Q_I = forces_I − ∂V/∂r^I, none on the base.
+  // The joint forces τ_I = Q_I − ∂(V + springs)/∂r^I − d_I ṙ_I, shared by f and the articulated-body algorithm.
   eq.forcing.assign(d, 0);
   for (std::size_t alpha = 0; alpha < m; ++alpha) eq.forcing[alpha] = -dot(base[alpha], F[0]);
   const ex springs = joint_springs(model, tree);
+  std::vector<ex> joint_force(N);
   for (std::size_t i = 1; i < N; ++i) {
     const TreeBody& body = tree.bodies[i - 1];
-    eq.forcing[m + i - 1] = model.forces[i - 1] - (base_potential + springs).diff(model.coordinates[i - 1]) -
-                            body.damping * model.rates[i - 1] - dot(axis[i], F[i]);
+    joint_force[i] = model.forces[i - 1] - (base_potential + springs).diff(model.coordinates[i - 1]) -
+                     body.damping * model.rates[i - 1];
+    eq.forcing[m + i - 1] = joint_force[i] - dot(axis[i], F[i]);
+  }
+
+  // The articulated-body algorithm (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1) in the bodies'
+  // frames: u̇ without forming M, O(n). Bias accelerations c_i = ad_{V_i} S_i ṙ_i and bias wrenches
+  // p_i = −ad*_{V_i} 𝕀_i V_i as in f above; the floating base is the root "joint" with the directions
+  // `base` (its acceleration S_0 ξ̇, no bias term: left trivialization). On a fixed base (m = 0) the root
+  // does not move; gravity enters as its upward acceleration a_0 = −g (as in f), carried outward in the last
+  // pass. A joint's armature adds to D_i, its springs and damper to τ_i (joint_force).
+  if (articulated) {
+    std::vector<Mat6> IA = inertia;  // articulated inertias, summed inward
+    std::vector<Vec6> pA(N), c(N), U(N);
+    std::vector<ex> inverse_D(N), u(N);
+    for (std::size_t i = 0; i < N; ++i) {
+      pA[i] = coadjoint_term(V[i], h[i]);
+      if (i > 0) c[i] = prog.name(ad(V[i], axis[i] * model.rates[i - 1]));
+    }
+    for (std::size_t i = N; i-- > 1;) {
+      IA[i] = prog.name_symmetric(IA[i]);
+      pA[i] = prog.name(pA[i]);
+      U[i] = prog.name(times(IA[i], axis[i]));
+      // D_i = S_iᵀ 𝕀ᴬ_i S_i + armature_i (the rotor's inertia about the joint axis, as in M's diagonal).
+      const ex D = prog.name(dot(axis[i], U[i]) + tree.bodies[i - 1].armature);
+      eq.recursive_pivots.push_back(D);
+      inverse_D[i] = prog.name(1 / D);
+      u[i] = prog.name(joint_force[i] - dot(axis[i], pA[i]));
+      const std::size_t p = static_cast<std::size_t>(parent[i]);
+      if (p == 0 && m == 0) continue;  // a fixed base takes no articulated inertia: nothing solves for it
+      // 𝕀ᵃ = 𝕀ᴬ − U Uᵀ / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + U u / D, moved to the parent's frame.
+      Mat6 Ia;
+      for (std::size_t r = 0; r < 6; ++r)
+        for (std::size_t k = r; k < 6; ++k) Ia[r][k] = Ia[k][r] = IA[i][r][k] - U[i][r] * U[i][k] * inverse_D[i];
+      Ia = prog.name_symmetric(Ia);
+      const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + U[i] * prog.name(u[i] * inverse_D[i]));
+      for (int k = 0; k < 6; ++k) {
+        const Vec6 col = link[i].to_parent(times(Ia, link[i].to_child(unit6(k))));
+        for (std::size_t r = static_cast<std::size_t>(k); r < 6; ++r) {
+          IA[p][r][static_cast<std::size_t>(k)] += col[r];
+          if (r != static_cast<std::size_t>(k)) IA[p][static_cast<std::size_t>(k)][r] += col[r];
+        }
+      }
+      pA[p] = pA[p] + link[i].to_parent(pa);
+    }
+    if (m > 0) {
+      IA[0] = prog.name_symmetric(IA[0]);
+      pA[0] = prog.name(pA[0]);
+    }
+    std::vector<std::vector<ex>> A(m, std::vector<ex>(m));
+    std::vector<ex> rhs(m);
+    for (std::size_t alpha = 0; alpha < m; ++alpha) {
+      rhs[alpha] = -dot(base[alpha], pA[0]);
+      for (std::size_t beta = 0; beta < m; ++beta) A[alpha][beta] = dot(base[alpha], times(IA[0], base[beta]));
+    }
+    const std::vector<ex> base_rate = prog.solve_symmetric(A, rhs, eq.recursive_pivots);
+    std::vector<Vec6> acc(N);
+    acc[0] = base_twist(base_rate) + a[0];  // a[0] = −g: zero on a floating base (the loader refuses gravity)
+    eq.recursive_accelerations = base_rate;
+    for (std::size_t i = 1; i < N; ++i) {
+      const Vec6 ap = prog.name(link[i].to_child(acc[static_cast<std::size_t>(parent[i])]) + c[i]);
+      const ex rate = prog.name((u[i] - dot(U[i], ap)) * inverse_D[i]);
+      eq.recursive_accelerations.push_back(rate);
+      acc[i] = prog.name(ap + axis[i] * rate);
+    }
   }
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));

@@ -27,8 +27,9 @@ struct TreeDerivation {
   HamelEquations equations;  ///< M, f, kinematics, energy; their intermediates in equations.intermediates
 };
 
-/// The recursive derivation of a tree model (model.bundle->tree set).
-TreeDerivation derive_tree(const Model& model);
+/// The recursive derivation of a tree model (model.bundle->tree set). With `articulated`, also u̇ itself by
+/// the articulated-body algorithm (equations.recursive_accelerations, O(n), M never formed for it).
+TreeDerivation derive_tree(const Model& model, bool articulated = false);
 
 /// T(ξ, r, ṙ) = Σ ½ V_iᵀ 𝕀_i V_i of a tree model as one expanded-free expression in the model's symbols
 /// (intermediates inlined). Exponential in the depth of the tree: for small trees and cross-checks, and

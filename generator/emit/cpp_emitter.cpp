@@ -3,14 +3,23 @@
 #include "algebra/expression_text.hpp"
 
 #include "model/input_error.hpp"
+#include "model/load_model.hpp"
+#include "report/atomic_file.hpp"
+#include "report/temporaries.hpp"
+
+#include <fcntl.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <set>
 #include <random>
 #include <sstream>
 
@@ -215,18 +224,40 @@ const char* rk4_source =
     "  for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);\n"
     "}\n";
 
-// Model descriptions are folded YAML text; keep them as one paragraph.
+// Model descriptions are folded YAML text; keep them as one paragraph. They come from the model file, so
+// what reaches the package README is made inert: control characters (C0, DEL, and C1 such as U+009B, a
+// terminal's CSI) and bidirectional overrides (U+202A..U+202E, U+2066..U+2069) are dropped, and < > & become
+// HTML entities, so a description cannot carry terminal sequences, reorder text or inject HTML.
 std::string one_paragraph(const std::string& text) {
   std::string out;
   bool space = false;
-  for (char ch : text) {
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    const unsigned char ch = static_cast<unsigned char>(text[i]);
+    const unsigned char next = i + 1 < text.size() ? static_cast<unsigned char>(text[i + 1]) : 0;
+    const unsigned char third = i + 2 < text.size() ? static_cast<unsigned char>(text[i + 2]) : 0;
     if (ch == '\n' || ch == '\r' || ch == '\t' || ch == ' ') {
       space = !out.empty();
       continue;
     }
+    if (ch < 0x20 || ch == 0x7f) continue;
+    if (ch == 0xc2 && next >= 0x80 && next <= 0x9f) {  // U+0080..U+009F
+      ++i;
+      continue;
+    }
+    if (ch == 0xe2 && ((next == 0x80 && third >= 0xaa && third <= 0xae) || (next == 0x81 && third >= 0xa6 && third <= 0xa9))) {
+      i += 2;
+      continue;
+    }
     if (space) out += ' ';
     space = false;
-    out += ch;
+    if (ch == '<')
+      out += "&lt;";
+    else if (ch == '>')
+      out += "&gt;";
+    else if (ch == '&')
+      out += "&amp;";
+    else
+      out += static_cast<char>(ch);
   }
   return out;
 }
@@ -373,6 +404,13 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
   }
   if (has_rhs)
     h << "\n"
+      << "/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the\n"
+      << "/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), or\n"
+      << "/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).\n"
+      << "constexpr int n_pivots_rhs = " << kernels.rhs_pivots.size() << ";\n"
+      << "int rhs_status(real t, const real* x, const real* p, const real* in, real* out);\n";
+  if (has_rhs)
+    h << "\n"
       << "/// Reals of stack rk4_step uses (three arrays of n_state) besides the rhs kernel's temporaries.\n"
       << "constexpr int rk4_stack_reals = 3 * n_state;\n"
       << "/// One classical fourth-order Runge-Kutta step of size h from (t, x), in place: 4 rhs calls, no\n"
@@ -381,10 +419,65 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
   h << "\n}  // namespace " << model.name << "\n";
 
   std::ostringstream c;
-  c << stamp << "#include \"" << model.name << ".hpp\"\n\n#include <cmath>\n\nnamespace " << model.name << " {\n";
+  c << stamp << "#include \"" << model.name << ".hpp\"\n#include \"" << model.name
+    << ".h\"\n\n#include <cmath>\n\nnamespace " << model.name << " {\n";
   for (const PrintedKernel& k : printed) c << "\n" << k.text;
-  if (has_rhs) c << rk4_source;
+  if (has_rhs) {
+    // rhs and its pivots in one branch-free pass; the checks are in rhs_status, outside the kernel.
+    Kernel checked = kernels.get("rhs");
+    checked.name = "rhs_with_pivots";
+    checked.summary = "rhs, then the pivots of its solve";
+    for (std::size_t i = 0; i < kernels.rhs_pivots.size(); ++i) {
+      checked.outputs.push_back(kernels.rhs_pivots[i]);
+      checked.output_names.push_back("pivot " + std::to_string(i));
+    }
+    c << "\nnamespace {\n\n" << print_kernel(kernels.graph, checked, s).text << "\n}  // namespace\n\n"
+      << "int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {\n"
+      << "  real all[n_out_rhs + n_pivots_rhs];\n"
+      << "  rhs_with_pivots(t, x, p, in, all);\n"
+      << "  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)\n"
+      << "    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;\n"
+      << "  for (int i = 0; i < n_out_rhs; ++i)\n"
+      << "    if (!std::isfinite(all[i])) return 2;\n"
+      << "  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];\n"
+      << "  return 0;\n"
+      << "}\n";
+    c << rk4_source;
+  }
   c << "\n}  // namespace " << model.name << "\n";
+
+  // The C ABI: extern "C" entry points <name>_<kernel> beside the namespace, declared in <name>.h (C11).
+  const std::string prefix = model.name + "_";
+  const std::string c_real = guard_macro;
+  const auto c_signature = [&](const std::string& ret, const std::string& fn) {
+    return ret + " " + prefix + fn + "(" + c_real + " t, const " + c_real + "* x, const " + c_real + "* p, const " +
+           c_real + "* in, " + c_real + "* out)";
+  };
+  std::ostringstream ch;
+  ch << stamp << "//\n"
+     << "// C entry points of the " << model.name << " kernels (C99/C11 or C++): " << prefix
+     << "<kernel>(t, x, p, in, out) with the\n"
+     << "// arguments and sizes of " << model.name << ".hpp (documented there); link the same library.\n"
+     << "#ifndef HAMEL_" << upper(model.name) << "_H\n#define HAMEL_" << upper(model.name) << "_H\n\n"
+     << "#ifndef " << guard_macro << "\n#define " << guard_macro << " double\n#endif\n\n"
+     << "#define " << upper(prefix) << "N_STATE " << s.n_x << "\n"
+     << "#define " << upper(prefix) << "N_PARAMETERS " << s.n_p << "\n"
+     << "#define " << upper(prefix) << "N_INPUTS " << s.n_in << "\n";
+  for (const Kernel& k : kernels.kernels)
+    ch << "#define " << upper(prefix) << "N_OUT_" << upper(k.name) << " " << k.outputs.size() << "\n";
+  ch << "\n#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n";
+  for (const Kernel& k : kernels.kernels) ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
+  if (has_rhs)
+    ch << "/* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,\n"
+       << "   2 a non-finite result (out untouched when not 0) */\n"
+       << c_signature("int", "rhs_status") << ";\n";
+  ch << "\n#ifdef __cplusplus\n}\n#endif\n\n#endif\n";
+  c << "\nextern \"C\" {\n\n";
+  for (const Kernel& k : kernels.kernels)
+    c << c_signature("void", k.name) << " { " << model.name << "::" << k.name << "(t, x, p, in, out); }\n";
+  if (has_rhs)
+    c << c_signature("int", "rhs_status") << " { return " << model.name << "::rhs_status(t, x, p, in, out); }\n";
+  c << "\n}  // extern \"C\"\n";
 
   // CMakeLists.txt: a static library and nothing else, so that a firmware project can add_subdirectory it.
   std::ostringstream cm;
@@ -398,7 +491,8 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "project(" << library << " LANGUAGES CXX)\n\n"
      << "set(" << guard_macro << " \"\" CACHE STRING \"Scalar type of the " << model.name
      << " kernels (float or double; empty: double)\")\n\n"
-     << "add_library(" << library << " STATIC " << model.name << ".cpp " << model.name << ".hpp)\n"
+     << "add_library(" << library << " STATIC " << model.name << ".cpp " << model.name << ".hpp " << model.name
+     << ".h)\n"
      << "add_library(" << model.name << "::kernels ALIAS " << library << ")\n"
      << "target_include_directories(" << library << " PUBLIC ${CMAKE_CURRENT_SOURCE_DIR})\n"
      << "target_compile_features(" << library << " PUBLIC cxx_std_17)\n"
@@ -420,6 +514,7 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "| File | Content |\n|---|---|\n"
      << "| `" << model.name << ".hpp` | declarations, sizes and names (the ABI, documented at the top) |\n"
      << "| `" << model.name << ".cpp` | the kernels" << (has_rhs ? " and the integrator step `rk4_step`" : "") << " |\n"
+     << "| `" << model.name << ".h` | C entry points `" << model.name << "_<kernel>` (C99/C11) |\n"
      << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name << "::kernels`) |\n\n"
      << "## Kernels\n\n"
      << "Everything is in namespace `" << model.name << "`. Every kernel is\n\n"
@@ -482,11 +577,18 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << guard_macro
      << "` (default `double`); it must be the same for the library and its users (CMake sets it PUBLIC); a "
         "mismatch fails to link.\n\n"
+     << "## Non-finite input and singular mass matrices\n\n"
+        "The kernels are straight-line arithmetic: no branches, no checks, no exceptions. A NaN or infinite "
+        "input (state, parameter or input) propagates into the outputs as NaN or infinity; nothing is raised. "
+        "The right-hand side solves M u' = f without pivoting or checks: a singular mass matrix gives infinities or "
+        "NaN, an indefinite one finite but meaningless values or NaN. Callers check `std::isfinite` on the outputs "
+        "(the hamel runtime's integrators report non-finite values as a non-finite state).\n\n"
      << "## Licence\n\n"
      << "MIT (`SPDX-License-Identifier: MIT` in every file of this folder). The emitted files carry this licence "
         "separately from the generator's (hamel is GPL-licensed, as GiNaC), so they may ship in closed firmware.\n";
 
   EmittedPackage package{model.name + ".hpp", h.str(), model.name + ".cpp", c.str(), {}};
+  package.extra.push_back({model.name + ".h", ch.str()});
   package.extra.push_back({"CMakeLists.txt", cm.str()});
   package.extra.push_back({"README.md", md.str()});
   return package;
@@ -494,11 +596,73 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
 
 namespace {
 
-// An existing output folder is replaced only if it holds nothing but files an earlier emit wrote (their first
-// line carries "Generated by hamel", in //, # or <!-- --> comments): pointing -o at a folder of one's own
-// must not delete it.
-void check_replaceable(const std::filesystem::path& target) {
-  namespace fs = std::filesystem;
+namespace fs = std::filesystem;
+
+// Ownership of an output folder is decided by the manifest emit writes into it: every file's name and
+// content hash. A user's file cannot carry that by accident (a first line claiming "Generated by hamel" can),
+// and a package file edited since it was emitted no longer matches its hash, so the edit is not lost either.
+constexpr const char* kManifestName = ".hamel-manifest";
+constexpr const char* kManifestHeader = "hamel-manifest 1";
+
+std::string manifest_text(const std::vector<EmittedFile>& files) {
+  std::string text = std::string(kManifestHeader) + "\n# SPDX-License-Identifier: MIT\n";
+  for (const EmittedFile& f : files) text += content_hash(f.text) + "  " + f.name + "\n";
+  return text;
+}
+
+std::string read_all(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// Empty if the folder holds only what an earlier emit wrote, else the reason to refuse it. Folders written
+// before emit kept a manifest qualify only if they hold nothing but the four file names this package
+// writes, each with the generator's stamp on its first line.
+std::string foreign_content(const fs::path& folder, const std::vector<EmittedFile>& package_files) {
+  std::error_code ec;
+  std::map<std::string, std::string> listed;  // name -> hash
+  const fs::path manifest = folder / kManifestName;
+  const bool has_manifest = fs::is_regular_file(fs::symlink_status(manifest, ec));
+  if (has_manifest) {
+    std::istringstream in(read_all(manifest));
+    std::string line;
+    if (!std::getline(in, line) || line != kManifestHeader) return quote(kManifestName) + " is not a hamel manifest";
+    while (std::getline(in, line)) {
+      if (!line.empty() && line[0] == '#') continue;  // the licence line
+      const std::size_t gap = line.find("  ");
+      if (gap == std::string::npos) return quote(kManifestName) + " is not a hamel manifest";
+      listed[line.substr(gap + 2)] = line.substr(0, gap);
+    }
+  }
+  std::set<std::string> package_names;
+  for (const EmittedFile& f : package_files) package_names.insert(f.name);
+  for (const fs::directory_entry& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (has_manifest && name == kManifestName) continue;
+    const bool regular = entry.is_regular_file(ec) && !entry.is_symlink(ec);
+    if (has_manifest) {
+      const auto it = listed.find(name);
+      if (!regular || it == listed.end()) return "holds " + quote(name) + ", which hamel did not write";
+      if (content_hash(read_all(entry.path())) != it->second)
+        return "holds " + quote(name) + ", which was changed since hamel wrote it";
+    } else {
+      std::string first_line;
+      if (regular) {
+        std::ifstream in(entry.path(), std::ios::binary);
+        std::getline(in, first_line);
+      }
+      if (!package_names.count(name) || first_line.find("Generated by hamel") == std::string::npos ||
+          first_line.size() > 512)
+        return "holds " + quote(name) + ", which hamel did not write";
+    }
+  }
+  if (ec) return "cannot be read: " + ec.message();
+  return "";
+}
+
+void check_replaceable(const fs::path& target, const std::vector<EmittedFile>& package_files) {
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(target, ec);
   if (ec || !fs::exists(status)) return;
@@ -506,65 +670,75 @@ void check_replaceable(const std::filesystem::path& target) {
     throw InputError("-o: " + quote(target.string()) + " exists and is not a folder" +
                      (fs::is_symlink(status) ? " (a symbolic link)" : "") +
                      "; expected a new folder or one written by an earlier emit");
-  for (const fs::directory_entry& entry : fs::directory_iterator(target, ec)) {
-    std::string first_line;
-    if (entry.is_regular_file(ec) && !entry.is_symlink(ec)) {
-      std::ifstream in(entry.path(), std::ios::binary);
-      std::getline(in, first_line);
-    }
-    if (first_line.find("Generated by hamel") == std::string::npos || first_line.size() > 512)
-      throw InputError("-o: " + quote(target.string()) + " holds " + quote(entry.path().filename().string()) +
-                       ", which hamel did not write; refusing to replace the folder (expected a new folder or one "
-                       "written by an earlier emit)");
+  const std::string why = foreign_content(target, package_files);
+  if (!why.empty())
+    throw InputError("-o: " + quote(target.string()) + " " + why +
+                     "; refusing to replace the folder (expected a new folder or one written by an earlier emit)");
+}
+
+bool write_and_sync(const fs::path& path, const std::string& text) {
+  {
+    std::ofstream out(path, std::ios::binary);
+    out << text;
+    out.close();
+    if (!out) return false;
   }
-  if (ec) throw InputError("-o: cannot read " + quote(target.string()) + ": " + ec.message());
+  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
+  if (fd < 0) return false;
+  const bool synced = ::fsync(fd) == 0;
+  return ::close(fd) == 0 && synced;
 }
 
 }  // namespace
 
 void write_package(const EmittedPackage& package, const std::string& directory) {
-  namespace fs = std::filesystem;
   fs::path target = fs::path(directory).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();  // "out/" -> "out"
   if (target.empty() || target.filename() == "." || target.filename() == ".." || target == target.root_path())
     throw InputError("-o: " + quote(directory) + " is not a folder hamel can replace; expected a folder name");
-  check_replaceable(target);
+  const std::vector<EmittedFile> files = package.files();
+  check_replaceable(target, files);
   const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");
   std::error_code ec;
   fs::create_directories(parent, ec);
   if (ec) throw InputError("-o: cannot create " + quote(parent.string()) + ": " + ec.message());
-  const std::string tag = std::to_string(std::random_device{}());
-  const fs::path staging = parent / (target.filename().string() + ".tmp-" + tag);
-  const fs::path old = parent / (target.filename().string() + ".old-" + tag);
+  sweep_stale_temporaries(target.string());
+  const fs::path staging = temporary_name_for(target.string());
   auto cannot = [&](const fs::path& what, const std::error_code& why) {
     return InputError("-o: cannot write " + quote(what.string()) + (why ? ": " + why.message() : std::string()));
   };
   if (!fs::create_directory(staging, ec) || ec) throw cannot(staging, ec);
+  // From here until it is gone, a SIGINT/SIGTERM/SIGHUP removes the staging folder (report/temporaries.hpp).
+  const int slot = register_temporary(staging.string(), true);
   try {
-    for (const EmittedFile& f : package.files()) {
-      std::ofstream out(staging / f.name, std::ios::binary);
-      out << f.text;
-      out.close();
-      if (!out) throw cannot(staging / f.name, {});
-    }
+    for (const EmittedFile& f : files)
+      if (!write_and_sync(staging / f.name, f.text))
+        throw OutputError("cannot write " + quote((staging / f.name).string()) + ": " + std::strerror(errno));
+    if (!write_and_sync(staging / kManifestName, manifest_text(files)))
+      throw OutputError("cannot write " + quote((staging / kManifestName).string()) + ": " + std::strerror(errno));
     if (fs::exists(fs::symlink_status(target))) {
-      fs::rename(target, old, ec);
-      if (ec) throw cannot(target, ec);
-      fs::rename(staging, target, ec);
-      if (ec) {
-        std::error_code ignored;
-        fs::rename(old, target, ignored);  // put the previous package back
-        throw cannot(target, ec);
+      // Checked again right before the swap: a file put into the folder during the derivation is kept.
+      check_replaceable(target, files);
+      // One atomic exchange: at every instant `target` holds either the old or the new package.
+      if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE) != 0)
+        throw cannot(target, std::error_code(errno, std::generic_category()));
+      // A file written into the old folder after the second check travelled with it: swap back.
+      const std::string late = foreign_content(staging, files);
+      if (!late.empty()) {
+        ::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, target.c_str(), RENAME_EXCHANGE);
+        throw InputError("-o: " + quote(target.string()) + " " + late +
+                         "; refusing to replace the folder (expected a new folder or one written by an earlier emit)");
       }
-      fs::remove_all(old, ec);  // the new package is in place; a leftover of the old one is only untidy
-    } else {
-      fs::rename(staging, target, ec);
-      if (ec) throw cannot(target, ec);
+    } else if (::renameat2(AT_FDCWD, staging.c_str(), AT_FDCWD, target.c_str(), RENAME_NOREPLACE) != 0) {
+      throw cannot(target, std::error_code(errno, std::generic_category()));
     }
   } catch (...) {
     fs::remove_all(staging, ec);
+    unregister_temporary(slot);
     throw;
   }
+  fs::remove_all(staging, ec);  // the previous package, if there was one
+  unregister_temporary(slot);
 }
 
 }  // namespace hamel

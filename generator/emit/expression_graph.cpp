@@ -323,7 +323,7 @@ void GraphEvaluator::evaluate(double t, const double* x, const double* p, const 
 // Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
 // square roots): no loops or branches are left in the emitted kernel.
 std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
-                            bool last_first) {
+                            bool last_first, std::vector<int>* pivots) {
   const std::size_t n = f.size();
   if (last_first) {  // the same factorization of the reversed system, P M Pᵀ (P y) = P f
     std::vector<std::vector<int>> R(n, std::vector<int>(n));
@@ -332,7 +332,7 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
       r[i] = f[n - 1 - i];
       for (std::size_t j = 0; j < n; ++j) R[i][j] = M[n - 1 - i][n - 1 - j];
     }
-    std::vector<int> y = ldlt_solve(g, R, r, false);
+    std::vector<int> y = ldlt_solve(g, R, r, false, pivots);
     std::reverse(y.begin(), y.end());
     return y;
   }
@@ -343,6 +343,7 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
     for (std::size_t k = 0; k < j; ++k)
       dj = g.binary(Op::sub, dj, g.binary(Op::mul, g.binary(Op::mul, L[j][k], L[j][k]), d[k]));
     d[j] = dj;
+    if (pivots) pivots->push_back(dj);
     for (std::size_t i = j + 1; i < n; ++i) {
       int s = M[i][j];
       for (std::size_t k = 0; k < j; ++k)
@@ -365,6 +366,97 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
   return x;
 }
 
+std::vector<int> tangent(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& seed) {
+  const std::vector<int> order = g.schedule(outputs);
+  const int zero = g.constant(0), one = g.constant(1);
+  std::vector<int> dot(static_cast<std::size_t>(g.size()), zero);
+  const auto mul = [&](int x, int y) { return g.binary(Op::mul, x, y); };
+  for (int i : order) {
+    const Node n = g.node(i);  // a copy: the rules below grow the graph
+    int t = zero;
+    if (n.op == Op::input) {
+      const auto it = seed.find(i);
+      if (it != seed.end()) t = it->second;
+      dot[static_cast<std::size_t>(i)] = t;
+      continue;
+    }
+    if (n.op == Op::constant) continue;
+    const int da = dot[static_cast<std::size_t>(n.a)];
+    const int db = n.b >= 0 ? dot[static_cast<std::size_t>(n.b)] : zero;
+    if (da == zero && db == zero) continue;
+    switch (n.op) {
+      case Op::add:
+        t = g.binary(Op::add, da, db);
+        break;
+      case Op::sub:
+        t = g.binary(Op::sub, da, db);
+        break;
+      case Op::mul:
+        t = g.binary(Op::add, mul(da, n.b), mul(n.a, db));
+        break;
+      case Op::div:  // (a/b)' = (a' − (a/b) b') / b
+        t = g.binary(Op::div, g.binary(Op::sub, da, mul(i, db)), n.b);
+        break;
+      case Op::neg:
+        t = g.unary(Op::neg, da);
+        break;
+      case Op::sqrt:
+        t = g.binary(Op::div, da, mul(g.constant(2), i));
+        break;
+      case Op::sin:
+        t = mul(g.unary(Op::cos, n.a), da);
+        break;
+      case Op::cos:
+        t = g.unary(Op::neg, mul(g.unary(Op::sin, n.a), da));
+        break;
+      case Op::tan:
+        t = mul(g.binary(Op::add, one, mul(i, i)), da);
+        break;
+      case Op::exp:
+        t = mul(i, da);
+        break;
+      case Op::log:
+        t = g.binary(Op::div, da, n.a);
+        break;
+      case Op::asin:
+        t = g.binary(Op::div, da, g.unary(Op::sqrt, g.binary(Op::sub, one, mul(n.a, n.a))));
+        break;
+      case Op::acos:
+        t = g.unary(Op::neg, g.binary(Op::div, da, g.unary(Op::sqrt, g.binary(Op::sub, one, mul(n.a, n.a)))));
+        break;
+      case Op::atan:
+        t = g.binary(Op::div, da, g.binary(Op::add, one, mul(n.a, n.a)));
+        break;
+      case Op::sinh:
+        t = mul(g.unary(Op::cosh, n.a), da);
+        break;
+      case Op::cosh:
+        t = mul(g.unary(Op::sinh, n.a), da);
+        break;
+      case Op::tanh:
+        t = mul(g.binary(Op::sub, one, mul(i, i)), da);
+        break;
+      case Op::abs:  // sign(a) a' as a / |a|: branch-free, undefined at a = 0 like the derivative
+        t = mul(g.binary(Op::div, n.a, i), da);
+        break;
+      case Op::pow:
+        if (g.node(n.b).op == Op::constant) {
+          const double k = g.node(n.b).value;
+          t = mul(mul(g.constant(k), g.binary(Op::pow, n.a, g.constant(k - 1))), da);
+        } else {  // (a^b)' = a^b (b' log a + b a' / a)
+          t = mul(i, g.binary(Op::add, mul(db, g.unary(Op::log, n.a)), g.binary(Op::div, mul(n.b, da), n.a)));
+        }
+        break;
+      case Op::constant:
+      case Op::input:
+        break;
+    }
+    dot[static_cast<std::size_t>(i)] = t;
+  }
+  std::vector<int> out;
+  for (int o : outputs) out.push_back(dot[static_cast<std::size_t>(o)]);
+  return out;
+}
 
 void ProgramConverter::convert_used(const GiNaC::ex& e) {
   converted_.resize(tape_.size(), false);

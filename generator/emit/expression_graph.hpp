@@ -140,12 +140,20 @@ class ProgramConverter {
   std::vector<bool> converted_;
 };
 
+/// Forward-mode (tangent) differentiation of the program that computes `outputs`: the tangent of every
+/// output when the input nodes in `seed` carry the given tangent nodes (all other inputs: 0). One pass
+/// over the program, each operation replaced by its derivative rule, so the result has at most a few
+/// operations per operation of the program; zero tangents fold away (value numbering), so only what
+/// depends on the seeded inputs is differentiated.
+std::vector<int> tangent(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& seed);
+
 /// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without
 /// pivoting or square roots): no loops or branches in the emitted kernel. M by rows of node indices.
 /// `last_first` eliminates from the last index down (M = LᵀDL): for the mass matrix of a kinematic tree,
 /// whose bodies come after their parents, that creates no fill-in, so structural zeros (bodies on
 /// different branches) stay zero and cost nothing.
+/// `pivots` (if given) receives the d_k, all positive iff M is positive definite.
 std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
-                            bool last_first = false);
+                            bool last_first = false, std::vector<int>* pivots = nullptr);
 
 }  // namespace hamel

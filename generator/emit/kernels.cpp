@@ -21,7 +21,7 @@ namespace {
 // between the products M⁻¹_IJ f_J to double arithmetic (satellite_se3: 2.3e3 ulps, docs/accuracy.md).
 std::optional<std::vector<GiNaC::ex>> exact_accelerations(const HamelEquations& eq, const HamelSystem& sys) {
   const unsigned d = static_cast<unsigned>(eq.independent.size());
-  if (d == 0 || !eq.intermediates.empty()) return std::nullopt;
+  if (d == 0) return std::nullopt;
   for (unsigned i = 0; i < d; ++i)
     for (unsigned j = 0; j < d; ++j)
       if (!GiNaC::is_a<GiNaC::numeric>(eq.mass_matrix(i, j))) return std::nullopt;
@@ -96,18 +96,24 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   }
 
   const std::optional<std::vector<GiNaC::ex>> exact_accel = exact_accelerations(eq, sys);
+  const bool articulated = !eq.recursive_accelerations.empty();
   Kernel rhs{"rhs",
-             exact_accel ? "x' = (q_dot, u_I') with u_I' = M^-1 f, M constant, inverted at generation time"
-                         : "x' = (q_dot, u_I') with M u_I' = f solved by unrolled LDL^T",
+             articulated   ? "x' = (q_dot, u_I') with u_I' by the articulated-body algorithm (O(n), no M)"
+             : exact_accel ? "x' = (q_dot, u_I') with u_I' = M^-1 f, M constant, inverted at generation time"
+                           : "x' = (q_dot, u_I') with M u_I' = f solved by unrolled LDL^T",
              {},
              {}};
   rhs.outputs = kinematics.outputs;
   rhs.output_names = kinematics.output_names;
   std::vector<int> accel;
-  if (exact_accel)
+  if (articulated) {
+    for (const GiNaC::ex& a : eq.recursive_accelerations) accel.push_back(node_of(a));
+    for (const GiNaC::ex& d : eq.recursive_pivots) set.rhs_pivots.push_back(node_of(d));
+  } else if (exact_accel) {
     for (const GiNaC::ex& a : *exact_accel) accel.push_back(node_of(a));
-  else
-    accel = ldlt_solve(g, M, forcing.outputs, eq.factor_last_first);
+  } else {
+    accel = ldlt_solve(g, M, forcing.outputs, eq.factor_last_first, &set.rhs_pivots);
+  }
   for (std::size_t i = 0; i < d; ++i) {
     rhs.outputs.push_back(accel[i]);
     rhs.output_names.push_back(name_of(eq.independent[i]) + "_rate");
@@ -148,6 +154,24 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       }
       const std::vector<int> du = ldlt_solve(g, M, b, eq.factor_last_first);
       column[k].insert(column[k].end(), du.begin(), du.end());
+    }
+    // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
+    // tangent pass per state component (size ~ program × state dimension, no M, no solve per column); the
+    // smaller of the two programs is kept (docs/benchmarks.md: the tangent one is larger for the trees
+    // measured so far, because the articulated inertias depend on every joint angle outboard of a body).
+    if (articulated) {
+      std::vector<std::vector<int>> forward(nx);
+      for (std::size_t k = 0; k < nx; ++k)
+        forward[k] = tangent(g, rhs.outputs, {{g.input(Argument::state, static_cast<int>(k)), g.constant(1)}});
+      const auto operations = [&](const std::vector<std::vector<int>>& columns) {
+        std::vector<int> all;
+        for (const std::vector<int>& c : columns) all.insert(all.end(), c.begin(), c.end());
+        return g.count(g.schedule(all)).total();
+      };
+      if (operations(forward) < operations(column)) {
+        column = forward;
+        jacobian.summary += "; forward mode through the rhs program";
+      }
     }
     for (std::size_t row = 0; row < nx; ++row)
       for (std::size_t k = 0; k < nx; ++k) {
@@ -238,6 +262,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       set.kernels.push_back(shape);
     }
   }
+  if (!want("rhs")) set.rhs_pivots.clear();
   if (!only.empty()) {
     std::vector<Kernel> kept;
     for (const Kernel& k : set.kernels)

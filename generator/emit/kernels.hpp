@@ -16,6 +16,10 @@ namespace hamel {
 struct KernelSet {
   ExpressionGraph graph;
   std::vector<Kernel> kernels;
+  /// The pivots of rhs's solve (articulated inertias D_i and the base's d_k, or the LDLᵀ's d_k of M; none
+  /// when M is inverted at generation time): all positive iff M is positive definite. For the emitted
+  /// status-returning rhs (rhs_status); empty when rhs is not built.
+  std::vector<int> rhs_pivots;
   const Kernel& get(const std::string& name) const;
 };
 

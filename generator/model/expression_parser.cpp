@@ -5,9 +5,11 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <set>
+#include <sstream>
 #include <stdexcept>
 
 namespace hamel {
@@ -110,6 +112,34 @@ const std::set<std::string>& function_set() {
   return names;
 }
 
+// Constants emitted code cannot hold (1e400 would print as HUGE_VAL, 1e-400 as 0) and integer powers of
+// non-constant bases so high that expanding or differentiating them runs for minutes ((x+1)^99999) are input
+// errors: docs/errors.md, "Limits".
+void check_constants_and_powers(const GiNaC::ex& e) {
+  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
+    if (GiNaC::is_a<GiNaC::numeric>(*it)) {
+      const GiNaC::numeric& n = GiNaC::ex_to<GiNaC::numeric>(*it);
+      const GiNaC::numeric re = n.real();
+      const double d = re.to_double();
+      if (!std::isfinite(d) || (d == 0 && !re.is_zero())) {
+        std::ostringstream text;
+        text << re;
+        throw std::invalid_argument("the constant " + quote(text.str()) +
+                                    " is beyond the range of a double (about 1e-308 to 1e308 in magnitude)");
+      }
+    } else if (GiNaC::is_a<GiNaC::power>(*it) && GiNaC::is_a<GiNaC::numeric>(it->op(1)) &&
+               !GiNaC::is_a<GiNaC::numeric>(it->op(0))) {
+      const GiNaC::numeric& k = GiNaC::ex_to<GiNaC::numeric>(it->op(1));
+      if (k.is_real() && abs(k) > max_power_exponent) {
+        std::ostringstream text;
+        text << k;
+        throw std::invalid_argument("the exponent " + quote(text.str()) + " is beyond ±" +
+                                    std::to_string(max_power_exponent));
+      }
+    }
+  }
+}
+
 }  // namespace
 
 GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) {
@@ -118,7 +148,9 @@ GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) 
   GiNaC::symtab with_pi = table;
   with_pi.emplace("pi", GiNaC::Pi);
   GiNaC::parser reader(with_pi, /*strict=*/true);
-  return reader(exact_decimals(text));
+  const GiNaC::ex parsed = reader(exact_decimals(text));
+  check_constants_and_powers(parsed);
+  return parsed;
 }
 
 const std::string& emittable_functions() {
@@ -196,7 +228,22 @@ bool is_valid_model_name(const std::string& name, std::string* why) {
   if (!is_valid_identifier(name, why)) return false;
   static const std::set<std::string> taken = {
 #include "model/cmath_global_names.inc"
-      "std", "posix", "main"};
+      "std", "posix", "main",
+      // Classification macros of <math.h> that glibc also declares as functions, and what <cstring>,
+      // <cstddef> and <cstdint> put at global scope (the emitted code includes them): found by a package
+      // named isnan or memcpy failing -Werror.
+      "isnan", "isinf", "isfinite", "isnormal", "signbit", "fpclassify", "isgreater", "isless", "isunordered",
+      "memcpy", "memmove", "memset", "memcmp", "memchr", "strlen", "strcpy", "strcmp", "size_t", "ptrdiff_t",
+      "max_align_t", "nullptr_t", "int8_t", "int16_t", "int32_t", "int64_t", "uint8_t", "uint16_t", "uint32_t",
+      "uint64_t", "intptr_t", "uintptr_t"};
+  // File names and the HAMEL_<NAME>_REAL macro grow with the name: a 250-character name broke CMake's
+  // configure and a 5000-character one the file system.
+  if (name.size() > max_model_name_length) {
+    if (why)
+      *why = quote(name) + " has " + std::to_string(name.size()) + " characters, more than the limit of " +
+             std::to_string(max_model_name_length);
+    return false;
+  }
   if (taken.count(name)) {
     if (why)
       *why = quote(name) +

@@ -4,6 +4,7 @@
 
 #include <ginac/ginac.h>
 
+#include <cstddef>
 #include <string>
 
 namespace hamel {
@@ -17,6 +18,11 @@ constexpr long max_decimal_exponent = 1000;
 /// Deepest nesting of parentheses, and longest run of signs (- - x), accepted in an expression:
 /// GiNaC's parser recurses on both and would exhaust the stack on hostile input.
 constexpr int max_expression_nesting = 200;
+/// Integer (or rational) exponents of non-constant bases beyond this are refused: (x+1)^99999 would take
+/// minutes to differentiate and expand.
+constexpr long max_power_exponent = 256;
+/// Longest model name: it names the namespace, the files and the HAMEL_<NAME>_REAL macro of the package.
+constexpr std::size_t max_model_name_length = 64;
 
 /// Parses `text` with the symbols of `table` only. Throws std::invalid_argument with GiNaC's message
 /// (unknown symbol, syntax), or for nesting deeper than max_expression_nesting, on failure.

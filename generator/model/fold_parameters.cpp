@@ -22,6 +22,7 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
     for (unsigned i = 0; i < m.rows(); ++i)
       for (unsigned j = 0; j < m.cols(); ++j) m(i, j) = sub(m(i, j));
   };
+  out.definitions.substitute_in_definitions(fold);
   out.lagrangian = sub(out.lagrangian);
   for (auto& q : out.forces) q = sub(q);
   sub_matrix(out.A);

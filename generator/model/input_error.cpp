@@ -4,13 +4,27 @@ namespace hamel {
 
 namespace {
 
-// Control characters as escapes (\n, \t, \x1b, ...), everything else unchanged.
+// Control characters as escapes (\n, \t, \x1b, ...), also C1 controls (U+0080..U+009F, such as U+009B, a
+// terminal's CSI) and bidirectional overrides (U+202A..U+202E, U+2066..U+2069) as \u escapes; everything else
+// unchanged.
 std::string escape_controls(const std::string& text, std::size_t end) {
   static const char* hex = "0123456789abcdef";
   std::string s;
   for (std::size_t i = 0; i < end; ++i) {
     const unsigned char c = static_cast<unsigned char>(text[i]);
-    if (c == '\n') {
+    const unsigned char c1 = i + 1 < end ? static_cast<unsigned char>(text[i + 1]) : 0;
+    const unsigned char c2 = i + 2 < end ? static_cast<unsigned char>(text[i + 2]) : 0;
+    if (c == 0xc2 && c1 >= 0x80 && c1 <= 0x9f) {
+      s += "\\u00";
+      s += hex[c1 >> 4];
+      s += hex[c1 & 15];
+      ++i;
+    } else if (c == 0xe2 && ((c1 == 0x80 && c2 >= 0xaa && c2 <= 0xae) || (c1 == 0x81 && c2 >= 0xa6 && c2 <= 0xa9))) {
+      const unsigned code = 0x2000u + ((c1 & 0x3fu) << 6) + (c2 & 0x3fu);
+      s += "\\u";
+      for (int shift = 12; shift >= 0; shift -= 4) s += hex[(code >> shift) & 15];
+      i += 2;
+    } else if (c == '\n') {
       s += "\\n";
     } else if (c == '\t') {
       s += "\\t";
@@ -37,6 +51,8 @@ std::string SourceLocation::to_string() const {
   }
   return s;
 }
+
+std::string printable(const std::string& text) { return escape_controls(text, text.size()); }
 
 std::string quote(const std::string& text, std::size_t limit) {
   std::size_t end = text.size();

@@ -20,6 +20,10 @@ struct SourceLocation {
 /// (at a UTF-8 character boundary, marked by "...").
 std::string quote(const std::string& text, std::size_t limit = 80);
 
+/// `text` with control characters, C1 controls and bidirectional overrides escaped as quote() does, without
+/// quotes or cutting: for messages that may repeat input (GiNaC's parse errors echo it).
+std::string printable(const std::string& text);
+
 /// An error the user can fix in the input. what() is the full, formatted message.
 class InputError : public std::runtime_error {
  public:

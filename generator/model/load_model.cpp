@@ -1,4 +1,5 @@
 #include "model/load_model.hpp"
+#include "model/physical_checks.hpp"
 
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
@@ -8,10 +9,12 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
+#include <functional>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <set>
@@ -209,7 +212,7 @@ class Loader {
              "'shape', the Lagrangian by 'kinetic' or 'bodies' and 'potential', constraints by 'connection'");
       if (context.empty() && !bundle_ &&
           (key == "trivialization" || key == "group_velocity" || key == "shape" || key == "connection" ||
-           key == "kinetic" || key == "bodies" || key == "potential"))
+           key == "kinetic"))
         fail(kv.first, key, "is a principal-bundle key: a bundle model needs 'group' (and no 'coordinates')");
       fail(kv.first, context.empty() ? key : context + "." + key,
            "unknown key" + did_you_mean(key, known) + "; expected one of: " + join(known));
@@ -228,9 +231,12 @@ class Loader {
   void declare_joints(const YAML::Node& tree, Model& model);
   KinematicTree load_tree(const YAML::Node& tree, const Model& model);
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
-                       const std::vector<std::string>& keys, const std::string& allowed);
-  GiNaC::ex body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
-                                const GiNaC::symtab& velocities, std::string& name);
+                       const std::vector<std::string>& keys, const std::string& allowed,
+                       const std::vector<std::string>& optional = {});
+  GiNaC::ex posed_body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                      const GiNaC::symtab& table, std::string& name);
+  GiNaC::ex body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                const GiNaC::symtab& geometric, const GiNaC::symtab& velocities, std::string& name);
   std::vector<GiNaC::ex> vector_of(const YAML::Node& node, const std::string& key, std::size_t size,
                                    const GiNaC::symtab& table, const std::string& allowed) const {
     if (!node.IsSequence() || node.size() != size)
@@ -241,12 +247,17 @@ class Loader {
     return out;
   }
   void load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed);
+  void load_definitions(Model& model, const GiNaC::symtab& all);
+  GiNaC::symtab with_definitions(GiNaC::symtab table) const;
 
   const std::string& text_;
   std::string path_;
   YAML::Node root_;
   bool bundle_ = false;
   std::map<std::string, std::string> declared_;  // name -> key that declared it
+  // Per definition (model key `definitions`): its symbol and the names of the model symbols it depends on,
+  // through earlier definitions too; a key may use a definition only if it may use all of those.
+  std::vector<std::pair<GiNaC::realsymbol, std::set<std::string>>> definition_uses_;
 };
 
 Model Loader::load() {
@@ -258,13 +269,13 @@ Model Loader::load() {
   if (bundle_)
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs"});
+                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs", "definitions"});
   else if (root_["tree"])
-    check_keys(root_, "", {"schema", "name", "description", "parameters", "tree", "forces", "inputs"});
+    check_keys(root_, "", {"schema", "name", "description", "parameters", "tree", "forces", "inputs", "definitions"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
-                "lagrangian", "forces", "inputs"});
+                "lagrangian", "forces", "inputs", "definitions", "bodies", "potential"});
 
   Model model;
   model.source_path = path_;
@@ -295,6 +306,9 @@ Model Loader::load() {
         fail(kv.second, key, "expected a number, got " + quote(value) + out_of_range(value));
       }
       if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got " + quote(value));
+      // yaml-cpp reads 1e-400 as 0 without a word; --param refuses it, so the default does too.
+      if (const std::string note = out_of_range(value); !note.empty())
+        fail(kv.second, key, "expected a number, got " + quote(value) + note);
       model.parameters.push_back({GiNaC::realsymbol(pname), v});
     }
   }
@@ -306,6 +320,47 @@ Model Loader::load() {
   else
     load_core(model);
   return model;
+}
+
+void Loader::load_definitions(Model& model, const GiNaC::symtab& all) {
+  const YAML::Node defs = root_["definitions"];
+  if (!defs) return;
+  if (!defs.IsMap()) fail(defs, "definitions", "expected an ordered map of name: expression");
+  GiNaC::symtab table = all;
+  for (const auto& kv : defs) {
+    const std::string name = kv.first.as<std::string>();
+    const std::string key = "definitions." + name;
+    declare_name(kv.first, key, name);
+    const GiNaC::ex value =
+        expression(kv.second, key, table,
+                   "a definition may use the model's symbols (parameters, coordinates, rates, velocities, inputs, "
+                   "t) and the definitions above it");
+    std::set<std::string> uses;
+    std::function<void(const GiNaC::ex&)> collect = [&](const GiNaC::ex& e) {
+      if (GiNaC::is_a<GiNaC::symbol>(e)) {
+        const std::string s = GiNaC::ex_to<GiNaC::symbol>(e).get_name();
+        bool is_definition = false;
+        for (const auto& [sym, deps] : definition_uses_)
+          if (sym.get_name() == s) is_definition = true, uses.insert(deps.begin(), deps.end());
+        if (!is_definition) uses.insert(s);
+        return;
+      }
+      for (std::size_t i = 0; i < e.nops(); ++i) collect(e.op(i));
+    };
+    collect(value);
+    const GiNaC::realsymbol symbol = model.definitions.define_named(name, value);
+    definition_uses_.emplace_back(symbol, uses);
+    table[name] = symbol;
+  }
+}
+
+GiNaC::symtab Loader::with_definitions(GiNaC::symtab table) const {
+  for (const auto& [symbol, uses] : definition_uses_) {
+    bool allowed = true;
+    for (const std::string& s : uses) allowed = allowed && table.count(s) > 0;
+    if (allowed) table[symbol.get_name()] = symbol;
+  }
+  return table;
 }
 
 void Loader::load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed) {
@@ -343,10 +398,12 @@ void Loader::load_core(Model& model) {
 
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
 
-  const GiNaC::symtab all = model.symbols();
+  load_definitions(model, model.symbols());
+  const GiNaC::symtab all = with_definitions(model.symbols());
   GiNaC::symtab geometric;  // what A(q) and B(q) may use
   for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
   for (const auto& s : model.coordinates) geometric[s.get_name()] = s;
+  geometric = with_definitions(geometric);
   const std::string geometric_allowed = "A(q) and B(q) may use coordinates and parameters only";
 
   if (!qv["A"]) fail(qv, "quasi_velocities.A", "missing required key; expected an n x n matrix (list of rows)");
@@ -378,13 +435,42 @@ void Loader::load_core(Model& model) {
     if (model.constrained.size() >= n) fail(cons, "constraints", "at least one quasi-velocity must stay independent");
   }
 
-  GiNaC::symtab lagrangian_table = all;
+  GiNaC::symtab lagrangian_table = model.symbols();
   for (const auto& s : model.inputs) lagrangian_table.erase(s.get_name());
-  YAML::Node lag = require("lagrangian", YAML::NodeType::Scalar, "an expression");
-  model.locations["lagrangian"] = where(lag);
-  model.lagrangian = expression(lag, "lagrangian", lagrangian_table,
-                                "the Lagrangian may use coordinates, their _dot rates, quasi-velocities, "
-                                "parameters and t");
+  lagrangian_table = with_definitions(lagrangian_table);
+  // With `bodies`, L = Σ T_body − V + (further terms under `lagrangian`, optional).
+  const YAML::Node bodies = root_["bodies"];
+  model.lagrangian = 0;
+  if (bodies) {
+    model.locations["lagrangian"] = where(bodies);
+    if (!bodies.IsSequence() || bodies.size() == 0) fail(bodies, "bodies", "expected a non-empty list of bodies");
+    GiNaC::symtab pose_table = geometric;
+    pose_table["t"] = model.time;
+    pose_table = with_definitions(pose_table);
+    std::vector<std::string> names;
+    for (std::size_t i = 0; i < bodies.size(); ++i) {
+      const std::string key = "bodies[" + std::to_string(i) + "]";
+      std::string body_name;
+      model.lagrangian += posed_body_kinetic_energy(model, bodies[i], key, pose_table, body_name);
+      if (std::find(names.begin(), names.end(), body_name) != names.end())
+        fail(bodies[i]["name"], key + ".name", "the body '" + body_name + "' is listed twice");
+      names.push_back(body_name);
+    }
+    if (YAML::Node v = root_["potential"]) {
+      model.locations["potential"] = where(v);
+      model.lagrangian -= expression(v, "potential", pose_table, "the potential V(q, t) may use coordinates, parameters and t");
+    }
+  } else if (YAML::Node v = root_["potential"]) {
+    fail(v, "potential", "goes with 'bodies' in a model in general coordinates; without bodies write L = T - V as 'lagrangian'");
+  }
+  if (YAML::Node lag = bodies ? root_["lagrangian"] : require("lagrangian", YAML::NodeType::Scalar, "an expression")) {
+    model.locations["lagrangian"] = where(lag);
+    model.lagrangian += expression(lag, "lagrangian", lagrangian_table,
+                                   "the Lagrangian may use coordinates, their _dot rates, quasi-velocities, "
+                                   "parameters and t");
+  }
+  if (const std::string problem = kinetic_energy_problem(model); !problem.empty())
+    fail(bodies ? bodies : root_["lagrangian"], bodies ? "bodies" : "lagrangian", problem);
 
   load_forces(model, all, "forces may use coordinates, _dot rates, quasi-velocities, parameters, inputs and t");
 }
@@ -456,6 +542,13 @@ void Loader::load_bundle(Model& model) {
   GiNaC::symtab velocities = geometric;  // plus ξ and ṙ: what the kinetic energy and twists may use
   for (const auto& r : model.rates) velocities[r.get_name()] = r;
   for (const auto& x : b.group_velocity) velocities[x.get_name()] = x;
+  GiNaC::symtab force_table = velocities;
+  force_table["t"] = model.time;
+  for (const auto& u : model.inputs) force_table[u.get_name()] = u;
+  load_definitions(model, force_table);
+  geometric = with_definitions(geometric);
+  velocities = with_definitions(velocities);
+  force_table = with_definitions(force_table);
 
   if (YAML::Node conn = root_["connection"]) {
     model.locations["connection"] = where(conn);
@@ -506,7 +599,7 @@ void Loader::load_bundle(Model& model) {
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       std::string body_name;
       b.kinetic +=
-          body_kinetic_energy(bodies[i], "bodies[" + std::to_string(i) + "]", geometric, velocities, body_name);
+          body_kinetic_energy(model, bodies[i], "bodies[" + std::to_string(i) + "]", geometric, velocities, body_name);
       if (std::find(b.bodies.begin(), b.bodies.end(), body_name) != b.bodies.end())
         fail(bodies[i]["name"], "bodies[" + std::to_string(i) + "].name",
              "the body '" + body_name + "' is listed twice");
@@ -521,9 +614,6 @@ void Loader::load_bundle(Model& model) {
   model.lagrangian = b.kinetic - b.potential;
   model.locations["lagrangian"] = model.locations["kinetic"];
 
-  GiNaC::symtab force_table = velocities;
-  force_table["t"] = model.time;
-  for (const auto& u : model.inputs) force_table[u.get_name()] = u;
   model.bundle = b;
   load_forces(model, force_table,
               "forces on the shape may use shape coordinates, their _dot rates, the group velocity, parameters, "
@@ -531,9 +621,12 @@ void Loader::load_bundle(Model& model) {
 }
 
 RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
-                             const std::vector<std::string>& keys, const std::string& allowed) {
+                             const std::vector<std::string>& keys, const std::string& allowed,
+                             const std::vector<std::string>& optional) {
   if (!body.IsMap()) fail(body, key, "expected a map with keys " + join(keys));
-  check_keys(body, key, keys);
+  std::vector<std::string> known = keys;
+  known.insert(known.end(), optional.begin(), optional.end());
+  check_keys(body, key, known);
   for (const std::string& k : keys)
     if (!body[k]) fail(body, key + "." + k, "missing required key of a body");
   RigidBody out;
@@ -557,19 +650,100 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
   return out;
 }
 
-GiNaC::ex Loader::body_kinetic_energy(const YAML::Node& body, const std::string& key, const GiNaC::symtab& geometric,
-                                      const GiNaC::symtab& velocities, std::string& name) {
+// A rigid body of a model in general coordinates (key `bodies` beside `coordinates`): inertial data in its
+// own frame and its pose (R(q, t), p(q, t)) as expressions. Its kinetic energy T = ½ m |ṗ_c|² + ½ ωᵀΘω with
+// p_c = p + R c and ω̂ = RᵀṘ (body frame) is built through named intermediates: the entries of R, the body
+// angular velocity and the centre-of-mass velocity are definitions of the model's program, and Ṙ, ṗ follow
+// by the chain rule through them (Intermediates::diff), so nothing is expanded.
+GiNaC::ex Loader::posed_body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                            const GiNaC::symtab& table, std::string& name) {
+  const std::string allowed = "a body's pose and inertia may use coordinates, parameters, t and definitions of these";
+  const RigidBody rb = rigid_body(body, key, table, {"name", "mass", "com", "inertia", "position"}, allowed, {"rotation"});
+  name = rb.name;
+  Intermediates& program = model.definitions;
+  // R: a 3x3 matrix, or a product of elementary rotations [[axis, angle], ...] applied left to right.
+  GiNaC::matrix R = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
+  const YAML::Node rot = body["rotation"];
+  const bool elementary = rot && rot.IsSequence() && rot.size() > 0 && rot[0].IsSequence() && rot[0].size() == 2;
+  if (!rot) {
+  } else if (elementary) {
+    for (std::size_t k = 0; k < rot.size(); ++k) {
+      const std::string item = key + ".rotation[" + std::to_string(k) + "]";
+      if (!rot[k].IsSequence() || rot[k].size() != 2) fail(rot[k], item, "expected [axis, angle] with axis x, y or z");
+      const std::string axis = scalar(rot[k][0], item + "[0]");
+      if (axis != "x" && axis != "y" && axis != "z")
+        fail(rot[k][0], item + "[0]", "expected the axis x, y or z, got " + quote(axis));
+      const GiNaC::ex angle = expression(rot[k][1], item + "[1]", table, allowed);
+      const GiNaC::ex c = GiNaC::cos(angle), s = GiNaC::sin(angle);
+      GiNaC::matrix E = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
+      const unsigned a = axis == "x" ? 0 : axis == "y" ? 1 : 2, i = (a + 1) % 3, j = (a + 2) % 3;
+      E(i, i) = c, E(i, j) = -s, E(j, i) = s, E(j, j) = c;
+      R = R.mul(E);
+    }
+  } else {
+    const std::vector<std::vector<GiNaC::ex>> rows = [&] {
+      if (!rot.IsSequence() || rot.size() != 3)
+        fail(rot, key + ".rotation", "expected a 3x3 matrix (three rows) or a list of [axis, angle] rotations");
+      std::vector<std::vector<GiNaC::ex>> r;
+      for (std::size_t i = 0; i < 3; ++i) r.push_back(vector_of(rot[i], key + ".rotation[" + std::to_string(i) + "]", 3, table, allowed));
+      return r;
+    }();
+    for (unsigned i = 0; i < 3; ++i)
+      for (unsigned j = 0; j < 3; ++j) R(i, j) = rows[i][j];
+  }
+  const std::vector<GiNaC::ex> position = vector_of(body["position"], key + ".position", 3, table, allowed);
+
+  const auto rate = [&](const GiNaC::ex& e) {  // d/dt along q̇, by the chain rule through the program
+    GiNaC::ex out = program.diff(e, model.time);
+    for (std::size_t a = 0; a < model.coordinates.size(); ++a) out += program.diff(e, model.coordinates[a]) * model.rates[a];
+    return out;
+  };
+  const std::string prefix = "_" + name + "_";
+  GiNaC::matrix Rs(3, 3), Rdot(3, 3);
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j)
+      Rs(i, j) = GiNaC::is_a<GiNaC::numeric>(R(i, j)) ? R(i, j)
+                                                      : GiNaC::ex(program.define_named(prefix + "R" + std::to_string(i) + std::to_string(j), R(i, j)));
+  for (unsigned i = 0; i < 3; ++i)
+    for (unsigned j = 0; j < 3; ++j) Rdot(i, j) = rate(Rs(i, j));
+  // ω̂ = RᵀṘ: ω = ((RᵀṘ)_21, (RᵀṘ)_02, (RᵀṘ)_10).
+  const GiNaC::matrix W = Rs.transpose().mul(Rdot);
+  const GiNaC::ex omega_entries[3] = {W(2, 1), W(0, 2), W(1, 0)};
+  GiNaC::ex omega[3], velocity[3];
+  for (unsigned i = 0; i < 3; ++i) {
+    omega[i] = program.define_named(prefix + "w" + std::to_string(i), omega_entries[i]);
+    GiNaC::ex centre = position[i];
+    for (unsigned j = 0; j < 3; ++j) centre += Rs(i, j) * rb.com[j];
+    velocity[i] = program.define_named(prefix + "v" + std::to_string(i), rate(centre));
+  }
+  GiNaC::ex T = 0;
+  for (unsigned i = 0; i < 3; ++i) {
+    T += rb.mass * velocity[i] * velocity[i] / 2;
+    for (unsigned j = 0; j < 3; ++j) T += omega[i] * rb.inertia[i][j] * omega[j] / 2;
+  }
+  return T;
+}
+
+GiNaC::ex Loader::body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
+                                      const GiNaC::symtab& geometric, const GiNaC::symtab& velocities,
+                                      std::string& name) {
   const RigidBody rb = rigid_body(body, key, geometric, {"name", "mass", "com", "inertia", "twist"},
                                   "mass, com and inertia may use shape coordinates and parameters only");
   name = rb.name;
   const std::vector<GiNaC::ex> twist =
       vector_of(body["twist"], key + ".twist", 6, velocities,
                 "the twist may use the group velocity, shape coordinates, their _dot rates and parameters");
-  // T = ½ m |v + ω × c|² + ½ ωᵀ Θ ω, with (ω, v) = twist and c = com, all resolved in the body's frame.
-  const GiNaC::ex w[3] = {twist[0], twist[1], twist[2]};
+  // T = ½ m |v + ω × c|² + ½ ωᵀ Θ ω, with (ω, v) = twist and c = com, all resolved in the body's frame; ω
+  // and the centre-of-mass velocity are intermediates of the model's program (T stays a short expression).
+  const auto named = [&](const std::string& what, const GiNaC::ex& e) -> GiNaC::ex {
+    if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::numeric>(e)) return e;
+    return model.definitions.define_named("_" + name + "_" + what, e);
+  };
+  const GiNaC::ex w[3] = {named("w0", twist[0]), named("w1", twist[1]), named("w2", twist[2])};
   const GiNaC::ex* com = rb.com;
-  const GiNaC::ex vc[3] = {twist[3] + w[1] * com[2] - w[2] * com[1], twist[4] + w[2] * com[0] - w[0] * com[2],
-                           twist[5] + w[0] * com[1] - w[1] * com[0]};
+  const GiNaC::ex vc[3] = {named("v0", twist[3] + w[1] * com[2] - w[2] * com[1]),
+                           named("v1", twist[4] + w[2] * com[0] - w[0] * com[2]),
+                           named("v2", twist[5] + w[0] * com[1] - w[1] * com[0])};
   GiNaC::ex t = 0;
   for (int i = 0; i < 3; ++i) {
     t += rb.mass * vc[i] * vc[i] / 2;
@@ -626,8 +800,11 @@ void Loader::load_fixed_tree(Model& model) {
   for (const auto& r : model.rates) table[r.get_name()] = r;
   for (const auto& u : model.inputs) table[u.get_name()] = u;
   table["t"] = model.time;
+  load_definitions(model, table);
+  table = with_definitions(table);
   load_forces(model, table,
-              "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs and t");
+              "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs, t and "
+              "definitions of these");
 }
 
 KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
@@ -638,6 +815,12 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
   const std::string inertial = "mass, com and inertia of a tree body may use parameters only";
   YAML::Node base = tree["base"];
   if (!base) fail(tree, "tree.base", "missing; expected the base body (name, mass, com, inertia)");
+  const GiNaC::exmap defaults = parameter_defaults(model);
+  auto check_body = [&](const YAML::Node& node, const std::string& key, const RigidBody& body) {
+    std::string subkey;
+    if (const std::string problem = rigid_body_problem(body, defaults, subkey); !problem.empty())
+      fail(node[subkey], key + "." + subkey, problem);
+  };
   if (!bundle_) {
     if (!base.IsScalar() || base.Scalar() != "world")
       fail(base, "tree.base",
@@ -655,6 +838,7 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
     }
   } else {
     out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"}, inertial);
+    check_body(base, "tree.base", out.base);
   }
   std::vector<std::string> names{out.base.name};
   const YAML::Node list = tree["bodies"];
@@ -663,6 +847,7 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
     const std::string key = "tree.bodies[" + std::to_string(i) + "]";
     TreeBody tb;
     tb.body = rigid_body(list[i], key, constants, {"name", "parent", "joint", "mass", "com", "inertia"}, inertial);
+    check_body(list[i], key, tb.body);
     if (std::find(names.begin(), names.end(), tb.body.name) != names.end())
       fail(list[i]["name"], key + ".name", "the body '" + tb.body.name + "' is listed twice");
     const std::string parent = scalar(list[i]["parent"], key + ".parent");
@@ -695,14 +880,20 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
     if (GiNaC::is_a<GiNaC::numeric>(norm) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(norm) - 1) > GiNaC::numeric(1, 1000000))
       fail(joint["axis"], jkey + ".axis", "expected a unit vector (its squared length is " +
                                                std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
+    if (const std::string problem = joint_axis_problem(tb, defaults); !problem.empty())
+      fail(joint["axis"], jkey + ".axis", problem);
     const std::pair<const char*, GiNaC::ex*> properties[] = {{"armature", &tb.armature},
                                                              {"damping", &tb.damping},
                                                              {"stiffness", &tb.stiffness},
                                                              {"reference", &tb.reference}};
     for (const auto& [k, target] : properties)
-      if (YAML::Node v = joint[k])
+      if (YAML::Node v = joint[k]) {
         *target = expression(v, jkey + "." + k, constants,
                              "joint armature, damping, stiffness and reference may use parameters only");
+        if (std::string(k) == "reference") continue;
+        if (const std::string problem = joint_property_problem(*target, defaults, k); !problem.empty())
+          fail(v, jkey + "." + k, problem);
+      }
     for (std::size_t r = 0; r < 3; ++r)
       for (std::size_t c = 0; c < 3; ++c) tb.rotation[r][c] = r == c ? 1 : 0;
     if (YAML::Node rot = joint["rotation"]) {
@@ -734,12 +925,32 @@ Model load_model_from_text(const std::string& text, const std::string& path) {
   return loader.load();
 }
 
-Model load_model(const std::string& path) {
+std::string read_input_file(const std::string& path, const std::string& what) {
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::file_status status = fs::status(path, ec);
+  if (fs::exists(status) && !fs::is_regular_file(status))
+    throw InputError(SourceLocation{path, 0, 0}, "",
+                     "the " + what + " is not a regular file (a device, pipe or folder); expected a YAML file");
+  const std::uintmax_t size = fs::file_size(path, ec);
+  if (!ec && size > kMaxInputFileBytes)
+    throw InputError(SourceLocation{path, 0, 0}, "",
+                     "the " + what + " has " + std::to_string(size) + " bytes, more than the limit of " +
+                         std::to_string(kMaxInputFileBytes) + "; expected a model of at most 1 MiB");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the model file");
-  std::ostringstream buffer;
-  buffer << in.rdbuf();
-  return load_model_from_text(buffer.str(), path);
+  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the " + what);
+  // Read at most one byte beyond the limit: a file that grows while it is read is bounded too.
+  std::string text(kMaxInputFileBytes + 1, '\0');
+  in.read(text.data(), static_cast<std::streamsize>(text.size()));
+  text.resize(static_cast<std::size_t>(in.gcount()));
+  if (text.size() > kMaxInputFileBytes)
+    throw InputError(SourceLocation{path, 0, 0}, "",
+                     "the " + what + " is larger than the limit of " + std::to_string(kMaxInputFileBytes) + " bytes");
+  return text;
+}
+
+Model load_model(const std::string& path) {
+  return load_model_from_text(read_input_file(path, "model file"), path);
 }
 
 }  // namespace hamel

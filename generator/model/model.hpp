@@ -2,6 +2,7 @@
 // derivation. See docs/model-format.md; the paper's notation is in comments.
 #pragma once
 
+#include "algebra/intermediates.hpp"
 #include "model/input_error.hpp"
 
 #include <ginac/ginac.h>
@@ -92,6 +93,10 @@ struct Model {
   /// A fixed-base tree (model key `tree` without `group`): coordinates are the joints, u = q̇ (A = B = 1),
   /// the Lagrangian follows from the bodies (derive/kinematic_tree.hpp).
   std::optional<KinematicTree> tree;
+
+  /// Named sub-expressions (model key `definitions`), in order; every expression below may use them, and
+  /// they stay intermediate symbols through the derivation into the emitted code.
+  Intermediates definitions;
 
   GiNaC::ex lagrangian;           ///< L(q, q̇, u, t); for bundle models l = T − V
   std::vector<GiNaC::ex> forces;  ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape

@@ -1,6 +1,7 @@
 #include "scene/scene.hpp"
 
 #include "model/expression_parser.hpp"
+#include "model/load_model.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -34,13 +35,7 @@ std::set<std::string> scene_kernels(const Scene& scene) {
 
 namespace {
 
-std::string read(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the scene file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string read(const std::string& path) { return read_input_file(path, "scene file"); }
 
 SourceLocation where(const std::string& path, const YAML::Node& n) {
   const YAML::Mark m = n.Mark();
@@ -50,10 +45,14 @@ SourceLocation where(const std::string& path, const YAML::Node& n) {
 }  // namespace
 
 bool is_scene_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
+  std::string text;
   try {
-    const YAML::Node root = YAML::Load(in);
+    text = read_input_file(path, "model file");
+  } catch (const InputError&) {
+    return false;  // the model loader reports it
+  }
+  try {
+    const YAML::Node root = YAML::Load(text);
     return root.IsMap() && root["scene"];
   } catch (const YAML::Exception&) {
     return false;  // the model loader reports the syntax error with its location

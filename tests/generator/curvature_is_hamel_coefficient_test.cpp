@@ -123,7 +123,7 @@ TEST(CurvatureIsHamelCoefficient, EveryShippedBundleModelWithShape) {
     if (loaded.bundle->tree) continue;
     SCOPED_TRACE(entry.path().string());
     const hamel::Model model = fold_all(loaded);
-    const hamel::BundleGeometry geo = hamel::derive_bundle_geometry(model);
+    const hamel::BundleGeometry geo = hamel::inlined(hamel::derive_bundle_geometry(model));
     const hamel::test::GroupChart chart = hamel::test::group_chart(model.bundle->group, model.bundle->right);
     ASSERT_EQ(chart.s.size(), geo.algebra.dim());
     const hamel::Model core = core_model_in_group_coordinates(model, geo.connection, chart);
@@ -151,7 +151,7 @@ TEST(CurvatureIsHamelCoefficient, RollingBallCoreModelMatchesBundleModel) {
   const hamel::Model core = hamel::load_model(source_dir() + "/models/rolling_ball.yaml");
   const hamel::Model bundle = hamel::load_model(source_dir() + "/models/rolling_ball_bundle.yaml");
   ASSERT_TRUE(bundle.bundle && bundle.bundle->right);
-  const hamel::BundleGeometry geo = hamel::derive_bundle_geometry(bundle);
+  const hamel::BundleGeometry geo = hamel::inlined(hamel::derive_bundle_geometry(bundle));
   GiNaC::exmap rename;
   GiNaC::ex R;
   for (const auto& p : bundle.parameters)

@@ -73,7 +73,8 @@ std::string rotation(std::mt19937& rng) {
 }
 
 std::string inertia(std::mt19937& rng) {
-  // A = B Bᵀ + 0.2 1 with B of short decimals: symmetric positive definite.
+  // S = B Bᵀ + 0.2 1 with B of short decimals is the second moment of some mass distribution; the inertia
+  // tr(S) 1 - S of it is positive definite and meets the triangle inequality, as the loader requires.
   double B[3][3];
   for (auto& row : B)
     for (double& v : row) v = std::round(std::uniform_real_distribution<double>(-5, 5)(rng)) / 10;
@@ -84,6 +85,10 @@ std::string inertia(std::mt19937& rng) {
     for (int c = 0; c < 3; ++c) {
       double v = r == c ? 0.2 : 0.0;
       for (int k = 0; k < 3; ++k) v += B[r][k] * B[c][k];
+      double trace = 0.6;
+      for (int i = 0; i < 3; ++i)
+        for (int k = 0; k < 3; ++k) trace += B[i][k] * B[i][k];
+      v = (r == c ? trace : 0.0) - v;
       s << (c ? ", " : "") << std::round(v * 100) / 100;
     }
     s << "]";

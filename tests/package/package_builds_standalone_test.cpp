@@ -142,8 +142,8 @@ TEST(EmittedPackage, ReEmissionIsByteIdentical) {
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(a.path() / model)) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
-    EXPECT_EQ(names, (std::vector<std::string>{"CMakeLists.txt", "README.md", std::string(model) + ".cpp",
-                                               std::string(model) + ".hpp"}));
+    EXPECT_EQ(names, (std::vector<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md", std::string(model) + ".cpp",
+                                               std::string(model) + ".h", std::string(model) + ".hpp"}));
     for (const std::string& name : names) {
       const std::string x = slurp(a.path() / model / name);
       EXPECT_FALSE(x.empty()) << name;
@@ -160,11 +160,12 @@ TEST(EmittedPackage, IsSelfContainedAndMitLicensed) {
     for (const auto& e : fs::directory_iterator(dir.path() / model)) {
       const std::string text = slurp(e.path());
       EXPECT_NE(text.find("SPDX-License-Identifier: MIT"), std::string::npos) << e.path();
-      // Source and header include only each other and <cmath>.
+      // Source and headers (C++ and C) include only each other and <cmath>.
       std::istringstream lines(text);
       for (std::string line; std::getline(lines, line);) {
         if (line.rfind("#include", 0) == 0) {
-          EXPECT_TRUE(line == "#include <cmath>" || line == "#include \"" + std::string(model) + ".hpp\"")
+          EXPECT_TRUE(line == "#include <cmath>" || line == "#include \"" + std::string(model) + ".hpp\"" ||
+                      line == "#include \"" + std::string(model) + ".h\"")
               << e.path() << ": " << line;
         }
       }

@@ -27,6 +27,7 @@
 // const with r_c(q) the centre of mass in the base frame, so after a loop p = (I − R(Δθ)) r_c(q0): the
 // full SE(2) phase vanishes with the orientation phase (on the way the base frame moves by up to
 // 0.85 m and turns by up to 1.56 rad).
+#include "algebra/simplify.hpp"
 #include "derive/derivation.hpp"
 #include "emit/expression_graph.hpp"
 #include "model/fold_parameters.hpp"
@@ -99,7 +100,7 @@ struct Robot {
     }
     value = defaults;
     model = hamel::fold_parameters(loaded, defaults);
-    derivation.bundle = hamel::derive_bundle_geometry(model);
+    derivation.bundle = hamel::inlined(hamel::derive_bundle_geometry(model));  // closed forms, no intermediates
     const hamel::BundleGeometry& geo = *derivation.bundle;
 
     std::map<ex, int, GiNaC::ex_is_less> leaves;
@@ -107,7 +108,7 @@ struct Robot {
       leaves[model.coordinates[static_cast<std::size_t>(I)]] = graph.input(hamel::Argument::state, I);
     ex b12;
     for (const auto& b : geo.curvature)
-      if (b.alpha == 0 && b.lower_a == 0 && b.lower_b == 1) b12 = b.value;
+      if (b.alpha == 0 && b.lower_a == 0 && b.lower_b == 1) b12 = hamel::simplify(b.value);  // one fraction
     curvature = std::make_unique<hamel::GraphEvaluator>(graph, std::vector<int>{graph.from_expression(b12, leaves)});
     connection = std::make_unique<hamel::GraphEvaluator>(
         graph, std::vector<int>{graph.from_expression(geo.connection(0, 0), leaves),

@@ -18,7 +18,8 @@ TEST(RuntimeStatus, EveryStatusHasADistinctDescription) {
                         Status::non_finite_state,
                         Status::newton_failure,
                         Status::singular_mass_matrix,
-                        Status::too_many_steps};
+                        Status::too_many_steps,
+                        Status::invalid_argument};
   std::set<std::string> seen;
   for (const Status s : all) {
     const std::string text = describe(s);

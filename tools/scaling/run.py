@@ -188,8 +188,11 @@ def main():
     ap.add_argument("--compile-all", action="store_true",
                     help="compile the whole emitted package (all kernels) instead of one with rhs and mass_matrix")
     ap.add_argument("--no-sympy", action="store_true")
+    ap.add_argument("--dynamics", default=None, choices=["aba", "ldlt"],
+                    help="hamel emit --dynamics (default: hamel's own default)")
     a = ap.parse_args()
 
+    dyn = ["--dynamics", a.dynamics] if a.dynamics else []
     ns = [int(v) for v in a.ns.split(",")]
     if a.max_n is not None:
         ns = [v for v in ns if v <= a.max_n]
@@ -242,7 +245,7 @@ def main():
                 pkg = os.path.join(work, "pkg", name)
                 log(f"{tag} hamel emit --fold all ...")
                 status, wall, mb, _ = run_measured(
-                    [a.hamel, "emit", stem + ".yaml", "-o", pkg, "--fold", "all"], timeout=a.hamel_timeout,
+                    [a.hamel, "emit", stem + ".yaml", "-o", pkg, "--fold", "all"] + dyn, timeout=a.hamel_timeout,
                     stderr_path=stem + ".hamel.log")
                 row.update(hamel_status=status, hamel_emit_s=wall, hamel_peak_mb=mb)
                 log(f"{tag} hamel emit: {status}, {wall:.2f} s, {fmt(mb)} MB")
@@ -259,7 +262,7 @@ def main():
                         src_dir = os.path.join(work, "pkg_rhs_mass_matrix", name)
                         st2, wall2, _, _ = run_measured(
                             [a.hamel, "emit", stem + ".yaml", "-o", src_dir, "--fold", "all",
-                             "--kernels", "rhs,mass_matrix"], timeout=a.hamel_timeout, stderr_path=stem + ".hamel2.log")
+                             "--kernels", "rhs,mass_matrix"] + dyn, timeout=a.hamel_timeout, stderr_path=stem + ".hamel2.log")
                         if st2 != "ok":
                             raise RuntimeError(f"hamel emit --kernels rhs,mass_matrix: {st2} (see {stem}.hamel2.log)")
                         row["hamel_emit_rhs_mm_s"] = wall2

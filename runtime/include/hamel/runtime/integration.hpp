@@ -57,8 +57,8 @@ namespace detail {
 inline double min_step(double t) { return 1e-14 * std::max(1.0, std::fabs(t)); }
 
 /// The grid of a fixed-step method: `count` steps of equal size that cover [t0, t_end] with steps no
-/// longer than h. Status::ok with count 0 when t_end == t0; step_size_underflow for h <= 0 (or NaN) or
-/// steps below min_step; too_many_steps beyond 1e15 steps.
+/// longer than h. Status::ok with count 0 when t_end == t0; invalid_argument for h <= 0 (or NaN);
+/// step_size_underflow for steps below min_step; too_many_steps beyond 1e15 steps.
 inline Status fixed_step_count(double t0, double t_end, double h, long& count) {
   count = 0;
   const double span = t_end - t0;
@@ -66,7 +66,7 @@ inline Status fixed_step_count(double t0, double t_end, double h, long& count) {
     return Status::ok;
   }
   if (!(h > 0)) {
-    return Status::step_size_underflow;
+    return Status::invalid_argument;
   }
   const double ratio = std::fabs(span) / h;
   if (!(ratio <= 1e15)) {

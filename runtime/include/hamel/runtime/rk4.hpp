@@ -42,8 +42,9 @@ inline void hermite_interpolate(const double* x0, const double* f0, const double
 ///
 /// Failures: a non-finite t0, t_end, initial state or state derivative, or a
 /// non-finite state after a step, gives non_finite_state with the last finite
-/// state and its time; h <= 0 or a step below 1e-14 * max(1, |t|) gives
-/// step_size_underflow; more than 1e15 steps gives too_many_steps.
+/// state and its time; h <= 0 (or NaN) gives invalid_argument; a step below
+/// 1e-14 * max(1, |t|) gives step_size_underflow; more than 1e15 steps gives
+/// too_many_steps.
 template <class Rhs, class Observer>
 IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h, double sample_dt,
                                 Observer&& observe) {

@@ -13,6 +13,7 @@ enum class Status {
   newton_failure,
   singular_mass_matrix,
   too_many_steps,
+  invalid_argument,  // a step h <= 0 or NaN: a caller's mistake, not a property of the problem
 };
 
 /// Human-readable description of a status, suitable for log and error messages.
@@ -30,6 +31,8 @@ inline const char* describe(Status status) {
       return "singular or indefinite mass matrix";
     case Status::too_many_steps:
       return "too many steps";
+    case Status::invalid_argument:
+      return "invalid argument (step size not positive)";
   }
   // Reachable only through a value cast from outside the enumeration.
   return "unknown status";

@@ -75,7 +75,7 @@ std::array<double, N> scaled(double a, const std::array<double, N>& x) {
 /// first) plus one when a sample falls inside the last step.
 ///
 /// Failures: a non-finite t0, t_end or g0, or a non-finite velocity or state,
-/// gives non_finite_state with the last finite state and its time; h <= 0 or a
+/// gives non_finite_state with the last finite state and its time; h <= 0 gives invalid_argument, a
 /// step below 1e-14 * max(1, |t|) gives step_size_underflow; more than 1e15
 /// steps gives too_many_steps.
 template <class Group, class Xi, class Observer>

@@ -84,7 +84,7 @@ constexpr bool takes_group() {
 /// evaluations of the pair (f, xi): 4 per step, plus one when a sample falls
 /// inside the last step. A non-finite t0, t_end, g0 or x0, or a non-finite f,
 /// xi or state, gives non_finite_state with the last finite state and its time;
-/// h <= 0 or a step below 1e-14 * max(1, |t|) gives step_size_underflow; more
+/// h <= 0 gives invalid_argument, a step below 1e-14 * max(1, |t|) gives step_size_underflow; more
 /// than 1e15 steps gives too_many_steps.
 ///
 /// Memory: the vector part uses one allocation of 8 n doubles at the start;

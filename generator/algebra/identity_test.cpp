@@ -1,0 +1,257 @@
+#include "algebra/identity_test.hpp"
+
+#include "algebra/simplify.hpp"
+
+#include <cstdint>
+#include <map>
+#include <optional>
+#include <random>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+namespace hamel {
+
+using GiNaC::ex;
+using GiNaC::ex_to;
+using GiNaC::is_a;
+
+namespace {
+
+using u64 = std::uint64_t;
+__extension__ typedef unsigned __int128 u128;  // GCC and Clang; the product of two residues needs 122 bits
+constexpr u64 prime = (u64{1} << 61) - 1;
+
+u64 add_mod(u64 a, u64 b) {
+  const u64 s = a + b;
+  return s >= prime ? s - prime : s;
+}
+u64 sub_mod(u64 a, u64 b) { return a >= b ? a - b : a + prime - b; }
+u64 mul_mod(u64 a, u64 b) {
+  const u128 p = static_cast<u128>(a) * b;
+  const u64 lo = static_cast<u64>(p & prime), hi = static_cast<u64>(p >> 61);  // 2^61 ≡ 1
+  return add_mod(lo, hi);
+}
+u64 pow_mod(u64 a, u64 k) {
+  u64 r = 1;
+  for (; k; k >>= 1, a = mul_mod(a, a))
+    if (k & 1) r = mul_mod(r, a);
+  return r;
+}
+
+struct Pole {};          // a denominator vanishes at this point: draw another
+struct Undecidable {};   // the expression is not a rational function of symbols and circle points
+
+u64 inverse(u64 a) {
+  if (a == 0) throw Pole{};
+  return pow_mod(a, prime - 2);
+}
+
+u64 residue(const GiNaC::numeric& n) {
+  if (!n.is_rational()) throw Undecidable{};
+  static const GiNaC::numeric p(static_cast<long>(prime));
+  const u64 num = static_cast<u64>(GiNaC::mod(n.numer(), p).to_long());
+  const u64 den = static_cast<u64>(GiNaC::mod(n.denom(), p).to_long());
+  return mul_mod(num, inverse(den));
+}
+
+// A point of the unit circle: c + i s with c² + s² = 1, multiplied as complex numbers.
+struct Circle {
+  u64 c = 1, s = 0;
+  Circle operator*(const Circle& o) const {
+    return {sub_mod(mul_mod(c, o.c), mul_mod(s, o.s)), add_mod(mul_mod(c, o.s), mul_mod(s, o.c))};
+  }
+  Circle conj() const { return {c, sub_mod(0, s)}; }
+};
+
+struct ExHash {
+  std::size_t operator()(const ex& e) const { return e.gethash(); }
+};
+
+// One random point: residues for symbols and constants, circle points for angles, and every
+// intermediate through its definition (memoized).
+class ModularPoint {
+ public:
+  ModularPoint(const Intermediates& program, u64 seed) : program_(program), rng_(seed) {}
+
+  u64 value(const ex& e) {
+    if (auto it = memo_.find(e); it != memo_.end()) return it->second;
+    const u64 v = compute(e);
+    memo_.emplace(e, v);
+    return v;
+  }
+
+ private:
+  u64 draw() { return std::uniform_int_distribution<u64>(1, prime - 1)(rng_); }
+
+  u64 compute(const ex& e) {
+    if (is_a<GiNaC::numeric>(e)) return residue(ex_to<GiNaC::numeric>(e));
+    if (is_a<GiNaC::symbol>(e)) {
+      if (const std::optional<ex> def = program_.definition_of(e)) return value(*def);
+      return free_value(e);
+    }
+    if (is_a<GiNaC::constant>(e)) return free_value(e);  // π, e: transcendental, so independent
+    if (is_a<GiNaC::add>(e)) {
+      u64 s = 0;
+      for (std::size_t i = 0; i < e.nops(); ++i) s = add_mod(s, value(e.op(i)));
+      return s;
+    }
+    if (is_a<GiNaC::mul>(e)) {
+      u64 s = 1;
+      for (std::size_t i = 0; i < e.nops(); ++i) s = mul_mod(s, value(e.op(i)));
+      return s;
+    }
+    if (is_a<GiNaC::power>(e)) {
+      const ex k = e.op(1);
+      if (!is_a<GiNaC::numeric>(k) || !ex_to<GiNaC::numeric>(k).is_integer()) throw Undecidable{};
+      const GiNaC::numeric kk = ex_to<GiNaC::numeric>(k);
+      const u64 base = value(e.op(0));
+      if (base == 0) {
+        if (kk.is_negative()) throw Pole{};
+        return 0;
+      }
+      const u64 magnitude = static_cast<u64>(GiNaC::mod(GiNaC::abs(kk), GiNaC::numeric(static_cast<long>(prime - 1))).to_long());
+      const u64 r = pow_mod(base, magnitude);
+      return kk.is_negative() ? inverse(r) : r;
+    }
+    if (is_a<GiNaC::function>(e)) {
+      const std::string name = ex_to<GiNaC::function>(e).get_name();
+      if (name == "sin" || name == "cos" || name == "tan") {
+        const Circle z = angle(e.op(0));
+        if (name == "sin") return z.s;
+        if (name == "cos") return z.c;
+        return mul_mod(z.s, inverse(z.c));
+      }
+    }
+    throw Undecidable{};
+  }
+
+  u64 free_value(const ex& s) {
+    auto it = free_.find(s);
+    if (it == free_.end()) it = free_.emplace(s, draw()).first;
+    return it->second;
+  }
+
+  Circle circle_for(const ex& key) {
+    auto it = circles_.find(key);
+    if (it == circles_.end()) {
+      const u64 tau = draw(), tau2 = mul_mod(tau, tau);
+      const u64 den = inverse(add_mod(1, tau2));
+      it = circles_.emplace(key, Circle{mul_mod(sub_mod(1, tau2), den), mul_mod(mul_mod(2, tau), den)}).first;
+    }
+    return it->second;
+  }
+
+  static Circle power(Circle z, long k) {
+    if (k < 0) z = z.conj(), k = -k;
+    Circle r;
+    for (; k; k >>= 1, z = z * z)
+      if (k & 1) r = r * z;
+    return r;
+  }
+
+  // e^{iθ} for θ = Σ k_i x_i + rest: integer multiples of symbols (read through linear definitions)
+  // multiply their circle points; any other part is one angle of its own.
+  Circle angle(const ex& theta) {
+    std::map<ex, long, GiNaC::ex_is_less> multiples;
+    ex rest = 0;
+    split_angle(theta, 1, multiples, rest);
+    Circle z;
+    for (const auto& [x, k] : multiples)
+      if (k != 0) z = z * power(circle_for(x), k);
+    if (!rest.is_zero()) z = z * circle_for(rest.expand());
+    return z;
+  }
+
+  void split_angle(const ex& e, long factor, std::map<ex, long, GiNaC::ex_is_less>& multiples, ex& rest) {
+    if (is_a<GiNaC::add>(e)) {
+      for (std::size_t i = 0; i < e.nops(); ++i) split_angle(e.op(i), factor, multiples, rest);
+      return;
+    }
+    if (is_a<GiNaC::symbol>(e)) {
+      if (const std::optional<ex> def = program_.definition_of(e)) return split_angle(*def, factor, multiples, rest);
+      multiples[e] += factor;
+      return;
+    }
+    if (is_a<GiNaC::mul>(e) && e.nops() == 2 && is_a<GiNaC::numeric>(e.op(1)) &&
+        ex_to<GiNaC::numeric>(e.op(1)).is_integer() && GiNaC::abs(ex_to<GiNaC::numeric>(e.op(1))) <= 64) {
+      split_angle(e.op(0), factor * ex_to<GiNaC::numeric>(e.op(1)).to_long(), multiples, rest);
+      return;
+    }
+    if (is_a<GiNaC::numeric>(e) && e.is_zero()) return;
+    rest += factor * program_.inline_all(e);
+  }
+
+  const Intermediates& program_;
+  std::mt19937_64 rng_;
+  std::unordered_map<ex, u64, ExHash, GiNaC::ex_is_equal> memo_;
+  std::map<ex, u64, GiNaC::ex_is_less> free_;
+  std::map<ex, Circle, GiNaC::ex_is_less> circles_;
+};
+
+u64 determinant_mod(std::vector<std::vector<u64>> a) {
+  const std::size_t n = a.size();
+  u64 det = 1;
+  for (std::size_t c = 0; c < n; ++c) {
+    std::size_t pivot = c;
+    while (pivot < n && a[pivot][c] == 0) ++pivot;
+    if (pivot == n) return 0;
+    if (pivot != c) std::swap(a[pivot], a[c]), det = sub_mod(0, det);
+    det = mul_mod(det, a[c][c]);
+    const u64 inv = inverse(a[c][c]);
+    for (std::size_t r = c + 1; r < n; ++r) {
+      const u64 f = mul_mod(a[r][c], inv);
+      if (f == 0) continue;
+      for (std::size_t j = c; j < n; ++j) a[r][j] = sub_mod(a[r][j], mul_mod(f, a[c][j]));
+    }
+  }
+  return det;
+}
+
+// `is_zero_at(point)` → true/false; poles draw a new point. Zero at three points: zero.
+template <class IsZeroAt>
+Identity decide(IsZeroAt is_zero_at) {
+  int zeros = 0;
+  for (u64 attempt = 0; attempt < 12 && zeros < 3; ++attempt) {
+    try {
+      if (!is_zero_at(0x9e3779b97f4a7c15ULL * (attempt + 1))) return Identity::nonzero;
+      ++zeros;
+    } catch (const Pole&) {
+    } catch (const Undecidable&) {
+      return Identity::undecided;
+    }
+  }
+  return zeros == 3 ? Identity::zero : Identity::undecided;
+}
+
+}  // namespace
+
+Identity identically_zero(const ex& e, const Intermediates& program) {
+  if (is_a<GiNaC::numeric>(e)) return e.is_zero() ? Identity::zero : Identity::nonzero;
+  return decide([&](u64 seed) { return ModularPoint(program, seed).value(e) == 0; });
+}
+
+Identity identically_singular(const GiNaC::matrix& m, const Intermediates& program) {
+  return decide([&](u64 seed) {
+    ModularPoint point(program, seed);
+    std::vector<std::vector<u64>> a(m.rows(), std::vector<u64>(m.cols()));
+    for (unsigned i = 0; i < m.rows(); ++i)
+      for (unsigned j = 0; j < m.cols(); ++j) a[i][j] = point.value(m(i, j));
+    return determinant_mod(std::move(a)) == 0;
+  });
+}
+
+bool shown_zero(const ex& e, const Intermediates& program) {
+  if (e.is_zero()) return true;
+  switch (identically_zero(e, program)) {
+    case Identity::zero:
+      return true;
+    case Identity::nonzero:
+      return false;
+    case Identity::undecided:
+      break;
+  }
+  return simplify_bounded(e).is_zero();
+}
+
+}  // namespace hamel

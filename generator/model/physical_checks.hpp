@@ -1,0 +1,36 @@
+// Physical plausibility of a model, checked numerically when it is loaded: a kinetic energy that is not
+// positive semi-definite, a body with negative mass, an inertia that is not positive semi-definite or whose
+// principal moments violate the triangle inequality, a joint axis that is zero at the parameter defaults, a
+// negative joint armature, damping or stiffness.
+// Such models derive without complaint and fail later as "non-finite state"; here they are input errors that
+// name the key and the point. Each function returns "" when the check passes, else the problem.
+#pragma once
+
+#include "model/model.hpp"
+
+#include <string>
+#include <vector>
+
+namespace hamel {
+
+/// Eigenvalues (ascending) of the symmetric n x n matrix `a` (row-major), by cyclic Jacobi rotations.
+std::vector<double> symmetric_eigenvalues(std::vector<double> a, std::size_t n);
+
+/// Values of the parameters at their defaults, for evaluating inertial data.
+GiNaC::exmap parameter_defaults(const Model& model);
+
+/// Mass and inertia of `body` at `values`: "" or the problem; `subkey` is set to "mass" or "inertia".
+std::string rigid_body_problem(const RigidBody& body, const GiNaC::exmap& values, std::string& subkey);
+
+/// A joint axis of squared length 0 at `values` (a parameter that is zero at its default).
+std::string joint_axis_problem(const TreeBody& body, const GiNaC::exmap& values);
+
+/// A joint's armature, damping or stiffness (`what`) below zero at `values`: a negative armature can make M
+/// indefinite, negative damping or stiffness feed energy in (robot files never carry them).
+std::string joint_property_problem(const GiNaC::ex& value, const GiNaC::exmap& values, const std::string& what);
+
+/// d^2 L / dq_dot^2 (with u = A(q) q_dot) at q_dot = 0, t = 0 and three sampled configurations, parameters at
+/// their defaults: "" or the problem and the point where it has a negative eigenvalue.
+std::string kinetic_energy_problem(const Model& model);
+
+}  // namespace hamel

@@ -1,0 +1,308 @@
+// `--dynamics aba` (the articulated-body algorithm, derive/kinematic_tree.cpp) against two computations that
+// do not share its code path:
+//  - the M u̇ = f path of the same model (`--dynamics ldlt`: composite inertias, unrolled LDLᵀ), and
+//  - the Eigen recursive Newton–Euler reference of tests/tree/tree_reference.hpp (mass matrix from unit
+//    accelerations, long double, Eigen's LDLᵀ),
+// on random trees: SE(3) bases with n = 1..8, a 12-joint chain and 20 bodies, SE(2), SO(3) and R3 bases,
+// prismatic joints, joint forces from inputs, springs and dampers, and a potential; relative error of
+// (ξ̇, q̈) ≤ 1e-12 against both. The forward-mode Jacobian (hamel::tangent through the ABA rhs program) is
+// checked against central differences of the ldlt rhs and against the symbolic Jacobian of the ldlt path, and
+// so is the `jacobian` kernel of the aba build (the smaller of the two programs). Trees on a fixed base
+// (`base: world`) under gravity and joints with armature, damping and stiffness (the properties robot files
+// give, docs/import.md) go through both paths too, on fixed and floating bases.
+#include "tree_from_model.hpp"
+#include "tree_reference.hpp"
+
+#include "derive/derivation.hpp"
+#include "emit/kernels.hpp"
+#include "model/load_model.hpp"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <string>
+#include <vector>
+
+namespace {
+
+using tree_ref::Real;
+using tree_ref::Tree;
+using tree_ref::VX;
+
+constexpr double kTolerance = 1e-12;
+
+struct Built {
+  hamel::Derivation derivation;
+  hamel::KernelSet kernels;
+};
+
+Built build(const hamel::Model& model, const std::string& dynamics, const std::set<std::string>& kernels) {
+  hamel::DeriveSettings s;
+  s.dynamics = dynamics;
+  hamel::Derivation d = hamel::derive(model, s);
+  hamel::KernelSet k = hamel::build_kernels(model, d, kernels);
+  return {std::move(d), std::move(k)};
+}
+
+double relative(const std::vector<double>& a, const std::vector<double>& b, std::size_t from) {
+  double diff = 0, norm = 0;
+  for (std::size_t i = from; i < a.size(); ++i) {
+    diff += (a[i] - b[i]) * (a[i] - b[i]);
+    norm += b[i] * b[i];
+  }
+  return std::sqrt(diff / std::max(norm, 1e-300));
+}
+
+// Joint forces of `extra` (see the TEST below) as the reference computes them.
+VX joint_forces(int n, bool forced, bool potential, const VX& q, const VX& qd, const std::vector<double>& in) {
+  VX f = VX::Zero(n);
+  for (int i = 0; i < n; ++i) {
+    if (forced) f[i] += in[static_cast<std::size_t>(i)] - 0.5L * q[i] - 0.1L * qd[i];
+    if (potential) f[i] -= 0.3L * (i + 1) * q[i];
+  }
+  if (potential) f[0] += 0.2L * std::sin(static_cast<Real>(q[0]));
+  return f;
+}
+
+void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false, bool potential = false,
+           bool jacobian = false, bool all_prismatic = false) {
+  std::mt19937_64 rng(seed);
+  Tree t = tree_ref::random_tree(rng, rs);
+  for (tree_ref::Body& b : t.bodies) b.prismatic = b.prismatic || all_prismatic;
+  const int n = t.n(), m = static_cast<int>(tree_ref::basis(t.group).cols());
+  std::string extra;
+  if (forced) {
+    std::string forces = "forces: [", inputs = "inputs: [";
+    for (int i = 1; i <= n; ++i) {
+      const std::string k = std::to_string(i);
+      forces += std::string(i > 1 ? ", " : "") + "\"u" + k + " - 0.5*q" + k + " - 0.1*q" + k + "_dot\"";
+      inputs += std::string(i > 1 ? ", " : "") + "u" + k;
+    }
+    extra += forces + "]\n" + inputs + "]\n";
+  }
+  if (potential) {
+    extra += "potential: \"0.2*cos(q1)";
+    for (int i = 1; i <= n; ++i) extra += " + " + tree_ref::number_text(0.3 * i) + "*q" + std::to_string(i) + "^2/2";
+    extra += "\"\n";
+  }
+  const std::string name = "aba_" + rs.group + "_" + std::to_string(n) + "_" + std::to_string(seed);
+  const hamel::Model model = hamel::load_model_from_text(tree_ref::yaml(t, name, extra, false), name + ".yaml");
+  std::set<std::string> kernels = {"rhs"};
+  if (jacobian) kernels.insert("jacobian");
+  const Built aba = build(model, "aba", kernels), ldlt = build(model, "ldlt", kernels);
+  ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
+  ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
+  const std::size_t nx = static_cast<std::size_t>(2 * n + m);
+  hamel::GraphEvaluator fa(aba.kernels.graph, aba.kernels.get("rhs").outputs);
+  hamel::GraphEvaluator fl(ldlt.kernels.graph, ldlt.kernels.get("rhs").outputs);
+  const std::vector<double> p = tree_ref::default_parameters(model);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst_ldlt = 0, worst_ref = 0, worst_fd = 0, worst_sym = 0, worst_kernel = 0;
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<double> x(nx), in(forced ? static_cast<std::size_t>(n) : 0), a(nx), l(nx);
+    for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = t.bodies[static_cast<std::size_t>(i)].prismatic ? 0.5 * u(rng) : M_PI * u(rng);
+    for (std::size_t i = static_cast<std::size_t>(n); i < nx; ++i) x[i] = 2 * u(rng);
+    for (double& v : in) v = 5 * u(rng);
+    fa.evaluate(0, x.data(), p.data(), in.data(), a.data());
+    fl.evaluate(0, x.data(), p.data(), in.data(), l.data());
+    worst_ldlt = std::max(worst_ldlt, relative(a, l, static_cast<std::size_t>(n)));
+    VX q(n), xi(m), qd(n);
+    for (int i = 0; i < n; ++i) q[i] = x[static_cast<std::size_t>(i)], qd[i] = x[static_cast<std::size_t>(n + m + i)];
+    for (int i = 0; i < m; ++i) xi[i] = x[static_cast<std::size_t>(n + i)];
+    const VX r = tree_ref::accelerations(t, q, xi, qd, joint_forces(n, forced, potential, q, qd, in));
+    std::vector<double> ref(a.begin(), a.begin() + n);
+    for (int i = 0; i < m + n; ++i) ref.push_back(static_cast<double>(r[i]));
+    worst_ref = std::max(worst_ref, relative(a, ref, static_cast<std::size_t>(n)));
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) EXPECT_EQ(a[i], x[static_cast<std::size_t>(n + m) + i]);
+    if (!jacobian) continue;
+    // The forward-mode Jacobian itself (hamel::tangent on the ABA rhs program), whichever of the two
+    // programs build_kernels kept for the `jacobian` kernel.
+    hamel::ExpressionGraph graph = aba.kernels.graph;
+    std::vector<int> forward(nx * nx);
+    for (std::size_t c = 0; c < nx; ++c) {
+      const std::vector<int> column = hamel::tangent(
+          graph, aba.kernels.get("rhs").outputs, {{graph.input(hamel::Argument::state, static_cast<int>(c)), graph.constant(1)}});
+      for (std::size_t r = 0; r < nx; ++r) forward[r * nx + c] = column[r];
+    }
+    hamel::GraphEvaluator ja(graph, forward), jk(aba.kernels.graph, aba.kernels.get("jacobian").outputs);
+    std::vector<double> Jk(nx * nx);
+    jk.evaluate(0, x.data(), p.data(), in.data(), Jk.data());
+    hamel::GraphEvaluator jl(ldlt.kernels.graph, ldlt.kernels.get("jacobian").outputs);
+    std::vector<double> J(nx * nx), Js(nx * nx), fp(nx), fm(nx), fd(nx * nx);
+    ja.evaluate(0, x.data(), p.data(), in.data(), J.data());
+    jl.evaluate(0, x.data(), p.data(), in.data(), Js.data());
+    for (std::size_t c = 0; c < nx; ++c) {
+      const double h = 1e-6;
+      std::vector<double> xp = x, xm = x;
+      xp[c] += h;
+      xm[c] -= h;
+      fl.evaluate(0, xp.data(), p.data(), in.data(), fp.data());  // differences of the other path's rhs
+      fl.evaluate(0, xm.data(), p.data(), in.data(), fm.data());
+      for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
+    }
+    worst_fd = std::max(worst_fd, relative(J, fd, 0));
+    worst_sym = std::max(worst_sym, relative(J, Js, 0));
+    worst_kernel = std::max(worst_kernel, relative(Jk, Js, 0));
+  }
+  std::printf("%-22s n = %2d: aba vs ldlt %.1e, vs Newton-Euler %.1e", name.c_str(), n, worst_ldlt, worst_ref);
+  if (jacobian)
+    std::printf("; forward-mode jacobian vs central differences %.1e, vs symbolic %.1e; kernel %.1e", worst_fd,
+                worst_sym, worst_kernel);
+  std::printf("\n");
+  EXPECT_LE(worst_ldlt, kTolerance) << name;
+  EXPECT_LE(worst_ref, kTolerance) << name;
+  if (jacobian) {
+    EXPECT_LE(worst_fd, 1e-7) << name;  // central differences: O(h²) plus rounding/h
+    EXPECT_LE(worst_sym, 1e-11) << name;
+    EXPECT_LE(worst_kernel, 1e-11) << name;
+  }
+}
+
+// The random tree of `seed` with joint armature, damping, stiffness and reference on every joint, and, with
+// `fixed`, hung from the world under gravity instead of floating on an SE(3) base: aba against ldlt (the path
+// tests/import checks against MuJoCo), and the forward-mode Jacobian of the aba program against central
+// differences of the ldlt rhs.
+void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
+  std::mt19937_64 rng(seed);
+  tree_ref::RandomSettings rs;
+  rs.n = n;
+  const Tree t = tree_ref::random_tree(rng, rs);
+  const std::string name =
+      std::string(fixed ? "aba_fixed_" : "aba_props_") + std::to_string(n) + "_" + std::to_string(seed);
+  std::string text = tree_ref::yaml(t, name, "", false);
+  auto replace_all = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  };
+  if (fixed) {  // drop the group and the base body: the world carries the tree, gravity along a tilted axis
+    const std::size_t from = text.find("group: "), to = text.find("  bodies:\n");
+    ASSERT_NE(from, std::string::npos);
+    ASSERT_NE(to, std::string::npos);
+    text.replace(from, to - from, "tree:\n  base: world\n  gravity: [0.7, -1.3, -9.81]\n");
+    replace_all("parent: base\n", "parent: world\n");
+  }
+  // Joint properties after each joint's offset, different per joint (some zero).
+  std::size_t joint = 0;
+  for (std::size_t at = text.find("        offset: "); at != std::string::npos;
+       at = text.find("        offset: ", at + 1), ++joint) {
+    const std::size_t end = text.find('\n', at) + 1;
+    const double k = static_cast<double>(joint);
+    const std::string properties = "        armature: " + tree_ref::number_text(0.05 + 0.1 * k) +
+                                   "\n        damping: " + tree_ref::number_text(joint % 3 == 2 ? 0 : 0.2 + 0.05 * k) +
+                                   "\n        stiffness: " + tree_ref::number_text(joint % 2 ? 0 : 1.5 + k) +
+                                   "\n        reference: " + tree_ref::number_text(0.1 * k - 0.2) + "\n";
+    text.insert(end, properties);
+  }
+  const hamel::Model model = hamel::load_model_from_text(text, name + ".yaml");
+  ASSERT_EQ(static_cast<bool>(model.tree), fixed) << text;
+  const int m = fixed ? 0 : 6;
+  const std::set<std::string> kernels = {"rhs", "energy"};
+  const Built aba = build(model, "aba", kernels), ldlt = build(model, "ldlt", kernels);
+  ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
+  ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
+  const std::size_t nx = static_cast<std::size_t>(2 * n + m);
+  hamel::GraphEvaluator fa(aba.kernels.graph, aba.kernels.get("rhs").outputs);
+  hamel::GraphEvaluator fl(ldlt.kernels.graph, ldlt.kernels.get("rhs").outputs);
+  hamel::ExpressionGraph graph = aba.kernels.graph;
+  std::vector<int> forward(nx * nx);
+  for (std::size_t c = 0; c < nx; ++c) {
+    const std::vector<int> column =
+        hamel::tangent(graph, aba.kernels.get("rhs").outputs,
+                       {{graph.input(hamel::Argument::state, static_cast<int>(c)), graph.constant(1)}});
+    for (std::size_t r = 0; r < nx; ++r) forward[r * nx + c] = column[r];
+  }
+  hamel::GraphEvaluator ja(graph, forward);
+  const std::vector<double> p = tree_ref::default_parameters(model);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst_ldlt = 0, worst_fd = 0;
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<double> x(nx), a(nx), l(nx), J(nx * nx), fp(nx), fm(nx), fd(nx * nx);
+    for (std::size_t i = 0; i < nx; ++i) x[i] = (i < static_cast<std::size_t>(n) ? 2.0 : 1.5) * u(rng);
+    fa.evaluate(0, x.data(), p.data(), nullptr, a.data());
+    fl.evaluate(0, x.data(), p.data(), nullptr, l.data());
+    worst_ldlt = std::max(worst_ldlt, relative(a, l, static_cast<std::size_t>(n)));
+    ja.evaluate(0, x.data(), p.data(), nullptr, J.data());
+    for (std::size_t c = 0; c < nx; ++c) {
+      const double h = 1e-6;
+      std::vector<double> xp = x, xm = x;
+      xp[c] += h;
+      xm[c] -= h;
+      fl.evaluate(0, xp.data(), p.data(), nullptr, fp.data());
+      fl.evaluate(0, xm.data(), p.data(), nullptr, fm.data());
+      for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
+    }
+    worst_fd = std::max(worst_fd, relative(J, fd, 0));
+  }
+  std::printf("%-22s n = %2d: aba vs ldlt %.1e; forward-mode jacobian vs central differences %.1e\n", name.c_str(), n,
+              worst_ldlt, worst_fd);
+  EXPECT_LE(worst_ldlt, kTolerance) << name;
+  EXPECT_LE(worst_fd, 1e-7) << name;
+}
+
+TEST(ArticulatedBodyAlgorithm, FixedBaseUnderGravityWithArmatureDampingStiffness) {
+  for (int n : {1, 2, 5, 9}) check_joint_properties(900 + static_cast<std::uint64_t>(n), n, true);
+}
+
+TEST(ArticulatedBodyAlgorithm, FloatingBaseWithArmatureDampingStiffness) {
+  for (int n : {1, 4, 7}) check_joint_properties(950 + static_cast<std::uint64_t>(n), n, false);
+}
+
+TEST(ArticulatedBodyAlgorithm, RandomSpatialTreesOneToEightBodies) {
+  for (int n = 1; n <= 8; ++n)
+    for (std::uint64_t seed : {10u, 20u}) {
+      tree_ref::RandomSettings rs;
+      rs.n = n;
+      check(seed + static_cast<std::uint64_t>(n), rs);
+    }
+}
+
+TEST(ArticulatedBodyAlgorithm, ChainOfTwelveAndTreeOfTwenty) {
+  tree_ref::RandomSettings chain;
+  chain.n = 12;
+  chain.chain = true;
+  check(1212, chain);
+  tree_ref::RandomSettings tree;
+  tree.n = 20;
+  check(2020, tree);
+}
+
+TEST(ArticulatedBodyAlgorithm, PlanarRotatingAndTranslatingBases) {
+  for (const char* group : {"SE2", "SO3", "R3"})
+    for (int n : {1, 3, 6}) {
+      tree_ref::RandomSettings rs;
+      rs.group = group;
+      rs.n = n;
+      check(300 + static_cast<std::uint64_t>(n), rs);
+    }
+}
+
+TEST(ArticulatedBodyAlgorithm, PrismaticOnlyJoints) {
+  tree_ref::RandomSettings rs;
+  rs.n = 5;
+  check(55, rs, false, false, false, true);
+}
+
+TEST(ArticulatedBodyAlgorithm, JointForcesAndPotential) {
+  tree_ref::RandomSettings rs;
+  rs.n = 5;
+  check(61, rs, true, false);
+  check(62, rs, false, true);
+  check(63, rs, true, true);
+}
+
+TEST(ArticulatedBodyAlgorithm, ForwardModeJacobian) {
+  for (int n : {1, 3, 6}) {
+    tree_ref::RandomSettings rs;
+    rs.n = n;
+    check(700 + static_cast<std::uint64_t>(n), rs, true, true, true);
+  }
+  tree_ref::RandomSettings planar;
+  planar.group = "SE2";
+  planar.n = 4;
+  check(740, planar, false, true, true);
+}
+
+}  // namespace

@@ -47,6 +47,17 @@ u64 inverse(u64 a) {
   return pow_mod(a, prime - 2);
 }
 
+// The square root of a modulo p ≡ 3 (mod 4): a^((p+1)/4) when a is a square. x^(j/2) is read as r^j with
+// this one root r of x (memoized per expression, so √x, 1/√x and x^(3/2) and their derivatives agree): the
+// identities of the algebraic extension by √x hold. A point where x is not a square is drawn again (Pole);
+// identities that depend on the branch of two different roots (√a √b = √(ab)) are not recognised.
+u64 square_root(u64 a) {
+  if (a == 0) return 0;
+  const u64 r = pow_mod(a, (prime + 1) / 4);
+  if (mul_mod(r, r) != a) throw Pole{};
+  return r;
+}
+
 u64 residue(const GiNaC::numeric& n) {
   if (!n.is_rational()) throw Undecidable{};
   static const GiNaC::numeric p(static_cast<long>(prime));
@@ -103,9 +114,14 @@ class ModularPoint {
     }
     if (is_a<GiNaC::power>(e)) {
       const ex k = e.op(1);
-      if (!is_a<GiNaC::numeric>(k) || !ex_to<GiNaC::numeric>(k).is_integer()) throw Undecidable{};
-      const GiNaC::numeric kk = ex_to<GiNaC::numeric>(k);
-      const u64 base = value(e.op(0));
+      if (!is_a<GiNaC::numeric>(k) || !ex_to<GiNaC::numeric>(k).is_rational()) throw Undecidable{};
+      GiNaC::numeric kk = ex_to<GiNaC::numeric>(k);
+      u64 base = value(e.op(0));
+      if (!kk.is_integer()) {  // x^(j/2): the canonical square root of x, read as one algebraic element
+        if (kk.denom() != 2) throw Undecidable{};
+        base = square_root(base);
+        kk = kk * 2;
+      }
       if (base == 0) {
         if (kk.is_negative()) throw Pole{};
         return 0;
@@ -208,11 +224,12 @@ u64 determinant_mod(std::vector<std::vector<u64>> a) {
   return det;
 }
 
-// `is_zero_at(point)` → true/false; poles draw a new point. Zero at three points: zero.
+// `is_zero_at(point)` → true/false; poles (and square roots of non-squares) draw a new point. Zero at three
+// points: zero.
 template <class IsZeroAt>
 Identity decide(IsZeroAt is_zero_at) {
   int zeros = 0;
-  for (u64 attempt = 0; attempt < 12 && zeros < 3; ++attempt) {
+  for (u64 attempt = 0; attempt < 40 && zeros < 3; ++attempt) {
     try {
       if (!is_zero_at(0x9e3779b97f4a7c15ULL * (attempt + 1))) return Identity::nonzero;
       ++zeros;

@@ -10,8 +10,9 @@
 // sin² + cos² = 1 and the addition theorems hold exactly. Intermediates are evaluated through their
 // definitions, once per point. A non-zero value proves "not identically zero"; zero at three independent
 // points means zero with error probability below (D/p)³ for a rational function of total degree D.
-// Expressions this cannot read (sqrt, exp, a float, sin of a non-linear argument mixed with its
-// expansion) answer `undecided`, and callers fall back to what they did before.
+// Square roots are algebraic elements (x^(j/2) = r^j for one root r of x). Expressions this cannot read
+// (exp, a float, sin of a non-linear argument mixed with its expansion) answer `undecided`, and callers
+// fall back to what they did before.
 #pragma once
 
 #include "algebra/intermediates.hpp"

@@ -25,5 +25,6 @@ Run add_phase_command(CLI::App& app);
 Run add_accuracy_command(CLI::App& app);
 Run add_report_command(CLI::App& app);
 Run add_import_command(CLI::App& app);
+Run add_linearize_command(CLI::App& app);
 
 }  // namespace hamel::cli

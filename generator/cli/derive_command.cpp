@@ -6,12 +6,14 @@
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
 #include "derive/derivation.hpp"
+#include "derive/riemann.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <functional>
 #include <iostream>
 #include <optional>
 
@@ -23,7 +25,7 @@ struct DeriveOptions {
   std::string model;
   std::vector<std::string> params, at;
   std::string form, curvature_sign = "paper", fold = "none", dynamics;
-  bool json = false, inline_all = false;
+  bool json = false, inline_all = false, riemann = false;
 };
 
 // Numeric value of `e` once every symbol is replaced; empty if a symbol has no value.
@@ -146,6 +148,94 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
   }
 }
 
+// The Riemannian view (derive/riemann.hpp): metric, Christoffel symbols, curvature, covariant linearization.
+// `program` extends the equations' intermediates by `first_new` onwards: those are listed here.
+nlohmann::json riemann_json(const RiemannGeometry& r, const Intermediates& program, std::size_t first_new,
+                            const GiNaC::exmap& values) {
+  std::vector<std::string> q;
+  for (const auto& s : r.coordinates) q.push_back(s.get_name());
+  const unsigned n = static_cast<unsigned>(q.size());
+  nlohmann::json j;
+  j["convention"] =
+      "L = 1/2 g_ab q_dot^a q_dot^b - V; Gamma_a,bc = 1/2 (d_b g_ac + d_c g_ab - d_a g_bc), Gamma^a_bc = g^ad "
+      "Gamma_d,bc; R^a_bcd = d_c Gamma^a_db - d_d Gamma^a_cb + Gamma^a_ce Gamma^e_db - Gamma^a_de Gamma^e_cb, R_abcd "
+      "= g_ae R^e_bcd; g_ab D2x^b/dt2 + K_ab x^b = Phi_a, K_ab = R_cbda q_dot^c q_dot^d - nabla_b Q_a, D x^a/dt = "
+      "x_dot^a + G^a_c x^c";
+  j["metric"] = matrix_json(r.metric, n, n, q, q, values);
+  j["potential"] = entry(r.potential, values);
+  for (unsigned a = 0; a < n; ++a) {
+    nlohmann::json e = entry(r.forces[a], values);
+    e["row"] = q[a];
+    j["forces"].push_back(e);
+  }
+  j["christoffel_first_kind"] = nlohmann::json::array();
+  for (const ChristoffelSymbol& c : r.first_kind) {
+    nlohmann::json e = entry(c.value, values);
+    e["index"] = q[static_cast<std::size_t>(c.index)];
+    e["lower"] = {q[static_cast<std::size_t>(c.b)], q[static_cast<std::size_t>(c.c)]};
+    j["christoffel_first_kind"].push_back(e);
+  }
+  j["christoffel"] = nlohmann::json::array();
+  for (const ChristoffelSymbol& c : r.second_kind) {
+    nlohmann::json e = entry(c.value, values);
+    e["upper"] = q[static_cast<std::size_t>(c.index)];
+    e["lower"] = {q[static_cast<std::size_t>(c.b)], q[static_cast<std::size_t>(c.c)]};
+    j["christoffel"].push_back(e);
+  }
+  j["curvature"] = nlohmann::json::array();
+  for (const CurvatureComponent& c : r.curvature) {
+    nlohmann::json e = entry(c.value, values);
+    e["indices"] = {q[static_cast<std::size_t>(c.a)], q[static_cast<std::size_t>(c.b)], q[static_cast<std::size_t>(c.c)],
+                    q[static_cast<std::size_t>(c.d)]};
+    j["curvature"].push_back(e);
+  }
+  j["flat"] = r.curvature.empty();
+  j["connection_rate"] = matrix_json(r.connection_rate, n, n, q, q, values);
+  j["force_gradient"] = matrix_json(r.force_gradient, n, n, q, q, values);
+  j["stiffness"] = matrix_json(r.stiffness, n, n, q, q, values);
+  j["intermediates"] = nlohmann::json::array();
+  for (std::size_t k = first_new; k < program.size(); ++k) {
+    nlohmann::json e = entry(program.definitions()[k].value, values);
+    e["name"] = program.definitions()[k].symbol.get_name();
+    j["intermediates"].push_back(e);
+  }
+  return j;
+}
+
+void print_riemann(const nlohmann::json& r, const std::function<std::string(const nlohmann::json&)>& show) {
+  const auto name = [](const nlohmann::json& s) { return s.get<std::string>(); };
+  std::cout << "\nRiemannian view (paper, Remark on Classical Riemannian Geometry Formulations), "
+               "L = 1/2 g_ab q_dot^a q_dot^b - V:\n  metric g_ab = d2L/dq_dot^a dq_dot^b:\n";
+  for (const auto& e : r["metric"])
+    std::cout << "    g[" << name(e["row"]) << "][" << name(e["col"]) << "] = " << show(e) << "\n";
+  std::cout << "  potential V = " << show(r["potential"]) << "\n";
+  std::cout << "  Christoffel symbols Gamma^a_bc (second kind), non-zero, b <= c:\n";
+  if (r["christoffel"].empty()) std::cout << "    none\n";
+  for (const auto& e : r["christoffel"])
+    std::cout << "    Gamma^" << name(e["upper"]) << "_(" << name(e["lower"][0]) << "," << name(e["lower"][1])
+              << ") = " << show(e) << "\n";
+  std::cout << "  Christoffel symbols Gamma_a,bc (first kind), non-zero, b <= c:\n";
+  if (r["christoffel_first_kind"].empty()) std::cout << "    none\n";
+  for (const auto& e : r["christoffel_first_kind"])
+    std::cout << "    Gamma_" << name(e["index"]) << ",(" << name(e["lower"][0]) << "," << name(e["lower"][1])
+              << ") = " << show(e) << "\n";
+  std::cout << "  Riemann-Christoffel tensor R_abcd, non-zero components with a < b, c < d, (a,b) <= (c,d):\n";
+  if (r["curvature"].empty()) std::cout << "    none: the metric is flat\n";
+  for (const auto& e : r["curvature"])
+    std::cout << "    R_(" << name(e["indices"][0]) << "," << name(e["indices"][1]) << "," << name(e["indices"][2])
+              << "," << name(e["indices"][3]) << ") = " << show(e) << "\n";
+  std::cout << "  covariant linearization g_ab D2x^b/dt2 + K_ab x^b = Phi_a, D x^a/dt = x_dot^a + G^a_c x^c:\n";
+  for (const auto& e : r["connection_rate"])
+    if (e["expr"] != "0")
+      std::cout << "    G[" << name(e["row"]) << "][" << name(e["col"]) << "] = " << show(e) << "\n";
+  for (const auto& e : r["stiffness"])
+    std::cout << "    K[" << name(e["row"]) << "][" << name(e["col"]) << "] = " << show(e) << "\n";
+  if (!r["intermediates"].empty())
+    std::cout << "  intermediate symbols of the Riemannian quantities, in evaluation order (" << r["intermediates"].size()
+              << "):\n";
+  for (const auto& e : r["intermediates"]) std::cout << "    " << name(e["name"]) << " = " << show(e) << "\n";
+}
+
 void run(const DeriveOptions& opt) {
   const Model model = load_model(opt.model);
   const std::vector<double> params = parameter_values(model, parse_assignments(opt.params, "--param"));
@@ -154,11 +244,16 @@ void run(const DeriveOptions& opt) {
   if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
     throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
                      opt.curvature_sign + "'");
-  const Derivation d = derive(apply_fold(model, params, opt.fold),
-                                DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
+  const Model folded = apply_fold(model, params, opt.fold);
+  const Derivation d = derive(folded, DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
   const HamelSystem& sys = d.system;
   const HamelEquations& eq = d.equations;
-  if (opt.inline_all) inline_through = &eq.intermediates;
+  // With --riemann the program grows by the Riemannian quantities (a copy: eq's stays as derived).
+  Intermediates riemann_program = opt.riemann ? eq.intermediates : Intermediates{};
+  std::optional<RiemannGeometry> riemann;
+  if (opt.riemann) riemann = derive_riemann(folded, riemann_program);
+  const Intermediates& program = opt.riemann ? riemann_program : eq.intermediates;
+  if (opt.inline_all) inline_through = &program;
 
   // --at takes every name the output lists as coordinate or quasi-velocity (for bundle models the shape
   // rates r_dot and the shifted group velocities of the form), inputs, the group velocity and t.
@@ -177,7 +272,11 @@ void run(const DeriveOptions& opt) {
     values[it->second] = exact_number(v);
   }
   if (!at.empty()) values[model.time] = exact_number(at.count("t") ? at.at("t") : 0.0);
-  if (!at.empty()) values = eq.intermediates.evaluate(values);
+  if (!at.empty()) values = program.evaluate(values);
+  if (riemann && !at.empty()) {  // the Riemannian quantities are in q_dot = B(q) u (qadot)
+    for (std::size_t a = 0; a < model.rates.size(); ++a) values[model.rates[a]] = eq.kinematics[a].subs(values).evalf();
+    values = program.evaluate(values);
+  }
   const auto u_name = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
   const auto q_name = [&](std::size_t a) { return sys.coordinates[a].get_name(); };
   const auto is_independent = [&](int a) {
@@ -249,6 +348,7 @@ void run(const DeriveOptions& opt) {
     j[k < user_definitions ? "definitions" : "intermediates"].push_back(e);
   }
   j["conservative"] = eq.conservative;
+  if (riemann) j["riemann"] = riemann_json(*riemann, program, eq.intermediates.size(), values);
 
   if (opt.json) {
     std::cout << j.dump(2) << "\n";
@@ -317,6 +417,7 @@ void run(const DeriveOptions& opt) {
   std::cout << "\nkinematics, eq. (qadot):\n";
   for (const auto& e : j["kinematics"]) std::cout << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
   std::cout << "\nenergy E = " << show(j["energy"]) << (eq.conservative ? "   (conserved)" : "") << "\n";
+  if (riemann) print_riemann(j["riemann"], show);
 }
 
 }  // namespace
@@ -341,6 +442,10 @@ Run add_derive_command(CLI::App& app) {
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
   cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
+  cmd->add_flag("--riemann", opt->riemann,
+                "Models in general coordinates without constraints, L = 1/2 g_ab(q) q_dot^a q_dot^b - V: also the "
+                "metric, Christoffel symbols, Riemann-Christoffel tensor and the covariant linearization (JSON key "
+                "'riemann')");
   cmd->add_flag("--inline", opt->inline_all,
                 "Print every expression with the intermediate symbols expanded (for small models; expressions that "
                 "would exceed 20000 nodes keep their intermediates)");

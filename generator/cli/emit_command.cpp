@@ -23,7 +23,8 @@ struct EmitOptions {
 
 constexpr const char* kernel_names[] = {"kinematics",     "mass_matrix",   "forcing",        "hamel_coefficients",
                                         "rhs",            "jacobian",      "energy",         "constraint_residual",
-                                        "group_velocity", "connection",    "locked_inertia", "shape_inertia"};
+                                        "group_velocity", "connection",    "locked_inertia", "shape_inertia",
+                                        "linearization",  "riemann_linearization"};
 
 // --kernels a,b,c: the kernels to build, each a known name.
 std::set<std::string> parse_kernels(const std::string& list) {

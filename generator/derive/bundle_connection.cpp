@@ -1,6 +1,7 @@
 #include "derive/bundle_connection.hpp"
 
 #include "algebra/identity_test.hpp"
+#include "algebra/quadratic_form.hpp"
 #include "derive/kinematic_tree.hpp"
 #include "model/input_error.hpp"
 
@@ -57,69 +58,6 @@ BundleGeometry inlined(const BundleGeometry& geometry) {
   return out;
 }
 
-namespace {
-
-// Eq. (T): T is a quadratic form in v = (ξ, ṙ) iff its third derivatives vanish and T = ½ vᵀ H v with
-// H = ∂²T/∂v∂v. The third derivatives are tested as one trilinear form T‴(v)[a, b, c] in fresh symbols
-// a, b, c (zero as a polynomial iff every third derivative is zero); both tests by identically_zero(),
-// exact for parameters in numerators and denominators alike (not by the shape of the expression).
-bool is_quadratic_form(const ex& T, const std::vector<GiNaC::realsymbol>& v, const matrix& H,
-                       Intermediates& program) {
-  const std::size_t n = v.size();
-  ex derivative = T;
-  for (const char* direction : {"a", "b", "c"}) {
-    ex along = 0;
-    for (std::size_t i = 0; i < n; ++i)
-      along += GiNaC::realsymbol(std::string("_dir_") + direction + std::to_string(i)) * program.diff(derivative, v[i]);
-    derivative = along;
-  }
-  if (!shown_zero(derivative, program)) return false;
-  ex rest = T;
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j)
-      rest -= H(static_cast<unsigned>(i), static_cast<unsigned>(j)) * v[i] * v[j] / 2;
-  return shown_zero(rest, program);
-}
-
-// Eq. (mechConn): A = L⁻¹K by a symbolic LDLᵀ of the locked inertia (positive definite, so no pivoting)
-// and two triangular solves, every step kept through `program`: the entries of L⁻¹K are never expanded.
-matrix solve_locked(const matrix& L, const matrix& K, Intermediates& program) {
-  const unsigned m = L.rows(), d = K.cols();
-  matrix F(m, m);  // unit lower triangle
-  std::vector<ex> D(m);
-  for (unsigned k = 0; k < m; ++k) {
-    ex pivot = L(k, k);
-    for (unsigned j = 0; j < k; ++j)
-      if (!F(k, j).is_zero()) pivot -= F(k, j) * F(k, j) * D[j];
-    D[k] = program.keep(pivot);
-    for (unsigned i = k + 1; i < m; ++i) {
-      ex e = L(i, k);
-      for (unsigned j = 0; j < k; ++j)
-        if (!F(i, j).is_zero() && !F(k, j).is_zero()) e -= F(i, j) * F(k, j) * D[j];
-      F(i, k) = e.is_zero() ? ex(0) : program.keep(e / D[k]);
-    }
-  }
-  matrix X(m, d);
-  for (unsigned c = 0; c < d; ++c) {
-    std::vector<ex> y(m);
-    for (unsigned i = 0; i < m; ++i) {
-      ex e = K(i, c);
-      for (unsigned j = 0; j < i; ++j)
-        if (!F(i, j).is_zero()) e -= F(i, j) * y[j];
-      y[i] = program.keep(e);
-    }
-    for (unsigned i = m; i-- > 0;) {
-      ex e = y[i] / D[i];
-      for (unsigned j = i + 1; j < m; ++j)
-        if (!F(j, i).is_zero()) e -= F(j, i) * X(j, c);
-      X(i, c) = program.keep(e, 400);
-    }
-  }
-  return X;
-}
-
-}  // namespace
-
 BundleGeometry derive_bundle_geometry(const Model& model) {
   if (model.bundle->tree) return derive_bundle_geometry(with_inlined_tree(model));  // symbolic: small trees only
   const Bundle& b = *model.bundle;
@@ -142,7 +80,7 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
     const ex dT = program.diff(b.kinetic, v[i]);
     for (unsigned j = 0; j <= i; ++j) H(i, j) = H(j, i) = program.keep(program.diff(dT, v[j]), 400);
   }
-  g.quadratic = is_quadratic_form(b.kinetic, v, H, program);
+  g.quadratic = is_quadratic_form(b.kinetic, v, H, program);  // eq. (T)
   if (g.quadratic) {
     g.L = matrix(m, m);
     g.K = matrix(m, d == 0 ? 1 : d);
@@ -164,7 +102,8 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
       throw InputError(where, "kinetic",
                        "the locked inertia L = d2T/dxi dxi is singular (identically, in r), so the mechanical "
                        "connection A = L^-1 K does not exist; every group direction must carry kinetic energy");
-    g.connection = d > 0 ? solve_locked(g.L, g.K, program) : matrix(m, d);
+    // Eq. (mechConn): A = L⁻¹K by a symbolic LDLᵀ of the locked inertia (positive definite, no pivoting).
+    g.connection = d > 0 ? solve_positive_definite(g.L, g.K, program) : matrix(m, d);
   } else {
     g.connection = b.kinematic_connection;
   }

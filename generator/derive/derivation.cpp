@@ -105,8 +105,8 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
       throw InputError("--form applies to bundle models (with 'group'); '" + model.source_path +
                        "' is in general coordinates");
     progress::Step step("deriving B = A^-1 and the Hamel coefficients of " + model.name);
-    d.quasi_velocities = derive_quasi_velocities(model);
     Intermediates program = model.definitions;
+    d.quasi_velocities = derive_quasi_velocities(model, program);
     std::vector<HamelCoefficient> gamma = hamel_coefficients(model, d.quasi_velocities, program);
     step.detail(std::to_string(gamma.size()) + " non-zero coefficients");
     d.system = general_coordinate_system(model, d.quasi_velocities, std::move(gamma), std::move(program));

@@ -2,10 +2,12 @@
 #include "derive/quasi_velocities.hpp"
 
 #include "algebra/expression_text.hpp"
+#include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <optional>
@@ -101,49 +103,150 @@ constexpr double inverse_tolerance = 1e-9;    // |A·B − I| entries above whic
 
 }  // namespace
 
-QuasiVelocities derive_quasi_velocities(const Model& model) {
+namespace {
+
+bool uses_intermediates(const GiNaC::matrix& m, const Intermediates& program) {
+  for (unsigned i = 0; i < m.rows(); ++i)
+    for (unsigned j = 0; j < m.cols(); ++j)
+      if (!program.used_by(m(i, j)).empty()) return true;
+  return false;
+}
+
+// B = A⁻¹ by Gauss–Jordan elimination through intermediate symbols: every multiplier and every updated
+// entry passes through Intermediates::keep, so small entries stay closed forms and large ones become named
+// definitions, and nothing is expanded into one formula. A pivot must not vanish identically (decided
+// exactly, algebra/identity_test), and the elimination divides by it also at the configurations where the
+// model is used: so the pivot is chosen by partial pivoting on a numeric shadow of the elimination at the
+// reference configuration q = 0 (parameters at their defaults) — the one users linearize about — and, where
+// A is singular there, at a generic configuration. Otherwise a pivot that is zero at q = 0 (sin φ of an
+// upright bicycle) would leave removable 0/0 in B at exactly that point.
+GiNaC::matrix eliminate_inverse(const Model& model, const GiNaC::matrix& A, Intermediates& program) {
+  const unsigned n = A.rows();
+  std::vector<std::vector<GiNaC::ex>> a(n, std::vector<GiNaC::ex>(2 * n, 0));
+  for (unsigned i = 0; i < n; ++i) {
+    for (unsigned j = 0; j < n; ++j) a[i][j] = A(i, j);
+    a[i][n + i] = 1;
+  }
+  // Numeric shadows: [0] at q = 0, [1] at a generic point.
+  std::array<std::vector<std::vector<double>>, 2> shadow;
+  for (int s = 0; s < 2; ++s) {
+    GiNaC::exmap values;
+    values[model.time] = 0;
+    for (std::size_t k = 0; k < model.coordinates.size(); ++k)
+      values[model.coordinates[k]] = s == 0 ? GiNaC::numeric(0) : GiNaC::numeric(static_cast<long>(17 + 23 * k % 41), 73);
+    for (const Parameter& p : model.parameters) values[p.symbol] = exact_number(p.default_value);
+    const GiNaC::exmap all = program.evaluate(values);
+    shadow[static_cast<std::size_t>(s)].assign(n, std::vector<double>(2 * n, 0.0));
+    for (unsigned i = 0; i < n; ++i) {
+      for (unsigned j = 0; j < n; ++j) {
+        const GiNaC::ex v = A(i, j).subs(all).evalf();
+        shadow[static_cast<std::size_t>(s)][i][j] =
+            GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real()
+                ? GiNaC::ex_to<GiNaC::numeric>(v).to_double()
+                : std::nan("");
+      }
+      shadow[static_cast<std::size_t>(s)][i][n + i] = 1;
+    }
+  }
+  for (unsigned c = 0; c < n; ++c) {
+    std::vector<unsigned> candidates;
+    for (unsigned r = c; r < n; ++r) {
+      const GiNaC::ex& e = a[r][c];
+      if (e.is_zero()) continue;
+      if (!GiNaC::is_a<GiNaC::numeric>(e) && identically_zero(e, program) == Identity::zero) continue;
+      candidates.push_back(r);
+    }
+    if (candidates.empty()) return GiNaC::matrix(0, 0);  // singular
+    unsigned pivot = candidates.front();
+    for (std::size_t s = 0; s < 2; ++s) {
+      double best = 0;
+      for (unsigned r : candidates)
+        if (std::fabs(shadow[s][r][c]) > best) best = std::fabs(shadow[s][r][c]), pivot = r;
+      if (best > 1e-9) break;
+    }
+    std::swap(a[c], a[pivot]);
+    for (auto& m : shadow) std::swap(m[c], m[pivot]);
+    const GiNaC::ex inverse_pivot = program.keep(1 / a[c][c]);
+    for (unsigned j = c; j < 2 * n; ++j)
+      if (!a[c][j].is_zero()) a[c][j] = j == c ? GiNaC::ex(1) : program.keep(a[c][j] * inverse_pivot);
+    for (auto& m : shadow) {
+      const double p = m[c][c];
+      for (unsigned j = c; j < 2 * n; ++j) m[c][j] /= p;
+    }
+    for (unsigned r = 0; r < n; ++r) {
+      if (r == c || a[r][c].is_zero()) continue;
+      const GiNaC::ex factor = a[r][c];
+      for (unsigned j = c; j < 2 * n; ++j)
+        if (!a[c][j].is_zero()) a[r][j] = j == c ? GiNaC::ex(0) : program.keep(a[r][j] - factor * a[c][j]);
+      for (auto& m : shadow) {
+        const double f = m[r][c];
+        for (unsigned j = c; j < 2 * n; ++j) m[r][j] -= f * m[c][j];
+      }
+    }
+  }
+  GiNaC::matrix B(n, n);
+  for (unsigned i = 0; i < n; ++i)
+    for (unsigned j = 0; j < n; ++j) B(i, j) = a[i][n + j];
+  return B;
+}
+
+}  // namespace
+
+QuasiVelocities derive_quasi_velocities(const Model& model, Intermediates& program) {
   QuasiVelocities qv;
   qv.A = simplify(model.A);
   const unsigned n = qv.A.rows();
   const SourceLocation where_A = location_of(model, "quasi_velocities.A");
-  const GiNaC::ex det = simplify(qv.A.determinant());
-  if (det.is_zero())
-    throw InputError(where_A, "quasi_velocities.A",
-                     "A(q) is singular: its determinant is identically zero (shown symbolically); the "
-                     "quasi-velocities must be independent combinations of the coordinate rates");
-
-  // Symbolically non-zero is not enough: the simplifier may miss an identity, or the determinant may
-  // vanish for the parameters' default values. Singular at every sampled configuration means singular.
-  const std::vector<SamplePoint> points = sample_points(model);
-  std::optional<double> smallest;
-  const SamplePoint* first = nullptr;
-  bool regular_somewhere = false;
-  for (const SamplePoint& p : points) {
-    const std::optional<double> r = relative_determinant(qv.A, p);
-    if (!r) continue;
-    if (!first) first = &p, smallest = *r;
-    regular_somewhere = regular_somewhere || *r > singular_tolerance;
+  const std::string not_independent = "; the quasi-velocities must be independent combinations of the coordinate rates";
+  // A written through definitions (or rows given as expressions in the rates) is decided and inverted
+  // through the program; a matrix written out is inverted in closed form as before.
+  const bool through_program = uses_intermediates(qv.A, program);
+  if (through_program) {
+    if (identically_singular(qv.A, program) == Identity::zero)
+      throw InputError(where_A, "quasi_velocities.A",
+                       "A(q) is singular: its determinant is identically zero (shown exactly, by evaluation at "
+                       "random points modulo a prime)" + not_independent);
+  } else {
+    const GiNaC::ex det = simplify(qv.A.determinant());
+    if (det.is_zero())
+      throw InputError(where_A, "quasi_velocities.A",
+                       "A(q) is singular: its determinant is identically zero (shown symbolically)" + not_independent);
+    // Symbolically non-zero is not enough: the simplifier may miss an identity, or the determinant may
+    // vanish for the parameters' default values. Singular at every sampled configuration means singular.
+    const std::vector<SamplePoint> points = sample_points(model);
+    std::optional<double> smallest;
+    const SamplePoint* first = nullptr;
+    bool regular_somewhere = false;
+    for (const SamplePoint& p : points) {
+      const std::optional<double> r = relative_determinant(qv.A, p);
+      if (!r) continue;
+      if (!first) first = &p, smallest = *r;
+      regular_somewhere = regular_somewhere || *r > singular_tolerance;
+    }
+    if (first && !regular_somewhere)
+      throw InputError(where_A, "quasi_velocities.A",
+                       "A(q) is singular at every sampled configuration (shown numerically; det A = " +
+                           quote(to_text(det), 120) + " did not simplify to 0): at " + first->text +
+                           ", |det A| divided by the product of its row lengths is " + shortest_decimal(*smallest) +
+                           not_independent);
   }
-  if (first && !regular_somewhere)
-    throw InputError(where_A, "quasi_velocities.A",
-                     "A(q) is singular at every sampled configuration (shown numerically; det A = " +
-                         quote(to_text(det), 120) + " did not simplify to 0): at " + first->text +
-                         ", |det A| divided by the product of its row lengths is " + shortest_decimal(*smallest) +
-                         "; the quasi-velocities must be independent combinations of the coordinate rates");
 
   if (model.B_given) {
     qv.B = simplify(model.B);
     const GiNaC::matrix product = qv.A.mul(qv.B);
+    const std::vector<SamplePoint> points = sample_points(model);
     for (unsigned i = 0; i < n; ++i)
       for (unsigned j = 0; j < n; ++j) {
         const GiNaC::ex deviation = product(i, j) - (i == j ? 1 : 0);
         if (is_zero_exactly(deviation)) continue;
+        const Identity exact = identically_zero(deviation, program);
+        if (exact == Identity::zero) continue;
         // Not shown to be zero: a sampled configuration where it is not zero proves B wrong; where it is
         // zero at every one, the simplifier merely missed an identity and B is accepted.
         std::string evidence;
         bool checked = false;
         for (const SamplePoint& p : points) {
-          const std::optional<double> v = value_at(deviation, p);
+          const std::optional<double> v = value_at(program.inline_all(deviation), p);
           if (!v) continue;
           checked = true;
           if (std::fabs(*v) > inverse_tolerance) {
@@ -151,16 +254,28 @@ QuasiVelocities derive_quasi_velocities(const Model& model) {
             break;
           }
         }
-        if (checked && evidence.empty()) continue;
+        if (exact == Identity::undecided && checked && evidence.empty()) continue;
         throw InputError(location_of(model, "quasi_velocities.B"), "quasi_velocities.B",
                          "B is not the inverse of A: (A*B)[" + std::to_string(i) + "][" + std::to_string(j) +
                              "] simplifies to " + quote(to_text(simplify(product(i, j))), 120) +
                              (i == j ? ", expected 1" : ", expected 0") + evidence);
       }
+  } else if (through_program) {
+    qv.B = eliminate_inverse(model, qv.A, program);
+    if (qv.B.rows() == 0)
+      throw InputError(where_A, "quasi_velocities.A", "A(q) is singular: elimination found no pivot" + not_independent);
   } else {
     // GiNaC inverts by elimination; simplify() then applies sin² + cos² = 1 that it does not know.
     qv.B = simplify(qv.A.inverse());
   }
+  return qv;
+}
+
+QuasiVelocities derive_quasi_velocities(const Model& model) {
+  Intermediates program = model.definitions;
+  QuasiVelocities qv = derive_quasi_velocities(model, program);
+  for (unsigned i = 0; i < qv.B.rows(); ++i)
+    for (unsigned j = 0; j < qv.B.cols(); ++j) qv.B(i, j) = program.inline_all(qv.B(i, j));
   return qv;
 }
 

@@ -1,6 +1,7 @@
 #include "emit/kernels.hpp"
 
 #include "algebra/simplify.hpp"
+#include "derive/riemann.hpp"
 
 #include <optional>
 #include <stdexcept>
@@ -181,11 +182,42 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       }
   }
 
+  // A = d(x')/dx and B = d(x')/d(in) along any state: forward mode through the rhs program (one tangent pass
+  // per state and input component; no symbolic derivative is formed). Built only when asked for by name.
+  Kernel linearization{"linearization",
+                       "A = d(x')/dx (n_state x n_state) then B = d(x')/d(in) (n_state x n_in), row-major, forward "
+                       "mode through rhs",
+                       {},
+                       {}};
+  if (only.count("linearization")) {
+    const int nx = static_cast<int>(rhs.outputs.size());
+    const int ni = static_cast<int>(model.inputs.size());
+    std::vector<std::vector<int>> a_columns, b_columns;
+    for (int k = 0; k < nx; ++k) a_columns.push_back(tangent(g, rhs.outputs, {{g.input(Argument::state, k), g.constant(1)}}));
+    for (int k = 0; k < ni; ++k) b_columns.push_back(tangent(g, rhs.outputs, {{g.input(Argument::input, k), g.constant(1)}}));
+    const auto state_name = [&](int k) {
+      return k < n ? sys.coordinates[static_cast<std::size_t>(k)].get_name()
+                   : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
+    };
+    for (int row = 0; row < nx; ++row)
+      for (int k = 0; k < nx; ++k) {
+        linearization.outputs.push_back(a_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
+        linearization.output_names.push_back("A[" + rhs.output_names[static_cast<std::size_t>(row)] + "][" + state_name(k) + "]");
+      }
+    for (int row = 0; row < nx; ++row)
+      for (int k = 0; k < ni; ++k) {
+        linearization.outputs.push_back(b_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
+        linearization.output_names.push_back("B[" + rhs.output_names[static_cast<std::size_t>(row)] + "][" +
+                                             model.inputs[static_cast<std::size_t>(k)].get_name() + "]");
+      }
+  }
+
   Kernel energy{"energy", "E = dL/du^I u^I - L (invariant when the model is conservative)", {}, {}};
   energy.outputs.push_back(node_of(eq.energy_terms.at(0)));
   energy.output_names.push_back("E");
 
   set.kernels = {kinematics, mass, forcing, gamma, rhs, jacobian, energy};
+  if (only.count("linearization")) set.kernels.push_back(linearization);
   if (!eq.constraint_residual.empty()) {
     Kernel residual{"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", {}, {}};
     for (std::size_t k = 0; k < eq.constraint_residual.size(); ++k) {
@@ -261,6 +293,47 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         }
       set.kernels.push_back(shape);
     }
+  }
+  // The Riemannian view (derive/riemann.hpp), built only when asked for by name: it is defined only for
+  // unconstrained models in general coordinates with L = ½ g_ab q̇ᵃq̇ᵇ − V. Matrices in the coordinate basis
+  // ∂/∂qᵃ at the state's velocity q̇ = B(q) u_I (qadot); for A = I that is q̇ = u.
+  if (only.count("riemann_linearization")) {
+    const RiemannGeometry riemann = derive_riemann(model, tape);
+    for (int a = 0; a < n; ++a)
+      leaves[model.rates[static_cast<std::size_t>(a)]] = node_of(eq.kinematics[static_cast<std::size_t>(a)]);
+    Kernel linearization{"riemann_linearization",
+                         "g_ab, G^a_c = Gamma^a_bc q_dot^b, K_ab = R_cbda q_dot^c q_dot^d - nabla_b Q_a at q_dot = B u, "
+                         "and dG/dt along x' = rhs: g D2x/dt2 + K x = Phi, D x/dt = x_dot + G x; four n x n blocks, "
+                         "row-major",
+                         {},
+                         {}};
+    const auto name = [&](const char* label, int a, int b) {
+      return std::string(label) + "[" + sys.coordinates[static_cast<std::size_t>(a)].get_name() + "][" +
+             sys.coordinates[static_cast<std::size_t>(b)].get_name() + "]";
+    };
+    const std::pair<const char*, const GiNaC::matrix*> blocks[] = {
+        {"g", &riemann.metric}, {"G", &riemann.connection_rate}, {"K", &riemann.stiffness}};
+    std::vector<int> connection_rate;
+    for (const auto& [label, m] : blocks)
+      for (int a = 0; a < n; ++a)
+        for (int b = 0; b < n; ++b) {
+          linearization.outputs.push_back(node_of((*m)(static_cast<unsigned>(a), static_cast<unsigned>(b))));
+          linearization.output_names.push_back(name(label, a, b));
+          if (m == &riemann.connection_rate) connection_rate.push_back(linearization.outputs.back());
+        }
+    // Ġ along the motion, by forward mode through G's program with the state's tangent x' = (q̇, u̇_I) (the
+    // rhs kernel's outputs): what the first-order form of the covariant equations needs
+    // (docs/linearization.md).
+    std::map<int, int> along_motion;
+    for (std::size_t k = 0; k < rhs.outputs.size(); ++k)
+      along_motion[g.input(Argument::state, static_cast<int>(k))] = rhs.outputs[k];
+    const std::vector<int> connection_rate_dot = tangent(g, connection_rate, along_motion);
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        linearization.outputs.push_back(connection_rate_dot[static_cast<std::size_t>(a * n + b)]);
+        linearization.output_names.push_back(name("G_dot", a, b));
+      }
+    set.kernels.push_back(linearization);
   }
   if (!want("rhs")) set.rhs_pivots.clear();
   if (!only.empty()) {

@@ -1,6 +1,8 @@
 #include "model/load_model.hpp"
 #include "model/physical_checks.hpp"
 
+#include "algebra/identity_test.hpp"
+
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
@@ -201,6 +203,52 @@ class Loader {
     return m;
   }
 
+  // A: each row a list of n entries A^a_b(q), or one expression u^a = A^a_b(q) q̇^b linear in the rates (a
+  // contact-point velocity written with definitions), whose coefficients are its derivatives by the rates
+  // (taken through the definitions, so nothing is expanded). Linearity is decided exactly.
+  GiNaC::matrix velocity_matrix(Model& model, const YAML::Node& node, const std::string& key,
+                                const GiNaC::symtab& geometric, const std::string& allowed) {
+    const std::size_t n = model.coordinates.size();
+    if (!node.IsSequence() || node.size() != n)
+      fail(node, key, "expected a list of " + std::to_string(n) + " rows (one per quasi-velocity)");
+    GiNaC::symtab with_rates = geometric;
+    for (const auto& r : model.rates) with_rates[r.get_name()] = r;
+    with_rates = with_definitions(with_rates);
+    GiNaC::matrix m(static_cast<unsigned>(n), static_cast<unsigned>(n));
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::string row_key = key + "[" + std::to_string(i) + "]";
+      if (node[i].IsSequence()) {
+        if (node[i].size() != n)
+          fail(node[i], row_key, "expected a row of " + std::to_string(n) + " entries (one per coordinate)");
+        for (std::size_t j = 0; j < n; ++j)
+          m(static_cast<unsigned>(i), static_cast<unsigned>(j)) =
+              expression(node[i][j], row_key + "[" + std::to_string(j) + "]", geometric, allowed);
+        continue;
+      }
+      if (!node[i].IsScalar())
+        fail(node[i], row_key,
+             "expected a row of " + std::to_string(n) +
+                 " entries (one per coordinate) or one expression linear in the rates");
+      const GiNaC::ex row = expression(node[i], row_key, with_rates,
+                                       "a row written as one expression may use coordinates, rates and parameters "
+                                       "(and definitions of them); it must be linear in the rates");
+      GiNaC::ex rest = row;
+      for (std::size_t j = 0; j < n; ++j) {
+        const GiNaC::ex c = model.definitions.diff(row, model.rates[j]);
+        m(static_cast<unsigned>(i), static_cast<unsigned>(j)) = c;
+        rest -= c * model.rates[j];
+        for (std::size_t k = 0; k < n; ++k)
+          if (!c.is_zero() && identically_zero(model.definitions.diff(c, model.rates[k]), model.definitions) == Identity::nonzero)
+            fail(node[i], row_key,
+                 "is not linear in the rates: its coefficient of " + model.rates[j].get_name() + " depends on " +
+                     model.rates[k].get_name() + " (expected u = A(q) q_dot)");
+      }
+      if (identically_zero(rest, model.definitions) == Identity::nonzero)
+        fail(node[i], row_key, "is not linear in the rates: it has a part without a rate (expected u = A(q) q_dot)");
+    }
+    return m;
+  }
+
   void check_keys(const YAML::Node& node, const std::string& context, const std::vector<std::string>& known) const {
     for (const auto& kv : node) {
       const std::string key = kv.first.as<std::string>();
@@ -371,8 +419,10 @@ void Loader::load_forces(Model& model, const GiNaC::symtab& table, const std::st
       fail(forces, "forces",
            "expected a list of " + std::to_string(n) + " expressions (one per " +
                (bundle_ ? "shape coordinate)" : "coordinate)"));
-    for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t i = 0; i < n; ++i) {
+      model.locations["forces[" + std::to_string(i) + "]"] = where(forces[i]);
       model.forces[i] = expression(forces[i], "forces[" + std::to_string(i) + "]", table, allowed);
+    }
   }
 }
 
@@ -408,7 +458,7 @@ void Loader::load_core(Model& model) {
 
   if (!qv["A"]) fail(qv, "quasi_velocities.A", "missing required key; expected an n x n matrix (list of rows)");
   model.locations["quasi_velocities.A"] = where(qv["A"]);
-  model.A = matrix_of(qv["A"], "quasi_velocities.A", n, n, geometric, geometric_allowed);
+  model.A = velocity_matrix(model, qv["A"], "quasi_velocities.A", geometric, geometric_allowed);
   if (YAML::Node b = qv["B"]) {
     model.locations["quasi_velocities.B"] = where(b);
     model.B = matrix_of(b, "quasi_velocities.B", n, n, geometric, geometric_allowed);
@@ -417,6 +467,7 @@ void Loader::load_core(Model& model) {
 
   if (YAML::Node cons = root_["constraints"]) {
     if (!cons.IsSequence()) fail(cons, "constraints", "expected a list of quasi-velocity names");
+    model.locations["constraints"] = where(cons);
     std::vector<std::string> names;
     for (const auto& u : model.quasi_velocities) names.push_back(u.get_name());
     for (std::size_t i = 0; i < cons.size(); ++i) {
@@ -478,6 +529,7 @@ void Loader::load_core(Model& model) {
 void Loader::load_bundle(Model& model) {
   Bundle b;
   YAML::Node group = require("group", YAML::NodeType::Scalar, "a group name");
+  model.locations["group"] = where(group);
   b.group = group.Scalar();
   unsigned dim = 0;
   try {

@@ -16,6 +16,7 @@ const std::map<std::string, std::vector<std::string>>& scene_tasks() {
   static const std::map<std::string, std::vector<std::string>> tasks = {
       {"dynamics", {"kinematics", "rhs"}},
       {"jacobian", {"jacobian"}},
+      {"linearization", {"rhs", "linearization"}},
       {"mass_matrix", {"mass_matrix", "forcing"}},
       {"hamel_coefficients", {"hamel_coefficients"}},
       {"monitors", {"energy", "constraint_residual"}},

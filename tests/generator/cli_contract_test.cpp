@@ -5,6 +5,7 @@
 
 #include <sys/wait.h>
 #include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -69,6 +70,49 @@ TEST(Cli, DeriveJsonNamesEntriesAndCarriesValues) {
   ASSERT_TRUE(j.contains("mass_matrix") && j.contains("forcing"));
   for (const auto& e : j["mass_matrix"]) EXPECT_TRUE(e.contains("row") && e.contains("col") && e.contains("value"));
   for (const auto& e : j["forcing"]) EXPECT_TRUE(e.contains("value"));
+}
+
+// --riemann adds the key "riemann" and changes nothing else; its entries carry values under --at.
+TEST(Cli, DeriveRiemannAddsOneKey) {
+  const std::string args = "derive " + source("models/double_pendulum.yaml") +
+                           " --json --at theta1=0.3,theta2=-0.4,omega1=1.5,omega2=-0.5";
+  const Outcome plain = hamel(args + " 2>/dev/null"), riemann = hamel(args + " --riemann 2>/dev/null");
+  ASSERT_EQ(plain.status, 0);
+  ASSERT_EQ(riemann.status, 0);
+  nlohmann::json with = nlohmann::json::parse(riemann.out);
+  const nlohmann::json without = nlohmann::json::parse(plain.out);
+  EXPECT_FALSE(without.contains("riemann"));
+  ASSERT_TRUE(with.contains("riemann"));
+  const nlohmann::json r = with["riemann"];
+  with.erase("riemann");
+  EXPECT_EQ(with, without);
+  for (const char* key : {"metric", "christoffel", "christoffel_first_kind", "curvature", "connection_rate",
+                          "force_gradient", "stiffness", "forces"})
+    for (const auto& e : r[key]) EXPECT_TRUE(e.contains("expr") && e.contains("value")) << key;
+  // g_11 = (m1 + m2) l1² = 2, g_12 = m2 l1 l2 cos(theta1 - theta2) with unit masses and lengths.
+  for (const auto& e : r["metric"]) {
+    if (e["row"] == "theta1" && e["col"] == "theta1") {
+      EXPECT_NEAR(e["value"].get<double>(), 2.0, 1e-15);
+    }
+    if (e["row"] == "theta1" && e["col"] == "theta2") {
+      EXPECT_NEAR(e["value"].get<double>(), std::cos(0.7), 1e-15);
+    }
+  }
+  ASSERT_EQ(r["curvature"].size(), 1u);
+  EXPECT_EQ(r["curvature"][0]["indices"], (nlohmann::json{"theta1", "theta2", "theta1", "theta2"}));
+  EXPECT_FALSE(r["flat"].get<bool>());
+  // Conservative forces: K_ab = R_cbda q_dot^c q_dot^d + Hess(V)_ab is symmetric.
+  double K12 = 0, K21 = 0;
+  for (const auto& e : r["stiffness"]) {
+    if (e["row"] == "theta1" && e["col"] == "theta2") K12 = e["value"].get<double>();
+    if (e["row"] == "theta2" && e["col"] == "theta1") K21 = e["value"].get<double>();
+  }
+  EXPECT_NE(K12, 0.0);
+  EXPECT_NEAR(K12, K21, 1e-12 * std::fabs(K12));
+  const Outcome text = hamel("derive " + source("models/double_pendulum.yaml") + " --riemann 2>/dev/null");
+  ASSERT_EQ(text.status, 0);
+  EXPECT_NE(text.out.find("Riemann-Christoffel tensor R_abcd"), std::string::npos);
+  EXPECT_NE(text.out.find("R_(theta1,theta2,theta1,theta2) = "), std::string::npos);
 }
 
 TEST(Cli, SimulateWritesCsvWithStateHeader) {

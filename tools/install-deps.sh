@@ -3,15 +3,16 @@
 set -euo pipefail
 # clang is installed for the generated-package tests (they build emitted code with g++ and clang++).
 # With --fuzz it also installs libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only).
+# `hamel import` links urdfdom (URDF) and MuJoCo (MJCF); its tests read MuJoCo's sample humanoid.
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libfmt-dev libgtest-dev
-          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang)
+          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang liburdfdom-dev libmujoco-dev libmujoco-samples)
 # With --scaling it also installs the peers of the scaling benchmark (tools/scaling.sh): SymPy, numpy,
 # matplotlib, MuJoCo and Google Benchmark.
 if [ "${1:-}" = "--fuzz" ]; then
   packages+=(libclang-rt-dev llvm)
 fi
 if [ "${1:-}" = "--scaling" ]; then
-  packages+=(python3 python3-sympy python3-numpy python3-matplotlib libmujoco-dev libbenchmark-dev)
+  packages+=(python3 python3-sympy python3-numpy python3-matplotlib libbenchmark-dev)
 fi
 missing=()
 for p in "${packages[@]}"; do

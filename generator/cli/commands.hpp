@@ -24,6 +24,7 @@ Run add_simulate_command(CLI::App& app);
 Run add_phase_command(CLI::App& app);
 Run add_accuracy_command(CLI::App& app);
 Run add_report_command(CLI::App& app);
+Run add_import_command(CLI::App& app);
 Run add_linearize_command(CLI::App& app);
 
 }  // namespace hamel::cli

@@ -436,8 +436,8 @@ Run add_derive_command(CLI::App& app) {
                   "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection, ep for "
                   "kinematic trees");
   cmd->add_option("--dynamics", opt->dynamics,
-                  "Kinematic trees (ep form): aba also derives u' by the articulated-body algorithm (JSON key "
-                  "'accelerations'); ldlt (default here) only M u' = f");
+                  "Kinematic trees (ep form, or on a fixed base): aba also derives u' by the articulated-body "
+                  "algorithm (JSON key 'accelerations'); ldlt (default here) only M u' = f");
   cmd->add_option("--curvature-sign", opt->curvature_sign,
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
   cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();

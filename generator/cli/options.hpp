@@ -29,8 +29,9 @@ inline const char* fold_help() {
 
 /// The help text of --dynamics.
 inline const char* dynamics_help() {
-  return "Kinematic trees (ep form): aba (articulated-body algorithm, O(n)) or ldlt (M u' = f by an unrolled "
-         "LDL^T); default aba from two bodies, ldlt for one (docs/benchmarks.md)";
+  return "Kinematic trees (ep form, or on a fixed base): aba (articulated-body algorithm, O(n)) or ldlt "
+         "(M u' = f by an unrolled LDL^T); default aba from two bodies on a floating base and from five on a "
+         "fixed base, else ldlt (docs/benchmarks.md)";
 }
 
 /// What a verb works on: a model file, or a scene file and its model.

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <cmath>
 #include <filesystem>
 #include <iomanip>
 #include <iostream>
@@ -98,6 +99,23 @@ void run(const PhaseOptions& opt) {
   req.steps_per_cycle = opt.steps;
   req.samples_per_cycle = opt.samples;
   check_phase_request(model, req);  // before the derivation, which may take long
+  {
+    // A phase is the holonomy of a closed loop: warn when r(T) differs from r(0) (the cycles then drift).
+    GiNaC::exmap at0, atT;
+    for (std::size_t k = 0; k < model.parameters.size(); ++k)
+      at0[model.parameters[k].symbol] = atT[model.parameters[k].symbol] = params[k];
+    at0[model.time] = 0;
+    atT[model.time] = opt.period;
+    for (std::size_t I = 0; I < req.path.size(); ++I) {
+      const GiNaC::ex a = req.path[I].subs(at0).evalf(), b = req.path[I].subs(atT).evalf();
+      if (!GiNaC::is_a<GiNaC::numeric>(a) || !GiNaC::is_a<GiNaC::numeric>(b)) continue;
+      const double ra = GiNaC::ex_to<GiNaC::numeric>(a).to_double(), rb = GiNaC::ex_to<GiNaC::numeric>(b).to_double();
+      if (std::abs(rb - ra) > 1e-9 * std::max(1.0, std::abs(ra)))
+        std::cerr << "hamel: warning: the path does not close: " << model.coordinates[I].get_name() << "(0) = " << ra
+                  << " but " << model.coordinates[I].get_name() << "(" << opt.period << ") = " << rb
+                  << "; the per-cycle group elements are then not a geometric phase\n";
+    }
+  }
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   // Trees: the recursive ep derivation, whose connection is solved numerically (phase.cpp); the momentum
   // form would inline the tree's kinetic energy and invert L symbolically.

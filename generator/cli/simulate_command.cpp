@@ -8,6 +8,7 @@
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
 #include "numeric/group_pose.hpp"
+#include "numeric/input_sources.hpp"
 #include "numeric/integrators.hpp"
 #include "report/atomic_file.hpp"
 
@@ -34,6 +35,7 @@ struct SimulateOptions {
   double dt = 0;
   double tol = 0;
   std::vector<std::string> params, init, inputs;
+  std::string input_file, monitors;
   double sample = 0;
   std::string out = "-";
   std::string form;
@@ -59,7 +61,7 @@ void run(const SimulateOptions& given) {
   const std::vector<double>& p = target.parameters;
   // Command-line values win over the scene's, which win over the defaults.
   SimulateOptions opt = given;
-  std::map<std::string, double> init, input_values;
+  std::map<std::string, double> init, scene_inputs;
   if (target.scene) {
     const Scene& scene = *target.scene;
     if (opt.integrator.empty()) opt.integrator = scene.integrator;
@@ -68,7 +70,7 @@ void run(const SimulateOptions& given) {
     if (opt.tol == 0 && scene.tol) opt.tol = *scene.tol;
     if (opt.sample == 0 && scene.sample) opt.sample = *scene.sample;
     init = scene.initial;
-    input_values = scene.inputs;
+    scene_inputs = scene.inputs;
   }
   if (opt.integrator.empty()) opt.integrator = "dopri5";
   // A value given as 0 or below is an error, not "use the default"; a value the chosen integrator does not
@@ -83,7 +85,6 @@ void run(const SimulateOptions& given) {
   if (opt.dt == 0) opt.dt = 1e-3;
   if (opt.tol == 0) opt.tol = 1e-8;
   for (const auto& [k, v] : parse_assignments(opt.init, "--init")) init[k] = v;
-  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
   if (!(opt.t_end > 0) || !std::isfinite(opt.t_end))
     throw InputError("--t-end: expected a positive finite time (required unless the scene gives t_end)");
   const IntegratorInfo& info = find_integrator(opt.integrator);
@@ -106,7 +107,24 @@ void run(const SimulateOptions& given) {
                      "; expected a larger --sample (output interval)");
 
   const Derivation derivation = derive(model, target.settings);
+  // --monitors: extra CSV columns evaluated at every output row.
+  bool monitor_energy = false, monitor_residual = false, monitor_momentum = false;
+  for (std::size_t start = 0; !opt.monitors.empty() && start <= opt.monitors.size();) {
+    const std::size_t comma = std::min(opt.monitors.find(',', start), opt.monitors.size());
+    const std::string m = opt.monitors.substr(start, comma - start);
+    if (m == "energy")
+      monitor_energy = true;
+    else if (m == "constraint_residual")
+      monitor_residual = true;
+    else if (m == "momentum")
+      monitor_momentum = true;
+    else
+      throw InputError("--monitors: unknown monitor " + quote(m) +
+                       "; expected a comma-separated list of: energy, constraint_residual, momentum");
+    start = comma + 1;
+  }
   std::set<std::string> needed = {"kinematics", "rhs", "energy", "constraint_residual", "group_velocity"};
+  if (monitor_momentum) needed.insert("mass_matrix");
   if (info.uses_jacobian) needed.insert("jacobian");
   const KernelSet kernels = build_kernels(model, derivation, needed);
   const HamelSystem& sys = derivation.system;
@@ -128,14 +146,14 @@ void run(const SimulateOptions& given) {
     }
     x0[static_cast<std::size_t>(it - columns.begin() - 1)] = v;
   }
+  // Inputs: the scene's constants, then --input-file (tables) and --input (constants or laws in t and the
+  // state), each input set once on the command line.
+  InputSources sources(model, std::vector<std::string>(columns.begin() + 1, columns.end()), p);
+  for (const auto& [name, v] : scene_inputs) sources.set_constant(name, v, "scene");
+  if (!opt.input_file.empty()) sources.load_csv(opt.input_file);
+  sources.add_assignments(opt.inputs, "--input");
   std::vector<double> in(model.inputs.size(), 0.0);
-  for (const auto& [name, v] : input_values) {
-    std::size_t k = 0;
-    while (k < model.inputs.size() && model.inputs[k].get_name() != name) ++k;
-    if (k == model.inputs.size())
-      throw InputError("--input: " + quote(name) + " is not an input of model '" + model.name + "'");
-    in[k] = v;
-  }
+  sources.evaluate(0.0, x0.data(), in.data());
 
   GraphEvaluator rhs_kernel(kernels.graph, kernels.get("rhs").outputs);
   GraphEvaluator energy_kernel(kernels.graph, kernels.get("energy").outputs);
@@ -144,8 +162,13 @@ void run(const SimulateOptions& given) {
                                  constrained ? kernels.get("constraint_residual").outputs : std::vector<int>{});
   const double* in_ptr = in.empty() ? nullptr : in.data();
 
-  auto rhs = [&](double t, const double* x, double* xdot) { rhs_kernel.evaluate(t, x, p.data(), in_ptr, xdot); };
+  const bool varying = sources.varying();
+  auto rhs = [&](double t, const double* x, double* xdot) {
+    if (varying) sources.evaluate(t, x, in.data());
+    rhs_kernel.evaluate(t, x, p.data(), in_ptr, xdot);
+  };
   auto energy_at = [&](double t, const double* x) {
+    if (varying) sources.evaluate(t, x, in.data());
     double e = 0;
     energy_kernel.evaluate(t, x, p.data(), in_ptr, &e);
     return e;
@@ -169,6 +192,20 @@ void run(const SimulateOptions& given) {
     });
     for (const std::string& c : pose_columns(pose)) header.push_back(c);
   }
+  const std::size_t n_q = sys.coordinates.size(), n_u = independent.size();
+  if (monitor_energy) header.push_back("energy");
+  if (monitor_residual) {
+    const std::vector<int>& held = derivation.system.constrained;
+    const std::size_t n_res = derivation.equations.constraint_residual.size();
+    for (std::size_t k = 0; k < n_res; ++k)
+      header.push_back("residual_" + (held.size() == n_res
+                                          ? sys.velocities[static_cast<std::size_t>(held[k])].get_name()
+                                          : std::to_string(k)));
+  }
+  if (monitor_momentum)
+    for (int I : independent) header.push_back("p_" + sys.velocities[static_cast<std::size_t>(I)].get_name());
+  GraphEvaluator mass_kernel(kernels.graph, monitor_momentum ? kernels.get("mass_matrix").outputs : std::vector<int>{});
+  std::vector<double> mass(monitor_momentum ? n_u * n_u : 0);
   runtime::CsvWriter csv(os, header);
   std::vector<double> row(header.size());
   auto observe = [&](double t, const double* x) {
@@ -178,18 +215,37 @@ void run(const SimulateOptions& given) {
       const std::vector<double> v = pose_values(pose);
       std::copy(v.begin(), v.end(), row.begin() + 1 + static_cast<std::ptrdiff_t>(n_x));
     }
-    csv.row(row.data(), row.size());
-    output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
-    energy.update(energy_at(t, x));
+    const double e = energy_at(t, x);
+    energy.update(e);
     if (constrained) {
       residual_kernel.evaluate(t, x, p.data(), in_ptr, residual.data());
       for (double r : residual) residual_max = std::max(residual_max, std::fabs(r));
     }
+    std::size_t col = 1 + n_x + (reconstruct ? pose_columns(pose).size() : 0);
+    if (monitor_energy) row[col++] = e;
+    if (monitor_residual)
+      for (double r : residual) row[col++] = r;
+    if (monitor_momentum) {
+      // p = M u: the momenta conjugate to the independent quasi-velocities (∂T/∂u for T quadratic in u).
+      mass_kernel.evaluate(t, x, p.data(), in_ptr, mass.data());
+      for (std::size_t I = 0; I < n_u; ++I) {
+        double s = 0;
+        for (std::size_t J = 0; J < n_u; ++J) s += mass[I * n_u + J] * x[n_q + J];
+        row[col++] = s;
+      }
+    }
+    csv.row(row.data(), row.size());
+    output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
   };
 
   GraphEvaluator jacobian_kernel(kernels.graph,
                                  info.uses_jacobian ? kernels.get("jacobian").outputs : std::vector<int>{});
-  auto jacobian = [&](double t, const double* x, double* J) { jacobian_kernel.evaluate(t, x, p.data(), in_ptr, J); };
+  // With a feedback law the Jacobian leaves out d(in)/dx: implicit integrators then iterate Newton with an
+  // approximate Jacobian (their result is unaffected, only their convergence).
+  auto jacobian = [&](double t, const double* x, double* J) {
+    if (varying) sources.evaluate(t, x, in.data());
+    jacobian_kernel.evaluate(t, x, p.data(), in_ptr, J);
+  };
   runtime::IntegrationResult result;
   if (reconstruct) {
     // Bundle models with rkmk4: the reduced state and g together (RKMK4 on G x R^n), g(0) = identity.
@@ -197,7 +253,10 @@ void run(const SimulateOptions& given) {
     result = with_group(model.bundle->group, [&](auto tag) {
       using G = typename decltype(tag)::type;
       auto f = [&](double t, const double* x, double* xdot) { rhs(t, x, xdot); };
-      auto xi = [&](double t, const double* x, double* out) { xi_kernel.evaluate(t, x, p.data(), in_ptr, out); };
+      auto xi = [&](double t, const double* x, double* out) {
+        if (varying) sources.evaluate(t, x, in.data());
+        xi_kernel.evaluate(t, x, p.data(), in_ptr, out);
+      };
       auto observe_pose = [&](double t, const double* x, const typename G::Element& g) {
         pose = pose_of(t, g);
         observe(t, x);
@@ -253,8 +312,16 @@ Run add_simulate_command(CLI::App& app) {
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--init", opt->init,
                   "Initial values name=value,... of coordinates and independent quasi-velocities (default 0)");
-  cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
+  cmd->add_option("--input", opt->inputs,
+                  "Inputs name=value or name=expression in t, the state's names and parameters (a feedback law, "
+                  "e.g. tau=\"-4*(q-1)-2*q_dot\"), comma-separated (default 0)");
+  cmd->add_option("--input-file", opt->input_file,
+                  "CSV with a header t,<input names> and rows of values, interpolated linearly in t (held at "
+                  "the ends)");
   CLI::Option* sample = cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
+  cmd->add_option("--monitors", opt->monitors,
+                  "Extra CSV columns, comma-separated: energy, constraint_residual (residual_<u> per constraint), "
+                  "momentum (p_<u> = M u per independent quasi-velocity)");
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
   cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
   cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");

@@ -214,26 +214,44 @@ class TreeProgram {
   Intermediates& tape_;
 };
 
+// Σ ½ k_i (r_i − reference_i)²: the joint springs, a potential on the shape.
+ex joint_springs(const Model& model, const KinematicTree& tree) {
+  ex v = 0;
+  for (std::size_t i = 0; i < tree.bodies.size(); ++i) {
+    const TreeBody& b = tree.bodies[i];
+    v += b.stiffness * GiNaC::pow(model.coordinates[i] - b.reference, 2) / 2;
+  }
+  return v;
+}
+
 }  // namespace
 
 TreeDerivation derive_tree(const Model& model, bool articulated) {
-  const Bundle& b = *model.bundle;
-  const KinematicTree& tree = *b.tree;
+  // A fixed base (model.tree, no group) is the same recursion with no base directions (m = 0).
+  const bool fixed = !model.bundle;
+  const KinematicTree& tree = fixed ? *model.tree : *model.bundle->tree;
+  const std::vector<GiNaC::realsymbol> group_velocity =
+      fixed ? std::vector<GiNaC::realsymbol>{} : model.bundle->group_velocity;
   TreeDerivation out;
   HamelEquations& eq = out.equations;
+  // The model's definitions come first (forces and the potential may use them), then the recursion's names.
+  eq.intermediates = model.definitions;
   TreeProgram prog(eq.intermediates);
 
   BundleGeometry& geo = out.geometry;
-  geo.algebra = lie_algebra(b.group);
-  geo.structure_constants = structure_constants(geo.algebra);
+  if (!fixed) {
+    geo.algebra = lie_algebra(model.bundle->group);
+    geo.structure_constants = structure_constants(geo.algebra);
+  }
   geo.trivialization_sign = 1;
   geo.quadratic = true;
   geo.connection_derived = false;
 
-  const std::size_t m = geo.algebra.dim();
+  const std::size_t m = group_velocity.size();
   const std::size_t n = tree.bodies.size();
   const std::size_t N = n + 1;  // body 0 is the base, body k + 1 moves with r^k
-  const std::vector<Vec6> base = base_directions(b.group);
+  const std::vector<Vec6> base = fixed ? std::vector<Vec6>{} : base_directions(model.bundle->group);
+  const ex base_potential = fixed ? ex(0) : model.bundle->potential;
 
   std::vector<int> parent(N, -1);
   std::vector<Link> link(N);
@@ -267,8 +285,10 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
 
   // Twists V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i, accelerations at u̇ = 0 (the velocity-product terms
   // ad_{V_i} S_i ṙ_i carried outward), momenta h_i = 𝕀_i V_i and each body's Euler–Poincaré wrench.
-  V[0] = base_twist(b.group_velocity);
-  a[0] = zero6();
+  V[0] = base_twist(group_velocity);
+  // Gravity as an upward acceleration of the fixed base (Featherstone): every body's wrench then carries
+  // its weight without a separate potential gradient.
+  a[0] = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
   ex kinetic = 0;
   for (std::size_t i = 0; i < N; ++i) {
     if (i > 0) {
@@ -279,6 +299,7 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     }
     h[i] = prog.name(times(inertia[i], V[i]));
     kinetic += dot(V[i], h[i]) / 2;
+    if (i > 0) kinetic += tree.bodies[i - 1].armature * GiNaC::pow(model.rates[i - 1], 2) / 2;
     F[i] = times(inertia[i], a[i]) + coadjoint_term(V[i], h[i]);
   }
   sum_inward(F);
@@ -305,7 +326,7 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     for (std::size_t beta = alpha; beta < m; ++beta) set(alpha, beta, dot(base[alpha], times(composite[0], base[beta])));
   for (std::size_t i = 1; i < N; ++i) {
     Vec6 f = prog.name(times(composite[i], axis[i]));
-    set(m + i - 1, m + i - 1, dot(axis[i], f));
+    set(m + i - 1, m + i - 1, dot(axis[i], f) + tree.bodies[i - 1].armature);
     std::size_t j = i;
     while (parent[j] != 0) {
       f = prog.name(link[j].to_parent(f));
@@ -331,20 +352,30 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     }
     sum_inward(W);
     for (std::size_t alpha = 0; alpha < m; ++alpha) eq.mass_times_acceleration.push_back(dot(base[alpha], W[0]));
-    for (std::size_t i = 1; i < N; ++i) eq.mass_times_acceleration.push_back(dot(axis[i], W[i]));
+    for (std::size_t i = 1; i < N; ++i)
+      eq.mass_times_acceleration.push_back(dot(axis[i], W[i]) +
+                                           tree.bodies[i - 1].armature * eq.acceleration_symbols[m + i - 1]);
   }
 
   // f = Q − (velocity-product part of the projected wrenches); Q_I = forces_I − ∂V/∂r^I, none on the base.
+  // The joint forces τ_I = Q_I − ∂(V + springs)/∂r^I − d_I ṙ_I, shared by f and the articulated-body algorithm.
   eq.forcing.assign(d, 0);
   for (std::size_t alpha = 0; alpha < m; ++alpha) eq.forcing[alpha] = -dot(base[alpha], F[0]);
-  for (std::size_t i = 1; i < N; ++i)
-    eq.forcing[m + i - 1] =
-        model.forces[i - 1] - b.potential.diff(model.coordinates[i - 1]) - dot(axis[i], F[i]);
+  const ex springs = joint_springs(model, tree);
+  std::vector<ex> joint_force(N);
+  for (std::size_t i = 1; i < N; ++i) {
+    const TreeBody& body = tree.bodies[i - 1];
+    joint_force[i] = model.forces[i - 1] - (base_potential + springs).diff(model.coordinates[i - 1]) -
+                     body.damping * model.rates[i - 1];
+    eq.forcing[m + i - 1] = joint_force[i] - dot(axis[i], F[i]);
+  }
 
   // The articulated-body algorithm (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1) in the bodies'
   // frames: u̇ without forming M, O(n). Bias accelerations c_i = ad_{V_i} S_i ṙ_i and bias wrenches
   // p_i = −ad*_{V_i} 𝕀_i V_i as in f above; the floating base is the root "joint" with the directions
-  // `base` (its acceleration S_0 ξ̇, no bias term: left trivialization).
+  // `base` (its acceleration S_0 ξ̇, no bias term: left trivialization). On a fixed base (m = 0) the root
+  // does not move; gravity enters as its upward acceleration a_0 = −g (as in f), carried outward in the last
+  // pass. A joint's armature adds to D_i, its springs and damper to τ_i (joint_force).
   if (articulated) {
     std::vector<Mat6> IA = inertia;  // articulated inertias, summed inward
     std::vector<Vec6> pA(N), c(N), U(N);
@@ -357,19 +388,19 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
       IA[i] = prog.name_symmetric(IA[i]);
       pA[i] = prog.name(pA[i]);
       U[i] = prog.name(times(IA[i], axis[i]));
-      // D_i = S_iᵀ 𝕀ᴬ_i S_i: a joint's armature (rotor inertia) would be added here and nowhere else.
-      const ex D = prog.name(dot(axis[i], U[i]));
+      // D_i = S_iᵀ 𝕀ᴬ_i S_i + armature_i (the rotor's inertia about the joint axis, as in M's diagonal).
+      const ex D = prog.name(dot(axis[i], U[i]) + tree.bodies[i - 1].armature);
       eq.recursive_pivots.push_back(D);
       inverse_D[i] = prog.name(1 / D);
-      const ex tau = model.forces[i - 1] - b.potential.diff(model.coordinates[i - 1]);
-      u[i] = prog.name(tau - dot(axis[i], pA[i]));
+      u[i] = prog.name(joint_force[i] - dot(axis[i], pA[i]));
+      const std::size_t p = static_cast<std::size_t>(parent[i]);
+      if (p == 0 && m == 0) continue;  // a fixed base takes no articulated inertia: nothing solves for it
       // 𝕀ᵃ = 𝕀ᴬ − U Uᵀ / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + U u / D, moved to the parent's frame.
       Mat6 Ia;
       for (std::size_t r = 0; r < 6; ++r)
         for (std::size_t k = r; k < 6; ++k) Ia[r][k] = Ia[k][r] = IA[i][r][k] - U[i][r] * U[i][k] * inverse_D[i];
       Ia = prog.name_symmetric(Ia);
       const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + U[i] * prog.name(u[i] * inverse_D[i]));
-      const std::size_t p = static_cast<std::size_t>(parent[i]);
       for (int k = 0; k < 6; ++k) {
         const Vec6 col = link[i].to_parent(times(Ia, link[i].to_child(unit6(k))));
         for (std::size_t r = static_cast<std::size_t>(k); r < 6; ++r) {
@@ -379,8 +410,10 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
       }
       pA[p] = pA[p] + link[i].to_parent(pa);
     }
-    IA[0] = prog.name_symmetric(IA[0]);
-    pA[0] = prog.name(pA[0]);
+    if (m > 0) {
+      IA[0] = prog.name_symmetric(IA[0]);
+      pA[0] = prog.name(pA[0]);
+    }
     std::vector<std::vector<ex>> A(m, std::vector<ex>(m));
     std::vector<ex> rhs(m);
     for (std::size_t alpha = 0; alpha < m; ++alpha) {
@@ -389,7 +422,7 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     }
     const std::vector<ex> base_rate = prog.solve_symmetric(A, rhs, eq.recursive_pivots);
     std::vector<Vec6> acc(N);
-    acc[0] = base_twist(base_rate);
+    acc[0] = base_twist(base_rate) + a[0];  // a[0] = −g: zero on a floating base (the loader refuses gravity)
     eq.recursive_accelerations = base_rate;
     for (std::size_t i = 1; i < N; ++i) {
       const Vec6 ap = prog.name(link[i].to_child(acc[static_cast<std::size_t>(parent[i])]) + c[i]);
@@ -403,17 +436,52 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
   const ex T = prog.name(kinetic);
-  eq.reduced_lagrangian = T - b.potential;
-  eq.energy_terms = {T + b.potential};
+  // The weight's potential −Σ m_i g·(p_i + R_i c_i), with each body's pose in the world composed outward.
+  ex weight = 0;
+  if (!(tree.gravity[0].is_zero() && tree.gravity[1].is_zero() && tree.gravity[2].is_zero())) {
+    std::vector<Mat3> R(N);
+    std::vector<Vec3> p(N);
+    R[0] = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+    p[0] = {0, 0, 0};
+    const std::vector<RigidBody> mass = [&] {
+      std::vector<RigidBody> all{tree.base};
+      for (const TreeBody& body : tree.bodies) all.push_back(body.body);
+      return all;
+    }();
+    for (std::size_t i = 0; i < N; ++i) {
+      if (i > 0) {
+        const std::size_t q = static_cast<std::size_t>(parent[i]);
+        for (std::size_t r = 0; r < 3; ++r) {
+          ex s = p[q][r];
+          for (std::size_t k = 0; k < 3; ++k) s += R[q][r][k] * link[i].p[k];
+          p[i][r] = prog.name(s);
+          for (std::size_t c = 0; c < 3; ++c) {
+            ex e = 0;
+            for (std::size_t k = 0; k < 3; ++k) e += R[q][r][k] * link[i].R[k][c];
+            R[i][r][c] = prog.name(e);
+          }
+        }
+      }
+      for (std::size_t r = 0; r < 3; ++r) {
+        ex c = p[i][r];
+        for (std::size_t k = 0; k < 3; ++k) c += R[i][r][k] * mass[i].com[k];
+        weight -= mass[i].mass * tree.gravity[r] * c;
+      }
+    }
+    weight = prog.name(weight);
+  }
+  eq.reduced_lagrangian = T - base_potential - springs - weight;
+  eq.energy_terms = {T + base_potential + springs + weight};
   bool forced = false;
   for (const ex& q : model.forces) forced = forced || !q.is_zero();
+  for (const TreeBody& body : tree.bodies) forced = forced || !body.damping.is_zero();
   eq.conservative = !forced;
 
   const unsigned um = static_cast<unsigned>(m), un = static_cast<unsigned>(n);
-  geo.L = GiNaC::matrix(um, um);
-  geo.K = GiNaC::matrix(um, un);
+  if (!fixed) geo.L = GiNaC::matrix(um, um);
+  if (!fixed) geo.K = GiNaC::matrix(um, un);
   geo.S = GiNaC::matrix(un, un);
-  for (unsigned r = 0; r < um + un; ++r)
+  for (unsigned r = 0; r < um + un && !fixed; ++r)
     for (unsigned c = 0; c < um + un; ++c) {
       const ex& v = eq.mass_matrix(r, c);
       if (r < um && c < um) geo.L(r, c) = v;
@@ -422,29 +490,36 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     }
 
   HamelSystem& sys = out.system;
-  sys.form = "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
+  sys.form = fixed ? "Euler-Lagrange, recursive over the kinematic tree on a fixed base"
+                   : "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
   sys.coordinates = model.coordinates;
-  sys.velocities = b.group_velocity;
+  sys.velocities = group_velocity;
   sys.velocities.insert(sys.velocities.end(), model.rates.begin(), model.rates.end());
   sys.B = GiNaC::matrix(un, um + un);
   for (unsigned I = 0; I < un; ++I) sys.B(I, um + I) = 1;
   sys.lagrangian = eq.reduced_lagrangian;
   sys.forces = model.forces;
   for (const StructureConstant& s : geo.structure_constants) sys.gamma.push_back({s.upper, s.lower_a, s.lower_b, s.value});
-  sys.where =
-      model.locations.count("kinetic") ? model.locations.at("kinetic") : SourceLocation{model.source_path, 0, 0};
+  const char* where = fixed ? "lagrangian" : "kinetic";
+  sys.where = model.locations.count(where) ? model.locations.at(where) : SourceLocation{model.source_path, 0, 0};
   return out;
 }
 
 GiNaC::ex tree_kinetic_energy(const Model& model) {
   const TreeDerivation d = derive_tree(model);
   // energy_terms = {T + V} with T one intermediate: inlining it gives the expression.
-  return d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - model.bundle->potential).expand();
+  const ex potential = model.bundle->potential + joint_springs(model, *model.bundle->tree);
+  return d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - potential).expand();
 }
 
 Model with_inlined_tree(const Model& model) {
   Model expanded = model;
   expanded.bundle->kinetic = tree_kinetic_energy(model);
+  // The joints' springs and dampers become the potential and shape forces of the general bundle path.
+  const KinematicTree& tree = *model.bundle->tree;
+  expanded.bundle->potential = model.bundle->potential + joint_springs(model, tree);
+  for (std::size_t i = 0; i < tree.bodies.size(); ++i)
+    expanded.forces[i] = model.forces[i] - tree.bodies[i].damping * model.rates[i];
   expanded.lagrangian = expanded.bundle->kinetic - expanded.bundle->potential;
   expanded.bundle->tree.reset();
   return expanded;

@@ -55,6 +55,14 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
                          " applies to holonomic models in general coordinates; this is a bundle "
                          "model on the group " +
                          model.bundle->group);
+  // A tree on a fixed base keeps L = T - V, the joint springs and dampers in the recursion (model.lagrangian
+  // is 0 there): the metric would be read from nothing.
+  if (model.tree)
+    throw InputError(location_of(model, "lagrangian"), "tree",
+                     std::string(purpose) +
+                         " applies to models that give their Lagrangian (or bodies) in general coordinates; this "
+                         "is a kinematic tree on a fixed base, derived recursively (its M is the metric: emit "
+                         "--kernels mass_matrix)");
   if (!model.constrained.empty())
     throw InputError(location_of(model, "constraints"), "constraints",
                      std::string(purpose) +

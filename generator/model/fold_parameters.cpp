@@ -31,7 +31,11 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
     out.bundle->kinetic = sub(out.bundle->kinetic);
     out.bundle->potential = sub(out.bundle->potential);
     sub_matrix(out.bundle->kinematic_connection);
-    if (out.bundle->tree) {
+  }
+  for (KinematicTree* tree :
+       {out.bundle && out.bundle->tree ? &*out.bundle->tree : nullptr, out.tree ? &*out.tree : nullptr}) {
+    if (tree) {
+      for (GiNaC::ex& g : tree->gravity) g = sub(g);
       const auto sub_body = [&](RigidBody& b) {
         b.mass = sub(b.mass);
         for (int i = 0; i < 3; ++i) {
@@ -39,14 +43,15 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
           for (int j = 0; j < 3; ++j) b.inertia[i][j] = sub(b.inertia[i][j]);
         }
       };
-      sub_body(out.bundle->tree->base);
-      for (TreeBody& tb : out.bundle->tree->bodies) {
+      sub_body(tree->base);
+      for (TreeBody& tb : tree->bodies) {
         sub_body(tb.body);
         for (int i = 0; i < 3; ++i) {
           tb.axis[i] = sub(tb.axis[i]);
           tb.offset[i] = sub(tb.offset[i]);
           for (int j = 0; j < 3; ++j) tb.rotation[i][j] = sub(tb.rotation[i][j]);
         }
+        for (GiNaC::ex* e : {&tb.armature, &tb.damping, &tb.stiffness, &tb.reference}) *e = sub(*e);
       }
     }
   }

@@ -275,6 +275,8 @@ class Loader {
 
   void load_core(Model& model);
   void load_bundle(Model& model);
+  void load_fixed_tree(Model& model);
+  void declare_joints(const YAML::Node& tree, Model& model);
   KinematicTree load_tree(const YAML::Node& tree, const Model& model);
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
                        const std::vector<std::string>& keys, const std::string& allowed,
@@ -316,6 +318,8 @@ Model Loader::load() {
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
                 "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs", "definitions"});
+  else if (root_["tree"])
+    check_keys(root_, "", {"schema", "name", "description", "parameters", "tree", "forces", "inputs", "definitions"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
@@ -359,6 +363,8 @@ Model Loader::load() {
 
   if (bundle_)
     load_bundle(model);
+  else if (root_["tree"])
+    load_fixed_tree(model);
   else
     load_core(model);
   return model;
@@ -562,20 +568,11 @@ void Loader::load_bundle(Model& model) {
            "a kinematic tree's floating base must be SE3, SO3, SE2, R1, R2 or R3 (the group frame carries the "
            "base body), got '" + b.group + "'");
     model.locations["kinetic"] = where(tree);
-    if (!tree.IsMap()) fail(tree, "tree", "expected a map with keys base and bodies");
-    check_keys(tree, "tree", {"base", "bodies"});
-    YAML::Node list = tree["bodies"];
-    if (!list) fail(tree, "tree.bodies", "missing; expected a list of bodies, each with a joint");
-    if (!list.IsSequence() || list.size() == 0) fail(list, "tree.bodies", "expected a non-empty list of bodies");
-    for (std::size_t i = 0; i < list.size(); ++i) {
-      const std::string key = "tree.bodies[" + std::to_string(i) + "].joint";
-      YAML::Node joint = list[i]["joint"];
-      if (!list[i].IsMap() || !joint)
-        fail(list[i], key, "missing; every body of a tree needs a joint (name, type, axis, offset)");
-      if (!joint.IsMap() || !joint["name"]) fail(joint, key + ".name", "missing; expected the joint coordinate's name");
-      model.coordinates.emplace_back(scalar(joint["name"], key + ".name"));
-      declare_name(joint["name"], key + ".name", model.coordinates.back().get_name());
-    }
+    if (tree.IsMap() && tree["gravity"])
+      fail(tree["gravity"], "tree.gravity",
+           "needs a fixed base (a model without 'group' and 'base: world'): on a floating base it would need the "
+           "base's orientation, which the state (r, xi, r_dot) does not hold (see docs/model-format.md)");
+    declare_joints(tree, model);
   } else if (YAML::Node shape = root_["shape"]) {
     model.coordinates = name_list(shape, "shape");
   }
@@ -807,6 +804,61 @@ GiNaC::ex Loader::body_kinetic_energy(Model& model, const YAML::Node& body, cons
   return t;
 }
 
+void Loader::declare_joints(const YAML::Node& tree, Model& model) {
+  if (!tree.IsMap()) fail(tree, "tree", "expected a map with keys base and bodies");
+  if (bundle_)
+    check_keys(tree, "tree", {"base", "bodies"});
+  else
+    check_keys(tree, "tree", {"base", "gravity", "bodies"});
+  YAML::Node list = tree["bodies"];
+  if (!list) fail(tree, "tree.bodies", "missing; expected a list of bodies, each with a joint");
+  if (!list.IsSequence() || list.size() == 0) fail(list, "tree.bodies", "expected a non-empty list of bodies");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "tree.bodies[" + std::to_string(i) + "].joint";
+    YAML::Node joint = list[i]["joint"];
+    if (!list[i].IsMap() || !joint)
+      fail(list[i], key, "missing; every body of a tree needs a joint (name, type, axis, offset)");
+    if (!joint.IsMap() || !joint["name"]) fail(joint, key + ".name", "missing; expected the joint coordinate's name");
+    model.coordinates.emplace_back(scalar(joint["name"], key + ".name"));
+    declare_name(joint["name"], key + ".name", model.coordinates.back().get_name());
+  }
+}
+
+// A tree fixed to the world (no `group`): general coordinates q = the joints, quasi-velocities u = q̇.
+void Loader::load_fixed_tree(Model& model) {
+  const YAML::Node tree = root_["tree"];
+  declare_joints(tree, model);
+  for (const auto& q : model.coordinates) {
+    const std::string rate = q.get_name() + "_dot";
+    auto [it, inserted] = declared_.emplace(rate, "tree");
+    if (!inserted)
+      fail(tree, "tree",
+           "the rate '" + rate + "' of joint '" + q.get_name() + "' clashes with the name declared in '" + it->second +
+               "'");
+    model.rates.emplace_back(rate);
+  }
+  model.quasi_velocities = model.rates;
+  const unsigned n = static_cast<unsigned>(model.coordinates.size());
+  model.A = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(n));
+  model.B = model.A;
+  model.B_given = true;
+  if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
+  model.locations["lagrangian"] = where(tree);
+  model.tree = load_tree(tree, model);
+  model.lagrangian = 0;  // T − V follows from the bodies in the derivation
+  GiNaC::symtab table;
+  for (const auto& p : model.parameters) table[p.symbol.get_name()] = p.symbol;
+  for (const auto& q : model.coordinates) table[q.get_name()] = q;
+  for (const auto& r : model.rates) table[r.get_name()] = r;
+  for (const auto& u : model.inputs) table[u.get_name()] = u;
+  table["t"] = model.time;
+  load_definitions(model, table);
+  table = with_definitions(table);
+  load_forces(model, table,
+              "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs, t and "
+              "definitions of these");
+}
+
 KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
   KinematicTree out;
   // Inertial data and joint geometry are constant: parameters only (the joints move the bodies).
@@ -815,14 +867,31 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
   const std::string inertial = "mass, com and inertia of a tree body may use parameters only";
   YAML::Node base = tree["base"];
   if (!base) fail(tree, "tree.base", "missing; expected the base body (name, mass, com, inertia)");
-  out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"}, inertial);
   const GiNaC::exmap defaults = parameter_defaults(model);
   auto check_body = [&](const YAML::Node& node, const std::string& key, const RigidBody& body) {
     std::string subkey;
     if (const std::string problem = rigid_body_problem(body, defaults, subkey); !problem.empty())
       fail(node[subkey], key + "." + subkey, problem);
   };
-  check_body(base, "tree.base", out.base);
+  if (!bundle_) {
+    if (!base.IsScalar() || base.Scalar() != "world")
+      fail(base, "tree.base",
+           "expected 'world' (a model without 'group' is fixed to the world; a floating base needs 'group')");
+    out.fixed_base = true;
+    out.base.name = "world";
+    out.base.mass = 0;
+    for (int i = 0; i < 3; ++i) {
+      out.base.com[i] = 0;
+      for (int j = 0; j < 3; ++j) out.base.inertia[i][j] = 0;
+    }
+    if (YAML::Node g = tree["gravity"]) {
+      const std::vector<GiNaC::ex> gv = vector_of(g, "tree.gravity", 3, constants, "gravity may use parameters only");
+      for (int i = 0; i < 3; ++i) out.gravity[i] = gv[static_cast<std::size_t>(i)];
+    }
+  } else {
+    out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"}, inertial);
+    check_body(base, "tree.base", out.base);
+  }
   std::vector<std::string> names{out.base.name};
   const YAML::Node list = tree["bodies"];
   const std::string geometry = "joint axes, offsets and rotations may use parameters only";
@@ -844,7 +913,8 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
 
     const YAML::Node joint = list[i]["joint"];
     const std::string jkey = key + ".joint";
-    check_keys(joint, jkey, {"name", "type", "axis", "offset", "rotation"});
+    check_keys(joint, jkey,
+               {"name", "type", "axis", "offset", "rotation", "armature", "damping", "stiffness", "reference"});
     for (const char* k : {"type", "axis", "offset"})
       if (!joint[k]) fail(joint, jkey + "." + k, "missing required key of a joint");
     const std::string type = scalar(joint["type"], jkey + ".type");
@@ -864,6 +934,18 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
                                                std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
     if (const std::string problem = joint_axis_problem(tb, defaults); !problem.empty())
       fail(joint["axis"], jkey + ".axis", problem);
+    const std::pair<const char*, GiNaC::ex*> properties[] = {{"armature", &tb.armature},
+                                                             {"damping", &tb.damping},
+                                                             {"stiffness", &tb.stiffness},
+                                                             {"reference", &tb.reference}};
+    for (const auto& [k, target] : properties)
+      if (YAML::Node v = joint[k]) {
+        *target = expression(v, jkey + "." + k, constants,
+                             "joint armature, damping, stiffness and reference may use parameters only");
+        if (std::string(k) == "reference") continue;
+        if (const std::string problem = joint_property_problem(*target, defaults, k); !problem.empty())
+          fail(v, jkey + "." + k, problem);
+      }
     for (std::size_t r = 0; r < 3; ++r)
       for (std::size_t c = 0; c < 3; ++c) tb.rotation[r][c] = r == c ? 1 : 0;
     if (YAML::Node rot = joint["rotation"]) {

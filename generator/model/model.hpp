@@ -39,12 +39,18 @@ struct TreeBody {
   GiNaC::ex offset[3];
   GiNaC::ex rotation[3][3];  ///< identity unless given
   GiNaC::realsymbol coordinate;  ///< the joint coordinate, a shape coordinate r^I (index = body index)
+  // Joint properties as robot files give them (zero when absent): armature a adds ½ a ṙ² to T (a rotor's
+  // reflected inertia), damping d the force −d ṙ, stiffness k the potential ½ k (r − reference)².
+  GiNaC::ex armature = 0, damping = 0, stiffness = 0, reference = 0;
 };
 
-/// A floating base (the group frame, left-trivialized) carrying a tree of bodies (model key `tree`).
+/// A floating base (the group frame, left-trivialized) carrying a tree of bodies (model key `tree`), or, in
+/// a model without `group`, the world carrying them (a fixed base: `base: world`).
 struct KinematicTree {
-  RigidBody base;
+  RigidBody base;                ///< a fixed base's is the massless "world"
   std::vector<TreeBody> bodies;  ///< parents before children; body k moves with shape coordinate k
+  bool fixed_base = false;
+  GiNaC::ex gravity[3] = {0, 0, 0};  ///< fixed base only: the gravitational acceleration in the world frame
 };
 
 /// The base's name, then every body's, in file order.
@@ -84,6 +90,9 @@ struct Model {
   std::vector<int> constrained;  ///< indices α of quasi-velocities held at zero, eq. (PfaffianConstr)
 
   std::optional<Bundle> bundle;  ///< set for bundle models; then coordinates are the shape r^I and A, B are empty
+  /// A fixed-base tree (model key `tree` without `group`): coordinates are the joints, u = q̇ (A = B = 1),
+  /// the Lagrangian follows from the bodies (derive/kinematic_tree.hpp).
+  std::optional<KinematicTree> tree;
 
   /// Named sub-expressions (model key `definitions`), in order; every expression below may use them, and
   /// they stay intermediate symbols through the derivation into the emitted code.

@@ -102,6 +102,12 @@ std::string joint_axis_problem(const TreeBody& body, const GiNaC::exmap& values)
   return "";
 }
 
+std::string joint_property_problem(const GiNaC::ex& value, const GiNaC::exmap& values, const std::string& what) {
+  const double v = value_at(value, values);
+  if (v < 0) return "the joint " + what + " is " + number(v) + " at the parameter defaults; expected a value >= 0";
+  return "";
+}
+
 std::string kinetic_energy_problem(const Model& model) {
   const std::size_t n = model.n();
   if (model.bundle || n == 0 || model.A.rows() != n || model.A.cols() != n) return "";

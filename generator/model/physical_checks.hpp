@@ -1,6 +1,7 @@
 // Physical plausibility of a model, checked numerically when it is loaded: a kinetic energy that is not
 // positive semi-definite, a body with negative mass, an inertia that is not positive semi-definite or whose
-// principal moments violate the triangle inequality, a joint axis that is zero at the parameter defaults.
+// principal moments violate the triangle inequality, a joint axis that is zero at the parameter defaults, a
+// negative joint armature, damping or stiffness.
 // Such models derive without complaint and fail later as "non-finite state"; here they are input errors that
 // name the key and the point. Each function returns "" when the check passes, else the problem.
 #pragma once
@@ -23,6 +24,10 @@ std::string rigid_body_problem(const RigidBody& body, const GiNaC::exmap& values
 
 /// A joint axis of squared length 0 at `values` (a parameter that is zero at its default).
 std::string joint_axis_problem(const TreeBody& body, const GiNaC::exmap& values);
+
+/// A joint's armature, damping or stiffness (`what`) below zero at `values`: a negative armature can make M
+/// indefinite, negative damping or stiffness feed energy in (robot files never carry them).
+std::string joint_property_problem(const GiNaC::ex& value, const GiNaC::exmap& values, const std::string& what);
 
 /// d^2 L / dq_dot^2 (with u = A(q) q_dot) at q_dot = 0, t = 0 and three sampled configurations, parameters at
 /// their defaults: "" or the problem and the point where it has a negative eigenvalue.

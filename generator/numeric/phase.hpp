@@ -24,7 +24,7 @@ enum class PhaseMomentum {
 
 struct PhaseRequest {
   std::vector<GiNaC::ex> path;  ///< r^I(t), one expression in t (and parameters) per shape coordinate
-  double period = 1;            ///< T: the path is closed, r(t + T) = r(t) (not checked)
+  double period = 1;            ///< T: the path is closed, r(t + T) = r(t) (hamel phase warns when not)
   int cycles = 1;
   PhaseMomentum momentum = PhaseMomentum::zero;
   int steps_per_cycle = 2000;

@@ -7,7 +7,9 @@
 // prismatic joints, joint forces from inputs, springs and dampers, and a potential; relative error of
 // (ξ̇, q̈) ≤ 1e-12 against both. The forward-mode Jacobian (hamel::tangent through the ABA rhs program) is
 // checked against central differences of the ldlt rhs and against the symbolic Jacobian of the ldlt path, and
-// so is the `jacobian` kernel of the aba build (the smaller of the two programs).
+// so is the `jacobian` kernel of the aba build (the smaller of the two programs). Trees on a fixed base
+// (`base: world`) under gravity and joints with armature, damping and stiffness (the properties robot files
+// give, docs/import.md) go through both paths too, on fixed and floating bases.
 #include "tree_from_model.hpp"
 #include "tree_reference.hpp"
 
@@ -157,6 +159,95 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     EXPECT_LE(worst_sym, 1e-11) << name;
     EXPECT_LE(worst_kernel, 1e-11) << name;
   }
+}
+
+// The random tree of `seed` with joint armature, damping, stiffness and reference on every joint, and, with
+// `fixed`, hung from the world under gravity instead of floating on an SE(3) base: aba against ldlt (the path
+// tests/import checks against MuJoCo), and the forward-mode Jacobian of the aba program against central
+// differences of the ldlt rhs.
+void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
+  std::mt19937_64 rng(seed);
+  tree_ref::RandomSettings rs;
+  rs.n = n;
+  const Tree t = tree_ref::random_tree(rng, rs);
+  const std::string name =
+      std::string(fixed ? "aba_fixed_" : "aba_props_") + std::to_string(n) + "_" + std::to_string(seed);
+  std::string text = tree_ref::yaml(t, name, "", false);
+  auto replace_all = [&](const std::string& from, const std::string& to) {
+    for (std::size_t at = text.find(from); at != std::string::npos; at = text.find(from, at + to.size()))
+      text.replace(at, from.size(), to);
+  };
+  if (fixed) {  // drop the group and the base body: the world carries the tree, gravity along a tilted axis
+    const std::size_t from = text.find("group: "), to = text.find("  bodies:\n");
+    ASSERT_NE(from, std::string::npos);
+    ASSERT_NE(to, std::string::npos);
+    text.replace(from, to - from, "tree:\n  base: world\n  gravity: [0.7, -1.3, -9.81]\n");
+    replace_all("parent: base\n", "parent: world\n");
+  }
+  // Joint properties after each joint's offset, different per joint (some zero).
+  std::size_t joint = 0;
+  for (std::size_t at = text.find("        offset: "); at != std::string::npos;
+       at = text.find("        offset: ", at + 1), ++joint) {
+    const std::size_t end = text.find('\n', at) + 1;
+    const double k = static_cast<double>(joint);
+    const std::string properties = "        armature: " + tree_ref::number_text(0.05 + 0.1 * k) +
+                                   "\n        damping: " + tree_ref::number_text(joint % 3 == 2 ? 0 : 0.2 + 0.05 * k) +
+                                   "\n        stiffness: " + tree_ref::number_text(joint % 2 ? 0 : 1.5 + k) +
+                                   "\n        reference: " + tree_ref::number_text(0.1 * k - 0.2) + "\n";
+    text.insert(end, properties);
+  }
+  const hamel::Model model = hamel::load_model_from_text(text, name + ".yaml");
+  ASSERT_EQ(static_cast<bool>(model.tree), fixed) << text;
+  const int m = fixed ? 0 : 6;
+  const std::set<std::string> kernels = {"rhs", "energy"};
+  const Built aba = build(model, "aba", kernels), ldlt = build(model, "ldlt", kernels);
+  ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
+  ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
+  const std::size_t nx = static_cast<std::size_t>(2 * n + m);
+  hamel::GraphEvaluator fa(aba.kernels.graph, aba.kernels.get("rhs").outputs);
+  hamel::GraphEvaluator fl(ldlt.kernels.graph, ldlt.kernels.get("rhs").outputs);
+  hamel::ExpressionGraph graph = aba.kernels.graph;
+  std::vector<int> forward(nx * nx);
+  for (std::size_t c = 0; c < nx; ++c) {
+    const std::vector<int> column =
+        hamel::tangent(graph, aba.kernels.get("rhs").outputs,
+                       {{graph.input(hamel::Argument::state, static_cast<int>(c)), graph.constant(1)}});
+    for (std::size_t r = 0; r < nx; ++r) forward[r * nx + c] = column[r];
+  }
+  hamel::GraphEvaluator ja(graph, forward);
+  const std::vector<double> p = tree_ref::default_parameters(model);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst_ldlt = 0, worst_fd = 0;
+  for (int trial = 0; trial < 5; ++trial) {
+    std::vector<double> x(nx), a(nx), l(nx), J(nx * nx), fp(nx), fm(nx), fd(nx * nx);
+    for (std::size_t i = 0; i < nx; ++i) x[i] = (i < static_cast<std::size_t>(n) ? 2.0 : 1.5) * u(rng);
+    fa.evaluate(0, x.data(), p.data(), nullptr, a.data());
+    fl.evaluate(0, x.data(), p.data(), nullptr, l.data());
+    worst_ldlt = std::max(worst_ldlt, relative(a, l, static_cast<std::size_t>(n)));
+    ja.evaluate(0, x.data(), p.data(), nullptr, J.data());
+    for (std::size_t c = 0; c < nx; ++c) {
+      const double h = 1e-6;
+      std::vector<double> xp = x, xm = x;
+      xp[c] += h;
+      xm[c] -= h;
+      fl.evaluate(0, xp.data(), p.data(), nullptr, fp.data());
+      fl.evaluate(0, xm.data(), p.data(), nullptr, fm.data());
+      for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
+    }
+    worst_fd = std::max(worst_fd, relative(J, fd, 0));
+  }
+  std::printf("%-22s n = %2d: aba vs ldlt %.1e; forward-mode jacobian vs central differences %.1e\n", name.c_str(), n,
+              worst_ldlt, worst_fd);
+  EXPECT_LE(worst_ldlt, kTolerance) << name;
+  EXPECT_LE(worst_fd, 1e-7) << name;
+}
+
+TEST(ArticulatedBodyAlgorithm, FixedBaseUnderGravityWithArmatureDampingStiffness) {
+  for (int n : {1, 2, 5, 9}) check_joint_properties(900 + static_cast<std::uint64_t>(n), n, true);
+}
+
+TEST(ArticulatedBodyAlgorithm, FloatingBaseWithArmatureDampingStiffness) {
+  for (int n : {1, 4, 7}) check_joint_properties(950 + static_cast<std::uint64_t>(n), n, false);
 }
 
 TEST(ArticulatedBodyAlgorithm, RandomSpatialTreesOneToEightBodies) {

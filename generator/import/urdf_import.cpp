@@ -1,0 +1,129 @@
+// URDF through urdfdom: links are bodies, each revolute, continuous or prismatic joint moves its child link
+// as child frame = parent frame · origin · exp(q S) (URDF's convention is hamel's tree joint), fixed joints
+// merge the child's inertia into the parent. The root link is the world (fixed base) or, with --floating,
+// the SE3 floating base. Every moving joint gets an input tau_<joint>, its generalized force.
+#include "import/import_common.hpp"
+
+#include <urdf_parser/urdf_parser.h>
+
+namespace hamel {
+
+using namespace import_detail;
+
+namespace {
+
+struct Walker {
+  ImportedTree& t;
+  const ImportOptions& options;
+  const Warn& warn;
+  const std::string& path;
+  const std::string& text;
+  Gate& gate;
+  std::set<std::string> labels, symbols{"t", "wx", "wy", "wz", "vx", "vy", "vz"};
+  bool limits_warned = false;
+
+  Frame pose(const urdf::Pose& p) const {
+    const double x[3] = {p.position.x, p.position.y, p.position.z};
+    return from_quaternion(x, p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
+  }
+
+  // `host`: tree body index (−1 base, −2 world); `in_host`: the link's frame in the host's frame.
+  void visit(const urdf::LinkConstSharedPtr& link, int host, const Frame& in_host) {
+    if (link->inertial && host != -2) {
+      const urdf::Inertial& in = *link->inertial;
+      const Frame f = pose(in.origin);
+      const double local[3][3] = {{in.ixx, in.ixy, in.ixz}, {in.ixy, in.iyy, in.iyz}, {in.ixz, in.iyz, in.izz}};
+      double I[3][3];
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j) {
+          I[i][j] = 0;
+          for (int k = 0; k < 3; ++k)
+            for (int l = 0; l < 3; ++l) I[i][j] += f.R[i][k] * local[k][l] * f.R[j][l];
+        }
+      MassProperties& target = host == -1 ? t.base : t.bodies[static_cast<std::size_t>(host)].inertial;
+      add_in_frame(target, in_host, in.mass, f.p, I);
+    }
+    for (const urdf::LinkSharedPtr& child : link->child_links) {
+      const urdf::JointSharedPtr& joint = child->parent_joint;
+      const SourceLocation where = locate(path, text, joint->name);
+      const std::string what = "joint '" + joint->name + "'";
+      const Frame origin = compose(in_host, pose(joint->parent_to_joint_origin_transform));
+      if (joint->mimic)
+        throw InputError(where, what, "mimic joints couple coordinates; hamel's tree joints are independent");
+      switch (joint->type) {
+        case urdf::Joint::FIXED:
+          visit(child, host, origin);
+          continue;
+        case urdf::Joint::REVOLUTE:
+        case urdf::Joint::CONTINUOUS:
+        case urdf::Joint::PRISMATIC:
+          break;
+        default:
+          throw InputError(where, what,
+                           "floating and planar joints have several degrees of freedom; hamel's tree joints have "
+                           "one (a floating root: import with --floating)");
+      }
+      ImportedBody b;
+      b.parent = host >= 0 ? host : -1;
+      b.joint = identifier(joint->name, "q" + std::to_string(t.bodies.size() + 1), symbols);
+      b.name = identifier(child->name, "link" + std::to_string(t.bodies.size() + 1), labels);
+      b.prismatic = joint->type == urdf::Joint::PRISMATIC;
+      const double a[3] = {joint->axis.x, joint->axis.y, joint->axis.z};
+      const double n = std::sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+      if (!(n > 0)) throw InputError(where, what + " axis", "expected a non-zero axis");
+      for (int c = 0; c < 3; ++c) b.axis[c] = a[c] / n;
+      b.joint_frame = origin;
+      if (joint->dynamics) {
+        b.damping = joint->dynamics->damping;
+        if (joint->dynamics->friction != 0)
+          gate.check("friction", where, what + " (dynamics friction)",
+                     "dry joint friction is not part of hamel's tree format");
+      }
+      if (joint->limits && joint->type != urdf::Joint::CONTINUOUS && !limits_warned) {
+        // URDF requires <limit> on revolute and prismatic joints (effort and velocity too), so position
+        // limits are noted rather than refused.
+        warn("joint position limits (<limit lower upper>) are not modelled; the joints move freely");
+        limits_warned = true;
+      }
+      const std::string input = identifier("tau_" + b.joint, "tau" + std::to_string(t.bodies.size() + 1), symbols);
+      t.inputs.push_back(input);
+      b.drives.emplace_back(input, 1.0);
+      const int index = static_cast<int>(t.bodies.size());
+      t.bodies.push_back(b);
+      visit(child, index, Frame{});
+    }
+  }
+};
+
+}  // namespace
+
+ImportedTree import_urdf(const std::string& path, const ImportOptions& options, const Warn& warn) {
+  ImportedTree t;
+  t.source = path;
+  t.format = "URDF, read by urdfdom";
+  const std::string text = read_text(path);
+  if (text.empty()) throw InputError(SourceLocation{path, 0, 0}, "", "cannot read the file (or it is empty)");
+  const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
+  if (!model || !model->getRoot())
+    throw InputError(SourceLocation{path, 0, 0}, "", "urdfdom cannot parse the file (its message is above)");
+  t.name = options.name;
+  if (t.name.empty()) {
+    std::set<std::string> none;
+    t.name = identifier(model->getName(), "imported", none);
+  }
+  std::string why;
+  if (!is_valid_model_name(t.name, &why))
+    throw InputError(SourceLocation{path, 0, 0}, "--name", quote(t.name) + ": " + why + "; choose one with --name");
+  Gate gate(options, warn, t);
+  Walker w{t, options, warn, path, text, gate, {}, {}, false};
+  w.symbols = {"t", "wx", "wy", "wz", "vx", "vy", "vz"};
+  t.floating = options.floating;
+  const urdf::LinkConstSharedPtr root = model->getRoot();
+  if (t.floating) t.base_name = identifier(root->name, "base", w.labels);
+  w.visit(root, t.floating ? -1 : -2, Frame{});
+  if (t.bodies.empty())
+    throw InputError(SourceLocation{path, 0, 0}, "", "the robot has no revolute, continuous or prismatic joints");
+  return t;
+}
+
+}  // namespace hamel

@@ -1,0 +1,216 @@
+#include "numeric/input_sources.hpp"
+
+#include "model/expression_parser.hpp"
+#include "model/input_error.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace hamel {
+
+namespace {
+
+std::string trim(const std::string& s) {
+  const std::size_t a = s.find_first_not_of(" \t\r"), b = s.find_last_not_of(" \t\r");
+  return a == std::string::npos ? "" : s.substr(a, b - a + 1);
+}
+
+bool parse_double(const std::string& text, double& v) {
+  try {
+    std::size_t used = 0;
+    v = std::stod(text, &used);
+    return used == text.size() && std::isfinite(v);
+  } catch (const std::exception&) {
+    return false;
+  }
+}
+
+// Splits at commas outside parentheses.
+std::vector<std::string> top_level_split(const std::string& s) {
+  std::vector<std::string> parts;
+  int depth = 0;
+  std::string cur;
+  for (char c : s) {
+    if (c == '(') ++depth;
+    if (c == ')') --depth;
+    if (c == ',' && depth == 0) {
+      parts.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  parts.push_back(cur);
+  return parts;
+}
+
+}  // namespace
+
+InputSources::InputSources(const Model& model, std::vector<std::string> state_names,
+                           const std::vector<double>& parameters)
+    : model_(model), state_names_(std::move(state_names)), sources_(model.inputs.size()) {
+  table_["t"] = model.time;
+  for (std::size_t k = 0; k < model.parameters.size(); ++k) {
+    table_[model.parameters[k].symbol.get_name()] = model.parameters[k].symbol;
+    parameter_values_[model.parameters[k].symbol] = k < parameters.size() ? parameters[k] : 0.0;
+  }
+  for (const std::string& s : state_names_) {
+    state_symbols_.emplace_back(s);
+    table_[s] = state_symbols_.back();
+  }
+}
+
+std::size_t InputSources::index_of(const std::string& name, const std::string& option) const {
+  for (std::size_t k = 0; k < model_.inputs.size(); ++k)
+    if (model_.inputs[k].get_name() == name) return k;
+  std::string list;
+  for (const auto& u : model_.inputs) list += (list.empty() ? "" : ", ") + u.get_name();
+  throw InputError(option + ": " + quote(name) + " is not an input of model '" + model_.name + "'" +
+                   (list.empty() ? " (it has none)" : " (inputs: " + list + ")"));
+}
+
+void InputSources::claim(std::size_t k, const std::string& origin, const std::string& option) {
+  if (!sources_[k].origin.empty() && sources_[k].origin != "scene")
+    throw InputError(option + ": " + quote(model_.inputs[k].get_name()) + " is given twice (also by " +
+                     sources_[k].origin + "); give each input once");
+  sources_[k] = Source{};
+  sources_[k].origin = origin;
+}
+
+void InputSources::set_constant(const std::string& name, double value, const std::string& option) {
+  const std::size_t k = index_of(name, option);
+  claim(k, option, option);
+  sources_[k].value = value;
+}
+
+void InputSources::add_assignments(const std::vector<std::string>& items, const std::string& option) {
+  for (const std::string& item : items)
+    for (const std::string& raw : top_level_split(item)) {
+      const std::string part = trim(raw);
+      if (part.empty()) continue;
+      const std::size_t eq = part.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw InputError(option + ": expected name=value or name=expression, got " + quote(part));
+      const std::string name = trim(part.substr(0, eq)), text = trim(part.substr(eq + 1));
+      double v = 0;
+      if (parse_double(text, v)) {
+        set_constant(name, v, option);
+        continue;
+      }
+      const std::size_t k = index_of(name, option);
+      GiNaC::ex e;
+      try {
+        e = parse_expression(text, table_);
+      } catch (const std::exception& err) {
+        std::string names;
+        for (const auto& s : state_names_) names += (names.empty() ? "" : ", ") + s;
+        throw InputError(option + ": the law of " + quote(name) +
+                         " is not a number or an expression in t, the state (" + names +
+                         ") and parameters: " + err.what());
+      }
+      claim(k, option, option);
+      sources_[k].kind = Source::law;
+      sources_[k].expression = e.subs(parameter_values_);
+      varying_ = true;
+    }
+}
+
+void InputSources::load_csv(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the input file");
+  std::string line;
+  int line_no = 0;
+  std::vector<std::size_t> targets;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (trim(line).empty() || trim(line)[0] == '#') continue;
+    std::vector<std::string> cells;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ',')) cells.push_back(trim(cell));
+    if (targets.empty() && times_.empty() && rows_.empty()) {  // header
+      if (cells.empty() || cells[0] != "t")
+        throw InputError(SourceLocation{path, line_no, 1}, "t", "expected a header line t,<input names>");
+      if (cells.size() < 2)
+        throw InputError(SourceLocation{path, line_no, 1}, "", "expected input names after t in the header");
+      for (std::size_t c = 1; c < cells.size(); ++c) {
+        const std::size_t k = index_of(cells[c], path + ":" + std::to_string(line_no));
+        claim(k, "--input-file " + path, "--input-file");
+        sources_[k].kind = Source::table;
+        sources_[k].column = static_cast<int>(c - 1);
+        targets.push_back(k);
+      }
+      continue;
+    }
+    if (cells.size() != targets.size() + 1)
+      throw InputError(SourceLocation{path, line_no, 1}, "",
+                       "expected " + std::to_string(targets.size() + 1) + " values (t and one per input), got " +
+                           std::to_string(cells.size()));
+    std::vector<double> values;
+    int column = 1;
+    for (std::size_t c = 0; c < cells.size(); ++c) {
+      double v = 0;
+      if (!parse_double(cells[c], v))
+        throw InputError(SourceLocation{path, line_no, column}, c == 0 ? "t" : model_.inputs[targets[c - 1]].get_name(),
+                         "expected a finite number, got " + quote(cells[c]));
+      if (c == 0) {
+        if (!times_.empty() && !(v > times_.back()))
+          throw InputError(SourceLocation{path, line_no, column}, "t", "times must increase from row to row");
+        times_.push_back(v);
+      } else {
+        values.push_back(v);
+      }
+      column += static_cast<int>(cells[c].size()) + 1;
+    }
+    rows_.push_back(values);
+  }
+  if (targets.empty())
+    throw InputError(SourceLocation{path, 0, 0}, "", "the input file is empty; expected a header t,<input names>");
+  if (times_.empty()) throw InputError(SourceLocation{path, line_no, 0}, "", "expected at least one row of values");
+  varying_ = varying_ || times_.size() > 1;
+}
+
+void InputSources::evaluate(double t, const double* x, double* in) const {
+  // The table row pair around t (held at the ends).
+  std::size_t hi = 0;
+  double w = 0;
+  if (!times_.empty()) {
+    hi = static_cast<std::size_t>(std::upper_bound(times_.begin(), times_.end(), t) - times_.begin());
+    if (hi == 0 || hi == times_.size()) {
+      hi = hi == 0 ? 0 : times_.size() - 1;
+      w = 1;
+    } else {
+      w = (t - times_[hi - 1]) / (times_[hi] - times_[hi - 1]);
+    }
+  }
+  GiNaC::exmap at;
+  bool laws = false;
+  for (const Source& s : sources_) laws = laws || s.kind == Source::law;
+  if (laws) {
+    at[model_.time] = t;
+    for (std::size_t k = 0; k < state_symbols_.size(); ++k) at[state_symbols_[k]] = x[k];
+  }
+  for (std::size_t k = 0; k < sources_.size(); ++k) {
+    const Source& s = sources_[k];
+    switch (s.kind) {
+      case Source::constant:
+        in[k] = s.value;
+        break;
+      case Source::table: {
+        const std::size_t c = static_cast<std::size_t>(s.column);
+        const double b = rows_[hi][c];
+        in[k] = w == 1 ? b : (1 - w) * rows_[hi - 1][c] + w * b;
+        break;
+      }
+      case Source::law: {
+        const GiNaC::ex v = s.expression.subs(at).evalf();
+        in[k] = GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : std::nan("");
+        break;
+      }
+    }
+  }
+}
+
+}  // namespace hamel

@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# `cmake --install` of the build tree into a scratch prefix, then a user's project (consumer/) that does
+# find_package(hamel) and links hamel::runtime is configured, built and run against it.
+set -euo pipefail
+build=$1 source=$2 scratch=$3
+rm -rf "$scratch"
+cmake --install "$build" --prefix "$scratch/prefix" > "$scratch.install.log" 2>&1 || { cat "$scratch.install.log"; exit 1; }
+test -f "$scratch/prefix/lib/cmake/hamel/hamelConfig.cmake"
+test -x "$scratch/prefix/bin/hamel"
+cmake -S "$source/consumer" -B "$scratch/consumer" -DCMAKE_PREFIX_PATH="$scratch/prefix" > /dev/null
+cmake --build "$scratch/consumer" > /dev/null
+"$scratch/consumer/consumer"
+rm -rf "$scratch" "$scratch.install.log"

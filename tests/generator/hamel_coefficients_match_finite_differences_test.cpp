@@ -20,10 +20,17 @@ std::string source_dir() {
   return dir ? dir : ".";
 }
 
-Eigen::MatrixXd numeric_A(const hamel::Model& model, const std::vector<double>& q) {
+// Coordinates and parameters at `q` and the defaults, with every intermediate of `program` (the model's
+// definitions, rows of A given as expressions) evaluated through its definition.
+GiNaC::exmap values_at(const hamel::Model& model, const hamel::Intermediates& program, const std::vector<double>& q) {
   GiNaC::exmap values;
   for (std::size_t a = 0; a < q.size(); ++a) values[model.coordinates[a]] = q[a];
   for (const auto& p : model.parameters) values[p.symbol] = p.default_value;
+  return program.evaluate(values);
+}
+
+Eigen::MatrixXd numeric_A(const hamel::Model& model, const std::vector<double>& q) {
+  const GiNaC::exmap values = values_at(model, model.definitions, q);
   const int n = static_cast<int>(model.n());
   Eigen::MatrixXd A(n, n);
   for (int r = 0; r < n; ++r)
@@ -58,11 +65,11 @@ std::vector<Eigen::MatrixXd> finite_difference_gamma(const hamel::Model& model, 
 }
 
 std::vector<Eigen::MatrixXd> generator_gamma(const hamel::Model& model, const std::vector<double>& q) {
-  const hamel::QuasiVelocities qv = hamel::derive_quasi_velocities(model);
-  const std::vector<hamel::HamelCoefficient> coefficients = hamel::hamel_coefficients(model, qv);
-  GiNaC::exmap values;
-  for (std::size_t a = 0; a < q.size(); ++a) values[model.coordinates[a]] = q[a];
-  for (const auto& p : model.parameters) values[p.symbol] = p.default_value;
+  // Through the derivation's program (B by elimination, γ by the chain rule), evaluated numerically.
+  hamel::Intermediates program = model.definitions;
+  const hamel::QuasiVelocities qv = hamel::derive_quasi_velocities(model, program);
+  const std::vector<hamel::HamelCoefficient> coefficients = hamel::hamel_coefficients(model, qv, program);
+  const GiNaC::exmap values = values_at(model, program, q);
   const int n = static_cast<int>(model.n());
   std::vector<Eigen::MatrixXd> gamma(static_cast<std::size_t>(n), Eigen::MatrixXd::Zero(n, n));
   for (const auto& g : coefficients)

@@ -8,6 +8,7 @@
 #   tools/symbolic-vs-folded.sh [--check-only] [google-benchmark flags...]
 # HAMEL=<binary> selects the generator (default build/bin/hamel); MODELS="a b ..." the models (names in models/).
 set -euo pipefail
+[[ ${1:-} == -h || ${1:-} == --help ]] && { sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0; }
 cd "$(dirname "$0")/.."
 repo=$PWD
 hamel=${HAMEL:-$repo/build/bin/hamel}

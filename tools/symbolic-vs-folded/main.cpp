@@ -127,6 +127,7 @@ int main(int argc, char** argv) {
     std::printf("%-28s max relative difference %.2e  %s\n", m.c_str(), pr.max_relative, pr.ok ? "ok" : "FAIL");
   }
   std::printf("\n%s\n\n", failures ? "agreement: FAILED" : "agreement: all models within 1e-12");
+  std::fflush(stdout);  // before Google Benchmark writes its context to stderr
   if (check_only) return failures ? 1 : 0;
 
   // Timing: both rhs of every model at one fixed state, back to back, in this one run.

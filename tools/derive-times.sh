@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Derivation and emission time and peak memory of every shipped model, parameters symbolic (the default)
-# and folded (--fold all), as a Markdown table on stdout (docs/benchmarks.md, "Derivation time").
+# and folded (--fold all), as a Markdown table on stdout (docs/benchmarks.md, "Derivation and emission time (issue 12)").
 #   tools/derive-times.sh [HAMEL_BINARY] [TIMEOUT_SECONDS]
 set -euo pipefail
 cd "$(dirname "$0")/.."

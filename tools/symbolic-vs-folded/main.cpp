@@ -158,9 +158,10 @@ int main(int argc, char** argv) {
   benchmark::RunSpecifiedBenchmarks(&collector);
 
   std::printf("\n## rhs: symbolic parameters vs --fold all (-O2, CPU time per call, median when repeated)\n\n");
-  std::printf("| model | symbolic ns | folded ns | symbolic/folded | <= 1.5 | symbolic rhs operations | "
-              "folded rhs operations | max rel. difference (%d states) |\n",
-              n_check_states);
+  std::printf(
+      "| model | symbolic ns | folded ns | symbolic/folded | <= 1.5 | symbolic rhs operations | "
+      "folded rhs operations | max rel. difference (%d states) |\n",
+      n_check_states);
   std::printf("|---|---:|---:|---:|---|---|---|---:|\n");
   for (const std::string& m : models) {
     const Pair& pr = pairs[m];
@@ -169,8 +170,8 @@ int main(int argc, char** argv) {
     if (!collector.has(s) || !collector.has(f)) continue;
     const double ratio = collector.ns(s) / collector.ns(f);
     std::printf("| %s | %.1f | %.1f | %.2f | %s | %s | %s | %.1e |\n", m.c_str(), collector.ns(s), collector.ns(f),
-                ratio, ratio <= 1.5 ? "yes" : "**no**", pr.symbolic->operations.c_str(),
-                pr.folded->operations.c_str(), pr.max_relative);
+                ratio, ratio <= 1.5 ? "yes" : "**no**", pr.symbolic->operations.c_str(), pr.folded->operations.c_str(),
+                pr.max_relative);
   }
   return failures ? 1 : 0;
 }

@@ -194,7 +194,10 @@ class ModularPoint {
       split_angle(e.op(0), factor * ex_to<GiNaC::numeric>(e.op(1)).to_long(), multiples, rest);
       return;
     }
-    if (is_a<GiNaC::numeric>(e) && e.is_zero()) return;
+    if (is_a<GiNaC::numeric>(e)) {  // a constant angle (a folded parameter): no program to read
+      if (!e.is_zero()) rest += factor * e;
+      return;
+    }
     rest += factor * program_.inline_all(e);
   }
 

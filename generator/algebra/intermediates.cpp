@@ -117,18 +117,31 @@ std::optional<ex> Intermediates::inline_bounded(const ex& e, std::size_t limit) 
 }
 
 ex Intermediates::inline_all(const ex& e) const {
-  for (std::size_t k = inlined_.size(); k < definitions_.size(); ++k) {
-    GiNaC::exmap earlier;
+  // Only the definitions `e` needs, directly or through others (iteratively: programs may be deep).
+  if (inlined_.size() < definitions_.size()) inlined_.resize(definitions_.size());
+  std::set<std::size_t> top;
+  collect(e, position_, top);
+  std::vector<std::pair<std::size_t, bool>> stack;  // (position, its dependencies are done)
+  for (std::size_t k : top) stack.emplace_back(k, false);
+  while (!stack.empty()) {
+    const auto [k, ready] = stack.back();
+    stack.pop_back();
+    if (inlined_[k]) continue;
     std::set<std::size_t> used;
     collect(definitions_[k].value, position_, used);
-    for (std::size_t j : used) earlier[definitions_[j].symbol] = inlined_[j];
-    inlined_.push_back(definitions_[k].value.subs(earlier));
+    if (!ready) {
+      stack.emplace_back(k, true);
+      for (std::size_t j : used)
+        if (!inlined_[j]) stack.emplace_back(j, false);
+      continue;
+    }
+    GiNaC::exmap earlier;
+    for (std::size_t j : used) earlier[definitions_[j].symbol] = *inlined_[j];
+    inlined_[k] = definitions_[k].value.subs(earlier);
   }
-  std::set<std::size_t> used;
-  collect(e, position_, used);
   GiNaC::exmap map;
-  for (std::size_t j : used) map[definitions_[j].symbol] = inlined_[j];
-  return e.subs(map);
+  for (std::size_t j : top) map[definitions_[j].symbol] = *inlined_[j];
+  return map.empty() ? e : e.subs(map);
 }
 
 GiNaC::exmap Intermediates::evaluate(const GiNaC::exmap& values) const {

@@ -84,7 +84,7 @@ class Intermediates {
     }
   };
   std::map<std::pair<std::size_t, GiNaC::ex>, GiNaC::ex, KeyLess> derivative_memo_;
-  mutable std::vector<GiNaC::ex> inlined_;  // cache for inline_all, by position
+  mutable std::vector<std::optional<GiNaC::ex>> inlined_;  // cache for inline_all, by position
   mutable std::vector<std::optional<GiNaC::ex>> small_inlined_;  // inline_bounded's cache (by position)
   mutable std::vector<std::size_t> small_limit_;                 // the limit each entry was computed with
 };

@@ -2,6 +2,8 @@
 // `simulate`, byte-identical regeneration by `emit`, exit status 2 and no output on bad input.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
+#include <vector>
+#include <algorithm>
 
 #include <sys/wait.h>
 #include <array>
@@ -168,8 +170,35 @@ TEST(Cli, BadInputExitsTwoAndWritesNothing) {
   EXPECT_EQ(hamel("frobnicate 2>/dev/null").status, 2);
 }
 
+// `hamel linearize ... --json`: the keys of issue 14; the double pendulum hanging at rest has A = [[0, I], [-K, 0]]
+// with eigenvalues ±i ω, the linearized normal modes of a double pendulum (m1 = m2, l1 = l2: ω² = (2 ∓ √2) g/l).
+TEST(Cli, LinearizeJsonShapeAndPendulumModes) {
+  const Outcome r = hamel("linearize " + source("models/double_pendulum.yaml") + " --json 2>/dev/null");
+  ASSERT_EQ(r.status, 0);
+  const nlohmann::json j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["model"], "double_pendulum");
+  EXPECT_EQ(j["state"], (nlohmann::json{"theta1", "theta2", "omega1", "omega2"}));
+  EXPECT_TRUE(j["inputs"].is_array());
+  ASSERT_EQ(j["A"].size(), 4u);
+  EXPECT_EQ(j["A"][0].size(), 4u);
+  EXPECT_EQ(j["B"].size(), 4u);
+  EXPECT_EQ(j["residual"].size(), 4u);
+  ASSERT_EQ(j["eigenvalues"].size(), 4u);
+  std::vector<double> frequencies;
+  for (const auto& e : j["eigenvalues"]) {
+    EXPECT_NEAR(e[0].get<double>(), 0.0, 1e-12);
+    if (e[1].get<double>() > 0) frequencies.push_back(e[1].get<double>());
+  }
+  std::sort(frequencies.begin(), frequencies.end());
+  ASSERT_EQ(frequencies.size(), 2u);
+  EXPECT_NEAR(frequencies[0], std::sqrt((2 - std::sqrt(2.0)) * 9.81), 1e-12);
+  EXPECT_NEAR(frequencies[1], std::sqrt((2 + std::sqrt(2.0)) * 9.81), 1e-12);
+  EXPECT_EQ(hamel("linearize " + source("models/double_pendulum.yaml") + " --at nope=1 2>/dev/null").status, 2);
+  EXPECT_EQ(hamel("linearize " + source("models/double_pendulum.yaml") + " --sweep g=1:0:1 2>/dev/null").status, 2);
+}
+
 TEST(Cli, HelpForEveryVerb) {
-  for (const char* verb : {"derive", "emit", "simulate"}) {
+  for (const char* verb : {"derive", "emit", "simulate", "linearize"}) {
     const Outcome r = hamel(std::string(verb) + " --help");
     EXPECT_EQ(r.status, 0) << verb;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << verb;

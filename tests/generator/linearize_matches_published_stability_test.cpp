@@ -9,6 +9,10 @@
 // The heavy symmetric top (models/heavy_top.yaml): the sleeping top is stable iff C² ω² > 4 A m g l with A the
 // transverse moment of inertia about the pivot (Maxwell; e.g. Goldstein, Classical Mechanics, sec. 5.7); its
 // linearization has the characteristic polynomial s⁴ + (C²ω²/A² − 2k) s² + k², k = m g l / A.
+//
+// The free rigid body (models/free_rigid_body.yaml, a bundle model on SO(3) in the Euler–Poincaré form):
+// steady rotation at rate w about a principal axis j has the eigenvalues 0 and ±w √((I_j − I_i)(I_k − I_j)/(I_i I_k))
+// (Euler's equations linearized by hand): real about the intermediate axis (unstable), imaginary otherwise.
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
@@ -174,6 +178,33 @@ TEST(HeavyTop, SteadyMotionNewtonReturnsToTheSleepingTop) {
   for (int k : {0, 1, 3, 4}) EXPECT_NEAR(r.x[static_cast<std::size_t>(k)], 0.0, 1e-10) << k;
   EXPECT_EQ(r.x[5], 80.0);
   EXPECT_LT(r.residual, 1e-10);
+}
+
+TEST(FreeRigidBody, IntermediateAxisIsUnstable) {
+  const hamel::Model model = hamel::load_model(source("models/free_rigid_body.yaml"));
+  const hamel::Derivation derivation = hamel::derive(model, {});
+  const hamel::KernelSet kernels = hamel::build_kernels(model, derivation, {"rhs", "linearization"});
+  const hamel::Linearizer linearizer(kernels, 3, 0);
+  const std::vector<double> I = {1.0, 2.0, 3.0};
+  std::vector<double> p;
+  for (const hamel::Parameter& par : model.parameters) p.push_back(par.default_value);
+  ASSERT_EQ(p, I);
+  const double w = 1.7;
+  for (int j = 0; j < 3; ++j) {
+    std::vector<double> x(3, 0.0);
+    x[static_cast<std::size_t>(j)] = w;
+    const hamel::Spectrum s = hamel::spectrum(linearizer.at(0.0, x, p, {}));
+    const int i = (j + 1) % 3, k = (j + 2) % 3;
+    const double d = (I[static_cast<std::size_t>(j)] - I[static_cast<std::size_t>(i)]) *
+                     (I[static_cast<std::size_t>(k)] - I[static_cast<std::size_t>(j)]) /
+                     (I[static_cast<std::size_t>(i)] * I[static_cast<std::size_t>(k)]);
+    const std::complex<double> expected = w * std::sqrt(std::complex<double>(d));
+    for (const std::complex<double> e : {expected, -expected, std::complex<double>(0)}) {
+      double best = 1e300;
+      for (const hamel::Eigenvalue& v : s.values) best = std::min(best, std::abs(std::complex<double>(v.re, v.im) - e));
+      EXPECT_LT(best, 1e-12 * std::max(1.0, std::abs(e))) << "axis " << j << ": eigenvalue " << e;
+    }
+  }
 }
 
 }  // namespace

@@ -537,6 +537,15 @@ TEST(LinearizationSteady, RouthDiskCircleIsARelativeEquilibriumOfTheKktFlow) {
     const int I = ref.independent()[static_cast<std::size_t>(i)];
     EXPECT_NEAR(s.A.row(I).dot(qddot) + s.Adot_qdot(I), 0.0, 1e-9) << "u_dot[" << I << "]";
   }
+  // Closed form: the lean equation of Routh's disk at constant lean Θ, precession Ω = ψ̇ and spin s = φ̇ (Euler–
+  // Lagrange with the rolling multipliers eliminated, done by hand/SymPy for this chart, Rz(ψ) Rx(θ) Ry(φ)):
+  //   (C − A + m r²) Ω² sin 2Θ + 2 (C + m r²) Ω s cos Θ + 2 g m r sin Θ = 0.
+  const double m = p[0], rr = p[1], A = p[2], C = p[3], g = p[4];
+  ASSERT_EQ(model.parameters[4].symbol.get_name(), "g");
+  const double Theta = r.x[3], Omega = r.x[5], spin = r.x[7];
+  const double lean_balance = (C - A + m * rr * rr) * Omega * Omega * std::sin(2 * Theta) +
+                              2 * (C + m * rr * rr) * Omega * spin * std::cos(Theta) + 2 * g * m * rr * std::sin(Theta);
+  EXPECT_NEAR(lean_balance, 0.0, 1e-10 * (2 * g * m * rr));
   std::printf("[measured] Routh's disk steady circle: lean %.6f rad, precession %.6f rad/s at spin 20 rad/s\n", r.x[3],
               r.x[5]);
 }

@@ -691,11 +691,27 @@ bool write_and_sync(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
-void write_package(const EmittedPackage& package, const std::string& directory) {
+namespace {
+
+// The folder -o names, normalized; an InputError for names that are no folder hamel could replace.
+fs::path package_target(const std::string& directory) {
   fs::path target = fs::path(directory).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();  // "out/" -> "out"
   if (target.empty() || target.filename() == "." || target.filename() == ".." || target == target.root_path())
     throw InputError("-o: " + quote(directory) + " is not a folder hamel can replace; expected a folder name");
+  return target;
+}
+
+}  // namespace
+
+void check_package_folder(const std::string& directory, const std::string& model_name) {
+  const std::vector<EmittedFile> files{{model_name + ".hpp", ""}, {model_name + ".cpp", ""}, {model_name + ".h", ""},
+                                       {"CMakeLists.txt", ""},     {"README.md", ""}};
+  check_replaceable(package_target(directory), files);
+}
+
+void write_package(const EmittedPackage& package, const std::string& directory) {
+  const fs::path target = package_target(directory);
   const std::vector<EmittedFile> files = package.files();
   check_replaceable(target, files);
   const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");

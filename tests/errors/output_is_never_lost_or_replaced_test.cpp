@@ -143,6 +143,28 @@ TEST_F(Output, EmitRefusesAFolderWhoseFilesMerelyClaimToBeGenerated) {
   EXPECT_FALSE(has_temporaries(dir));
 }
 
+// A folder emit refuses is refused before the derivation (which takes minutes for large models), not after.
+TEST_F(Output, EmitRefusesTheFolderBeforeDeriving) {
+  fs::create_directories(dir / "pkg");
+  spit(dir / "pkg" / "mine.txt", "x\n");
+  Outcome r = hamel("emit " + path("spring.yaml") + " -o " + path("pkg"), dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("'mine.txt', which hamel did not write"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("deriving"), std::string::npos) << r.err;
+  spit(dir / "a_file", "x\n");
+  r = hamel("emit " + path("spring.yaml") + " -o " + path("a_file"), dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("exists and is not a folder"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("deriving"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir / "a_file"), "x\n");
+  // A folder an earlier emit wrote still passes the early check and is replaced.
+  ASSERT_EQ(hamel("emit " + path("spring.yaml") + " -o " + path("out"), dir).status, 0);
+  r = hamel("emit " + path("spring.yaml") + " -o " + path("out"), dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("deriving"), std::string::npos) << r.err;
+  EXPECT_FALSE(has_temporaries(dir));
+}
+
 // Re-emitting into an existing package and killing the process at times spread over the whole run (with
 // SIGKILL nothing can clean up): the folder must always hold a whole package, the old one or the new one.
 TEST_F(Output, KilledReEmitNeverLeavesTheFolderMissing) {

@@ -485,7 +485,9 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "# SPDX-License-Identifier: MIT\n"
      << "# The " << model.name << " kernels as a static library " << library
      << " (C++17, no dependency beyond <cmath>).\n"
-     << "# Standalone: cmake -S . -B build [-D" << guard_macro << "=float] && cmake --build build\n"
+     << "# Standalone, built out of tree (a build folder inside would stop hamel emit from replacing this one):\n"
+     << "#   cmake -S " << model.name << " -B " << model.name << "-build [-D" << guard_macro
+     << "=float] && cmake --build " << model.name << "-build\n"
      << "# In a project: add_subdirectory(<this folder>) and target_link_libraries(app PRIVATE " << library << ").\n"
      << "cmake_minimum_required(VERSION 3.13)\n"
      << "project(" << library << " LANGUAGES CXX)\n\n"
@@ -568,8 +570,12 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
        << (s.n_p ? model.name + "::default_parameters" : std::string("nullptr")) << ", " << (s.n_in ? "in" : "nullptr")
        << ");\n```\n";
   md << "\n## Build\n\n"
-     << "```sh\ncmake -S . -B build                       # double\ncmake -S . -B build -D" << guard_macro
-     << "=float   # or float\ncmake --build build\n```\n\n"
+     << "Out of tree, from the folder that holds this package (called `" << model.name
+     << "` here; `hamel emit` replaces only a folder it wrote, so a build folder inside this one would stop it from "
+        "regenerating the package):\n\n"
+     << "```sh\ncmake -S " << model.name << " -B " << model.name << "-build       # double\ncmake -S " << model.name
+     << " -B " << model.name << "-build -D" << guard_macro << "=float   # or float\ncmake --build " << model.name
+     << "-build\n```\n\n"
      << "or, in a CMake project, `add_subdirectory(" << model.name << ")` and `target_link_libraries(app PRIVATE "
      << library << ")`. Without CMake compile `" << model.name
      << ".cpp` with any C++17 compiler (flags such as `-fno-exceptions -fno-rtti -Wall -Wextra -Werror -pedantic` "

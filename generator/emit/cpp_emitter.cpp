@@ -502,6 +502,19 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "if(" << guard_macro << ")\n"
      << "  # PUBLIC: users of the library see the same scalar type.\n"
      << "  target_compile_definitions(" << library << " PUBLIC " << guard_macro << "=${" << guard_macro << "})\n"
+     << "endif()\n\n"
+     << "# Optional, when hamel is installed (find_package(hamel): hamel::runtime, header-only): the target "
+     << model.name << "::with_runtime,\n"
+     << "# the kernels plus hamel's integrators (dopri5, dop853, radau5, RKMK on Lie groups) for a desktop "
+        "application.\n"
+     << "# The kernels themselves never depend on it.\n"
+     << "if(NOT TARGET hamel::runtime)\n"
+     << "  find_package(hamel QUIET CONFIG)\n"
+     << "endif()\n"
+     << "if(TARGET hamel::runtime)\n"
+     << "  add_library(" << library << "_with_runtime INTERFACE)\n"
+     << "  target_link_libraries(" << library << "_with_runtime INTERFACE " << library << " hamel::runtime)\n"
+     << "  add_library(" << model.name << "::with_runtime ALIAS " << library << "_with_runtime)\n"
      << "endif()\n";
 
   // README.md: what the package is, its ABI and layout, how to build it, its licence.
@@ -517,7 +530,9 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "| `" << model.name << ".hpp` | declarations, sizes and names (the ABI, documented at the top) |\n"
      << "| `" << model.name << ".cpp` | the kernels" << (has_rhs ? " and the integrator step `rk4_step`" : "") << " |\n"
      << "| `" << model.name << ".h` | C entry points `" << model.name << "_<kernel>` (C99/C11) |\n"
-     << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name << "::kernels`) |\n\n"
+     << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name
+     << "::kernels`); with an installed hamel (`find_package(hamel)`) also `" << model.name
+     << "::with_runtime`, the kernels plus hamel's header-only integrators |\n\n"
      << "## Kernels\n\n"
      << "Everything is in namespace `" << model.name << "`. Every kernel is\n\n"
      << "```cpp\nvoid kernel(real t, const real* x, const real* p, const real* in, real* out);\n```\n\n"

@@ -10,12 +10,16 @@
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
+#include "report/latex.hpp"
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
+#include <array>
 #include <functional>
 #include <iostream>
 #include <optional>
+#include <set>
 
 namespace hamel::cli {
 
@@ -25,7 +29,7 @@ struct DeriveOptions {
   std::string model;
   std::vector<std::string> params, at;
   std::string form, curvature_sign = "paper", fold = "none", dynamics;
-  bool json = false, inline_all = false, riemann = false;
+  bool json = false, latex = false, inline_all = false, riemann = false;
 };
 
 // Numeric value of `e` once every symbol is replaced; empty if a symbol has no value.
@@ -42,11 +46,16 @@ std::optional<double> value_of(const GiNaC::ex& e, const GiNaC::exmap& values) {
 const Intermediates* inline_through = nullptr;
 constexpr std::size_t inline_limit = 20000;
 
-nlohmann::json entry(const GiNaC::ex& e, const GiNaC::exmap& values) {
-  nlohmann::json j;
+// `e` as printed: with --inline, expanded through the intermediates (when small enough) and simplified.
+GiNaC::ex displayed(const GiNaC::ex& e) {
   std::optional<GiNaC::ex> shown;
   if (inline_through) shown = inline_through->inline_bounded(e, inline_limit);
-  j["expr"] = to_text(shown ? simplify_bounded(*shown) : e);
+  return shown ? simplify_bounded(*shown) : e;
+}
+
+nlohmann::json entry(const GiNaC::ex& e, const GiNaC::exmap& values) {
+  nlohmann::json j;
+  j["expr"] = to_text(displayed(e));
   if (auto v = value_of(e, values)) j["value"] = *v;
   return j;
 }
@@ -185,8 +194,8 @@ nlohmann::json riemann_json(const RiemannGeometry& r, const Intermediates& progr
   j["curvature"] = nlohmann::json::array();
   for (const CurvatureComponent& c : r.curvature) {
     nlohmann::json e = entry(c.value, values);
-    e["indices"] = {q[static_cast<std::size_t>(c.a)], q[static_cast<std::size_t>(c.b)], q[static_cast<std::size_t>(c.c)],
-                    q[static_cast<std::size_t>(c.d)]};
+    e["indices"] = {q[static_cast<std::size_t>(c.a)], q[static_cast<std::size_t>(c.b)],
+                    q[static_cast<std::size_t>(c.c)], q[static_cast<std::size_t>(c.d)]};
     j["curvature"].push_back(e);
   }
   j["flat"] = r.curvature.empty();
@@ -231,12 +240,184 @@ void print_riemann(const nlohmann::json& r, const std::function<std::string(cons
   for (const auto& e : r["stiffness"])
     std::cout << "    K[" << name(e["row"]) << "][" << name(e["col"]) << "] = " << show(e) << "\n";
   if (!r["intermediates"].empty())
-    std::cout << "  intermediate symbols of the Riemannian quantities, in evaluation order (" << r["intermediates"].size()
-              << "):\n";
+    std::cout << "  intermediate symbols of the Riemannian quantities, in evaluation order ("
+              << r["intermediates"].size() << "):\n";
   for (const auto& e : r["intermediates"]) std::cout << "    " << name(e["name"]) << " = " << show(e) << "\n";
 }
 
+// `--latex`: the quantities of the text output as a LaTeX fragment in the paper's notation (amsmath).
+void print_latex(std::ostream& out, const Model& model, const Derivation& d, CurvatureSign sign) {
+  const HamelSystem& sys = d.system;
+  const HamelEquations& eq = d.equations;
+  LatexPrinter tex;
+  const auto u = [&](int a) { return tex.name(sys.velocities[static_cast<std::size_t>(a)].get_name()); };
+  const auto q = [&](std::size_t a) { return tex.name(sys.coordinates[a].get_name()); };
+  const auto math = [&](const GiNaC::ex& e) { return tex.expr(displayed(e)); };
+  using Rows = std::vector<std::pair<std::string, std::string>>;
+  // One align* of `lhs &= rhs` rows, or `none` (an empty align* does not compile).
+  const auto block = [&](const Rows& rows, const std::string& none) {
+    if (rows.empty()) {
+      out << none << "\n\n";
+      return;
+    }
+    out << "\\begin{align*}\n";
+    for (std::size_t k = 0; k < rows.size(); ++k)
+      out << "  " << rows[k].first << " &= " << rows[k].second << (k + 1 < rows.size() ? " \\\\\n" : "\n");
+    out << "\\end{align*}\n\n";
+  };
+  const auto tuple = [](const std::vector<std::string>& names) {
+    std::string s = "(";
+    for (std::size_t k = 0; k < names.size(); ++k) s += (k ? ", " : "") + names[k];
+    return s + ")";
+  };
+  std::string path;
+  for (char c : model.source_path) path += static_cast<unsigned char>(c) < 0x20 ? '?' : c;
+  out << "% hamel derive --latex: model " << model.name << " (" << path << ", fnv1a64 " << model.source_hash
+      << ")\n% A LaTeX fragment in the notation of the paper (Mueller 2023); it needs \\usepackage{amsmath}.\n";
+  std::vector<std::string> qs, us, independent;
+  for (std::size_t a = 0; a < sys.coordinates.size(); ++a) qs.push_back(q(a));
+  for (std::size_t a = 0; a < sys.velocities.size(); ++a) us.push_back(u(static_cast<int>(a)));
+  for (int a : eq.independent) independent.push_back(u(a));
+  out << "\\paragraph{Model \\texttt{" << latex_text(model.name) << "}.}\nCoordinates $q = " << tuple(qs)
+      << "$, quasi-velocities $u = " << tuple(us) << "$";
+  if (!sys.constrained.empty()) {
+    out << ", constraints $";
+    for (std::size_t k = 0; k < sys.constrained.size(); ++k) out << u(sys.constrained[k]) << " = ";
+    out << "0$";
+  }
+  out << "; independent quasi-velocities $" << tuple(independent) << "$.\n\n";
+
+  if (d.bundle) {
+    const Bundle& b = *model.bundle;
+    const BundleGeometry& g = *d.bundle;
+    std::vector<std::string> xi;
+    for (const auto& s : b.group_velocity) xi.push_back(tex.name(s.get_name()));
+    out << "\\paragraph{Bundle.} Group \\texttt{" << latex_text(b.group) << "}, " << (b.right ? "right" : "left")
+        << " trivialization with velocity $\\xi = " << tuple(xi) << "$, "
+        << (b.mechanical ? "mechanical connection (mechConn)" : "kinematic connection (KinConnect)") << "; form "
+        << latex_text(form_name(*d.form)) << ".\n\n";
+    out << "Structure constants $c^{\\alpha}_{\\beta\\lambda}$, non-zero, $\\beta < \\lambda$ "
+           "($c^{\\alpha}_{\\lambda\\beta} = -c^{\\alpha}_{\\beta\\lambda}$):\n";
+    Rows rows;
+    for (const StructureConstant& c : g.structure_constants)
+      if (c.lower_a < c.lower_b)
+        rows.emplace_back("c^{" + xi[static_cast<std::size_t>(c.upper)] + "}_{" +
+                              xi[static_cast<std::size_t>(c.lower_a)] + "," + xi[static_cast<std::size_t>(c.lower_b)] +
+                              "}",
+                          math(c.value));
+    block(rows, "none: the group is commutative.");
+    out << "Connection $\\mathcal{A}^{\\alpha}_{I}$, eq.~(" << (b.mechanical ? "mechConn" : "KinConnect")
+        << "), non-zero entries:\n";
+    rows.clear();
+    if (!g.connection_derived) {
+      out << "not formed symbolically for a kinematic tree: the connection kernel solves $L\\mathcal{A} = K$ "
+             "numerically.\n\n";
+    } else {
+      for (unsigned a = 0; a < xi.size(); ++a)
+        for (std::size_t I = 0; I < qs.size(); ++I) {
+          const GiNaC::ex e = displayed(g.connection(a, static_cast<unsigned>(I)));
+          if (!e.is_zero()) rows.emplace_back("\\mathcal{A}^{" + xi[a] + "}_{" + q(I) + "}", tex.expr(e));
+        }
+      block(rows, "none.");
+      out << "Curvature $\\mathcal{B}^{\\alpha}_{IJ}$, "
+          << (sign == CurvatureSign::paper ? "paper sign $\\mathcal{B} = \\gamma$"
+                                           : "gauge sign $\\mathcal{B} = -\\gamma$")
+          << " (remSign), non-zero, $I < J$ ($\\mathcal{B}^{\\alpha}_{JI} = -\\mathcal{B}^{\\alpha}_{IJ}$):\n";
+      rows.clear();
+      for (const BundleCoefficient& c : g.curvature_in(sign))
+        if (c.lower_a < c.lower_b)
+          rows.emplace_back("\\mathcal{B}^{" + xi[static_cast<std::size_t>(c.alpha)] + "}_{" +
+                                q(static_cast<std::size_t>(c.lower_a)) + "," + q(static_cast<std::size_t>(c.lower_b)) +
+                                "}",
+                            math(c.value));
+      block(rows, "none: the connection is flat.");
+    }
+    out << "Reconstruction, eq.~(KinRec):\n";
+    rows.clear();
+    for (std::size_t a = 0; a < xi.size(); ++a) rows.emplace_back(xi[a], math(d.group_velocity[a]));
+    block(rows, "none.");
+  } else {
+    out << "\\paragraph{Quasi-velocities.} $\\dot{q} = B(q)\\,u$, eq.~(u2); non-zero entries $B^{a}_{b}$:\n";
+    Rows rows;
+    for (unsigned r = 0; r < qs.size(); ++r)
+      for (unsigned c = 0; c < us.size(); ++c) {
+        const GiNaC::ex e = displayed(d.quasi_velocities.B(r, c));
+        if (!e.is_zero()) rows.emplace_back("B^{" + qs[r] + "}_{" + us[c] + "}", tex.expr(e));
+      }
+    block(rows, "none.");
+  }
+
+  out << "\\paragraph{Hamel coefficients.} Non-zero $\\gamma^{c}_{ab}$, eq.~(gamma), $a$ before $b$ in $u$ "
+         "($\\gamma^{c}_{ba} = -\\gamma^{c}_{ab}$)"
+      << (sys.constrained.empty() ? "" : "; $\\star$ marks $\\gamma^{a}_{IJ}$ of eq.~(gammaNH)") << ":\n";
+  {
+    std::set<std::array<int, 3>> present;
+    for (const HamelCoefficient& h : sys.gamma) present.insert({h.upper, h.lower_a, h.lower_b});
+    const auto is_independent = [&](int a) {
+      return std::find(eq.independent.begin(), eq.independent.end(), a) != eq.independent.end();
+    };
+    Rows rows;
+    for (const HamelCoefficient& h : sys.gamma) {
+      if (h.lower_a > h.lower_b && present.count({h.upper, h.lower_b, h.lower_a})) continue;
+      const bool star = !sys.constrained.empty() && is_independent(h.lower_a) && is_independent(h.lower_b);
+      rows.emplace_back(std::string(star ? "\\star\\ " : "") + "\\gamma^{" + u(h.upper) + "}_{" + u(h.lower_a) + "," +
+                            u(h.lower_b) + "}",
+                        math(h.value));
+    }
+    block(rows, "none: the quasi-velocities are holonomic.");
+  }
+
+  const std::size_t m = eq.independent.size();
+  bool symmetric = true;
+  for (unsigned r = 0; r < m && symmetric; ++r)
+    for (unsigned c = r + 1; c < m && symmetric; ++c) symmetric = eq.mass_matrix(r, c).is_equal(eq.mass_matrix(c, r));
+  out << "\\paragraph{Equations of motion.} " << latex_text(sys.form)
+      << ": $M\\dot{u} = f$ in the independent quasi-velocities; non-zero entries of $M$"
+      << (symmetric ? " (symmetric), $a$ before $b$" : "") << ", and $f$:\n";
+  {
+    Rows rows;
+    for (unsigned r = 0; r < m; ++r)
+      for (unsigned c = symmetric ? r : 0; c < m; ++c) {
+        const GiNaC::ex e = displayed(eq.mass_matrix(r, c));
+        if (!e.is_zero())
+          rows.emplace_back("M_{" + u(eq.independent[r]) + "," + u(eq.independent[c]) + "}", tex.expr(e));
+      }
+    for (std::size_t r = 0; r < m; ++r) rows.emplace_back("f_{" + u(eq.independent[r]) + "}", math(eq.forcing[r]));
+    block(rows, "none.");
+  }
+  out << "\\paragraph{Kinematics.} Eq.~(qadot):\n";
+  {
+    Rows rows;
+    for (std::size_t a = 0; a < qs.size(); ++a)
+      rows.emplace_back(tex.name(sys.coordinates[a].get_name() + "_dot"), math(eq.kinematics[a]));
+    block(rows, "none.");
+  }
+  out << "\\paragraph{Energy.}" << (eq.conservative ? " Conserved:" : "") << "\n";
+  block({{"E", math(eq.energy_terms.at(0))}}, "");
+
+  // The model's own definitions come first in the program, then the intermediates the derivation named.
+  const std::size_t user_definitions = model.definitions.size();
+  Rows definitions, intermediates;
+  for (std::size_t k = 0; k < eq.intermediates.size(); ++k) {
+    const Intermediates::Definition& def = eq.intermediates.definitions()[k];
+    (k < user_definitions ? definitions : intermediates).emplace_back(tex.name(def.symbol.get_name()), math(def.value));
+  }
+  if (!definitions.empty()) {
+    out << "\\paragraph{Where} (the model's definitions):\n";
+    block(definitions, "");
+  }
+  if (!intermediates.empty()) {
+    out << "\\paragraph{Where} (intermediate symbols, in evaluation order):\n";
+    block(intermediates, "");
+  }
+}
+
 void run(const DeriveOptions& opt) {
+  if (opt.latex && (opt.json || opt.riemann || !opt.at.empty()))
+    throw InputError(std::string("--latex: cannot be combined with ") + (opt.json ? "--json"
+                                                                         : opt.riemann
+                                                                             ? "--riemann (text and JSON only)"
+                                                                             : "--at (values are text and JSON only)"));
   const Model model = load_model(opt.model);
   const std::vector<double> params = parameter_values(model, parse_assignments(opt.params, "--param"));
   const std::map<std::string, double> at = parse_assignments(opt.at, "--at");
@@ -254,6 +435,10 @@ void run(const DeriveOptions& opt) {
   if (opt.riemann) riemann = derive_riemann(folded, riemann_program);
   const Intermediates& program = opt.riemann ? riemann_program : eq.intermediates;
   if (opt.inline_all) inline_through = &program;
+  if (opt.latex) {
+    print_latex(std::cout, model, d, opt.curvature_sign == "gauge" ? CurvatureSign::gauge : CurvatureSign::paper);
+    return;
+  }
 
   // --at takes every name the output lists as coordinate or quasi-velocity (for bundle models the shape
   // rates r_dot and the shifted group velocities of the form), inputs, the group velocity and t.
@@ -408,11 +593,13 @@ void run(const DeriveOptions& opt) {
   for (const auto& e : j["forcing"]) std::cout << "  f[" << e["row"].get<std::string>() << "] = " << show(e) << "\n";
   if (j.contains("definitions")) {
     std::cout << "\ndefinitions (model key 'definitions'):\n";
-    for (const auto& e : j["definitions"]) std::cout << "  " << e["name"].get<std::string>() << " = " << show(e) << "\n";
+    for (const auto& e : j["definitions"])
+      std::cout << "  " << e["name"].get<std::string>() << " = " << show(e) << "\n";
   }
   if (j.contains("intermediates")) {
     std::cout << "\nintermediate symbols, in evaluation order (" << j["intermediates"].size() << "):\n";
-    for (const auto& e : j["intermediates"]) std::cout << "  " << e["name"].get<std::string>() << " = " << show(e) << "\n";
+    for (const auto& e : j["intermediates"])
+      std::cout << "  " << e["name"].get<std::string>() << " = " << show(e) << "\n";
   }
   std::cout << "\nkinematics, eq. (qadot):\n";
   for (const auto& e : j["kinematics"]) std::cout << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
@@ -442,6 +629,9 @@ Run add_derive_command(CLI::App& app) {
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
   cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
+  cmd->add_flag("--latex", opt->latex,
+                "Print a LaTeX fragment instead of text (amsmath; the paper's notation, intermediate symbols as "
+                "'where' definitions)");
   cmd->add_flag("--riemann", opt->riemann,
                 "Models in general coordinates without constraints, L = 1/2 g_ab(q) q_dot^a q_dot^b - V: also the "
                 "metric, Christoffel symbols, Riemann-Christoffel tensor and the covariant linearization (JSON key "

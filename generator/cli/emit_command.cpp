@@ -61,6 +61,7 @@ void run(const EmitOptions& opt) {
     selected = parse_kernels(opt.kernels);
   }
   const Model& model = target.model;
+  check_package_folder(opt.output, model.name);  // a refused folder fails now, not after a long derivation
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   const Derivation derivation = derive(model, target.settings);
   const KernelSet kernels = [&] {

@@ -485,7 +485,9 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "# SPDX-License-Identifier: MIT\n"
      << "# The " << model.name << " kernels as a static library " << library
      << " (C++17, no dependency beyond <cmath>).\n"
-     << "# Standalone: cmake -S . -B build [-D" << guard_macro << "=float] && cmake --build build\n"
+     << "# Standalone, built out of tree (a build folder inside would stop hamel emit from replacing this one):\n"
+     << "#   cmake -S " << model.name << " -B " << model.name << "-build [-D" << guard_macro
+     << "=float] && cmake --build " << model.name << "-build\n"
      << "# In a project: add_subdirectory(<this folder>) and target_link_libraries(app PRIVATE " << library << ").\n"
      << "cmake_minimum_required(VERSION 3.13)\n"
      << "project(" << library << " LANGUAGES CXX)\n\n"
@@ -500,6 +502,19 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "if(" << guard_macro << ")\n"
      << "  # PUBLIC: users of the library see the same scalar type.\n"
      << "  target_compile_definitions(" << library << " PUBLIC " << guard_macro << "=${" << guard_macro << "})\n"
+     << "endif()\n\n"
+     << "# Optional, when hamel is installed (find_package(hamel): hamel::runtime, header-only): the target "
+     << model.name << "::with_runtime,\n"
+     << "# the kernels plus hamel's integrators (dopri5, dop853, radau5, RKMK on Lie groups) for a desktop "
+        "application.\n"
+     << "# The kernels themselves never depend on it.\n"
+     << "if(NOT TARGET hamel::runtime)\n"
+     << "  find_package(hamel QUIET CONFIG)\n"
+     << "endif()\n"
+     << "if(TARGET hamel::runtime)\n"
+     << "  add_library(" << library << "_with_runtime INTERFACE)\n"
+     << "  target_link_libraries(" << library << "_with_runtime INTERFACE " << library << " hamel::runtime)\n"
+     << "  add_library(" << model.name << "::with_runtime ALIAS " << library << "_with_runtime)\n"
      << "endif()\n";
 
   // README.md: what the package is, its ABI and layout, how to build it, its licence.
@@ -515,7 +530,9 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "| `" << model.name << ".hpp` | declarations, sizes and names (the ABI, documented at the top) |\n"
      << "| `" << model.name << ".cpp` | the kernels" << (has_rhs ? " and the integrator step `rk4_step`" : "") << " |\n"
      << "| `" << model.name << ".h` | C entry points `" << model.name << "_<kernel>` (C99/C11) |\n"
-     << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name << "::kernels`) |\n\n"
+     << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name
+     << "::kernels`); with an installed hamel (`find_package(hamel)`) also `" << model.name
+     << "::with_runtime`, the kernels plus hamel's header-only integrators |\n\n"
      << "## Kernels\n\n"
      << "Everything is in namespace `" << model.name << "`. Every kernel is\n\n"
      << "```cpp\nvoid kernel(real t, const real* x, const real* p, const real* in, real* out);\n```\n\n"
@@ -568,8 +585,12 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
        << (s.n_p ? model.name + "::default_parameters" : std::string("nullptr")) << ", " << (s.n_in ? "in" : "nullptr")
        << ");\n```\n";
   md << "\n## Build\n\n"
-     << "```sh\ncmake -S . -B build                       # double\ncmake -S . -B build -D" << guard_macro
-     << "=float   # or float\ncmake --build build\n```\n\n"
+     << "Out of tree, from the folder that holds this package (called `" << model.name
+     << "` here; `hamel emit` replaces only a folder it wrote, so a build folder inside this one would stop it from "
+        "regenerating the package):\n\n"
+     << "```sh\ncmake -S " << model.name << " -B " << model.name << "-build       # double\ncmake -S " << model.name
+     << " -B " << model.name << "-build -D" << guard_macro << "=float   # or float\ncmake --build " << model.name
+     << "-build\n```\n\n"
      << "or, in a CMake project, `add_subdirectory(" << model.name << ")` and `target_link_libraries(app PRIVATE "
      << library << ")`. Without CMake compile `" << model.name
      << ".cpp` with any C++17 compiler (flags such as `-fno-exceptions -fno-rtti -Wall -Wextra -Werror -pedantic` "
@@ -691,11 +712,27 @@ bool write_and_sync(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
-void write_package(const EmittedPackage& package, const std::string& directory) {
+namespace {
+
+// The folder -o names, normalized; an InputError for names that are no folder hamel could replace.
+fs::path package_target(const std::string& directory) {
   fs::path target = fs::path(directory).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();  // "out/" -> "out"
   if (target.empty() || target.filename() == "." || target.filename() == ".." || target == target.root_path())
     throw InputError("-o: " + quote(directory) + " is not a folder hamel can replace; expected a folder name");
+  return target;
+}
+
+}  // namespace
+
+void check_package_folder(const std::string& directory, const std::string& model_name) {
+  const std::vector<EmittedFile> files{{model_name + ".hpp", ""}, {model_name + ".cpp", ""}, {model_name + ".h", ""},
+                                       {"CMakeLists.txt", ""},     {"README.md", ""}};
+  check_replaceable(package_target(directory), files);
+}
+
+void write_package(const EmittedPackage& package, const std::string& directory) {
+  const fs::path target = package_target(directory);
   const std::vector<EmittedFile> files = package.files();
   check_replaceable(target, files);
   const fs::path parent = target.has_parent_path() ? target.parent_path() : fs::path(".");

@@ -28,6 +28,11 @@ struct EmittedPackage {
 
 EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const KernelSet& kernels);
 
+/// The checks write_package makes of `directory`, made before any derivation so that a refused folder fails
+/// at once: a folder name, and, if the folder exists, one an earlier emit of a model `model_name` wrote.
+/// Throws InputError as write_package does (which checks again when it writes).
+void check_package_folder(const std::string& directory, const std::string& model_name);
+
 /// Writes the package into `directory` atomically: a temporary sibling folder is filled and renamed;
 /// an existing folder is replaced only once the new one is complete.
 void write_package(const EmittedPackage& package, const std::string& directory);

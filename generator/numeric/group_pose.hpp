@@ -11,6 +11,7 @@
 #include <hamel/runtime/lie/so3xr3.hpp>
 
 #include <array>
+#include <cmath>
 #include <optional>
 #include <string>
 #include <vector>
@@ -75,6 +76,38 @@ inline std::vector<double> pose_values(const GroupPose& pose) {
   if (pose.theta) v.push_back(*pose.theta);
   v.insert(v.end(), pose.p.begin(), pose.p.end());
   return v;
+}
+
+/// The rotation vector w with exp(w) = R nearest to `previous`: the principal logarithm θn (θ ≤ π) moved
+/// along its axis by a whole number of turns, (θ + 2πk) n (every logarithm of R is of this form).
+inline std::array<double, 3> rotation_vector_near(const std::array<double, 9>& R,
+                                                  const std::array<double, 3>& previous) {
+  constexpr double two_pi = 6.283185307179586476925286766559;
+  const runtime::lie::Vec3 w = runtime::lie::SO3::log(R);
+  double theta = std::sqrt(w[0] * w[0] + w[1] * w[1] + w[2] * w[2]);
+  std::array<double, 3> n{};
+  if (theta > 1e-12) {
+    for (int i = 0; i < 3; ++i) n[static_cast<std::size_t>(i)] = w[static_cast<std::size_t>(i)] / theta;
+  } else {  // R = I: any axis; whole turns about the previous one's
+    const double r = std::sqrt(previous[0] * previous[0] + previous[1] * previous[1] + previous[2] * previous[2]);
+    if (r == 0) return {w[0], w[1], w[2]};
+    for (std::size_t i = 0; i < 3; ++i) n[i] = previous[i] / r;
+  }
+  const double along = previous[0] * n[0] + previous[1] * n[1] + previous[2] * n[2];
+  theta += two_pi * std::round((along - theta) / two_pi);
+  return {theta * n[0], theta * n[1], theta * n[2]};
+}
+
+/// The rotation vectors of a trajectory's rotations (poses with R), continuous from one sample to the next
+/// (not wrapped at |w| = π), starting from the principal logarithm of the first.
+inline std::vector<std::array<double, 3>> unwrapped_rotation_vectors(const std::vector<GroupPose>& poses) {
+  std::vector<std::array<double, 3>> out;
+  std::array<double, 3> previous{};
+  for (const GroupPose& p : poses) {
+    previous = rotation_vector_near(*p.R, previous);
+    out.push_back(previous);
+  }
+  return out;
 }
 
 template <class G>

@@ -143,6 +143,48 @@ TEST_F(Output, EmitRefusesAFolderWhoseFilesMerelyClaimToBeGenerated) {
   EXPECT_FALSE(has_temporaries(dir));
 }
 
+// A folder emit refuses is refused before the derivation (which takes minutes for large models), not after.
+TEST_F(Output, EmitRefusesTheFolderBeforeDeriving) {
+  fs::create_directories(dir / "pkg");
+  spit(dir / "pkg" / "mine.txt", "x\n");
+  Outcome r = hamel("emit " + path("spring.yaml") + " -o " + path("pkg"), dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("'mine.txt', which hamel did not write"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("deriving"), std::string::npos) << r.err;
+  spit(dir / "a_file", "x\n");
+  r = hamel("emit " + path("spring.yaml") + " -o " + path("a_file"), dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("exists and is not a folder"), std::string::npos) << r.err;
+  EXPECT_EQ(r.err.find("deriving"), std::string::npos) << r.err;
+  EXPECT_EQ(slurp(dir / "a_file"), "x\n");
+  // A folder an earlier emit wrote still passes the early check and is replaced.
+  ASSERT_EQ(hamel("emit " + path("spring.yaml") + " -o " + path("out"), dir).status, 0);
+  r = hamel("emit " + path("spring.yaml") + " -o " + path("out"), dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(r.err.find("deriving"), std::string::npos) << r.err;
+  EXPECT_FALSE(has_temporaries(dir));
+}
+
+// The package README builds out of tree, so that following it leaves a folder emit may still replace: its
+// cmake commands, run as written from the folder holding the package, create nothing inside the package.
+TEST_F(Output, PackageReadmeBuildsOutOfTreeAndEmitStillReplacesThePackage) {
+  ASSERT_EQ(hamel("emit " + path("spring.yaml") + " -o " + path("spring"), dir).status, 0);
+  const std::string readme = slurp(dir / "spring" / "README.md");
+  EXPECT_EQ(readme.find("-S ."), std::string::npos);
+  const std::size_t at = readme.find("\ncmake -S spring -B spring-build ");
+  ASSERT_NE(at, std::string::npos) << readme;
+  const std::string configure = readme.substr(at + 1, readme.find('#', at) - at - 1);
+  Outcome r = run_command("cd " + shell_quote(dir.string()) + " && " + configure, dir);
+  ASSERT_EQ(r.status, 0) << configure << "\n" << r.out << r.err;
+  EXPECT_TRUE(fs::is_regular_file(dir / "spring-build" / "CMakeCache.txt"));
+  EXPECT_EQ(names_in(dir / "spring"),
+            (std::set<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md", "spring.cpp", "spring.h",
+                                   "spring.hpp"}));
+  r = hamel("emit " + path("spring.yaml") + " -o " + path("spring"), dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_NE(slurp(dir / "spring" / "CMakeLists.txt").find("-B spring-build"), std::string::npos);
+}
+
 // Re-emitting into an existing package and killing the process at times spread over the whole run (with
 // SIGKILL nothing can clean up): the folder must always hold a whole package, the old one or the new one.
 TEST_F(Output, KilledReEmitNeverLeavesTheFolderMissing) {

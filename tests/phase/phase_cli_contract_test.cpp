@@ -8,8 +8,8 @@
 //    on SE(2) the centre of mass stays at (a, 0), so F_b is at (a − a cos θ, −a sin θ);
 //  - a path with the wrong number of entries exits with status 2, prints nothing on stdout and names
 //    --path on stderr;
-//  - <model>_phase.csv (trajectory) and <model>_phase.svg (x–y plot, when the group has a translation)
-//    are written into --out; nothing is written with --no-files.
+//  - <model>_phase.csv (trajectory) and <model>_phase.svg (x–y plot when the group has a translation, the
+//    rotation vector over time on SO(3)) are written into --out; nothing is written with --no-files.
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -205,10 +205,14 @@ TEST(PhaseCli, So3JsonHasOnlyTheRotationWithTheClosedFormValue) {
   }
   std::printf("SO3 body with rotor: max |R - Rz(-2 pi k J/I3)| = %.2e\n", worst);
   EXPECT_LT(worst, 1e-12);  // a constant velocity: exact up to rounding
-  // The trajectory is written; there is no translation to plot.
+  // The trajectory is written, and a plot of the rotation vector over time (no translation to plot).
   EXPECT_TRUE(fs::exists(out / "body_with_rotor_phase.csv"));
-  EXPECT_FALSE(fs::exists(out / "body_with_rotor_phase.svg"));
-  EXPECT_FALSE(j.contains("plot"));
+  ASSERT_TRUE(fs::exists(out / "body_with_rotor_phase.svg"));
+  EXPECT_EQ(j["plot"], (out / "body_with_rotor_phase.svg").string());
+  const std::string svg = slurp(out / "body_with_rotor_phase.svg");
+  EXPECT_NE(svg.find("<svg"), std::string::npos);
+  for (const char* label : {"rotation vector", ">wx<", ">wy<", ">wz<", "after each cycle"})
+    EXPECT_NE(svg.find(label), std::string::npos) << label;
   std::istringstream lines(slurp(out / "body_with_rotor_phase.csv"));
   std::string header;
   std::getline(lines, header);

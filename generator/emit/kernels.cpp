@@ -130,19 +130,26 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   // A large rhs program (the Whipple bicycle: 1.5e4 operations) is differentiated in forward mode only: the
   // symbolic route below differentiates M and f through the derivation's program per state component, which
   // costs seconds of GiNaC work there, for a kernel of about the same size (1.25e5 against 1.32e5 operations).
+  // Forward mode through the rhs program: d(rhs)/d(argument k) for k < count, one tangent pass each.
+  const auto forward_columns = [&](Argument argument, int count) {
+    std::vector<std::vector<int>> columns;
+    for (int k = 0; k < count; ++k) columns.push_back(tangent(g, rhs.outputs, {{g.input(argument, k), g.constant(1)}}));
+    return columns;
+  };
+  const auto state_name = [&](int k) {
+    return k < n ? sys.coordinates[static_cast<std::size_t>(k)].get_name()
+                 : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
+  };
   const bool forward_only =
       want("jacobian") && !articulated && g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
   if (forward_only) {
     const int nx = static_cast<int>(rhs.outputs.size());
-    std::vector<std::vector<int>> columns;
-    for (int k = 0; k < nx; ++k) columns.push_back(tangent(g, rhs.outputs, {{g.input(Argument::state, k), g.constant(1)}}));
+    const std::vector<std::vector<int>> columns = forward_columns(Argument::state, nx);
     jacobian.summary += "; forward mode through the rhs program";
     for (int row = 0; row < nx; ++row)
       for (int k = 0; k < nx; ++k) {
         jacobian.outputs.push_back(columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
-        jacobian.output_names.push_back("d" + rhs.output_names[static_cast<std::size_t>(row)] + "/d" +
-                                        (k < n ? sys.coordinates[static_cast<std::size_t>(k)].get_name()
-                                               : name_of(eq.independent[static_cast<std::size_t>(k - n)])));
+        jacobian.output_names.push_back("d" + rhs.output_names[static_cast<std::size_t>(row)] + "/d" + state_name(k));
       }
   } else if (want("jacobian")) {
     // The accelerations a of mass_times_acceleration (M a as a program) are the solved u'.
@@ -181,9 +188,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     // smaller of the two programs is kept (docs/benchmarks.md: the tangent one is larger for the trees
     // measured so far, because the articulated inertias depend on every joint angle outboard of a body).
     if (articulated) {
-      std::vector<std::vector<int>> forward(nx);
-      for (std::size_t k = 0; k < nx; ++k)
-        forward[k] = tangent(g, rhs.outputs, {{g.input(Argument::state, static_cast<int>(k)), g.constant(1)}});
+      const std::vector<std::vector<int>> forward = forward_columns(Argument::state, static_cast<int>(nx));
       const auto operations = [&](const std::vector<std::vector<int>>& columns) {
         std::vector<int> all;
         for (const std::vector<int>& c : columns) all.insert(all.end(), c.begin(), c.end());
@@ -212,13 +217,8 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   if (only.count("linearization")) {
     const int nx = static_cast<int>(rhs.outputs.size());
     const int ni = static_cast<int>(model.inputs.size());
-    std::vector<std::vector<int>> a_columns, b_columns;
-    for (int k = 0; k < nx; ++k) a_columns.push_back(tangent(g, rhs.outputs, {{g.input(Argument::state, k), g.constant(1)}}));
-    for (int k = 0; k < ni; ++k) b_columns.push_back(tangent(g, rhs.outputs, {{g.input(Argument::input, k), g.constant(1)}}));
-    const auto state_name = [&](int k) {
-      return k < n ? sys.coordinates[static_cast<std::size_t>(k)].get_name()
-                   : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
-    };
+    const std::vector<std::vector<int>> a_columns = forward_columns(Argument::state, nx);
+    const std::vector<std::vector<int>> b_columns = forward_columns(Argument::input, ni);
     for (int row = 0; row < nx; ++row)
       for (int k = 0; k < nx; ++k) {
         linearization.outputs.push_back(a_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);

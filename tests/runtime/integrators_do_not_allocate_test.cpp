@@ -46,6 +46,10 @@ void* counted_or_throw(std::size_t size, std::size_t alignment) {
   return p;
 }
 
+// Not inlined into the deletes: GCC would otherwise see free() applied to what it knows as an
+// operator-new pointer and warn (-Wmismatched-new-delete), although both are ours.
+[[gnu::noinline]] void counted_release(void* p) noexcept { std::free(p); }
+
 /// Counts the allocations of the whole process between its construction and count().
 class AllocationCounter {
  public:
@@ -72,18 +76,18 @@ void* operator new(std::size_t size, std::align_val_t a, const std::nothrow_t&) 
 void* operator new[](std::size_t size, std::align_val_t a, const std::nothrow_t&) noexcept {
   return counted_allocation(size, static_cast<std::size_t>(a));
 }
-void operator delete(void* p) noexcept { std::free(p); }
-void operator delete[](void* p) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t) noexcept { std::free(p); }
-void operator delete(void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { std::free(p); }
-void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
-void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { std::free(p); }
+void operator delete(void* p) noexcept { counted_release(p); }
+void operator delete[](void* p) noexcept { counted_release(p); }
+void operator delete(void* p, std::size_t) noexcept { counted_release(p); }
+void operator delete[](void* p, std::size_t) noexcept { counted_release(p); }
+void operator delete(void* p, const std::nothrow_t&) noexcept { counted_release(p); }
+void operator delete[](void* p, const std::nothrow_t&) noexcept { counted_release(p); }
+void operator delete(void* p, std::align_val_t) noexcept { counted_release(p); }
+void operator delete[](void* p, std::align_val_t) noexcept { counted_release(p); }
+void operator delete(void* p, std::size_t, std::align_val_t) noexcept { counted_release(p); }
+void operator delete[](void* p, std::size_t, std::align_val_t) noexcept { counted_release(p); }
+void operator delete(void* p, std::align_val_t, const std::nothrow_t&) noexcept { counted_release(p); }
+void operator delete[](void* p, std::align_val_t, const std::nothrow_t&) noexcept { counted_release(p); }
 
 namespace {
 

@@ -261,6 +261,7 @@ ex contract_sum(const ex& e) {
     std::size_t terms = 0;
     long degree = 0;  // the highest degree of its monomials
     std::size_t original_size = 0, collected_size = 0;  // nodes of its terms
+    bool linearizable = false;
     std::map<ex, ex, GiNaC::ex_is_less> by_monomial;
     Fourier linear;
   };
@@ -290,6 +291,10 @@ ex contract_sum(const ex& e) {
   std::vector<Group> groups;
   for (auto& [bases, g] : by_atoms) {
     tidy(g.linear);
+    // Linearizing pays off only when modes cancel: a linear form with more modes than the group has monomials
+    // (plus the constant) is longer in practice (cos²a cos²b has 5), and is not tried. Groups of degree 1 are
+    // their own linear form: linearized, they merge with the modes of other linearized groups.
+    g.linearizable = g.linear.size() <= g.by_monomial.size() + 1;
     for (const auto& [monomial, c] : g.by_monomial) {
       const ex term = (node_count(c, 200) <= 200 ? c.expand() : c) * monomial;
       g.collected += term;
@@ -351,18 +356,21 @@ ex contract_sum(const ex& e) {
   for (std::size_t i = 0; i < groups.size(); ++i) {
     std::size_t size = groups[i].original_size;
     if (groups[i].collected_size < size) local[i] = collected, size = groups[i].collected_size;
-    if (groups[i].degree >= 2 && terms_size(as_ex(groups[i].linear, angles)) < size) local[i] = linearized;
+    if (groups[i].linearizable && terms_size(as_ex(groups[i].linear, angles)) < size) local[i] = linearized;
   }
   consider(local);
   consider(std::vector<Form>(groups.size(), collected));
-  consider(std::vector<Form>(groups.size(), linearized));
+  std::vector<Form> all_linear = local;
+  for (std::size_t i = 0; i < groups.size(); ++i)
+    if (groups[i].linearizable) all_linear[i] = linearized;
+  consider(all_linear);
   constexpr std::size_t few = 6;
   for (int pass = 0; pass < 2 && groups.size() <= few; ++pass) {
     bool improved = false;
     for (std::size_t i = 0; i < groups.size(); ++i)
       for (Form f : {original, collected, linearized}) {
         if (f == choice[i] || (f == collected && groups[i].by_monomial.size() == groups[i].terms) ||
-            (f == linearized && groups[i].degree < 2))
+            (f == linearized && !groups[i].linearizable))
           continue;
         std::vector<Form> c = choice;
         c[i] = f;
@@ -370,13 +378,25 @@ ex contract_sum(const ex& e) {
       }
     if (!improved) break;
   }
-  if (std::all_of(choice.begin(), choice.end(), [](Form f) { return f == original; })) return e;
-  ex best = linear_part(choice);
-  for (std::size_t i = 0; i < groups.size(); ++i) {
-    if (choice[i] == original) best += groups[i].original;
-    if (choice[i] == collected) best += groups[i].collected;
+  // The estimate above ignores merges of the linear part with the fixed terms: the choice and each group's own
+  // best are built and counted.
+  const auto built = [&](const std::vector<Form>& form) {
+    ex out = linear_part(form);
+    for (std::size_t i = 0; i < groups.size(); ++i) {
+      if (form[i] == original) out += groups[i].original;
+      if (form[i] == collected) out += groups[i].collected;
+    }
+    return out;
+  };
+  ex best = e;
+  std::size_t size = node_count(e, unlimited);
+  for (const std::vector<Form>& form : {choice, local}) {
+    if (std::all_of(form.begin(), form.end(), [](Form f) { return f == original; })) continue;
+    const ex x = built(form);
+    const std::size_t n = node_count(x, size);
+    if (n < size) best = x, size = n;
   }
-  return node_count(best, unlimited) < node_count(e, unlimited) ? best : e;
+  return best;
 }
 
 struct Contract : GiNaC::map_function {

@@ -1,5 +1,6 @@
 // `hamel derive MODEL [--param n=v ...] [--at n=v,...] [--json]`: the derived quantities as expressions,
 // with numbers where --at (and parameter values) determine them.
+#include "algebra/contract_trig.hpp"
 #include "algebra/expression_text.hpp"
 #include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
@@ -46,11 +47,13 @@ std::optional<double> value_of(const GiNaC::ex& e, const GiNaC::exmap& values) {
 const Intermediates* inline_through = nullptr;
 constexpr std::size_t inline_limit = 20000;
 
-// `e` as printed: with --inline, expanded through the intermediates (when small enough) and simplified.
+// `e` as printed: with --inline, expanded through the intermediates (when small enough) and simplified; then
+// sin/cos of single angles contracted back to multiple and sum angles where shorter (contract_trig: the
+// normal form the derivation keeps for exact cancellation writes sin(3t) as 4 sin t cos² t − sin t).
 GiNaC::ex displayed(const GiNaC::ex& e) {
   std::optional<GiNaC::ex> shown;
   if (inline_through) shown = inline_through->inline_bounded(e, inline_limit);
-  return shown ? simplify_bounded(*shown) : e;
+  return contract_trig(shown ? simplify_bounded(*shown) : e);
 }
 
 nlohmann::json entry(const GiNaC::ex& e, const GiNaC::exmap& values) {

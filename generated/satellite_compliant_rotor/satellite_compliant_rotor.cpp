@@ -694,6 +694,238 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[7], p[6], in[0]) -> out[28]  ops: 14 add, 22 mul, 9 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[0] + p[3];
+  const real w1 = p[1] + p[4];
+  const real w2 = p[0] * p[3];
+  const real w3 = w2 / w0;
+  const real w4 = p[1] * p[4];
+  const real w5 = w4 / w1;
+  const real w6 = p[2] * p[4];
+  const real w7 = w1 - p[2];
+  const real w8 = p[2] - p[3];
+  const real w9 = w8 - p[0];
+  const real w10 = p[1] * p[3];
+  const real w11 = p[3] * p[4];
+  const real w12 = w10 + w11;
+  const real w13 = p[0] * p[4];
+  const real w14 = w11 + w13;
+  const real w15 = w1 - p[3];
+  const real w16 = w15 - p[0];
+  const real w17 = p[2] * p[3];
+  const real w18 = w12 - w17;
+  const real w19 = w12 + w13;
+  const real w20 = p[0] * p[1];
+  const real w21 = w19 + w20;
+  const real w22 = w14 - w6;
+  const real w23 = -p[5];
+  const real w24 = w23 / w3;
+  const real w25 = p[3] * w6;
+  const real w26 = real(1.0) / w1;
+  const real w27 = w6 * w26;
+  const real w28 = real(1.0) / w0;
+  const real w29 = w17 * w28;
+  const real w30 = w12 * w28;
+  const real w31 = w14 * w26;
+  const real w32 = w18 * w28;
+  const real w33 = real(1.0) / w21;
+  const real w34 = w25 * w33;
+  const real w35 = w22 * w26;
+  const real w36 = real(1.0) / w5;
+  const real w37 = real(1.0) / w3;
+  const real w38 = real(1.0) / p[2];
+  const real w39 = w35 * w36;
+  const real w40 = w9 * w26;
+  const real w41 = w7 * w28;
+  const real w42 = w34 * w36;
+  const real w43 = w30 * w38;
+  const real w44 = w27 * w28;
+  out[0] = p[0];  // Ix
+  out[1] = p[1];  // Iy
+  out[2] = p[2];  // Iz
+  out[3] = p[3];  // J1
+  out[4] = p[4];  // J2
+  out[5] = p[5];  // k
+  out[6] = w7;  // prepared 0
+  out[7] = w9;  // prepared 1
+  out[8] = w16;  // prepared 2
+  out[9] = w24;  // prepared 3
+  out[10] = w26;  // prepared 4
+  out[11] = w27;  // prepared 5
+  out[12] = w28;  // prepared 6
+  out[13] = w29;  // prepared 7
+  out[14] = w30;  // prepared 8
+  out[15] = w31;  // prepared 9
+  out[16] = w32;  // prepared 10
+  out[17] = w34;  // prepared 11
+  out[18] = w35;  // prepared 12
+  out[19] = w36;  // prepared 13
+  out[20] = w37;  // prepared 14
+  out[21] = w38;  // prepared 15
+  out[22] = w39;  // prepared 16
+  out[23] = w40;  // prepared 17
+  out[24] = w41;  // prepared 18
+  out[25] = w42;  // prepared 19
+  out[26] = w43;  // prepared 20
+  out[27] = w44;  // prepared 21
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[7], p[28], in[0]) -> out[7]  ops: 8 add, 24 mul, 0 div, 0 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[2] * x[6];
+  const real w1 = x[2] * x[3];
+  const real w2 = x[0] * p[5];
+  const real w3 = x[4] * x[6];
+  const real w4 = x[3] * x[4];
+  const real w5 = x[4] * x[5];
+  const real w6 = x[2] * x[4];
+  const real w7 = x[3] * x[5];
+  const real w8 = w1 * p[8];
+  const real w9 = w3 * p[11];
+  const real w10 = w4 * p[6];
+  const real w11 = w9 + w10;
+  const real w12 = w5 * p[13];
+  const real w13 = w6 * p[7];
+  const real w14 = w13 - w12;
+  const real w15 = w7 * p[14];
+  const real w16 = w0 * p[15];
+  const real w17 = w15 - w16;
+  const real w18 = w17 - w8;
+  const real w19 = w4 * p[16];
+  const real w20 = -w19;
+  const real w21 = w20 - w2;
+  const real w22 = w3 * p[17];
+  const real w23 = w21 - w22;
+  const real w24 = w5 * p[17];
+  const real w25 = w6 * p[18];
+  const real w26 = w24 + w25;
+  const real w27 = p[19] * w26;
+  const real w28 = p[20] * w23;
+  const real w29 = p[21] * w18;
+  const real w30 = p[10] * w14;
+  const real w31 = p[12] * w11;
+  out[0] = x[5];  // phi1_dot
+  out[1] = x[6];  // phi2_dot
+  out[2] = w31;  // wx_locked_rate
+  out[3] = w30;  // wy_locked_rate
+  out[4] = w29;  // wz_locked_rate
+  out[5] = w28;  // phi1_dot_rate
+  out[6] = w27;  // phi2_dot_rate
+}
+
+/* jacobian_prepared: (t, x[7], p[28], in[0]) -> out[49]  ops: 12 add, 32 mul, 0 div, 0 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[3] * p[6];
+  const real w1 = x[2] * p[7];
+  const real w2 = x[3] * p[8];
+  const real w3 = -w2;
+  const real w4 = x[2] * p[8];
+  const real w5 = x[6] * p[15];
+  const real w6 = w3 - w5;
+  const real w7 = x[4] * p[22];
+  const real w8 = p[21] * w6;
+  const real w9 = x[4] * p[23];
+  const real w10 = x[5] * p[14];
+  const real w11 = w10 - w4;
+  const real w12 = x[4] * p[16];
+  const real w13 = -w12;
+  const real w14 = p[20] * w13;
+  const real w15 = p[21] * w11;
+  const real w16 = x[4] * p[24];
+  const real w17 = x[6] * p[11];
+  const real w18 = w0 + w17;
+  const real w19 = x[5] * p[13];
+  const real w20 = w1 - w19;
+  const real w21 = x[6] * p[17];
+  const real w22 = -w21;
+  const real w23 = x[3] * p[16];
+  const real w24 = w22 - w23;
+  const real w25 = x[5] * p[17];
+  const real w26 = x[2] * p[18];
+  const real w27 = w25 + w26;
+  const real w28 = p[19] * w27;
+  const real w29 = p[20] * w24;
+  const real w30 = p[10] * w20;
+  const real w31 = p[12] * w18;
+  const real w32 = x[4] * p[13];
+  const real w33 = -w32;
+  const real w34 = x[4] * p[17];
+  const real w35 = x[4] * p[25];
+  const real w36 = x[3] * p[26];
+  const real w37 = p[10] * w33;
+  const real w38 = x[2] * p[15];
+  const real w39 = -w38;
+  const real w40 = -w34;
+  const real w41 = p[20] * w40;
+  const real w42 = p[21] * w39;
+  const real w43 = x[4] * p[27];
+  out[0] = real(0.0);  // dphi1_dot/dphi1
+  out[1] = real(0.0);  // dphi1_dot/dphi2
+  out[2] = real(0.0);  // dphi1_dot/dwx_locked
+  out[3] = real(0.0);  // dphi1_dot/dwy_locked
+  out[4] = real(0.0);  // dphi1_dot/dwz_locked
+  out[5] = real(1.0);  // dphi1_dot/dphi1_dot
+  out[6] = real(0.0);  // dphi1_dot/dphi2_dot
+  out[7] = real(0.0);  // dphi2_dot/dphi1
+  out[8] = real(0.0);  // dphi2_dot/dphi2
+  out[9] = real(0.0);  // dphi2_dot/dwx_locked
+  out[10] = real(0.0);  // dphi2_dot/dwy_locked
+  out[11] = real(0.0);  // dphi2_dot/dwz_locked
+  out[12] = real(0.0);  // dphi2_dot/dphi1_dot
+  out[13] = real(1.0);  // dphi2_dot/dphi2_dot
+  out[14] = real(0.0);  // dwx_locked_rate/dphi1
+  out[15] = real(0.0);  // dwx_locked_rate/dphi2
+  out[16] = real(0.0);  // dwx_locked_rate/dwx_locked
+  out[17] = w16;  // dwx_locked_rate/dwy_locked
+  out[18] = w31;  // dwx_locked_rate/dwz_locked
+  out[19] = real(0.0);  // dwx_locked_rate/dphi1_dot
+  out[20] = w43;  // dwx_locked_rate/dphi2_dot
+  out[21] = real(0.0);  // dwy_locked_rate/dphi1
+  out[22] = real(0.0);  // dwy_locked_rate/dphi2
+  out[23] = w9;  // dwy_locked_rate/dwx_locked
+  out[24] = real(0.0);  // dwy_locked_rate/dwy_locked
+  out[25] = w30;  // dwy_locked_rate/dwz_locked
+  out[26] = w37;  // dwy_locked_rate/dphi1_dot
+  out[27] = real(0.0);  // dwy_locked_rate/dphi2_dot
+  out[28] = real(0.0);  // dwz_locked_rate/dphi1
+  out[29] = real(0.0);  // dwz_locked_rate/dphi2
+  out[30] = w8;  // dwz_locked_rate/dwx_locked
+  out[31] = w15;  // dwz_locked_rate/dwy_locked
+  out[32] = real(0.0);  // dwz_locked_rate/dwz_locked
+  out[33] = w36;  // dwz_locked_rate/dphi1_dot
+  out[34] = w42;  // dwz_locked_rate/dphi2_dot
+  out[35] = p[9];  // dphi1_dot_rate/dphi1
+  out[36] = real(0.0);  // dphi1_dot_rate/dphi2
+  out[37] = real(0.0);  // dphi1_dot_rate/dwx_locked
+  out[38] = w14;  // dphi1_dot_rate/dwy_locked
+  out[39] = w29;  // dphi1_dot_rate/dwz_locked
+  out[40] = real(0.0);  // dphi1_dot_rate/dphi1_dot
+  out[41] = w41;  // dphi1_dot_rate/dphi2_dot
+  out[42] = real(0.0);  // dphi2_dot_rate/dphi1
+  out[43] = real(0.0);  // dphi2_dot_rate/dphi2
+  out[44] = w7;  // dphi2_dot_rate/dwx_locked
+  out[45] = real(0.0);  // dphi2_dot_rate/dwy_locked
+  out[46] = w28;  // dphi2_dot_rate/dwz_locked
+  out[47] = w35;  // dphi2_dot_rate/dphi1_dot
+  out[48] = real(0.0);  // dphi2_dot_rate/dphi2_dot
+}
+
 }  // namespace satellite_compliant_rotor
 
 extern "C" {
@@ -710,5 +942,8 @@ void satellite_compliant_rotor_connection(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t
 void satellite_compliant_rotor_locked_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::locked_inertia(t, x, p, in, out); }
 void satellite_compliant_rotor_shape_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::shape_inertia(t, x, p, in, out); }
 int satellite_compliant_rotor_rhs_status(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { return satellite_compliant_rotor::rhs_status(t, x, p, in, out); }
+void satellite_compliant_rotor_prepare_parameters(const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* prepared) { satellite_compliant_rotor::prepare_parameters(p, prepared); }
+void satellite_compliant_rotor_rhs_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::rhs_prepared(t, x, p, in, out); }
+void satellite_compliant_rotor_jacobian_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

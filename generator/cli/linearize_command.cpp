@@ -69,12 +69,6 @@ SweepSpec parse_sweep(const std::string& text) {
   return s;
 }
 
-std::string join(const std::vector<std::string>& words) {
-  std::string out;
-  for (const std::string& w : words) out += (out.empty() ? "" : ", ") + w;
-  return out;
-}
-
 std::vector<std::string> split_names(const std::string& list) {
   std::vector<std::string> out;
   std::stringstream s(list);

@@ -656,12 +656,32 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << guard_macro
      << "` (default `double`); it must be the same for the library and its users (CMake sets it PUBLIC); a "
         "mismatch fails to link.\n\n"
-     << "## Non-finite input and singular mass matrices\n\n"
-        "The kernels are straight-line arithmetic: no branches, no checks, no exceptions. A NaN or infinite "
-        "input (state, parameter or input) propagates into the outputs as NaN or infinity; nothing is raised. "
-        "The right-hand side solves M u' = f without pivoting or checks: a singular mass matrix gives infinities or "
-        "NaN, an indefinite one finite but meaningless values or NaN. Callers check `std::isfinite` on the outputs "
-        "(the hamel runtime's integrators report non-finite values as a non-finite state).\n\n"
+     << "## What kernels return for bad input\n\n"
+        "The kernels are straight-line arithmetic: no branches, no checks, no exceptions; they never stop or "
+        "report anything themselves.\n\n"
+        "- NaN or infinite input (state, parameter or input) is not detected: it propagates through the "
+        "arithmetic, so outputs that depend on it come out NaN or infinite (an infinity can also vanish, as in "
+        "1/x), and nothing is raised. Outputs that do not depend on the value, and folded parameters, are "
+        "unaffected.\n";
+  if (has_rhs) {
+    md << "- A singular mass matrix M: the right-hand side solves M u' = f without pivoting or checks, so a singular "
+          "M gives infinities or NaN, and an indefinite one finite but meaningless values or NaN.\n"
+       << "- `int rhs_status(real t, const real* x, const real* p, const real* in, real* out)` (C: `" << model.name
+       << "_rhs_status`) is `rhs` with checks made after the same branch-free evaluation: it returns 0 and writes "
+          "`out` as `rhs` does; ";
+    if (kernels.rhs_pivots.empty())
+      md << "2, leaving `out` untouched, when an output is not finite. It never returns 1 here: M was inverted at "
+            "generation time (`n_pivots_rhs` = 0), so a singular M shows only as 2.";
+    else
+      md << "1, leaving `out` untouched, when one of the `n_pivots_rhs` = " << kernels.rhs_pivots.size()
+         << " pivots of the solve (of M, or of an articulated inertia of the recursive solve) is not positive and "
+            "finite, which is also what a non-finite input that reaches a pivot gives; 2, leaving `out` untouched, "
+            "when an output is not finite.";
+    md << " `rk4_step` calls `rhs` and does not check.\n";
+  }
+  md << "- " << (has_rhs ? "Other kernels have" : "The kernels have")
+     << " no checking form: callers test `std::isfinite` on their outputs. The hamel runtime's integrators report a "
+        "non-finite derivative or state as `non_finite_state` (the adaptive ones first retry shorter steps).\n\n"
      << "## Licence\n\n"
      << "MIT (`SPDX-License-Identifier: MIT` in every file of this folder). The emitted files carry this licence "
         "separately from the generator's (hamel is GPL-licensed, as GiNaC), so they may ship in closed firmware.\n";

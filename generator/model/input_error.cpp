@@ -54,6 +54,12 @@ std::string SourceLocation::to_string() const {
 
 std::string printable(const std::string& text) { return escape_controls(text, text.size()); }
 
+std::string join(const std::vector<std::string>& words) {
+  std::string s;
+  for (const auto& w : words) s += (s.empty() ? "" : ", ") + w;
+  return s;
+}
+
 std::string quote(const std::string& text, std::size_t limit) {
   std::size_t end = text.size();
   if (end > limit) {

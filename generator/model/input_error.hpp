@@ -4,6 +4,7 @@
 
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace hamel {
 
@@ -23,6 +24,9 @@ std::string quote(const std::string& text, std::size_t limit = 80);
 /// `text` with control characters, C1 controls and bidirectional overrides escaped as quote() does, without
 /// quotes or cutting: for messages that may repeat input (GiNaC's parse errors echo it).
 std::string printable(const std::string& text);
+
+/// "a, b, c": names listed in a message.
+std::string join(const std::vector<std::string>& words);
 
 /// An error the user can fix in the input. what() is the full, formatted message.
 class InputError : public std::runtime_error {

@@ -267,12 +267,6 @@ class Loader {
     }
   }
 
-  static std::string join(const std::vector<std::string>& words) {
-    std::string s;
-    for (const auto& w : words) s += (s.empty() ? "" : ", ") + w;
-    return s;
-  }
-
   void load_core(Model& model);
   void load_bundle(Model& model);
   void load_fixed_tree(Model& model);

@@ -49,7 +49,11 @@ Spectrum spectrum(const LinearSystem& s) {
   return out;
 }
 
-Linearizer::Linearizer(const KernelSet& kernels, int nx, int ni) : kernels_(kernels), nx_(nx), ni_(ni) {}
+Linearizer::Linearizer(const KernelSet& kernels, int nx, int ni)
+    : nx_(nx),
+      ni_(ni),
+      rhs_(kernels.graph, kernels.get("rhs").outputs),
+      linearization_(kernels.graph, kernels.get("linearization").outputs) {}
 
 LinearSystem Linearizer::at(double t, const std::vector<double>& x, const std::vector<double>& p,
                             const std::vector<double>& in) const {
@@ -60,8 +64,8 @@ LinearSystem Linearizer::at(double t, const std::vector<double>& x, const std::v
   std::vector<double> ab(static_cast<std::size_t>(nx_ * nx_ + nx_ * ni_));
   const double* pp = p.empty() ? nullptr : p.data();
   const double* ip = in.empty() ? nullptr : in.data();
-  GraphEvaluator(kernels_.graph, kernels_.get("rhs").outputs).evaluate(t, x.data(), pp, ip, s.residual.data());
-  GraphEvaluator(kernels_.graph, kernels_.get("linearization").outputs).evaluate(t, x.data(), pp, ip, ab.data());
+  rhs_.evaluate(t, x.data(), pp, ip, s.residual.data());
+  linearization_.evaluate(t, x.data(), pp, ip, ab.data());
   s.A.assign(ab.begin(), ab.begin() + nx_ * nx_);
   s.B.assign(ab.begin() + nx_ * nx_, ab.end());
   return s;
@@ -118,27 +122,28 @@ SteadyResult find_steady_motion(const std::function<LinearSystem(const std::vect
 
 namespace {
 
-// The number of eigenvalues in the open right half-plane, without the `structural` smallest in modulus
-// (the zero eigenvalues every point of the sweep has) and without those within `tolerance` of the axis.
-int unstable(const Spectrum& s, int structural, double tolerance) {
+// The eigenvalues without the `structural` smallest in modulus (the zero eigenvalues every point of a sweep has).
+std::vector<Eigenvalue> beyond_structural(const Spectrum& s, int structural) {
   std::vector<Eigenvalue> v = s.values;
   std::sort(v.begin(), v.end(), [](const Eigenvalue& a, const Eigenvalue& b) {
     return std::hypot(a.re, a.im) < std::hypot(b.re, b.im);
   });
+  v.erase(v.begin(), v.begin() + std::min<std::ptrdiff_t>(structural, static_cast<std::ptrdiff_t>(v.size())));
+  return v;
+}
+
+// The number of those eigenvalues in the open right half-plane, without those within `tolerance` of the axis.
+int unstable(const Spectrum& s, int structural, double tolerance) {
   int count = 0;
-  for (std::size_t k = static_cast<std::size_t>(structural); k < v.size(); ++k) count += v[k].re > tolerance;
+  for (const Eigenvalue& e : beyond_structural(s, structural)) count += e.re > tolerance;
   return count;
 }
 
-// The eigenvalue closest to the imaginary axis, without the `structural` smallest in modulus.
+// The eigenvalue closest to the imaginary axis, without the structural ones.
 Eigenvalue nearest_axis(const Spectrum& s, int structural) {
-  std::vector<Eigenvalue> v = s.values;
-  std::sort(v.begin(), v.end(), [](const Eigenvalue& a, const Eigenvalue& b) {
-    return std::hypot(a.re, a.im) < std::hypot(b.re, b.im);
-  });
   Eigenvalue best{1e300, 0};
-  for (std::size_t k = static_cast<std::size_t>(structural); k < v.size(); ++k)
-    if (std::fabs(v[k].re) < std::fabs(best.re)) best = v[k];
+  for (const Eigenvalue& e : beyond_structural(s, structural))
+    if (std::fabs(e.re) < std::fabs(best.re)) best = e;
   return best;
 }
 

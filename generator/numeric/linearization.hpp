@@ -44,8 +44,9 @@ class Linearizer {
                   const std::vector<double>& in) const;
 
  private:
-  const KernelSet& kernels_;
   int nx_, ni_;
+  // Scheduled once: a sweep evaluates them at every point. Their value buffers change on evaluation.
+  mutable GraphEvaluator rhs_, linearization_;
 };
 
 /// A relative equilibrium near x: the components `free` are solved for (minimum-norm Newton steps, so they

@@ -369,4 +369,60 @@ TEST(RuntimeFailure, NewIntegratorsRejectANonFiniteInitialStateBeforeAnyWork) {
   EXPECT_EQ(observed, 0);
 }
 
+// Settings that make no sense are the caller's mistake, reported as invalid_argument before any
+// work, not as a step size underflow (or silently replaced by a default).
+TEST(RuntimeFailure, AdaptiveIntegratorsRejectSettingsThatMakeNoSense) {
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  struct Bad {
+    const char* what;
+    double rtol, atol, h0, h_max;
+  };
+  const Bad cases[] = {{"h_max < 0", 1e-6, 1e-8, 0.0, -0.1}, {"h_max NaN", 1e-6, 1e-8, 0.0, kNaN},
+                       {"h0 NaN", 1e-6, 1e-8, kNaN, 0.0},    {"h0 inf", 1e-6, 1e-8, kInf, 0.0},
+                       {"h0 -inf", 1e-6, 1e-8, -kInf, 0.0},  {"rtol < 0", -1e-6, 1e-8, 0.0, 0.0},
+                       {"rtol NaN", kNaN, 1e-8, 0.0, 0.0},   {"atol < 0", 1e-6, -1e-8, 0.0, 0.0},
+                       {"atol inf", 1e-6, kInf, 0.0, 0.0}};
+  int observed = 0;
+  auto count = [&](double, const double*) { ++observed; };
+  for (const Bad& c : cases) {
+    Dopri5Options o5;
+    o5.rtol = c.rtol, o5.atol = c.atol, o5.h0 = c.h0, o5.h_max = c.h_max;
+    Dop853Options o8;
+    o8.rtol = c.rtol, o8.atol = c.atol, o8.h0 = c.h0, o8.h_max = c.h_max;
+    Radau5Options orad;
+    orad.rtol = c.rtol, orad.atol = c.atol, orad.h0 = c.h0, orad.h_max = c.h_max;
+    const IntegrationResult a = integrate_dopri5(blow_up_rhs, {0.5}, 0.0, 0.1, o5, 0.0, count);
+    const IntegrationResult b = integrate_dop853(blow_up_rhs, {0.5}, 0.0, 0.1, o8, 0.0, count);
+    const IntegrationResult r = integrate_radau5(blow_up_rhs, blow_up_jac, {0.5}, 0.0, 0.1, orad, 0.0, count);
+    for (const IntegrationResult* x : {&a, &b, &r}) {
+      EXPECT_EQ(x->status, Status::invalid_argument) << c.what;
+      EXPECT_EQ(x->stats.rhs_evals, 0) << c.what;
+      EXPECT_EQ(x->t, 0.0) << c.what;
+      EXPECT_EQ(x->x, std::vector<double>{0.5}) << c.what;
+    }
+  }
+  for (const double fixed_step : {-0.01, kNaN}) {
+    Radau5Options o;
+    o.fixed_step = fixed_step;
+    const IntegrationResult r = integrate_radau5(blow_up_rhs, blow_up_jac, {0.5}, 0.0, 0.1, o, 0.0, count);
+    EXPECT_EQ(r.status, Status::invalid_argument) << fixed_step;
+  }
+  EXPECT_EQ(observed, 0);
+
+  // What stays valid: a negative h0 (its sign is ignored) and an infinite h_max (no limit).
+  Dopri5Options o5;
+  o5.h0 = -1e-3;
+  o5.h_max = kInf;
+  Dop853Options o8;
+  o8.h0 = -1e-3;
+  o8.h_max = kInf;
+  Radau5Options orad;
+  orad.h0 = -1e-3;
+  orad.h_max = kInf;
+  // x' = x^2 from 0.5: x = 1 / (2 - t).
+  EXPECT_NEAR(integrate_dopri5(blow_up_rhs, {0.5}, 0.0, 1.0, o5, 0.0, NoObserver{}).x[0], 1.0, 1e-7);
+  EXPECT_NEAR(integrate_dop853(blow_up_rhs, {0.5}, 0.0, 1.0, o8, 0.0, NoObserver{}).x[0], 1.0, 1e-9);
+  EXPECT_NEAR(integrate_radau5(blow_up_rhs, blow_up_jac, {0.5}, 0.0, 1.0, orad, 0.0, NoObserver{}).x[0], 1.0, 1e-5);
+}
+
 }  // namespace

@@ -25,8 +25,8 @@ namespace hamel::runtime {
 struct Dop853Options {
   double rtol = 1e-10;        // relative tolerance, per component
   double atol = 1e-12;        // absolute tolerance, per component; keep it > 0 for states near 0
-  double h0 = 0;              // initial step (sign ignored); 0: automatic (Hairer's algorithm)
-  double h_max = 0;           // largest step; 0: no limit
+  double h0 = 0;              // initial step (sign ignored, finite); 0: automatic (Hairer's algorithm)
+  double h_max = 0;           // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
   long max_steps = 10000000;  // limit on step attempts, accepted plus rejected
 };
 
@@ -156,6 +156,16 @@ constexpr double expo = 1.0 / 8.0;
 
 }  // namespace detail::dop853
 
+/// Caller-provided work space of the heap-free integrate_dop853: a non-owning view of doubles(n) doubles.
+struct Dop853Workspace {
+  /// Doubles needed for n states: 16 stage derivatives, a stage argument, the new state, seven dense
+  /// output terms and a sample.
+  static constexpr std::size_t doubles(std::size_t n) { return (detail::dop853::kStages + 10) * n; }
+
+  double* data = nullptr;
+  std::size_t size = 0;  // doubles at data
+};
+
 /// Integrates x' = rhs(t, x) from t0 to t_end (t_end may lie before t0) with
 /// the adaptive Dormand-Prince 8(5,3) method, advancing with the eighth-order
 /// solution and reusing f(t + h, x_new) as the next first stage (FSAL): 12 rhs
@@ -183,42 +193,52 @@ constexpr double expo = 1.0 / 8.0;
 /// the attempt a rejected step retried with a step 3 times smaller) down to
 /// that underflow limit; too_many_steps when opt.max_steps attempts do not
 /// suffice.
+///
+/// invalid_argument, before any work: a tolerance that is negative or not
+/// finite, opt.h0 not finite, opt.h_max negative or NaN; in the heap-free form
+/// also a work space smaller than Dop853Workspace::doubles(n) (or null).
+///
+/// Heap-free form: x holds the n initial values on entry and the state at the
+/// returned t on return; nothing in the run allocates, and the observer sees
+/// pointers into x and work.
 template <class Rhs, class Observer>
-IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dop853Options& opt,
-                                   double sample_dt, Observer&& observe) {
+IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
+                                    const Dop853Options& opt, double sample_dt, Observer&& observe,
+                                    Dop853Workspace work) {
   namespace k = detail::dop853;
-  IntegrationResult result;
+  IntegrationOutcome result;
   result.t = t0;
-  const std::size_t n = x.size();
   auto finish = [&](Status status) {
     result.status = status;
-    result.x = std::move(x);
-    return std::move(result);
+    return result;
   };
 
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x.data(), n)) {
+  if (!detail::buffers_fit(x, n, work.data, work.size, Dop853Workspace::doubles(n)) ||
+      !detail::adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max)) {
+    return finish(Status::invalid_argument);
+  }
+  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
     return finish(Status::non_finite_state);
   }
-  observe(t0, x.data());
+  observe(t0, x);
   if (t_end == t0) {
     return finish(Status::ok);
   }
   const double dir = t_end > t0 ? 1.0 : -1.0;
   const double h_limit = opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity();
 
-  // One allocation for all work vectors: 16 stage derivatives, the stage
-  // argument, the new state, the dense output terms r1..r7 and a sample.
-  std::vector<double> work((k::kStages + 10) * n);
+  // The work space: 16 stage derivatives, the stage argument, the new state,
+  // the dense output terms r1..r7 and a sample.
   double* f[k::kStages];
-  for (int s = 0; s < k::kStages; ++s) f[s] = work.data() + static_cast<std::size_t>(s) * n;
-  double* stage = work.data() + static_cast<std::size_t>(k::kStages) * n;
+  for (int s = 0; s < k::kStages; ++s) f[s] = work.data + static_cast<std::size_t>(s) * n;
+  double* stage = work.data + static_cast<std::size_t>(k::kStages) * n;
   double* x_new = stage + n;
   double* r[8] = {nullptr};  // r[0] would be x itself
   for (int m = 1; m < 8; ++m) r[m] = x_new + static_cast<std::size_t>(m) * n;
   double* sample = r[7] + n;
 
   double t = t0;
-  rhs(t, x.data(), f[0]);
+  rhs(t, x, f[0]);
   ++result.stats.rhs_evals;
   if (!all_finite(f[0], n)) {
     return finish(Status::non_finite_state);
@@ -226,7 +246,7 @@ IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, 
 
   double h = std::fabs(opt.h0);
   if (h == 0.0 || !std::isfinite(h)) {
-    h = detail::hairer_initial_step(rhs, t, x.data(), f[0], dir, std::min(h_limit, std::fabs(t_end - t0)),
+    h = detail::hairer_initial_step(rhs, t, x, f[0], dir, std::min(h_limit, std::fabs(t_end - t0)),
                         opt.atol, opt.rtol, 8, stage, f[1], n, result.stats.rhs_evals);
   }
   h = std::min(h, h_limit);
@@ -239,7 +259,7 @@ IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, 
   // Stage s from the stages before it: stage = x + hs * sum_j a[s][j] f[j],
   // skipping the many zero coefficients; f[s] = rhs(t + c[s] hs, stage).
   auto eval_stage = [&](int s, double t_stage, double hs) {
-    std::copy(x.data(), x.data() + n, stage);
+    std::copy(x, x + n, stage);
     for (int j = 0; j < s; ++j) {
       const double w = hs * k::a[s][j];
       if (w != 0.0) {
@@ -366,12 +386,12 @@ IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, 
       }
     }
 
-    std::copy(x_new, x_new + n, x.data());
+    std::copy(x_new, x_new + n, x);
     std::swap(f[0], f[k::kStepStages]);
     t = t_next;
     result.t = t;
     if (!clock.enabled() || last) {
-      observe(t, x.data());
+      observe(t, x);
     }
     if (last) {
       return finish(Status::ok);
@@ -380,6 +400,17 @@ IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, 
     rejected_last = false;
     non_finite_last = false;
   }
+}
+
+/// Convenience form of integrate_dop853: the work space is allocated once, before the first step, and
+/// the final state is returned in the result's vector. Results are bit-identical to the heap-free form.
+template <class Rhs, class Observer>
+IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dop853Options& opt,
+                                   double sample_dt, Observer&& observe) {
+  std::vector<double> work(Dop853Workspace::doubles(x.size()));
+  const IntegrationOutcome outcome = integrate_dop853(rhs, x.data(), x.size(), t0, t_end, opt, sample_dt, observe,
+                                                      Dop853Workspace{work.data(), work.size()});
+  return detail::to_result(outcome, std::move(x));
 }
 
 }  // namespace hamel::runtime

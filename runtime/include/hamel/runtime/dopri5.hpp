@@ -23,8 +23,8 @@ namespace hamel::runtime {
 struct Dopri5Options {
   double rtol = 1e-8;         // relative tolerance, per component
   double atol = 1e-10;        // absolute tolerance, per component; keep it > 0 for states near 0
-  double h0 = 0;              // initial step (sign ignored); 0: automatic (Hairer's algorithm)
-  double h_max = 0;           // largest step; 0: no limit
+  double h0 = 0;              // initial step (sign ignored, finite); 0: automatic (Hairer's algorithm)
+  double h_max = 0;           // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
   long max_steps = 10000000;  // limit on step attempts, accepted plus rejected
 };
 
@@ -60,6 +60,16 @@ constexpr double expo1 = 0.2 - beta * 0.75;
 
 }  // namespace detail::dopri5
 
+/// Caller-provided work space of the heap-free integrate_dopri5: a non-owning view of doubles(n) doubles.
+struct Dopri5Workspace {
+  /// Doubles needed for n states: seven stages, a stage argument, the new state, two dense output
+  /// terms and a sample.
+  static constexpr std::size_t doubles(std::size_t n) { return 12 * n; }
+
+  double* data = nullptr;
+  std::size_t size = 0;  // doubles at data
+};
+
 /// Integrates x' = rhs(t, x) from t0 to t_end (t_end may lie before t0) with
 /// the adaptive Dormand-Prince 5(4) pair, advancing with the fifth-order
 /// solution and reusing the last stage as the next first stage (FSAL).
@@ -76,32 +86,42 @@ constexpr double expo1 = 0.2 - beta * 0.75;
 /// derivative, or when non-finite stages persist (they are first treated as a
 /// rejected step and retried with a step 5 times smaller) down to that
 /// underflow limit; too_many_steps when opt.max_steps attempts do not suffice.
+///
+/// invalid_argument, before any work: a tolerance that is negative or not
+/// finite, opt.h0 not finite, opt.h_max negative or NaN; in the heap-free form
+/// also a work space smaller than Dopri5Workspace::doubles(n) (or null).
+///
+/// Heap-free form: x holds the n initial values on entry and the state at the
+/// returned t on return; nothing in the run allocates, and the observer sees
+/// pointers into x and work.
 template <class Rhs, class Observer>
-IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dopri5Options& opt,
-                                   double sample_dt, Observer&& observe) {
+IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
+                                    const Dopri5Options& opt, double sample_dt, Observer&& observe,
+                                    Dopri5Workspace work) {
   namespace k = detail::dopri5;
-  IntegrationResult result;
+  IntegrationOutcome result;
   result.t = t0;
-  const std::size_t n = x.size();
   auto finish = [&](Status status) {
     result.status = status;
-    result.x = std::move(x);
-    return std::move(result);
+    return result;
   };
 
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x.data(), n)) {
+  if (!detail::buffers_fit(x, n, work.data, work.size, Dopri5Workspace::doubles(n)) ||
+      !detail::adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max)) {
+    return finish(Status::invalid_argument);
+  }
+  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
     return finish(Status::non_finite_state);
   }
-  observe(t0, x.data());
+  observe(t0, x);
   if (t_end == t0) {
     return finish(Status::ok);
   }
   const double dir = t_end > t0 ? 1.0 : -1.0;
   const double h_limit = opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity();
 
-  // One allocation for all work vectors; pointers are swapped, not data.
-  std::vector<double> work(12 * n);
-  double* k1 = work.data();
+  // Pointers into the work space are swapped, not data.
+  double* k1 = work.data;
   double* k2 = k1 + n;
   double* k3 = k2 + n;
   double* k4 = k3 + n;
@@ -115,7 +135,7 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
   double* sample = r5 + n;
 
   double t = t0;
-  rhs(t, x.data(), k1);
+  rhs(t, x, k1);
   ++result.stats.rhs_evals;
   if (!all_finite(k1, n)) {
     return finish(Status::non_finite_state);
@@ -123,7 +143,7 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
 
   double h = std::fabs(opt.h0);
   if (h == 0.0 || !std::isfinite(h)) {
-    h = detail::hairer_initial_step(rhs, t, x.data(), k1, dir, std::min(h_limit, std::fabs(t_end - t0)),
+    h = detail::hairer_initial_step(rhs, t, x, k1, dir, std::min(h_limit, std::fabs(t_end - t0)),
                         opt.atol, opt.rtol, 5, stage, k2, n, result.stats.rhs_evals);
   }
   h = std::min(h, h_limit);
@@ -238,12 +258,12 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
         }
       }
 
-      std::copy(x_new, x_new + n, x.data());
+      std::copy(x_new, x_new + n, x);
       std::swap(k1, k7);
       t = t_next;
       result.t = t;
       if (!clock.enabled() || last) {
-        observe(t, x.data());
+        observe(t, x);
       }
       if (last) {
         return finish(Status::ok);
@@ -258,6 +278,17 @@ IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, 
       h /= std::min(1.0 / k::fac_min, fac11 / k::safety);
     }
   }
+}
+
+/// Convenience form of integrate_dopri5: the work space is allocated once, before the first step, and
+/// the final state is returned in the result's vector. Results are bit-identical to the heap-free form.
+template <class Rhs, class Observer>
+IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dopri5Options& opt,
+                                   double sample_dt, Observer&& observe) {
+  std::vector<double> work(Dopri5Workspace::doubles(x.size()));
+  const IntegrationOutcome outcome = integrate_dopri5(rhs, x.data(), x.size(), t0, t_end, opt, sample_dt, observe,
+                                                      Dopri5Workspace{work.data(), work.size()});
+  return detail::to_result(outcome, std::move(x));
 }
 
 }  // namespace hamel::runtime

@@ -6,12 +6,23 @@
 // the implicit methods) is any callable void(double t, const double* x,
 // double* J) writing df/dx row-major. All see raw pointers so that generated
 // code can pass its own fixed-size storage.
+//
+// Every integrator has two forms:
+// - integrate_X(rhs, std::vector<double> x, ...) -> IntegrationResult: convenient; it allocates its work
+//   space once, before the first step, and returns the final state in a vector;
+// - integrate_X(rhs, double* x, std::size_t n, ..., XWorkspace work) -> IntegrationOutcome: heap-free. The
+//   caller provides the work space (XWorkspace::doubles(n) doubles, sizes constexpr, so a package can use
+//   static arrays sized from its n_state), x holds the initial state on entry and the final state (the last
+//   finite accepted state on failure) on return, and nothing in the run allocates: not the steps, not the
+//   observer calls (which see pointers into x or the work space), not the result. Both forms run the same
+//   code and give bit-identical results (tests/runtime/integrators_do_not_allocate_test.cpp).
 #pragma once
 
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <utility>
 #include <vector>
 
 #include "hamel/runtime/status.hpp"
@@ -35,6 +46,14 @@ struct IntegrationResult {
   std::vector<double> x;  // state at t (the failure point on failure)
 };
 
+/// Outcome of a heap-free integration run (the workspace overloads): as IntegrationResult, but the
+/// state at t is in the caller's buffer x rather than in a vector.
+struct IntegrationOutcome {
+  Status status = Status::ok;
+  double t = 0;  // t_end on success, else the time of the last finite accepted state
+  IntegrationStats stats;
+};
+
 /// Observer that ignores everything, for callers that only want the final state.
 struct NoObserver {
   void operator()(double /*t*/, const double* /*x*/) const noexcept {}
@@ -51,6 +70,29 @@ inline bool all_finite(const double* x, std::size_t n) {
 }
 
 namespace detail {
+
+/// The IntegrationResult of the vector overloads from a heap-free run's outcome and final state.
+inline IntegrationResult to_result(const IntegrationOutcome& outcome, std::vector<double>&& x) {
+  IntegrationResult result;
+  result.status = outcome.status;
+  result.t = outcome.t;
+  result.stats = outcome.stats;
+  result.x = std::move(x);
+  return result;
+}
+
+/// Whether the caller's buffers can hold a run: x (n values) and a work space of `size` doubles where
+/// `needed` are required. A null pointer is fine only where nothing is needed.
+inline bool buffers_fit(const double* x, std::size_t n, const double* work, std::size_t size, std::size_t needed) {
+  return (x != nullptr || n == 0) && (work != nullptr || needed == 0) && size >= needed;
+}
+
+/// Settings shared by the adaptive integrators that make no sense: a tolerance that is negative or not
+/// finite, an initial step h0 that is not finite (its sign is ignored, 0 asks for the automatic choice),
+/// or a step limit h_max that is negative or NaN (0 and +infinity mean no limit).
+inline bool adaptive_settings_valid(double rtol, double atol, double h0, double h_max) {
+  return rtol >= 0 && std::isfinite(rtol) && atol >= 0 && std::isfinite(atol) && std::isfinite(h0) && h_max >= 0;
+}
 
 /// Smallest step the integrators accept at time t. Below it t + h is no longer
 /// meaningfully different from t, so continuing would only burn time.

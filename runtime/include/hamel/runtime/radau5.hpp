@@ -48,12 +48,12 @@ namespace hamel::runtime {
 struct Radau5Options {
   double rtol = 1e-6;             // relative tolerance; values below 1e-13 are raised to 1e-13
   double atol = 1e-8;             // absolute tolerance; keep it > 0 for states near 0
-  double h0 = 0;                  // initial step (sign ignored); 0: 1e-6 as in radau5.f (capped by the interval)
-  double h_max = 0;               // largest step; 0: no limit
+  double h0 = 0;                  // initial step (sign ignored, finite); 0: 1e-6 as in radau5.f (capped by interval)
+  double h_max = 0;               // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
   long max_steps = 1000000;       // limit on step attempts, accepted plus rejected
   int max_newton_iterations = 7;  // per step attempt (NIT of radau5.f)
   int max_newton_failures = 10;   // Newton failures without an accepted step in between before newton_failure
-  double fixed_step = 0;          // > 0: fixed steps without error control (see integrate_radau5)
+  double fixed_step = 0;          // > 0: fixed steps without error control (see integrate_radau5); < 0, NaN: invalid
 };
 
 namespace detail::radau5 {
@@ -91,6 +91,22 @@ constexpr int max_singular = 5;  // consecutive singular iteration matrices befo
 
 }  // namespace detail::radau5
 
+/// Caller-provided work space of the heap-free integrate_radau5: non-owning views of doubles(n) doubles
+/// and ints(n) ints.
+struct Radau5Workspace {
+  /// Doubles needed for n states: the n x n Jacobian, the 3n x 3n iteration matrix, the n x n matrix
+  /// of the error estimate, four vectors of 3n (stage increments and derivatives, Newton increment,
+  /// collocation polynomial) and six of n.
+  static constexpr std::size_t doubles(std::size_t n) { return 11 * n * n + 18 * n; }
+  /// Ints needed for n states: the pivots of the two LU factorisations.
+  static constexpr std::size_t ints(std::size_t n) { return 4 * n; }
+
+  double* data = nullptr;
+  std::size_t size = 0;  // doubles at data
+  int* pivots = nullptr;
+  std::size_t pivot_count = 0;  // ints at pivots
+};
+
 /// Forward-difference Jacobian for callers without an analytic one.
 ///
 /// Column j is (rhs(t, x + delta_j e_j) - rhs(t, x)) / delta_j with
@@ -103,12 +119,18 @@ constexpr int max_singular = 5;  // consecutive singular iteration matrices befo
 template <class Rhs>
 class FiniteDifferenceJacobian {
  public:
-  /// Keeps a copy of rhs (pass std::ref for a stateful one) and work space for n states.
-  FiniteDifferenceJacobian(Rhs rhs, std::size_t n) : rhs_(std::move(rhs)), n_(n), work_(3 * n) {}
+  /// Doubles of work space for n states (the heap-free constructor's `work`).
+  static constexpr std::size_t doubles(std::size_t n) { return 3 * n; }
+
+  /// Keeps a copy of rhs (pass std::ref for a stateful one) and allocates work space for n states.
+  FiniteDifferenceJacobian(Rhs rhs, std::size_t n) : rhs_(std::move(rhs)), n_(n), own_(doubles(n)) {}
+
+  /// Heap-free: work is doubles(n) doubles of the caller's, used for as long as this object is.
+  FiniteDifferenceJacobian(Rhs rhs, std::size_t n, double* work) : rhs_(std::move(rhs)), n_(n), work_(work) {}
 
   /// Writes df/dx at (t, x) to J, row-major n x n.
   void operator()(double t, const double* x, double* J) {
-    double* f0 = work_.data();
+    double* f0 = work_ != nullptr ? work_ : own_.data();  // (a copy of this object then uses its own vector)
     double* f1 = f0 + n_;
     double* xp = f1 + n_;
     rhs_(t, x, f0);
@@ -129,7 +151,8 @@ class FiniteDifferenceJacobian {
  private:
   Rhs rhs_;
   std::size_t n_;
-  std::vector<double> work_;
+  std::vector<double> own_;  // empty when the caller provides the work space
+  double* work_ = nullptr;  // the caller's work space, or null for own_
   long evals_ = 0;
 };
 
@@ -199,22 +222,36 @@ class FiniteDifferenceJacobian {
 /// 3n x 3n factors; per accepted step one more rhs evaluation at the new
 /// state. stats.jac_evals counts calls of jac, stats.lu_decompositions the
 /// factorisations of the iteration matrix (each paired with the n x n one of
-/// I - h gamma0 J for the error estimate). Work space is two allocations
-/// (about 11 n^2 doubles, 4 n ints).
+/// I - h gamma0 J for the error estimate). Work space: 11 n^2 + 18 n doubles
+/// and 4 n ints (Radau5Workspace).
+///
+/// invalid_argument, before any work: a tolerance that is negative or not
+/// finite, opt.h0 not finite, opt.h_max or opt.fixed_step negative or NaN; in
+/// the heap-free form also a work space smaller than Radau5Workspace::doubles(n)
+/// doubles and Radau5Workspace::ints(n) ints (or null).
+///
+/// Heap-free form: x holds the n initial values on entry and the state at the
+/// returned t on return; nothing in the run allocates (provided jac does not:
+/// FiniteDifferenceJacobian can take its work space from the caller too), and
+/// the observer sees pointers into x and work.
 template <class Rhs, class Jac, class Observer>
-IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, double t0, double t_end,
-                                   const Radau5Options& opt, double sample_dt, Observer&& observe) {
+IntegrationOutcome integrate_radau5(Rhs&& rhs, Jac&& jac, double* x, std::size_t n, double t0, double t_end,
+                                    const Radau5Options& opt, double sample_dt, Observer&& observe,
+                                    Radau5Workspace work) {
   namespace k = detail::radau5;
-  IntegrationResult result;
+  IntegrationOutcome result;
   result.t = t0;
-  const std::size_t n = x.size();
   auto finish = [&](Status status) {
     result.status = status;
-    result.x = std::move(x);
-    return std::move(result);
+    return result;
   };
 
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x.data(), n)) {
+  if (!detail::buffers_fit(x, n, work.data, work.size, Radau5Workspace::doubles(n)) ||
+      (work.pivots == nullptr && Radau5Workspace::ints(n) > 0) || work.pivot_count < Radau5Workspace::ints(n) ||
+      !detail::adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max) || !(opt.fixed_step >= 0)) {
+    return finish(Status::invalid_argument);
+  }
+  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
     return finish(Status::non_finite_state);
   }
   const bool fixed = opt.fixed_step > 0;
@@ -225,7 +262,7 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
       return finish(grid);
     }
   }
-  observe(t0, x.data());
+  observe(t0, x);
   if (span == 0.0) {
     return finish(Status::ok);
   }
@@ -240,10 +277,9 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
   const double atol = opt.atol;
   const double fnewt = std::max(10.0 * 0.5 * eps / rtol, std::min(0.03, std::sqrt(rtol)));
 
-  // Work space: two allocations for the whole run.
+  // Work space (Radau5Workspace::doubles(n) and ints(n)).
   const std::size_t n3 = 3 * n;
-  std::vector<double> work(11 * n * n + 20 * n);
-  double* J = work.data();      // n x n Jacobian
+  double* J = work.data;        // n x n Jacobian
   double* M = J + n * n;        // 3n x 3n iteration matrix, then its LU factors
   double* E = M + n3 * n3;      // n x n matrix I - h gamma0 J, then its LU factors
   double* Z = E + n * n;        // stage increments Z1, Z2, Z3 (3n)
@@ -256,8 +292,7 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
   double* stage = scal + n;     // a stage argument, then x_new
   double* err_vec = stage + n;  // error estimate
   double* sample = err_vec + n;
-  std::vector<int> pivots(4 * n);
-  int* piv_M = pivots.data();
+  int* piv_M = work.pivots;
   int* piv_E = piv_M + n3;
   const int n_int = static_cast<int>(n);
   const int n3_int = static_cast<int>(n3);
@@ -265,7 +300,7 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
   const double inv_n3 = n > 0 ? 1.0 / static_cast<double>(n3) : 0.0;
 
   double t = t0;
-  rhs(t, x.data(), f0);
+  rhs(t, x, f0);
   ++result.stats.rhs_evals;
   if (!all_finite(f0, n)) {
     return finish(Status::non_finite_state);
@@ -330,7 +365,7 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
     const double h_mat = fixed ? dir * h_fixed : hs;
 
     if (need_jac) {
-      jac(t, x.data(), J);
+      jac(t, x, J);
       ++result.stats.jac_evals;
       if (!all_finite(J, n * n)) {
         return finish(Status::non_finite_state);
@@ -571,14 +606,14 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
       clock.advance();
     }
 
-    std::copy(stage, stage + n, x.data());
+    std::copy(stage, stage + n, x);
     std::swap(f0, f_new);
     t = t_next;
     result.t = t;
     update_scal();
     jac_current = false;
     if (!clock.enabled() || last) {
-      observe(t, x.data());
+      observe(t, x);
     }
     if (last) {
       return finish(Status::ok);
@@ -601,6 +636,20 @@ IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, 
       h = h_new;
     }
   }
+}
+
+/// Convenience form of integrate_radau5: the work space is allocated once, before the first step, and
+/// the final state is returned in the result's vector. Results are bit-identical to the heap-free form.
+template <class Rhs, class Jac, class Observer>
+IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, double t0, double t_end,
+                                   const Radau5Options& opt, double sample_dt, Observer&& observe) {
+  const std::size_t n = x.size();
+  std::vector<double> work(Radau5Workspace::doubles(n));
+  std::vector<int> pivots(Radau5Workspace::ints(n));
+  const IntegrationOutcome outcome =
+      integrate_radau5(rhs, jac, x.data(), n, t0, t_end, opt, sample_dt, observe,
+                       Radau5Workspace{work.data(), work.size(), pivots.data(), pivots.size()});
+  return detail::to_result(outcome, std::move(x));
 }
 
 }  // namespace hamel::runtime

@@ -2,6 +2,7 @@
 // Classic fixed-step fourth-order Runge-Kutta integrator with Hermite-interpolated sampling.
 #pragma once
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <utility>
@@ -28,6 +29,15 @@ inline void hermite_interpolate(const double* x0, const double* f0, const double
 
 }  // namespace detail
 
+/// Caller-provided work space of the heap-free integrate_rk4: a non-owning view of doubles(n) doubles.
+struct Rk4Workspace {
+  /// Doubles needed for n states: the four stages, a stage argument, the new state and a sample.
+  static constexpr std::size_t doubles(std::size_t n) { return 7 * n; }
+
+  double* data = nullptr;
+  std::size_t size = 0;  // doubles at data
+};
+
 /// Integrates x' = rhs(t, x) from t0 to t_end with the classic RK4 method.
 ///
 /// The interval is split into count = ceil(|t_end - t0| / h - 1e-9) equal steps,
@@ -45,19 +55,31 @@ inline void hermite_interpolate(const double* x0, const double* f0, const double
 /// state and its time; h <= 0 (or NaN) gives invalid_argument; a step below
 /// 1e-14 * max(1, |t|) gives step_size_underflow; more than 1e15 steps gives
 /// too_many_steps.
+///
+/// Heap-free form: x holds the n initial values on entry and the state at the returned t on return; work
+/// is Rk4Workspace::doubles(n) doubles of the caller's (a smaller or null work space gives
+/// invalid_argument before any work). Nothing in the run allocates; the observer sees pointers into x and
+/// work.
 template <class Rhs, class Observer>
-IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h, double sample_dt,
-                                Observer&& observe) {
-  IntegrationResult result;
+IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double t0, double t_end, double h,
+                                 double sample_dt, Observer&& observe, Rk4Workspace work) {
+  IntegrationOutcome result;
   result.t = t0;
-  const std::size_t n = x.size();
+  if (!detail::buffers_fit(x_io, n, work.data, work.size, Rk4Workspace::doubles(n))) {
+    result.status = Status::invalid_argument;
+    return result;
+  }
+  // The current and the new state swap roles every step (pointers, not data); the final state is
+  // copied back into the caller's x_io if it ends up in the work space.
+  double* x = x_io;
+  double* x_new = work.data + 6 * n;
   auto finish = [&](Status status) {
     result.status = status;
-    result.x = std::move(x);
-    return std::move(result);
+    if (x != x_io) std::copy(x, x + n, x_io);
+    return result;
   };
 
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x.data(), n)) {
+  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
     return finish(Status::non_finite_state);
   }
   const double span = t_end - t0;
@@ -66,25 +88,22 @@ IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, dou
     return finish(grid);
   }
 
-  observe(t0, x.data());
+  observe(t0, x);
   if (count == 0) {
     return finish(Status::ok);
   }
   const double h_eff = span / static_cast<double>(count);
 
-  // One allocation for all work vectors; pointers are swapped, not data.
-  std::vector<double> work(6 * n);
-  double* k1 = work.data();  // derivative at the step start
-  double* k2 = k1 + n;       // also receives the derivative at the step end
+  double* k1 = work.data;  // derivative at the step start
+  double* k2 = k1 + n;     // also receives the derivative at the step end
   double* k3 = k2 + n;
   double* k4 = k3 + n;
   double* stage = k4 + n;
   double* sample = stage + n;
-  std::vector<double> x_new(n);
 
   detail::SampleClock clock(t0, t_end, sample_dt);
   double t = t0;
-  rhs(t, x.data(), k1);
+  rhs(t, x, k1);
   ++result.stats.rhs_evals;
   if (!all_finite(k1, n)) {
     return finish(Status::non_finite_state);
@@ -108,7 +127,7 @@ IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, dou
     for (std::size_t j = 0; j < n; ++j) {
       x_new[j] = x[j] + sixth * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]);
     }
-    if (!all_finite(x_new.data(), n)) {
+    if (!all_finite(x_new, n)) {
       return finish(Status::non_finite_state);
     }
     ++result.stats.steps;
@@ -117,7 +136,7 @@ IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, dou
     // step it is needed only to interpolate samples.
     const bool sample_due = clock.due(t_next);
     if (i < count || sample_due) {
-      rhs(t_next, x_new.data(), k2);
+      rhs(t_next, x_new, k2);
       ++result.stats.rhs_evals;
       if (!all_finite(k2, n)) {
         // The state is fine but cannot be advanced (or interpolated) further.
@@ -128,7 +147,7 @@ IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, dou
     }
     while (clock.due(t_next)) {
       const double s = clock.next();
-      detail::hermite_interpolate(x.data(), k1, x_new.data(), k2, hs, (s - t) / hs, sample, n);
+      detail::hermite_interpolate(x, k1, x_new, k2, hs, (s - t) / hs, sample, n);
       observe(s, sample);
       clock.advance();
     }
@@ -138,10 +157,21 @@ IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, dou
     std::swap(k1, k2);
     result.t = t;
     if (!clock.enabled() || i == count) {
-      observe(t, x.data());
+      observe(t, x);
     }
   }
   return finish(Status::ok);
+}
+
+/// Convenience form: the work space is allocated once, before the first step, and the final state is
+/// returned in the result's vector. Results are bit-identical to the heap-free form.
+template <class Rhs, class Observer>
+IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h, double sample_dt,
+                                Observer&& observe) {
+  std::vector<double> work(Rk4Workspace::doubles(x.size()));
+  const IntegrationOutcome outcome = integrate_rk4(rhs, x.data(), x.size(), t0, t_end, h, sample_dt, observe,
+                                                   Rk4Workspace{work.data(), work.size()});
+  return detail::to_result(outcome, std::move(x));
 }
 
 }  // namespace hamel::runtime

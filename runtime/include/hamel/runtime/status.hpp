@@ -13,7 +13,8 @@ enum class Status {
   newton_failure,
   singular_mass_matrix,
   too_many_steps,
-  invalid_argument,  // a step h <= 0 or NaN: a caller's mistake, not a property of the problem
+  invalid_argument,  // a caller's mistake, not a property of the problem: a step h <= 0 or NaN, a setting
+                     // that makes no sense (negative or non-finite tolerance, ...), too small a work space
 };
 
 /// Human-readable description of a status, suitable for log and error messages.
@@ -32,7 +33,7 @@ inline const char* describe(Status status) {
     case Status::too_many_steps:
       return "too many steps";
     case Status::invalid_argument:
-      return "invalid argument (step size not positive)";
+      return "invalid argument (a step, setting or work space that makes no sense)";
   }
   // Reachable only through a value cast from outside the enumeration.
   return "unknown status";

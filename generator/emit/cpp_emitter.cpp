@@ -426,9 +426,9 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
     wide.n_p = n_prepared;
     for (const Kernel& k : prepared->kernels) printed_prepared.push_back(print_kernel(kernels.graph, k, wide));
     h << "\n"
-      << "// Prepared parameters: the parameter-only work of rhs (" << prepared->moved.total() << " of its "
-      << prepared->rhs.total() << " operations)" << (prepared->kernels.size() > 1 ? " and jacobian" : "")
-      << " done once per parameter set.\n"
+      << "// Prepared parameters: the parameter-only work of rhs" << (prepared->kernels.size() > 1 ? " and jacobian" : "")
+      << " done once per parameter set (rhs: " << prepared->rhs.total() << " operations per call, rhs_prepared: "
+      << prepared->rhs_prepared.total() << ", prepare_parameters: " << prepared->once.total() << ").\n"
       << "// prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each\n"
       << "// <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it\n"
       << "// again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).\n"
@@ -593,10 +593,11 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
   }
   if (prepared) {
     md << "\n### Prepared parameters\n\n"
-       << "`rhs` spends " << prepared->moved.total() << " of its " << prepared->rhs.total()
-       << " operations on values that depend on the parameters alone (with symbolic parameters, e.g. the factors "
-          "of a mass matrix that does not depend on the state). `prepare_parameters(p, P)` computes them once into "
-          "`P[n_prepared_parameters]` (`p` first); then `rhs_prepared(t, x, P, in, out)`"
+       << "Part of `rhs` depends on the parameters alone (with symbolic parameters, e.g. the factors of a mass "
+          "matrix that does not depend on the state). `prepare_parameters(p, P)` computes it once into "
+          "`P[n_prepared_parameters]` (`p` first; " << prepared->once.total() << " operations); then "
+          "`rhs_prepared(t, x, P, in, out)` (" << prepared->rhs_prepared.total() << " operations per call against "
+       << prepared->rhs.total() << " for `rhs`)"
        << (prepared->kernels.size() > 1 ? " and `jacobian_prepared`" : "")
        << " give the same outputs as `rhs(t, x, p, in, out)` without that work. Recompute `P` when `p` changes.\n\n"
        << "| Kernel | Temporaries | Operations (add, mul, div, call) |\n|---|---|---|\n";

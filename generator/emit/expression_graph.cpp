@@ -457,6 +457,15 @@ std::vector<int> group_invariants(ExpressionGraph& g, const std::vector<int>& ou
   });
 }
 
+OpCounts run_time_operations(const ExpressionGraph& g, const std::vector<int>& outputs) {
+  const std::vector<int> order = g.schedule(outputs);
+  const std::vector<char> varying = varying_nodes(g, order);
+  std::vector<int> run_time;
+  for (int i : order)
+    if (varying[static_cast<std::size_t>(i)]) run_time.push_back(i);
+  return g.count(run_time);
+}
+
 std::vector<int> parameter_frontier(const ExpressionGraph& g, const std::vector<int>& outputs) {
   const std::vector<int> order = g.schedule(outputs);
   const std::vector<char> varying = varying_nodes(g, order);

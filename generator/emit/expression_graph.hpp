@@ -165,6 +165,10 @@ std::vector<int> parameter_frontier(const ExpressionGraph& g, const std::vector<
 /// the original program in the last bits.
 std::vector<int> group_invariants(ExpressionGraph& g, const std::vector<int>& outputs);
 
+/// The operations of the program computing `outputs` that depend on t, x or in: what a kernel whose
+/// parameter-only work is prepared (parameter_frontier) still does per call.
+OpCounts run_time_operations(const ExpressionGraph& g, const std::vector<int>& outputs);
+
 /// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without
 /// pivoting or square roots): no loops or branches in the emitted kernel. M by rows of node indices.
 /// `last_first` eliminates from the last index down (M = LᵀDL): for the mass matrix of a kinematic tree,

@@ -2,6 +2,7 @@
 
 #include "algebra/simplify.hpp"
 #include "derive/riemann.hpp"
+#include "emit/polynomial_form.hpp"
 
 #include <optional>
 #include <stdexcept>
@@ -16,8 +17,8 @@ const Kernel& KernelSet::get(const std::string& name) const {
 
 namespace {
 
-// Prepared parameters are built by default when they move at least this share of rhs's operations.
-constexpr int kPreparedShareDivisor = 10;
+// Prepared parameters are built by default when rhs_prepared has at most this share of rhs's operations.
+constexpr double kPreparedShare = 0.9;
 
 // Operations of rhs above which a model that is not a kinematic tree gets its Jacobian by forward mode only.
 constexpr int kSymbolicJacobianLimit = 8000;
@@ -365,20 +366,24 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     if (want("rhs") || only.count("rhs_prepared")) originals.push_back(&rhs);
     if ((want("jacobian") || only.count("jacobian_prepared")) && !jacobian.outputs.empty())
       originals.push_back(&jacobian);
-    // Parameter-only factors and divisors gathered, so that their products and reciprocals are prepared too.
+    // Parameter-only factors and divisors gathered, so that their products and reciprocals are prepared too;
+    // or, where it leaves fewer operations per call, polynomial outputs as Σ coefficient · monomial.
     std::vector<std::vector<int>> rewritten;
     std::vector<int> all;
     for (const Kernel* k : originals) {
-      rewritten.push_back(group_invariants(g, k->outputs));
+      std::vector<int> grouped = group_invariants(g, k->outputs);
+      std::vector<int> polynomial = polynomial_form(g, k->outputs);
+      const bool fewer = run_time_operations(g, polynomial).total() < run_time_operations(g, grouped).total();
+      rewritten.push_back(fewer ? std::move(polynomial) : std::move(grouped));
       all.insert(all.end(), rewritten.back().begin(), rewritten.back().end());
     }
     const std::vector<int> frontier = parameter_frontier(g, all);
     KernelSet::Prepared prepared;
     prepared.rhs = g.count(g.schedule(rhs.outputs));
-    if (!rewritten.empty() && originals.front() == &rhs)
-      prepared.moved = g.count(g.schedule(parameter_frontier(g, rewritten.front())));
-    if (prepared_named || (prepared.moved.total() > 0 &&
-                           prepared.moved.total() * kPreparedShareDivisor >= prepared.rhs.total())) {
+    prepared.once = g.count(g.schedule(frontier));
+    if (!rewritten.empty() && originals.front() == &rhs) prepared.rhs_prepared = run_time_operations(g, rewritten.front());
+    if (prepared_named || (!rewritten.empty() && originals.front() == &rhs &&
+                           prepared.rhs_prepared.total() <= kPreparedShare * prepared.rhs.total())) {
       const int n_p = static_cast<int>(model.parameters.size());
       prepared.prepare = {"prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}};
       for (int k = 0; k < n_p; ++k) {

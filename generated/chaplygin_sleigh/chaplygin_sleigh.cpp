@@ -239,7 +239,7 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 
 namespace {
 
-/* prepare_parameters_kernel: (t, x[5], p[3], in[2]) -> out[7]  ops: 1 add, 5 mul, 2 div, 0 call */
+/* prepare_parameters_kernel: (t, x[5], p[3], in[2]) -> out[8]  ops: 2 add, 6 mul, 2 div, 0 call */
 void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)x;
@@ -250,8 +250,10 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   const real w3 = p[0] * p[2];
   const real w4 = real(1.0) / w2;
   const real w5 = real(1.0) / p[0];
-  const real w6 = real(2.0) * w3;
-  const real w7 = w5 * w6;
+  const real w6 = -w3;
+  const real w7 = w4 * w6;
+  const real w8 = real(2.0) * w3;
+  const real w9 = w5 * w8;
   out[0] = p[0];  // m
   out[1] = p[1];  // J
   out[2] = p[2];  // a
@@ -259,6 +261,7 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   out[4] = w4;  // prepared 1
   out[5] = w5;  // prepared 2
   out[6] = w7;  // prepared 3
+  out[7] = w9;  // prepared 4
 }
 
 }  // namespace
@@ -267,7 +270,7 @@ void prepare_parameters(const real* p, real* prepared) {
   prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
 }
 
-/* rhs_prepared: (t, x[5], p[7], in[2]) -> out[5]  ops: 2 add, 8 mul, 0 div, 2 call */
+/* rhs_prepared: (t, x[5], p[8], in[2]) -> out[5]  ops: 2 add, 8 mul, 0 div, 2 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   const real w0 = std::cos(x[2]);
@@ -289,7 +292,7 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[4] = w10;  // omega_rate
 }
 
-/* jacobian_prepared: (t, x[5], p[7], in[2]) -> out[25]  ops: 3 add, 7 mul, 0 div, 2 call */
+/* jacobian_prepared: (t, x[5], p[8], in[2]) -> out[25]  ops: 1 add, 5 mul, 0 div, 2 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -298,13 +301,9 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   const real w2 = std::sin(x[2]);
   const real w3 = x[3] * w2;
   const real w4 = -w3;
-  const real w5 = x[3] * p[3];
-  const real w6 = -w5;
-  const real w7 = x[4] * p[3];
-  const real w8 = -w7;
-  const real w9 = p[4] * w8;
-  const real w10 = p[4] * w6;
-  const real w11 = x[4] * p[6];
+  const real w5 = x[4] * p[7];
+  const real w6 = x[4] * p[6];
+  const real w7 = x[3] * p[6];
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
   out[2] = w4;  // dx_dot/dtheta
@@ -324,12 +323,12 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[16] = real(0.0);  // dv_rate/dy
   out[17] = real(0.0);  // dv_rate/dtheta
   out[18] = real(0.0);  // dv_rate/dv
-  out[19] = w11;  // dv_rate/domega
+  out[19] = w5;  // dv_rate/domega
   out[20] = real(0.0);  // domega_rate/dx
   out[21] = real(0.0);  // domega_rate/dy
   out[22] = real(0.0);  // domega_rate/dtheta
-  out[23] = w9;  // domega_rate/dv
-  out[24] = w10;  // domega_rate/domega
+  out[23] = w6;  // domega_rate/dv
+  out[24] = w7;  // domega_rate/domega
 }
 
 }  // namespace chaplygin_sleigh

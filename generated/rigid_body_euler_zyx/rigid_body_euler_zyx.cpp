@@ -339,26 +339,26 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 
 namespace {
 
-/* prepare_parameters_kernel: (t, x[6], p[3], in[0]) -> out[7]  ops: 3 add, 2 mul, 3 div, 0 call */
+/* prepare_parameters_kernel: (t, x[6], p[3], in[0]) -> out[6]  ops: 3 add, 3 mul, 3 div, 0 call */
 void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)x;
   (void)in;
   const real w0 = p[1] - p[2];
   const real w1 = p[2] - p[0];
-  const real w2 = p[1] - p[0];
-  const real w3 = real(1.0) / p[2];
-  const real w4 = real(1.0) / p[1];
-  const real w5 = w1 * w4;
-  const real w6 = real(1.0) / p[0];
-  const real w7 = w0 * w6;
+  const real w2 = real(1.0) / p[2];
+  const real w3 = real(1.0) / p[1];
+  const real w4 = w1 * w3;
+  const real w5 = real(1.0) / p[0];
+  const real w6 = w0 * w5;
+  const real w7 = p[0] - p[1];
+  const real w8 = w2 * w7;
   out[0] = p[0];  // I1
   out[1] = p[1];  // I2
   out[2] = p[2];  // I3
-  out[3] = w2;  // prepared 0
-  out[4] = w3;  // prepared 1
-  out[5] = w5;  // prepared 2
-  out[6] = w7;  // prepared 3
+  out[3] = w4;  // prepared 0
+  out[4] = w6;  // prepared 1
+  out[5] = w8;  // prepared 2
 }
 
 }  // namespace
@@ -367,7 +367,7 @@ void prepare_parameters(const real* p, real* prepared) {
   prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
 }
 
-/* rhs_prepared: (t, x[6], p[7], in[0]) -> out[6]  ops: 5 add, 15 mul, 2 div, 4 call */
+/* rhs_prepared: (t, x[6], p[6], in[0]) -> out[6]  ops: 4 add, 14 mul, 2 div, 4 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -392,20 +392,18 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   const real w18 = x[4] * x[5];
   const real w19 = x[3] * x[5];
   const real w20 = x[3] * x[4];
-  const real w21 = w20 * p[3];
-  const real w22 = -w21;
-  const real w23 = p[4] * w22;
-  const real w24 = w19 * p[5];
-  const real w25 = w18 * p[6];
+  const real w21 = w19 * p[3];
+  const real w22 = w18 * p[4];
+  const real w23 = w20 * p[5];
   out[0] = w6;  // psi_dot
   out[1] = w9;  // theta_dot
   out[2] = w17;  // phi_dot
-  out[3] = w25;  // wx_rate
-  out[4] = w24;  // wy_rate
+  out[3] = w22;  // wx_rate
+  out[4] = w21;  // wy_rate
   out[5] = w23;  // wz_rate
 }
 
-/* jacobian_prepared: (t, x[6], p[7], in[0]) -> out[36]  ops: 14 add, 28 mul, 9 div, 4 call */
+/* jacobian_prepared: (t, x[6], p[6], in[0]) -> out[36]  ops: 12 add, 26 mul, 9 div, 4 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -454,16 +452,12 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   const real w42 = w1 / w0;
   const real w43 = -w3;
   const real w44 = w34 / w0;
-  const real w45 = x[3] * p[3];
-  const real w46 = x[4] * p[3];
-  const real w47 = -w46;
-  const real w48 = -w45;
-  const real w49 = p[4] * w47;
-  const real w50 = x[5] * p[5];
-  const real w51 = p[4] * w48;
-  const real w52 = x[5] * p[6];
-  const real w53 = x[3] * p[5];
-  const real w54 = x[4] * p[6];
+  const real w45 = x[5] * p[3];
+  const real w46 = x[5] * p[4];
+  const real w47 = x[3] * p[3];
+  const real w48 = x[4] * p[4];
+  const real w49 = x[4] * p[5];
+  const real w50 = x[3] * p[5];
   out[0] = real(0.0);  // dpsi_dot/dpsi
   out[1] = w17;  // dpsi_dot/dtheta
   out[2] = w31;  // dpsi_dot/dphi
@@ -486,19 +480,19 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[19] = real(0.0);  // dwx_rate/dtheta
   out[20] = real(0.0);  // dwx_rate/dphi
   out[21] = real(0.0);  // dwx_rate/dwx
-  out[22] = w52;  // dwx_rate/dwy
-  out[23] = w54;  // dwx_rate/dwz
+  out[22] = w46;  // dwx_rate/dwy
+  out[23] = w48;  // dwx_rate/dwz
   out[24] = real(0.0);  // dwy_rate/dpsi
   out[25] = real(0.0);  // dwy_rate/dtheta
   out[26] = real(0.0);  // dwy_rate/dphi
-  out[27] = w50;  // dwy_rate/dwx
+  out[27] = w45;  // dwy_rate/dwx
   out[28] = real(0.0);  // dwy_rate/dwy
-  out[29] = w53;  // dwy_rate/dwz
+  out[29] = w47;  // dwy_rate/dwz
   out[30] = real(0.0);  // dwz_rate/dpsi
   out[31] = real(0.0);  // dwz_rate/dtheta
   out[32] = real(0.0);  // dwz_rate/dphi
   out[33] = w49;  // dwz_rate/dwx
-  out[34] = w51;  // dwz_rate/dwy
+  out[34] = w50;  // dwz_rate/dwy
   out[35] = real(0.0);  // dwz_rate/dwz
 }
 

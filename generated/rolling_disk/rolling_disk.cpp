@@ -274,31 +274,30 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[5] = w6;  // omega_roll_rate
 }
 
-/* jacobian_prepared: (t, x[6], p[6], in[2]) -> out[36]  ops: 1 add, 6 mul, 0 div, 2 call */
+/* jacobian_prepared: (t, x[6], p[6], in[2]) -> out[36]  ops: 1 add, 5 mul, 0 div, 2 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[2]);
-  const real w1 = std::sin(x[2]);
-  const real w2 = p[1] * w1;
-  const real w3 = p[1] * w0;
-  const real w4 = x[5] * w0;
-  const real w5 = p[1] * w4;
-  const real w6 = x[5] * w1;
-  const real w7 = p[1] * w6;
-  const real w8 = -w7;
+  const real w0 = x[5] * p[1];
+  const real w1 = std::cos(x[2]);
+  const real w2 = w0 * w1;
+  const real w3 = std::sin(x[2]);
+  const real w4 = p[1] * w3;
+  const real w5 = x[5] * w4;
+  const real w6 = p[1] * w1;
+  const real w7 = -w5;
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
-  out[2] = w8;  // dx_dot/dtheta
+  out[2] = w7;  // dx_dot/dtheta
   out[3] = real(0.0);  // dx_dot/dphi
   out[4] = real(0.0);  // dx_dot/domega_heading
-  out[5] = w3;  // dx_dot/domega_roll
+  out[5] = w6;  // dx_dot/domega_roll
   out[6] = real(0.0);  // dy_dot/dx
   out[7] = real(0.0);  // dy_dot/dy
-  out[8] = w5;  // dy_dot/dtheta
+  out[8] = w2;  // dy_dot/dtheta
   out[9] = real(0.0);  // dy_dot/dphi
   out[10] = real(0.0);  // dy_dot/domega_heading
-  out[11] = w2;  // dy_dot/domega_roll
+  out[11] = w4;  // dy_dot/domega_roll
   out[12] = real(0.0);  // dtheta_dot/dx
   out[13] = real(0.0);  // dtheta_dot/dy
   out[14] = real(0.0);  // dtheta_dot/dtheta

@@ -1,5 +1,7 @@
 #include "emit/polynomial_form.hpp"
 
+#include "algebra/modular_arithmetic.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -13,40 +15,13 @@ namespace hamel {
 
 namespace {
 
-// ---- Exact zero test of parameter-only programs: values modulo the prime 2^61 − 1 at random points --------
-
-constexpr std::uint64_t kPrime = (std::uint64_t{1} << 61) - 1;
-
-std::uint64_t mul_mod(std::uint64_t a, std::uint64_t b) {
-  const unsigned __int128 p = static_cast<unsigned __int128>(a) * b;
-  std::uint64_t r = static_cast<std::uint64_t>(p & kPrime) + static_cast<std::uint64_t>(p >> 61);
-  r = (r & kPrime) + (r >> 61);
-  return r >= kPrime ? r - kPrime : r;
-}
-std::uint64_t add_mod(std::uint64_t a, std::uint64_t b) {
-  const std::uint64_t r = a + b;
-  return r >= kPrime ? r - kPrime : r;
-}
-std::uint64_t neg_mod(std::uint64_t a) { return a == 0 ? 0 : kPrime - a; }
-std::uint64_t pow_mod(std::uint64_t a, std::uint64_t e) {
-  std::uint64_t r = 1;
-  for (; e; e >>= 1, a = mul_mod(a, a))
-    if (e & 1) r = mul_mod(r, a);
-  return r;
-}
-std::uint64_t inverse_mod(std::uint64_t a) { return pow_mod(a, kPrime - 2); }
-
-// A double is a rational m·2^e exactly; its residue.
-std::uint64_t residue(double v) {
-  int exponent = 0;
-  const double mantissa = std::frexp(std::fabs(v), &exponent);  // v = mantissa · 2^exponent, mantissa in [0.5, 1)
-  const auto m = static_cast<std::uint64_t>(std::ldexp(mantissa, 53));
-  exponent -= 53;
-  const std::uint64_t power = exponent >= 0 ? pow_mod(2, static_cast<std::uint64_t>(exponent))
-                                            : inverse_mod(pow_mod(2, static_cast<std::uint64_t>(-exponent)));
-  const std::uint64_t r = mul_mod(m % kPrime, power);
-  return v < 0 ? neg_mod(r) : r;
-}
+using modular::add_mod;
+using modular::inverse_of_nonzero;
+using modular::mul_mod;
+using modular::pow_mod;
+using modular::prime;
+using modular::sub_mod;
+using modular::u64;
 
 }  // namespace
 
@@ -54,10 +29,10 @@ std::uint64_t residue(double v) {
 // program leaves the rational functions (sqrt, sin, …) or divides by a residue 0.
 class ModularPoint {
  public:
-  ModularPoint(const ExpressionGraph& g, std::uint64_t seed) : g_(g), rng_(seed) {}
+  ModularPoint(const ExpressionGraph& g, u64 seed) : g_(g), rng_(seed) {}
 
   /// The residue of node i, evaluating what it needs (iteratively: sums are long chains).
-  std::optional<std::uint64_t> value(int root) {
+  std::optional<u64> value(int root) {
     std::vector<int> stack{root};
     while (!stack.empty()) {
       const int i = stack.back();
@@ -83,16 +58,16 @@ class ModularPoint {
 
  private:
   // One operation on the residues of its operands (already in memo_).
-  std::optional<std::uint64_t> evaluate(const Node& n) {
-    std::optional<std::uint64_t> v;
+  std::optional<u64> evaluate(const Node& n) {
+    std::optional<u64> v;
     switch (n.op) {
       case Op::constant:
-        if (std::isfinite(n.value)) v = residue(n.value);
+        if (std::isfinite(n.value)) v = modular::residue_of_double(n.value);
         break;
       case Op::input:
         if (n.argument == Argument::parameter) {
           auto [it, fresh] = parameters_.try_emplace(n.index, 0);
-          if (fresh) it->second = std::uniform_int_distribution<std::uint64_t>(1, kPrime - 1)(rng_);
+          if (fresh) it->second = std::uniform_int_distribution<u64>(1, prime - 1)(rng_);
           v = it->second;
         }
         break;
@@ -103,23 +78,23 @@ class ModularPoint {
         const auto a = memo_.at(n.a), b = memo_.at(n.b);
         if (!a || !b) break;
         if (n.op == Op::add) v = add_mod(*a, *b);
-        if (n.op == Op::sub) v = add_mod(*a, neg_mod(*b));
+        if (n.op == Op::sub) v = add_mod(*a, sub_mod(0, *b));
         if (n.op == Op::mul) v = mul_mod(*a, *b);
-        if (n.op == Op::div && *b != 0) v = mul_mod(*a, inverse_mod(*b));
+        if (n.op == Op::div && *b != 0) v = mul_mod(*a, inverse_of_nonzero(*b));
         break;
       }
       case Op::neg:
-        if (const auto a = memo_.at(n.a)) v = neg_mod(*a);
+        if (const auto a = memo_.at(n.a)) v = sub_mod(0, *a);
         break;
       case Op::pow: {
         const Node& e = g_.node(n.b);
         const auto a = memo_.at(n.a);
         if (!a || e.op != Op::constant || e.value != std::round(e.value) || std::fabs(e.value) > 1e6) break;
-        const std::uint64_t p = pow_mod(*a, static_cast<std::uint64_t>(std::fabs(e.value)));
+        const u64 p = pow_mod(*a, static_cast<u64>(std::fabs(e.value)));
         if (e.value >= 0)
           v = p;
         else if (p != 0)
-          v = inverse_mod(p);
+          v = inverse_of_nonzero(p);
         break;
       }
       default:
@@ -130,8 +105,8 @@ class ModularPoint {
 
   const ExpressionGraph& g_;
   std::mt19937_64 rng_;
-  std::map<int, std::uint64_t> parameters_;
-  std::unordered_map<int, std::optional<std::uint64_t>> memo_;
+  std::map<int, u64> parameters_;
+  std::unordered_map<int, std::optional<u64>> memo_;
 };
 
 namespace {
@@ -161,7 +136,7 @@ ParameterZeroTest::~ParameterZeroTest() = default;
 
 bool ParameterZeroTest::operator()(int node) {
   for (const auto& point : points_) {
-    const std::optional<std::uint64_t> v = point->value(node);
+    const std::optional<u64> v = point->value(node);
     if (!v || *v != 0) return false;
   }
   return true;

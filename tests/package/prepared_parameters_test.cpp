@@ -1,6 +1,8 @@
 // Prepared parameters (issue 12): the parameter-only work of rhs and jacobian done once per parameter set.
 //  - The graph passes on a small program written here: group_invariants, parameter_frontier and substitute
-//    leave no operation on parameters alone in the per-call program, and it evaluates to the original.
+//    leave no operation on parameters alone in the per-call program, and it evaluates to the original;
+//    polynomial_form rewrites a quadratic as Σ coefficient · monomial, drops a coefficient that vanishes
+//    identically (but not one that only looks small) and leaves non-polynomials and cubics alone.
 //  - The satellites with their parameters symbolic: rhs_prepared and jacobian_prepared at P =
 //    prepare_parameters(p) equal rhs and jacobian at p, and equal the rhs of a derivation with the same
 //    parameter values folded (its mass matrix inverted exactly at generation time: another code path), at
@@ -13,6 +15,7 @@
 #include "derive/derivation.hpp"
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
+#include "emit/polynomial_form.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 
@@ -83,6 +86,40 @@ TEST(PreparedParameters, GraphPassesLeaveNoParameterOnlyOperationPerCall) {
                                         1.1 * 0.4};
   EXPECT_LE(relative_difference(evaluate(g, per_call, x, P), expected), 1e-15);
   EXPECT_LE(relative_difference(evaluate(g, outputs, x, p), expected), 1e-15);
+}
+
+TEST(PreparedParameters, PolynomialFormDropsIdenticallyZeroCoefficients) {
+  ExpressionGraph g;
+  const int p0 = g.input(Argument::parameter, 0), p1 = g.input(Argument::parameter, 1);
+  const int x0 = g.input(Argument::state, 0), x1 = g.input(Argument::state, 1);
+  const auto mul = [&](int a, int b) { return g.binary(Op::mul, a, b); };
+  const auto add = [&](int a, int b) { return g.binary(Op::add, a, b); };
+  const auto sub = [&](int a, int b) { return g.binary(Op::sub, a, b); };
+  // (p0 + p1)(p0 − p1) − (p0² − p1²) is 0 for all parameters; value numbering does not see it.
+  const int vanishing = sub(mul(add(p0, p1), sub(p0, p1)), sub(mul(p0, p0), mul(p1, p1)));
+  ASSERT_NE(g.node(vanishing).op, Op::constant);
+  ParameterZeroTest zero(g);
+  EXPECT_TRUE(zero(vanishing));
+  EXPECT_FALSE(zero(sub(mul(p0, p0), mul(p1, p1))));
+  EXPECT_FALSE(zero(sub(p0, g.binary(Op::div, g.constant(1), g.binary(Op::div, g.constant(1), p1)))));
+  EXPECT_FALSE(zero(g.constant(1e-300)));
+  EXPECT_FALSE(zero(g.unary(Op::sqrt, vanishing)));  // not a rational function: not decided, so kept
+
+  // y = (x0·p0 + x1)·(x1 − x0/p1) + x0·x1·vanishing + 2, a quadratic; sin(x0) and x0³ are not rewritten.
+  const int y = add(add(mul(add(mul(x0, p0), x1), sub(x1, g.binary(Op::div, x0, p1))), mul(mul(x0, x1), vanishing)),
+                    g.constant(2));
+  const int s = g.unary(Op::sin, x0), cubic = mul(mul(x0, x0), mul(x0, p0));
+  const std::vector<int> out = polynomial_form(g, {y, s, cubic});
+  EXPECT_EQ(out[1], s);
+  EXPECT_EQ(out[2], cubic);
+  // Terms: x0², x0·x1, x1², 1 — the x0·x1 coefficient p0·1 − 1/p1 + 0 has the vanishing part dropped.
+  int terms = 0;
+  for (int i = out[0]; g.node(i).op == Op::add; i = g.node(i).a) ++terms;
+  EXPECT_EQ(terms + 1, 4);
+  const std::vector<double> x = {0.7, -1.3}, p = {1.1, 0.4};
+  const double expected = (0.7 * 1.1 - 1.3) * (-1.3 - 0.7 / 0.4) + 2;
+  EXPECT_NEAR(evaluate(g, {out[0]}, x, p)[0], expected, 1e-14);
+  EXPECT_NEAR(evaluate(g, {y}, x, p)[0], expected, 1e-14);
 }
 
 void check_model(const std::string& file) {

@@ -2,13 +2,14 @@
 # Symbolic against folded parameters (issue 12; docs/benchmarks.md, "Symbolic vs folded parameters"):
 # emits each model twice (`hamel emit MODEL -o DIR` with p[] read at run time, and `--fold all`), compiles
 # both packages at -O2 into one binary (namespaces renamed <model>_symbolic / <model>_folded, each package
-# and its adapter its own translation unit), checks that the two rhs agree to 1e-12 relative at 20
-# pseudo-random states with the default parameters, and times both rhs in one Google Benchmark run.
+# and its adapter its own translation unit), checks that the two rhs (and rhs_prepared, when the symbolic
+# package has prepared parameters) agree to 1e-12 relative at 20 pseudo-random states with the default
+# parameters, and times them in one Google Benchmark run.
 # Not part of the test suite. Output in build-svf/ (results.txt ends with the Markdown table).
 #   tools/symbolic-vs-folded.sh [--check-only] [google-benchmark flags...]
 # HAMEL=<binary> selects the generator (default build/bin/hamel); MODELS="a b ..." the models (names in models/).
 set -euo pipefail
-[[ ${1:-} == -h || ${1:-} == --help ]] && { sed -n '2,9p' "$0" | sed 's/^# \{0,1\}//'; exit 0; }
+[[ ${1:-} == -h || ${1:-} == --help ]] && { sed -n '2,10p' "$0" | sed 's/^# \{0,1\}//'; exit 0; }
 cd "$(dirname "$0")/.."
 repo=$PWD
 hamel=${HAMEL:-$repo/build/bin/hamel}
@@ -46,6 +47,14 @@ for model in $models; do
     done
     jobs+=("g++ -std=c++17 -O2 $defs -I$dir -c $dir/$model.cpp -o $out/obj/pkg_$label.o")
     jobs+=("g++ -std=c++17 -O2 $defs -I$dir -I$src -c $out/adapter_$label.cpp -o $out/obj/adapter_$label.o")
+    # A symbolic package with prepared parameters: rhs_prepared as a third variant.
+    if grep -q "prepare_parameters" "$dir/$model.hpp"; then
+      ops=$(sed -n 's/^  rhs_prepared: \([0-9]*\) operations \(.*\)$/\1 \2/p' "$out/emit_$label.log")
+      echo "#   rhs_prepared: $ops operations" | tee -a "$out/results.txt"
+      sed -e "s/@MODEL@/$model/g" -e "s/@LABEL@/$label/g" -e "s/@MODEL_NAME@/$model/g" -e "s/@OPERATIONS@/$ops/g" \
+        "$src/adapter_prepared.cpp.in" > "$out/adapter_${label}_prepared.cpp"
+      jobs+=("g++ -std=c++17 -O2 $defs -I$dir -I$src -c $out/adapter_${label}_prepared.cpp -o $out/obj/adapter_${label}_prepared.o")
+    fi
   done
 done
 start=$(date +%s)

@@ -237,6 +237,100 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[5], p[3], in[2]) -> out[8]  ops: 2 add, 6 mul, 2 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[2] * p[2];
+  const real w1 = p[0] * w0;
+  const real w2 = p[1] + w1;
+  const real w3 = p[0] * p[2];
+  const real w4 = real(1.0) / w2;
+  const real w5 = real(1.0) / p[0];
+  const real w6 = -w3;
+  const real w7 = w4 * w6;
+  const real w8 = real(2.0) * w3;
+  const real w9 = w5 * w8;
+  out[0] = p[0];  // m
+  out[1] = p[1];  // J
+  out[2] = p[2];  // a
+  out[3] = w3;  // prepared 0
+  out[4] = w4;  // prepared 1
+  out[5] = w5;  // prepared 2
+  out[6] = w7;  // prepared 3
+  out[7] = w9;  // prepared 4
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[5], p[8], in[2]) -> out[5]  ops: 2 add, 8 mul, 0 div, 2 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  const real w0 = std::cos(x[2]);
+  const real w1 = x[3] * w0;
+  const real w2 = std::sin(x[2]);
+  const real w3 = x[3] * w2;
+  const real w4 = x[4] * x[4];
+  const real w5 = x[3] * x[4];
+  const real w6 = w4 * p[3];
+  const real w7 = in[1] + w6;
+  const real w8 = w5 * p[3];
+  const real w9 = in[0] - w8;
+  const real w10 = p[4] * w9;
+  const real w11 = p[5] * w7;
+  out[0] = w1;  // x_dot
+  out[1] = w3;  // y_dot
+  out[2] = x[4];  // theta_dot
+  out[3] = w11;  // v_rate
+  out[4] = w10;  // omega_rate
+}
+
+/* jacobian_prepared: (t, x[5], p[8], in[2]) -> out[25]  ops: 1 add, 5 mul, 0 div, 2 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::cos(x[2]);
+  const real w1 = x[3] * w0;
+  const real w2 = std::sin(x[2]);
+  const real w3 = x[3] * w2;
+  const real w4 = -w3;
+  const real w5 = x[4] * p[7];
+  const real w6 = x[4] * p[6];
+  const real w7 = x[3] * p[6];
+  out[0] = real(0.0);  // dx_dot/dx
+  out[1] = real(0.0);  // dx_dot/dy
+  out[2] = w4;  // dx_dot/dtheta
+  out[3] = w0;  // dx_dot/dv
+  out[4] = real(0.0);  // dx_dot/domega
+  out[5] = real(0.0);  // dy_dot/dx
+  out[6] = real(0.0);  // dy_dot/dy
+  out[7] = w1;  // dy_dot/dtheta
+  out[8] = w2;  // dy_dot/dv
+  out[9] = real(0.0);  // dy_dot/domega
+  out[10] = real(0.0);  // dtheta_dot/dx
+  out[11] = real(0.0);  // dtheta_dot/dy
+  out[12] = real(0.0);  // dtheta_dot/dtheta
+  out[13] = real(0.0);  // dtheta_dot/dv
+  out[14] = real(1.0);  // dtheta_dot/domega
+  out[15] = real(0.0);  // dv_rate/dx
+  out[16] = real(0.0);  // dv_rate/dy
+  out[17] = real(0.0);  // dv_rate/dtheta
+  out[18] = real(0.0);  // dv_rate/dv
+  out[19] = w5;  // dv_rate/domega
+  out[20] = real(0.0);  // domega_rate/dx
+  out[21] = real(0.0);  // domega_rate/dy
+  out[22] = real(0.0);  // domega_rate/dtheta
+  out[23] = w6;  // domega_rate/dv
+  out[24] = w7;  // domega_rate/domega
+}
+
 }  // namespace chaplygin_sleigh
 
 extern "C" {
@@ -250,5 +344,8 @@ void chaplygin_sleigh_jacobian(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLY
 void chaplygin_sleigh_energy(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::energy(t, x, p, in, out); }
 void chaplygin_sleigh_constraint_residual(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::constraint_residual(t, x, p, in, out); }
 int chaplygin_sleigh_rhs_status(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { return chaplygin_sleigh::rhs_status(t, x, p, in, out); }
+void chaplygin_sleigh_prepare_parameters(const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, HAMEL_CHAPLYGIN_SLEIGH_REAL* prepared) { chaplygin_sleigh::prepare_parameters(p, prepared); }
+void chaplygin_sleigh_rhs_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::rhs_prepared(t, x, p, in, out); }
+void chaplygin_sleigh_jacobian_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

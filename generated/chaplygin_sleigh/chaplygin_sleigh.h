@@ -22,6 +22,7 @@
 #define CHAPLYGIN_SLEIGH_N_OUT_JACOBIAN 25
 #define CHAPLYGIN_SLEIGH_N_OUT_ENERGY 1
 #define CHAPLYGIN_SLEIGH_N_OUT_CONSTRAINT_RESIDUAL 1
+#define CHAPLYGIN_SLEIGH_N_PREPARED_PARAMETERS 8
 
 #ifdef __cplusplus
 extern "C" {
@@ -46,6 +47,12 @@ void chaplygin_sleigh_constraint_residual(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const H
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int chaplygin_sleigh_rhs_status(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out);
+/* P = (p, then the parameter-only values), CHAPLYGIN_SLEIGH_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void chaplygin_sleigh_prepare_parameters(const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, HAMEL_CHAPLYGIN_SLEIGH_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void chaplygin_sleigh_rhs_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void chaplygin_sleigh_jacobian_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out);
 
 #ifdef __cplusplus
 }

@@ -431,6 +431,207 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[4], p[5], in[0]) -> out[13]  ops: 1 add, 15 mul, 1 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[2] * p[2];
+  const real w1 = p[0] * w0;
+  const real w2 = p[1] * w0;
+  const real w3 = w1 + w2;
+  const real w4 = p[1] * p[2];
+  const real w5 = p[3] * p[3];
+  const real w6 = p[1] * w5;
+  const real w7 = p[2] * p[4];
+  const real w8 = p[0] * w7;
+  const real w9 = p[1] * p[4];
+  const real w10 = p[2] * w9;
+  const real w11 = p[3] * w4;
+  const real w12 = p[3] * w9;
+  const real w13 = real(1.0) / w3;
+  const real w14 = w13 * w13;
+  const real w15 = w3 * w14;
+  const real w16 = real(2.0) * w13;
+  out[0] = p[0];  // m1
+  out[1] = p[1];  // m2
+  out[2] = p[2];  // l1
+  out[3] = p[3];  // l2
+  out[4] = p[4];  // g
+  out[5] = w6;  // prepared 0
+  out[6] = w8;  // prepared 1
+  out[7] = w10;  // prepared 2
+  out[8] = w11;  // prepared 3
+  out[9] = w12;  // prepared 4
+  out[10] = w13;  // prepared 5
+  out[11] = w15;  // prepared 6
+  out[12] = w16;  // prepared 7
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[4], p[13], in[0]) -> out[4]  ops: 10 add, 22 mul, 1 div, 4 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::cos(x[0]);
+  const real w1 = std::cos(x[1]);
+  const real w2 = std::sin(x[1]);
+  const real w3 = std::sin(x[0]);
+  const real w4 = x[3] * x[3];
+  const real w5 = x[2] * x[2];
+  const real w6 = w0 * w1;
+  const real w7 = w2 * w3;
+  const real w8 = w0 * w2;
+  const real w9 = w1 * w3;
+  const real w10 = w3 * p[6];
+  const real w11 = -w10;
+  const real w12 = w3 * p[7];
+  const real w13 = w11 - w12;
+  const real w14 = w6 * p[8];
+  const real w15 = w7 * p[8];
+  const real w16 = w14 + w15;
+  const real w17 = w8 * p[8];
+  const real w18 = w9 * p[8];
+  const real w19 = w17 - w18;
+  const real w20 = w4 * w19;
+  const real w21 = w13 + w20;
+  const real w22 = w5 * w19;
+  const real w23 = -w22;
+  const real w24 = w2 * p[9];
+  const real w25 = w23 - w24;
+  const real w26 = w16 * w16;
+  const real w27 = p[11] * w26;
+  const real w28 = p[5] - w27;
+  const real w29 = w16 * w21;
+  const real w30 = p[10] * w29;
+  const real w31 = w25 - w30;
+  const real w32 = w31 / w28;
+  const real w33 = p[10] * w21;
+  const real w34 = w16 * w32;
+  const real w35 = p[10] * w34;
+  const real w36 = w33 - w35;
+  out[0] = x[2];  // theta1_dot
+  out[1] = x[3];  // theta2_dot
+  out[2] = w36;  // omega1_rate
+  out[3] = w32;  // omega2_rate
+}
+
+/* jacobian_prepared: (t, x[4], p[13], in[0]) -> out[16]  ops: 27 add, 51 mul, 5 div, 4 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::cos(x[0]);
+  const real w1 = std::cos(x[1]);
+  const real w2 = std::sin(x[1]);
+  const real w3 = std::sin(x[0]);
+  const real w4 = x[3] * x[3];
+  const real w5 = x[2] * x[2];
+  const real w6 = w0 * w1;
+  const real w7 = w2 * w3;
+  const real w8 = w0 * w2;
+  const real w9 = w1 * w3;
+  const real w10 = w3 * p[6];
+  const real w11 = -w10;
+  const real w12 = w3 * p[7];
+  const real w13 = w11 - w12;
+  const real w14 = w6 * p[8];
+  const real w15 = w7 * p[8];
+  const real w16 = w14 + w15;
+  const real w17 = w8 * p[8];
+  const real w18 = w9 * p[8];
+  const real w19 = w17 - w18;
+  const real w20 = w4 * w19;
+  const real w21 = w13 + w20;
+  const real w22 = w5 * w19;
+  const real w23 = -w22;
+  const real w24 = w2 * p[9];
+  const real w25 = w23 - w24;
+  const real w26 = w16 * w16;
+  const real w27 = p[11] * w26;
+  const real w28 = p[5] - w27;
+  const real w29 = w16 * w21;
+  const real w30 = p[10] * w29;
+  const real w31 = w25 - w30;
+  const real w32 = w31 / w28;
+  const real w33 = p[10] * w21;
+  const real w34 = w16 * w32;
+  const real w35 = p[10] * w34;
+  const real w36 = w33 - w35;
+  const real w37 = w0 * p[7];
+  const real w38 = -w37;
+  const real w39 = w4 * w16;
+  const real w40 = w38 - w39;
+  const real w41 = w0 * p[6];
+  const real w42 = w40 - w41;
+  const real w43 = w19 * w32;
+  const real w44 = w42 - w43;
+  const real w45 = w5 * w16;
+  const real w46 = w19 * w36;
+  const real w47 = w45 - w46;
+  const real w48 = w16 * w44;
+  const real w49 = p[10] * w48;
+  const real w50 = w47 - w49;
+  const real w51 = w50 / w28;
+  const real w52 = p[10] * w44;
+  const real w53 = w16 * w51;
+  const real w54 = p[10] * w53;
+  const real w55 = w52 - w54;
+  const real w56 = w18 - w17;
+  const real w57 = w32 * w56;
+  const real w58 = w39 - w57;
+  const real w59 = -w45;
+  const real w60 = w1 * p[9];
+  const real w61 = w59 - w60;
+  const real w62 = w36 * w56;
+  const real w63 = w61 - w62;
+  const real w64 = w16 * w58;
+  const real w65 = p[10] * w64;
+  const real w66 = w63 - w65;
+  const real w67 = w66 / w28;
+  const real w68 = p[10] * w58;
+  const real w69 = w16 * w67;
+  const real w70 = p[10] * w69;
+  const real w71 = w68 - w70;
+  const real w72 = x[2] * w19;
+  const real w73 = real(-2.0) * w72;
+  const real w74 = w73 / w28;
+  const real w75 = w16 * w74;
+  const real w76 = p[10] * w75;
+  const real w77 = -w76;
+  const real w78 = x[3] * w19;
+  const real w79 = w16 * w78;
+  const real w80 = p[12] * w79;
+  const real w81 = -w80;
+  const real w82 = w81 / w28;
+  const real w83 = p[12] * w78;
+  const real w84 = w16 * w82;
+  const real w85 = p[10] * w84;
+  const real w86 = w83 - w85;
+  out[0] = real(0.0);  // dtheta1_dot/dtheta1
+  out[1] = real(0.0);  // dtheta1_dot/dtheta2
+  out[2] = real(1.0);  // dtheta1_dot/domega1
+  out[3] = real(0.0);  // dtheta1_dot/domega2
+  out[4] = real(0.0);  // dtheta2_dot/dtheta1
+  out[5] = real(0.0);  // dtheta2_dot/dtheta2
+  out[6] = real(0.0);  // dtheta2_dot/domega1
+  out[7] = real(1.0);  // dtheta2_dot/domega2
+  out[8] = w55;  // domega1_rate/dtheta1
+  out[9] = w71;  // domega1_rate/dtheta2
+  out[10] = w77;  // domega1_rate/domega1
+  out[11] = w86;  // domega1_rate/domega2
+  out[12] = w51;  // domega2_rate/dtheta1
+  out[13] = w67;  // domega2_rate/dtheta2
+  out[14] = w74;  // domega2_rate/domega1
+  out[15] = w82;  // domega2_rate/domega2
+}
+
 }  // namespace double_pendulum
 
 extern "C" {
@@ -443,5 +644,8 @@ void double_pendulum_rhs(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDUL
 void double_pendulum_jacobian(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::jacobian(t, x, p, in, out); }
 void double_pendulum_energy(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::energy(t, x, p, in, out); }
 int double_pendulum_rhs_status(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { return double_pendulum::rhs_status(t, x, p, in, out); }
+void double_pendulum_prepare_parameters(const HAMEL_DOUBLE_PENDULUM_REAL* p, HAMEL_DOUBLE_PENDULUM_REAL* prepared) { double_pendulum::prepare_parameters(p, prepared); }
+void double_pendulum_rhs_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::rhs_prepared(t, x, p, in, out); }
+void double_pendulum_jacobian_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

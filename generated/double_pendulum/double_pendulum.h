@@ -21,6 +21,7 @@
 #define DOUBLE_PENDULUM_N_OUT_RHS 4
 #define DOUBLE_PENDULUM_N_OUT_JACOBIAN 16
 #define DOUBLE_PENDULUM_N_OUT_ENERGY 1
+#define DOUBLE_PENDULUM_N_PREPARED_PARAMETERS 13
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,6 +44,12 @@ void double_pendulum_energy(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PEN
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int double_pendulum_rhs_status(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out);
+/* P = (p, then the parameter-only values), DOUBLE_PENDULUM_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void double_pendulum_prepare_parameters(const HAMEL_DOUBLE_PENDULUM_REAL* p, HAMEL_DOUBLE_PENDULUM_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void double_pendulum_rhs_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void double_pendulum_jacobian_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out);
 
 #ifdef __cplusplus
 }

@@ -106,4 +106,17 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
 
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 60 operations per call, rhs_prepared: 37, prepare_parameters: 22).
+// prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
+// <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
+// again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
+constexpr int n_prepared_parameters = 13;
+void prepare_parameters(const real* p, real* prepared);
+constexpr int n_temporaries_rhs_prepared = 37;
+/// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[4]
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
+constexpr int n_temporaries_jacobian_prepared = 87;
+/// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[16]
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
+
 }  // namespace double_pendulum_mass_ratio

@@ -230,6 +230,72 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[3], p[3], in[0]) -> out[6]  ops: 3 add, 3 mul, 3 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[1] - p[2];
+  const real w1 = p[2] - p[0];
+  const real w2 = real(1.0) / p[2];
+  const real w3 = real(1.0) / p[1];
+  const real w4 = w1 * w3;
+  const real w5 = real(1.0) / p[0];
+  const real w6 = w0 * w5;
+  const real w7 = p[0] - p[1];
+  const real w8 = w2 * w7;
+  out[0] = p[0];  // I1
+  out[1] = p[1];  // I2
+  out[2] = p[2];  // I3
+  out[3] = w4;  // prepared 0
+  out[4] = w6;  // prepared 1
+  out[5] = w8;  // prepared 2
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[3], p[6], in[0]) -> out[3]  ops: 0 add, 6 mul, 0 div, 0 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[1] * x[2];
+  const real w1 = x[0] * x[1];
+  const real w2 = x[0] * x[2];
+  const real w3 = w2 * p[3];
+  const real w4 = w0 * p[4];
+  const real w5 = w1 * p[5];
+  out[0] = w4;  // wx_rate
+  out[1] = w3;  // wy_rate
+  out[2] = w5;  // wz_rate
+}
+
+/* jacobian_prepared: (t, x[3], p[6], in[0]) -> out[9]  ops: 0 add, 6 mul, 0 div, 0 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[2] * p[3];
+  const real w1 = x[2] * p[4];
+  const real w2 = x[0] * p[3];
+  const real w3 = x[1] * p[4];
+  const real w4 = x[1] * p[5];
+  const real w5 = x[0] * p[5];
+  out[0] = real(0.0);  // dwx_rate/dwx
+  out[1] = w1;  // dwx_rate/dwy
+  out[2] = w3;  // dwx_rate/dwz
+  out[3] = w0;  // dwy_rate/dwx
+  out[4] = real(0.0);  // dwy_rate/dwy
+  out[5] = w2;  // dwy_rate/dwz
+  out[6] = w4;  // dwz_rate/dwx
+  out[7] = w5;  // dwz_rate/dwy
+  out[8] = real(0.0);  // dwz_rate/dwz
+}
+
 }  // namespace free_rigid_body
 
 extern "C" {
@@ -244,5 +310,8 @@ void free_rigid_body_energy(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID
 void free_rigid_body_group_velocity(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::group_velocity(t, x, p, in, out); }
 void free_rigid_body_locked_inertia(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::locked_inertia(t, x, p, in, out); }
 int free_rigid_body_rhs_status(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { return free_rigid_body::rhs_status(t, x, p, in, out); }
+void free_rigid_body_prepare_parameters(const HAMEL_FREE_RIGID_BODY_REAL* p, HAMEL_FREE_RIGID_BODY_REAL* prepared) { free_rigid_body::prepare_parameters(p, prepared); }
+void free_rigid_body_rhs_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::rhs_prepared(t, x, p, in, out); }
+void free_rigid_body_jacobian_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

@@ -23,6 +23,7 @@
 #define FREE_RIGID_BODY_N_OUT_ENERGY 1
 #define FREE_RIGID_BODY_N_OUT_GROUP_VELOCITY 3
 #define FREE_RIGID_BODY_N_OUT_LOCKED_INERTIA 9
+#define FREE_RIGID_BODY_N_PREPARED_PARAMETERS 6
 
 #ifdef __cplusplus
 extern "C" {
@@ -49,6 +50,12 @@ void free_rigid_body_locked_inertia(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FR
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int free_rigid_body_rhs_status(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out);
+/* P = (p, then the parameter-only values), FREE_RIGID_BODY_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void free_rigid_body_prepare_parameters(const HAMEL_FREE_RIGID_BODY_REAL* p, HAMEL_FREE_RIGID_BODY_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void free_rigid_body_rhs_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void free_rigid_body_jacobian_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out);
 
 #ifdef __cplusplus
 }

@@ -337,6 +337,165 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[6], p[3], in[0]) -> out[6]  ops: 3 add, 3 mul, 3 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[1] - p[2];
+  const real w1 = p[2] - p[0];
+  const real w2 = real(1.0) / p[2];
+  const real w3 = real(1.0) / p[1];
+  const real w4 = w1 * w3;
+  const real w5 = real(1.0) / p[0];
+  const real w6 = w0 * w5;
+  const real w7 = p[0] - p[1];
+  const real w8 = w2 * w7;
+  out[0] = p[0];  // I1
+  out[1] = p[1];  // I2
+  out[2] = p[2];  // I3
+  out[3] = w4;  // prepared 0
+  out[4] = w6;  // prepared 1
+  out[5] = w8;  // prepared 2
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[6], p[6], in[0]) -> out[6]  ops: 4 add, 14 mul, 2 div, 4 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::cos(x[1]);
+  const real w1 = std::cos(x[2]);
+  const real w2 = x[5] * w1;
+  const real w3 = std::sin(x[2]);
+  const real w4 = x[4] * w3;
+  const real w5 = w2 + w4;
+  const real w6 = w5 / w0;
+  const real w7 = x[5] * w3;
+  const real w8 = x[4] * w1;
+  const real w9 = w8 - w7;
+  const real w10 = std::sin(x[1]);
+  const real w11 = w3 * w10;
+  const real w12 = x[4] * w11;
+  const real w13 = x[3] * w0;
+  const real w14 = w12 + w13;
+  const real w15 = w2 * w10;
+  const real w16 = w14 + w15;
+  const real w17 = w16 / w0;
+  const real w18 = x[4] * x[5];
+  const real w19 = x[3] * x[5];
+  const real w20 = x[3] * x[4];
+  const real w21 = w19 * p[3];
+  const real w22 = w18 * p[4];
+  const real w23 = w20 * p[5];
+  out[0] = w6;  // psi_dot
+  out[1] = w9;  // theta_dot
+  out[2] = w17;  // phi_dot
+  out[3] = w22;  // wx_rate
+  out[4] = w21;  // wy_rate
+  out[5] = w23;  // wz_rate
+}
+
+/* jacobian_prepared: (t, x[6], p[6], in[0]) -> out[36]  ops: 12 add, 26 mul, 9 div, 4 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::cos(x[1]);
+  const real w1 = std::cos(x[2]);
+  const real w2 = x[5] * w1;
+  const real w3 = std::sin(x[2]);
+  const real w4 = x[4] * w3;
+  const real w5 = w2 + w4;
+  const real w6 = x[5] * w3;
+  const real w7 = x[4] * w1;
+  const real w8 = std::sin(x[1]);
+  const real w9 = w3 * w8;
+  const real w10 = x[4] * w9;
+  const real w11 = x[3] * w0;
+  const real w12 = w10 + w11;
+  const real w13 = w2 * w8;
+  const real w14 = w12 + w13;
+  const real w15 = w0 * w0;
+  const real w16 = w5 * w8;
+  const real w17 = w16 / w15;
+  const real w18 = x[3] * w8;
+  const real w19 = x[5] * w0;
+  const real w20 = w1 * w19;
+  const real w21 = w18 - w20;
+  const real w22 = w0 * w3;
+  const real w23 = x[4] * w22;
+  const real w24 = w21 - w23;
+  const real w25 = w24 / w0;
+  const real w26 = w8 * w14;
+  const real w27 = w26 / w15;
+  const real w28 = w27 - w25;
+  const real w29 = w6 - w7;
+  const real w30 = w29 / w0;
+  const real w31 = -w30;
+  const real w32 = -w2;
+  const real w33 = w32 - w4;
+  const real w34 = w1 * w8;
+  const real w35 = x[4] * w34;
+  const real w36 = x[5] * w8;
+  const real w37 = w3 * w36;
+  const real w38 = w35 - w37;
+  const real w39 = w38 / w0;
+  const real w40 = w3 / w0;
+  const real w41 = w9 / w0;
+  const real w42 = w1 / w0;
+  const real w43 = -w3;
+  const real w44 = w34 / w0;
+  const real w45 = x[5] * p[3];
+  const real w46 = x[5] * p[4];
+  const real w47 = x[3] * p[3];
+  const real w48 = x[4] * p[4];
+  const real w49 = x[4] * p[5];
+  const real w50 = x[3] * p[5];
+  out[0] = real(0.0);  // dpsi_dot/dpsi
+  out[1] = w17;  // dpsi_dot/dtheta
+  out[2] = w31;  // dpsi_dot/dphi
+  out[3] = real(0.0);  // dpsi_dot/dwx
+  out[4] = w40;  // dpsi_dot/dwy
+  out[5] = w42;  // dpsi_dot/dwz
+  out[6] = real(0.0);  // dtheta_dot/dpsi
+  out[7] = real(0.0);  // dtheta_dot/dtheta
+  out[8] = w33;  // dtheta_dot/dphi
+  out[9] = real(0.0);  // dtheta_dot/dwx
+  out[10] = w1;  // dtheta_dot/dwy
+  out[11] = w43;  // dtheta_dot/dwz
+  out[12] = real(0.0);  // dphi_dot/dpsi
+  out[13] = w28;  // dphi_dot/dtheta
+  out[14] = w39;  // dphi_dot/dphi
+  out[15] = real(1.0);  // dphi_dot/dwx
+  out[16] = w41;  // dphi_dot/dwy
+  out[17] = w44;  // dphi_dot/dwz
+  out[18] = real(0.0);  // dwx_rate/dpsi
+  out[19] = real(0.0);  // dwx_rate/dtheta
+  out[20] = real(0.0);  // dwx_rate/dphi
+  out[21] = real(0.0);  // dwx_rate/dwx
+  out[22] = w46;  // dwx_rate/dwy
+  out[23] = w48;  // dwx_rate/dwz
+  out[24] = real(0.0);  // dwy_rate/dpsi
+  out[25] = real(0.0);  // dwy_rate/dtheta
+  out[26] = real(0.0);  // dwy_rate/dphi
+  out[27] = w45;  // dwy_rate/dwx
+  out[28] = real(0.0);  // dwy_rate/dwy
+  out[29] = w47;  // dwy_rate/dwz
+  out[30] = real(0.0);  // dwz_rate/dpsi
+  out[31] = real(0.0);  // dwz_rate/dtheta
+  out[32] = real(0.0);  // dwz_rate/dphi
+  out[33] = w49;  // dwz_rate/dwx
+  out[34] = w50;  // dwz_rate/dwy
+  out[35] = real(0.0);  // dwz_rate/dwz
+}
+
 }  // namespace rigid_body_euler_zyx
 
 extern "C" {
@@ -349,5 +508,8 @@ void rigid_body_euler_zyx_rhs(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIG
 void rigid_body_euler_zyx_jacobian(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::jacobian(t, x, p, in, out); }
 void rigid_body_euler_zyx_energy(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::energy(t, x, p, in, out); }
 int rigid_body_euler_zyx_rhs_status(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { return rigid_body_euler_zyx::rhs_status(t, x, p, in, out); }
+void rigid_body_euler_zyx_prepare_parameters(const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, HAMEL_RIGID_BODY_EULER_ZYX_REAL* prepared) { rigid_body_euler_zyx::prepare_parameters(p, prepared); }
+void rigid_body_euler_zyx_rhs_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::rhs_prepared(t, x, p, in, out); }
+void rigid_body_euler_zyx_jacobian_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

@@ -21,6 +21,7 @@
 #define RIGID_BODY_EULER_ZYX_N_OUT_RHS 6
 #define RIGID_BODY_EULER_ZYX_N_OUT_JACOBIAN 36
 #define RIGID_BODY_EULER_ZYX_N_OUT_ENERGY 1
+#define RIGID_BODY_EULER_ZYX_N_PREPARED_PARAMETERS 6
 
 #ifdef __cplusplus
 extern "C" {
@@ -43,6 +44,12 @@ void rigid_body_euler_zyx_energy(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int rigid_body_euler_zyx_rhs_status(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out);
+/* P = (p, then the parameter-only values), RIGID_BODY_EULER_ZYX_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void rigid_body_euler_zyx_prepare_parameters(const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, HAMEL_RIGID_BODY_EULER_ZYX_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void rigid_body_euler_zyx_rhs_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void rigid_body_euler_zyx_jacobian_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out);
 
 #ifdef __cplusplus
 }

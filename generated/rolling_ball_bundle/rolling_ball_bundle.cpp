@@ -216,6 +216,58 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[4], p[2], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  out[0] = p[0];  // m
+  out[1] = p[1];  // R
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[4], p[2], in[0]) -> out[4]  ops: 0 add, 0 mul, 0 div, 0 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)p;
+  (void)in;
+  out[0] = x[2];  // x_dot
+  out[1] = x[3];  // y_dot
+  out[2] = real(0.0);  // x_dot_rate
+  out[3] = real(0.0);  // y_dot_rate
+}
+
+/* jacobian_prepared: (t, x[4], p[2], in[0]) -> out[16]  ops: 0 add, 0 mul, 0 div, 0 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)p;
+  (void)in;
+  out[0] = real(0.0);  // dx_dot/dx
+  out[1] = real(0.0);  // dx_dot/dy
+  out[2] = real(1.0);  // dx_dot/dx_dot
+  out[3] = real(0.0);  // dx_dot/dy_dot
+  out[4] = real(0.0);  // dy_dot/dx
+  out[5] = real(0.0);  // dy_dot/dy
+  out[6] = real(0.0);  // dy_dot/dx_dot
+  out[7] = real(1.0);  // dy_dot/dy_dot
+  out[8] = real(0.0);  // dx_dot_rate/dx
+  out[9] = real(0.0);  // dx_dot_rate/dy
+  out[10] = real(0.0);  // dx_dot_rate/dx_dot
+  out[11] = real(0.0);  // dx_dot_rate/dy_dot
+  out[12] = real(0.0);  // dy_dot_rate/dx
+  out[13] = real(0.0);  // dy_dot_rate/dy
+  out[14] = real(0.0);  // dy_dot_rate/dx_dot
+  out[15] = real(0.0);  // dy_dot_rate/dy_dot
+}
+
 }  // namespace rolling_ball_bundle
 
 extern "C" {
@@ -231,5 +283,8 @@ void rolling_ball_bundle_group_velocity(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const 
 void rolling_ball_bundle_connection(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::connection(t, x, p, in, out); }
 void rolling_ball_bundle_locked_inertia(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::locked_inertia(t, x, p, in, out); }
 int rolling_ball_bundle_rhs_status(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { return rolling_ball_bundle::rhs_status(t, x, p, in, out); }
+void rolling_ball_bundle_prepare_parameters(const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, HAMEL_ROLLING_BALL_BUNDLE_REAL* prepared) { rolling_ball_bundle::prepare_parameters(p, prepared); }
+void rolling_ball_bundle_rhs_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::rhs_prepared(t, x, p, in, out); }
+void rolling_ball_bundle_jacobian_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

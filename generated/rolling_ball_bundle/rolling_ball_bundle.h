@@ -24,6 +24,7 @@
 #define ROLLING_BALL_BUNDLE_N_OUT_GROUP_VELOCITY 3
 #define ROLLING_BALL_BUNDLE_N_OUT_CONNECTION 6
 #define ROLLING_BALL_BUNDLE_N_OUT_LOCKED_INERTIA 9
+#define ROLLING_BALL_BUNDLE_N_PREPARED_PARAMETERS 2
 
 #ifdef __cplusplus
 extern "C" {
@@ -52,6 +53,12 @@ void rolling_ball_bundle_locked_inertia(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const 
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int rolling_ball_bundle_rhs_status(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out);
+/* P = (p, then the parameter-only values), ROLLING_BALL_BUNDLE_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void rolling_ball_bundle_prepare_parameters(const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, HAMEL_ROLLING_BALL_BUNDLE_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void rolling_ball_bundle_rhs_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void rolling_ball_bundle_jacobian_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out);
 
 #ifdef __cplusplus
 }

@@ -229,6 +229,101 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[6], p[4], in[2]) -> out[6]  ops: 1 add, 2 mul, 2 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[1] * p[1];
+  const real w1 = p[0] * w0;
+  const real w2 = p[3] + w1;
+  const real w3 = real(1.0) / w2;
+  const real w4 = real(1.0) / p[2];
+  out[0] = p[0];  // m
+  out[1] = p[1];  // R
+  out[2] = p[2];  // I_heading
+  out[3] = p[3];  // J_roll
+  out[4] = w3;  // prepared 0
+  out[5] = w4;  // prepared 1
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[6], p[6], in[2]) -> out[6]  ops: 0 add, 6 mul, 0 div, 2 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  const real w0 = std::cos(x[2]);
+  const real w1 = std::sin(x[2]);
+  const real w2 = x[5] * w0;
+  const real w3 = p[1] * w2;
+  const real w4 = x[5] * w1;
+  const real w5 = p[1] * w4;
+  const real w6 = in[1] * p[4];
+  const real w7 = in[0] * p[5];
+  out[0] = w3;  // x_dot
+  out[1] = w5;  // y_dot
+  out[2] = x[4];  // theta_dot
+  out[3] = x[5];  // phi_dot
+  out[4] = w7;  // omega_heading_rate
+  out[5] = w6;  // omega_roll_rate
+}
+
+/* jacobian_prepared: (t, x[6], p[6], in[2]) -> out[36]  ops: 1 add, 5 mul, 0 div, 2 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[5] * p[1];
+  const real w1 = std::cos(x[2]);
+  const real w2 = w0 * w1;
+  const real w3 = std::sin(x[2]);
+  const real w4 = p[1] * w3;
+  const real w5 = x[5] * w4;
+  const real w6 = p[1] * w1;
+  const real w7 = -w5;
+  out[0] = real(0.0);  // dx_dot/dx
+  out[1] = real(0.0);  // dx_dot/dy
+  out[2] = w7;  // dx_dot/dtheta
+  out[3] = real(0.0);  // dx_dot/dphi
+  out[4] = real(0.0);  // dx_dot/domega_heading
+  out[5] = w6;  // dx_dot/domega_roll
+  out[6] = real(0.0);  // dy_dot/dx
+  out[7] = real(0.0);  // dy_dot/dy
+  out[8] = w2;  // dy_dot/dtheta
+  out[9] = real(0.0);  // dy_dot/dphi
+  out[10] = real(0.0);  // dy_dot/domega_heading
+  out[11] = w4;  // dy_dot/domega_roll
+  out[12] = real(0.0);  // dtheta_dot/dx
+  out[13] = real(0.0);  // dtheta_dot/dy
+  out[14] = real(0.0);  // dtheta_dot/dtheta
+  out[15] = real(0.0);  // dtheta_dot/dphi
+  out[16] = real(1.0);  // dtheta_dot/domega_heading
+  out[17] = real(0.0);  // dtheta_dot/domega_roll
+  out[18] = real(0.0);  // dphi_dot/dx
+  out[19] = real(0.0);  // dphi_dot/dy
+  out[20] = real(0.0);  // dphi_dot/dtheta
+  out[21] = real(0.0);  // dphi_dot/dphi
+  out[22] = real(0.0);  // dphi_dot/domega_heading
+  out[23] = real(1.0);  // dphi_dot/domega_roll
+  out[24] = real(0.0);  // domega_heading_rate/dx
+  out[25] = real(0.0);  // domega_heading_rate/dy
+  out[26] = real(0.0);  // domega_heading_rate/dtheta
+  out[27] = real(0.0);  // domega_heading_rate/dphi
+  out[28] = real(0.0);  // domega_heading_rate/domega_heading
+  out[29] = real(0.0);  // domega_heading_rate/domega_roll
+  out[30] = real(0.0);  // domega_roll_rate/dx
+  out[31] = real(0.0);  // domega_roll_rate/dy
+  out[32] = real(0.0);  // domega_roll_rate/dtheta
+  out[33] = real(0.0);  // domega_roll_rate/dphi
+  out[34] = real(0.0);  // domega_roll_rate/domega_heading
+  out[35] = real(0.0);  // domega_roll_rate/domega_roll
+}
+
 }  // namespace rolling_disk
 
 extern "C" {
@@ -242,5 +337,8 @@ void rolling_disk_jacobian(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_R
 void rolling_disk_energy(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::energy(t, x, p, in, out); }
 void rolling_disk_constraint_residual(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::constraint_residual(t, x, p, in, out); }
 int rolling_disk_rhs_status(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { return rolling_disk::rhs_status(t, x, p, in, out); }
+void rolling_disk_prepare_parameters(const HAMEL_ROLLING_DISK_REAL* p, HAMEL_ROLLING_DISK_REAL* prepared) { rolling_disk::prepare_parameters(p, prepared); }
+void rolling_disk_rhs_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::rhs_prepared(t, x, p, in, out); }
+void rolling_disk_jacobian_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

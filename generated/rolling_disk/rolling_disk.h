@@ -22,6 +22,7 @@
 #define ROLLING_DISK_N_OUT_JACOBIAN 36
 #define ROLLING_DISK_N_OUT_ENERGY 1
 #define ROLLING_DISK_N_OUT_CONSTRAINT_RESIDUAL 2
+#define ROLLING_DISK_N_PREPARED_PARAMETERS 6
 
 #ifdef __cplusplus
 extern "C" {
@@ -46,6 +47,12 @@ void rolling_disk_constraint_residual(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROL
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int rolling_disk_rhs_status(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out);
+/* P = (p, then the parameter-only values), ROLLING_DISK_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void rolling_disk_prepare_parameters(const HAMEL_ROLLING_DISK_REAL* p, HAMEL_ROLLING_DISK_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void rolling_disk_rhs_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void rolling_disk_jacobian_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out);
 
 #ifdef __cplusplus
 }

@@ -694,6 +694,217 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[7], p[6], in[0]) -> out[19]  ops: 18 add, 28 mul, 9 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[0] + p[3];
+  const real w1 = p[1] + p[4];
+  const real w2 = p[0] * p[3];
+  const real w3 = w2 / w0;
+  const real w4 = p[1] * p[4];
+  const real w5 = w4 / w1;
+  const real w6 = p[2] * p[4];
+  const real w7 = w1 - p[2];
+  const real w8 = p[2] - p[3];
+  const real w9 = w8 - p[0];
+  const real w10 = p[1] * p[3];
+  const real w11 = p[3] * p[4];
+  const real w12 = w10 + w11;
+  const real w13 = p[0] * p[4];
+  const real w14 = w11 + w13;
+  const real w15 = w1 - p[3];
+  const real w16 = p[2] * p[3];
+  const real w17 = w12 - w16;
+  const real w18 = w12 + w13;
+  const real w19 = p[0] * p[1];
+  const real w20 = w18 + w19;
+  const real w21 = w14 - w6;
+  const real w22 = -p[5];
+  const real w23 = w22 / w3;
+  const real w24 = p[3] * w6;
+  const real w25 = real(1.0) / w1;
+  const real w26 = w6 * w25;
+  const real w27 = real(1.0) / w0;
+  const real w28 = w16 * w27;
+  const real w29 = w12 * w27;
+  const real w30 = w14 * w25;
+  const real w31 = w17 * w27;
+  const real w32 = real(1.0) / w20;
+  const real w33 = w24 * w32;
+  const real w34 = w21 * w25;
+  const real w35 = real(1.0) / w5;
+  const real w36 = real(1.0) / w3;
+  const real w37 = real(1.0) / p[2];
+  const real w38 = -w28;
+  const real w39 = -w30;
+  const real w40 = p[0] - w15;
+  const real w41 = -w31;
+  const real w42 = -w33;
+  const real w43 = w34 * w35;
+  const real w44 = w33 * w35;
+  const real w45 = w22 * w36;
+  const real w46 = w36 * w41;
+  const real w47 = w36 * w42;
+  const real w48 = w37 * w40;
+  const real w49 = w37 * w39;
+  const real w50 = w29 * w37;
+  const real w51 = w9 * w25;
+  const real w52 = w25 * w38;
+  const real w53 = w7 * w27;
+  const real w54 = w26 * w27;
+  out[0] = p[0];  // Ix
+  out[1] = p[1];  // Iy
+  out[2] = p[2];  // Iz
+  out[3] = p[3];  // J1
+  out[4] = p[4];  // J2
+  out[5] = p[5];  // k
+  out[6] = w23;  // prepared 0
+  out[7] = w43;  // prepared 1
+  out[8] = w44;  // prepared 2
+  out[9] = w45;  // prepared 3
+  out[10] = w46;  // prepared 4
+  out[11] = w47;  // prepared 5
+  out[12] = w48;  // prepared 6
+  out[13] = w49;  // prepared 7
+  out[14] = w50;  // prepared 8
+  out[15] = w51;  // prepared 9
+  out[16] = w52;  // prepared 10
+  out[17] = w53;  // prepared 11
+  out[18] = w54;  // prepared 12
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[7], p[19], in[0]) -> out[7]  ops: 7 add, 19 mul, 0 div, 0 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[2] * x[6];
+  const real w1 = x[2] * x[3];
+  const real w2 = x[4] * x[6];
+  const real w3 = x[3] * x[4];
+  const real w4 = x[4] * x[5];
+  const real w5 = x[2] * x[4];
+  const real w6 = x[3] * x[5];
+  const real w7 = w3 * p[17];
+  const real w8 = w2 * p[18];
+  const real w9 = w7 + w8;
+  const real w10 = w5 * p[15];
+  const real w11 = w4 * p[16];
+  const real w12 = w10 + w11;
+  const real w13 = w1 * p[12];
+  const real w14 = w0 * p[13];
+  const real w15 = w13 + w14;
+  const real w16 = w6 * p[14];
+  const real w17 = w15 + w16;
+  const real w18 = x[0] * p[9];
+  const real w19 = w3 * p[10];
+  const real w20 = w18 + w19;
+  const real w21 = w2 * p[11];
+  const real w22 = w20 + w21;
+  const real w23 = w5 * p[7];
+  const real w24 = w4 * p[8];
+  const real w25 = w23 + w24;
+  out[0] = x[5];  // phi1_dot
+  out[1] = x[6];  // phi2_dot
+  out[2] = w9;  // wx_locked_rate
+  out[3] = w12;  // wy_locked_rate
+  out[4] = w17;  // wz_locked_rate
+  out[5] = w22;  // phi1_dot_rate
+  out[6] = w25;  // phi2_dot_rate
+}
+
+/* jacobian_prepared: (t, x[7], p[19], in[0]) -> out[49]  ops: 6 add, 22 mul, 0 div, 0 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = x[4] * p[7];
+  const real w1 = x[4] * p[15];
+  const real w2 = x[4] * p[17];
+  const real w3 = x[4] * p[8];
+  const real w4 = x[3] * p[14];
+  const real w5 = x[4] * p[18];
+  const real w6 = x[3] * p[17];
+  const real w7 = x[6] * p[18];
+  const real w8 = w6 + w7;
+  const real w9 = x[2] * p[15];
+  const real w10 = x[5] * p[16];
+  const real w11 = w9 + w10;
+  const real w12 = x[4] * p[16];
+  const real w13 = x[3] * p[12];
+  const real w14 = x[6] * p[13];
+  const real w15 = w13 + w14;
+  const real w16 = x[2] * p[12];
+  const real w17 = x[5] * p[14];
+  const real w18 = w16 + w17;
+  const real w19 = x[2] * p[13];
+  const real w20 = x[4] * p[10];
+  const real w21 = x[3] * p[10];
+  const real w22 = x[6] * p[11];
+  const real w23 = w21 + w22;
+  const real w24 = x[4] * p[11];
+  const real w25 = x[2] * p[7];
+  const real w26 = x[5] * p[8];
+  const real w27 = w25 + w26;
+  out[0] = real(0.0);  // dphi1_dot/dphi1
+  out[1] = real(0.0);  // dphi1_dot/dphi2
+  out[2] = real(0.0);  // dphi1_dot/dwx_locked
+  out[3] = real(0.0);  // dphi1_dot/dwy_locked
+  out[4] = real(0.0);  // dphi1_dot/dwz_locked
+  out[5] = real(1.0);  // dphi1_dot/dphi1_dot
+  out[6] = real(0.0);  // dphi1_dot/dphi2_dot
+  out[7] = real(0.0);  // dphi2_dot/dphi1
+  out[8] = real(0.0);  // dphi2_dot/dphi2
+  out[9] = real(0.0);  // dphi2_dot/dwx_locked
+  out[10] = real(0.0);  // dphi2_dot/dwy_locked
+  out[11] = real(0.0);  // dphi2_dot/dwz_locked
+  out[12] = real(0.0);  // dphi2_dot/dphi1_dot
+  out[13] = real(1.0);  // dphi2_dot/dphi2_dot
+  out[14] = real(0.0);  // dwx_locked_rate/dphi1
+  out[15] = real(0.0);  // dwx_locked_rate/dphi2
+  out[16] = real(0.0);  // dwx_locked_rate/dwx_locked
+  out[17] = w2;  // dwx_locked_rate/dwy_locked
+  out[18] = w8;  // dwx_locked_rate/dwz_locked
+  out[19] = real(0.0);  // dwx_locked_rate/dphi1_dot
+  out[20] = w5;  // dwx_locked_rate/dphi2_dot
+  out[21] = real(0.0);  // dwy_locked_rate/dphi1
+  out[22] = real(0.0);  // dwy_locked_rate/dphi2
+  out[23] = w1;  // dwy_locked_rate/dwx_locked
+  out[24] = real(0.0);  // dwy_locked_rate/dwy_locked
+  out[25] = w11;  // dwy_locked_rate/dwz_locked
+  out[26] = w12;  // dwy_locked_rate/dphi1_dot
+  out[27] = real(0.0);  // dwy_locked_rate/dphi2_dot
+  out[28] = real(0.0);  // dwz_locked_rate/dphi1
+  out[29] = real(0.0);  // dwz_locked_rate/dphi2
+  out[30] = w15;  // dwz_locked_rate/dwx_locked
+  out[31] = w18;  // dwz_locked_rate/dwy_locked
+  out[32] = real(0.0);  // dwz_locked_rate/dwz_locked
+  out[33] = w4;  // dwz_locked_rate/dphi1_dot
+  out[34] = w19;  // dwz_locked_rate/dphi2_dot
+  out[35] = p[6];  // dphi1_dot_rate/dphi1
+  out[36] = real(0.0);  // dphi1_dot_rate/dphi2
+  out[37] = real(0.0);  // dphi1_dot_rate/dwx_locked
+  out[38] = w20;  // dphi1_dot_rate/dwy_locked
+  out[39] = w23;  // dphi1_dot_rate/dwz_locked
+  out[40] = real(0.0);  // dphi1_dot_rate/dphi1_dot
+  out[41] = w24;  // dphi1_dot_rate/dphi2_dot
+  out[42] = real(0.0);  // dphi2_dot_rate/dphi1
+  out[43] = real(0.0);  // dphi2_dot_rate/dphi2
+  out[44] = w0;  // dphi2_dot_rate/dwx_locked
+  out[45] = real(0.0);  // dphi2_dot_rate/dwy_locked
+  out[46] = w27;  // dphi2_dot_rate/dwz_locked
+  out[47] = w3;  // dphi2_dot_rate/dphi1_dot
+  out[48] = real(0.0);  // dphi2_dot_rate/dphi2_dot
+}
+
 }  // namespace satellite_compliant_rotor
 
 extern "C" {
@@ -710,5 +921,8 @@ void satellite_compliant_rotor_connection(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t
 void satellite_compliant_rotor_locked_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::locked_inertia(t, x, p, in, out); }
 void satellite_compliant_rotor_shape_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::shape_inertia(t, x, p, in, out); }
 int satellite_compliant_rotor_rhs_status(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { return satellite_compliant_rotor::rhs_status(t, x, p, in, out); }
+void satellite_compliant_rotor_prepare_parameters(const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* prepared) { satellite_compliant_rotor::prepare_parameters(p, prepared); }
+void satellite_compliant_rotor_rhs_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::rhs_prepared(t, x, p, in, out); }
+void satellite_compliant_rotor_jacobian_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::jacobian_prepared(t, x, p, in, out); }
 
 }  // extern "C"

@@ -25,6 +25,7 @@
 #define SATELLITE_COMPLIANT_ROTOR_N_OUT_CONNECTION 6
 #define SATELLITE_COMPLIANT_ROTOR_N_OUT_LOCKED_INERTIA 9
 #define SATELLITE_COMPLIANT_ROTOR_N_OUT_SHAPE_INERTIA 4
+#define SATELLITE_COMPLIANT_ROTOR_N_PREPARED_PARAMETERS 19
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +56,12 @@ void satellite_compliant_rotor_shape_inertia(HAMEL_SATELLITE_COMPLIANT_ROTOR_REA
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int satellite_compliant_rotor_rhs_status(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out);
+/* P = (p, then the parameter-only values), SATELLITE_COMPLIANT_ROTOR_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void satellite_compliant_rotor_prepare_parameters(const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void satellite_compliant_rotor_rhs_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void satellite_compliant_rotor_jacobian_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out);
 
 #ifdef __cplusplus
 }

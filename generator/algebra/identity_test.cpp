@@ -1,5 +1,6 @@
 #include "algebra/identity_test.hpp"
 
+#include "algebra/modular_arithmetic.hpp"
 #include "algebra/simplify.hpp"
 
 #include <cstdint>
@@ -18,33 +19,19 @@ using GiNaC::is_a;
 
 namespace {
 
-using u64 = std::uint64_t;
-__extension__ typedef unsigned __int128 u128;  // GCC and Clang; the product of two residues needs 122 bits
-constexpr u64 prime = (u64{1} << 61) - 1;
-
-u64 add_mod(u64 a, u64 b) {
-  const u64 s = a + b;
-  return s >= prime ? s - prime : s;
-}
-u64 sub_mod(u64 a, u64 b) { return a >= b ? a - b : a + prime - b; }
-u64 mul_mod(u64 a, u64 b) {
-  const u128 p = static_cast<u128>(a) * b;
-  const u64 lo = static_cast<u64>(p & prime), hi = static_cast<u64>(p >> 61);  // 2^61 ≡ 1
-  return add_mod(lo, hi);
-}
-u64 pow_mod(u64 a, u64 k) {
-  u64 r = 1;
-  for (; k; k >>= 1, a = mul_mod(a, a))
-    if (k & 1) r = mul_mod(r, a);
-  return r;
-}
+using modular::add_mod;
+using modular::mul_mod;
+using modular::pow_mod;
+using modular::prime;
+using modular::sub_mod;
+using modular::u64;
 
 struct Pole {};          // a denominator vanishes at this point: draw another
 struct Undecidable {};   // the expression is not a rational function of symbols and circle points
 
 u64 inverse(u64 a) {
   if (a == 0) throw Pole{};
-  return pow_mod(a, prime - 2);
+  return modular::inverse_of_nonzero(a);
 }
 
 // The square root of a modulo p ≡ 3 (mod 4): a^((p+1)/4) when a is a square. x^(j/2) is read as r^j with

@@ -24,7 +24,7 @@ struct EmitOptions {
 constexpr const char* kernel_names[] = {"kinematics",     "mass_matrix",   "forcing",        "hamel_coefficients",
                                         "rhs",            "jacobian",      "energy",         "constraint_residual",
                                         "group_velocity", "connection",    "locked_inertia", "shape_inertia",
-                                        "linearization",  "riemann_linearization"};
+                                        "linearization",  "riemann_linearization", "rhs_prepared",  "jacobian_prepared"};
 
 // --kernels a,b,c: the kernels to build, each a known name.
 std::set<std::string> parse_kernels(const std::string& list) {
@@ -91,10 +91,15 @@ void run(const EmitOptions& opt) {
   std::string files;
   for (const EmittedFile& f : package.files()) files += (files.empty() ? "" : ", ") + f.name;
   std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << "\n";
-  for (const Kernel& k : kernels.kernels) {
+  const auto report = [&](const Kernel& k) {
     const OpCounts c = kernels.graph.count(kernels.graph.schedule(k.outputs));
     std::cerr << "  " << k.name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, "
               << c.div << " div, " << c.call << " call)\n";
+  };
+  for (const Kernel& k : kernels.kernels) report(k);
+  if (kernels.prepared) {
+    report(kernels.prepared->prepare);
+    for (const Kernel& k : kernels.prepared->kernels) report(k);
   }
 }
 

@@ -105,6 +105,7 @@ std::string signature(const Kernel& k) {
 }
 
 struct PrintedKernel {
+  std::string name;
   std::string text;
   int temporaries = 0;  ///< named locals w0, w1, ...
   OpCounts ops;
@@ -172,7 +173,7 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     if (!uses[a]) os << "  (void)" << args[a] << ";\n";
   if (k.outputs.empty()) os << "  (void)out;\n";
   os << body.str() << "}\n";
-  return {os.str(), work, c};
+  return {k.name, os.str(), work, c};
 }
 
 template <class T, class F>
@@ -416,6 +417,28 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
       << "/// One classical fourth-order Runge-Kutta step of size h from (t, x), in place: 4 rhs calls, no\n"
       << "/// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.\n"
       << "void rk4_step(real t, real h, real* x, const real* p, const real* in);\n";
+  const std::optional<KernelSet::Prepared>& prepared = kernels.prepared;
+  std::vector<PrintedKernel> printed_prepared;
+  int n_prepared = s.n_p;
+  if (prepared) {
+    n_prepared = static_cast<int>(prepared->prepare.outputs.size());
+    Sizes wide = s;
+    wide.n_p = n_prepared;
+    for (const Kernel& k : prepared->kernels) printed_prepared.push_back(print_kernel(kernels.graph, k, wide));
+    h << "\n"
+      << "// Prepared parameters: the parameter-only work of rhs" << (prepared->kernels.size() > 1 ? " and jacobian" : "")
+      << " done once per parameter set (rhs: " << prepared->rhs.total() << " operations per call, rhs_prepared: "
+      << prepared->rhs_prepared.total() << ", prepare_parameters: " << prepared->once.total() << ").\n"
+      << "// prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each\n"
+      << "// <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it\n"
+      << "// again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).\n"
+      << "constexpr int n_prepared_parameters = " << n_prepared << ";\n"
+      << "void prepare_parameters(const real* p, real* prepared);\n";
+    for (std::size_t i = 0; i < prepared->kernels.size(); ++i)
+      h << "constexpr int n_temporaries_" << prepared->kernels[i].name << " = " << printed_prepared[i].temporaries
+        << ";\n/// " << prepared->kernels[i].summary << "; out[" << prepared->kernels[i].outputs.size() << "]\n"
+        << signature(prepared->kernels[i]) << ";\n";
+  }
   h << "\n}  // namespace " << model.name << "\n";
 
   std::ostringstream c;
@@ -444,6 +467,15 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
       << "}\n";
     c << rk4_source;
   }
+  if (prepared) {
+    Kernel prepare = prepared->prepare;
+    prepare.name = "prepare_parameters_kernel";
+    c << "\nnamespace {\n\n" << print_kernel(kernels.graph, prepare, s).text << "\n}  // namespace\n\n"
+      << "void prepare_parameters(const real* p, real* prepared) {\n"
+      << "  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);\n"
+      << "}\n";
+    for (const PrintedKernel& k : printed_prepared) c << "\n" << k.text;
+  }
   c << "\n}  // namespace " << model.name << "\n";
 
   // The C ABI: extern "C" entry points <name>_<kernel> beside the namespace, declared in <name>.h (C11).
@@ -465,18 +497,31 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
      << "#define " << upper(prefix) << "N_INPUTS " << s.n_in << "\n";
   for (const Kernel& k : kernels.kernels)
     ch << "#define " << upper(prefix) << "N_OUT_" << upper(k.name) << " " << k.outputs.size() << "\n";
+  if (prepared) ch << "#define " << upper(prefix) << "N_PREPARED_PARAMETERS " << n_prepared << "\n";
   ch << "\n#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n";
   for (const Kernel& k : kernels.kernels) ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
   if (has_rhs)
     ch << "/* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,\n"
        << "   2 a non-finite result (out untouched when not 0) */\n"
        << c_signature("int", "rhs_status") << ";\n";
+  if (prepared) {
+    ch << "/* P = (p, then the parameter-only values), " << upper(prefix)
+       << "N_PREPARED_PARAMETERS entries, for the _prepared kernels */\n"
+       << "void " << prefix << "prepare_parameters(const " << c_real << "* p, " << c_real << "* prepared);\n";
+    for (const Kernel& k : prepared->kernels) ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
+  }
   ch << "\n#ifdef __cplusplus\n}\n#endif\n\n#endif\n";
   c << "\nextern \"C\" {\n\n";
   for (const Kernel& k : kernels.kernels)
     c << c_signature("void", k.name) << " { " << model.name << "::" << k.name << "(t, x, p, in, out); }\n";
   if (has_rhs)
     c << c_signature("int", "rhs_status") << " { return " << model.name << "::rhs_status(t, x, p, in, out); }\n";
+  if (prepared) {
+    c << "void " << prefix << "prepare_parameters(const " << c_real << "* p, " << c_real << "* prepared) { "
+      << model.name << "::prepare_parameters(p, prepared); }\n";
+    for (const Kernel& k : prepared->kernels)
+      c << c_signature("void", k.name) << " { " << model.name << "::" << k.name << "(t, x, p, in, out); }\n";
+  }
   c << "\n}  // extern \"C\"\n";
 
   // CMakeLists.txt: a static library and nothing else, so that a firmware project can add_subdirectory it.
@@ -545,6 +590,20 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
     const OpCounts& o = printed[i].ops;
     md << "| `" << k.name << "` | " << k.outputs.size() << " | " << printed[i].temporaries << " | " << o.add << ", "
        << o.mul << ", " << o.div << ", " << o.call << " | " << k.summary << " |\n";
+  }
+  if (prepared) {
+    md << "\n### Prepared parameters\n\n"
+       << "Part of `rhs` depends on the parameters alone (with symbolic parameters, e.g. the factors of a mass "
+          "matrix that does not depend on the state). `prepare_parameters(p, P)` computes it once into "
+          "`P[n_prepared_parameters]` (`p` first; " << prepared->once.total() << " operations); then "
+          "`rhs_prepared(t, x, P, in, out)` (" << prepared->rhs_prepared.total() << " operations per call against "
+       << prepared->rhs.total() << " for `rhs`)"
+       << (prepared->kernels.size() > 1 ? " and `jacobian_prepared`" : "")
+       << " give the same outputs as `rhs(t, x, p, in, out)` without that work. Recompute `P` when `p` changes.\n\n"
+       << "| Kernel | Temporaries | Operations (add, mul, div, call) |\n|---|---|---|\n";
+    for (const PrintedKernel& k : printed_prepared)
+      md << "| `" << k.name << "` | " << k.temporaries << " | " << k.ops.add << ", " << k.ops.mul << ", " << k.ops.div
+         << ", " << k.ops.call << " |\n";
   }
   md << "\n## State `x` (n_state = " << s.n_x << ")\n\n"
      << "| Index | Name | Meaning |\n|---|---|---|\n";

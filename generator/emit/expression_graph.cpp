@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <functional>
 #include <stdexcept>
 
 namespace hamel {
@@ -364,6 +365,126 @@ std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<in
     x[i] = s;
   }
   return x;
+}
+
+namespace {
+
+// The program computing `outputs` rebuilt from its leaves up: `rule(i, a, b)` gives the image of node i from
+// the images a and b of its operands (b = −1 for one operand or none), or −1 for the default, which is i itself
+// when the operands are unchanged and the same operation on the images otherwise.
+template <class Rule>
+std::vector<int> rebuild(ExpressionGraph& g, const std::vector<int>& outputs, Rule rule) {
+  std::vector<int> image(static_cast<std::size_t>(g.size()));
+  for (int i = 0; i < g.size(); ++i) image[static_cast<std::size_t>(i)] = i;
+  for (int i : g.schedule(outputs)) {
+    const Node n = g.node(i);  // a copy: rebuilding grows the graph
+    const int a = n.a >= 0 ? image[static_cast<std::size_t>(n.a)] : -1;
+    const int b = n.b >= 0 ? image[static_cast<std::size_t>(n.b)] : -1;
+    const int chosen = rule(i, a, b);
+    if (chosen >= 0)
+      image[static_cast<std::size_t>(i)] = chosen;
+    else if (n.a >= 0 && (a != n.a || b != n.b))
+      image[static_cast<std::size_t>(i)] = b >= 0 ? g.binary(n.op, a, b) : g.unary(n.op, a);
+  }
+  std::vector<int> out;
+  for (int o : outputs) out.push_back(image[static_cast<std::size_t>(o)]);
+  return out;
+}
+
+// varying[i]: node i (of `order`, a schedule) depends on t, x or in.
+std::vector<char> varying_nodes(const ExpressionGraph& g, const std::vector<int>& order) {
+  std::vector<char> varying(static_cast<std::size_t>(g.size()), 0);
+  for (int i : order) {
+    const Node& n = g.node(i);
+    if (n.op == Op::input)
+      varying[static_cast<std::size_t>(i)] = n.argument != Argument::parameter;
+    else if (n.op != Op::constant)
+      varying[static_cast<std::size_t>(i)] =
+          varying[static_cast<std::size_t>(n.a)] || (n.b >= 0 && varying[static_cast<std::size_t>(n.b)]);
+  }
+  return varying;
+}
+
+}  // namespace
+
+std::vector<int> substitute(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& replace) {
+  return rebuild(g, outputs, [&](int i, int, int) {
+    const auto it = replace.find(i);
+    return it == replace.end() ? -1 : it->second;
+  });
+}
+
+std::vector<int> group_invariants(ExpressionGraph& g, const std::vector<int>& outputs) {
+  // varying(i) for every node, also those the rewrite creates.
+  std::vector<char> known, varying;
+  const std::function<bool(int)> is_varying = [&](int i) -> bool {
+    if (static_cast<std::size_t>(i) >= known.size()) {
+      known.resize(static_cast<std::size_t>(g.size()), 0);
+      varying.resize(static_cast<std::size_t>(g.size()), 0);
+    }
+    if (!known[static_cast<std::size_t>(i)]) {
+      const Node n = g.node(i);
+      const bool v = n.op == Op::input ? n.argument != Argument::parameter
+                     : n.op == Op::constant ? false
+                                            : is_varying(n.a) || (n.b >= 0 && is_varying(n.b));
+      known[static_cast<std::size_t>(i)] = 1;
+      varying[static_cast<std::size_t>(i)] = v;
+    }
+    return varying[static_cast<std::size_t>(i)];
+  };
+  // A varying factor v · k with k invariant, as (v, k); (x, −1) otherwise.
+  const auto split = [&](int x) -> std::pair<int, int> {
+    const Node& n = g.node(x);
+    if (n.op == Op::mul && is_varying(n.a) != is_varying(n.b))
+      return is_varying(n.a) ? std::pair<int, int>{n.a, n.b} : std::pair<int, int>{n.b, n.a};
+    return {x, -1};
+  };
+  const int one = g.constant(1);
+  return rebuild(g, outputs, [&](int i, int a, int b) {
+    const Op op = g.node(i).op;
+    if (op != Op::mul && op != Op::div) return -1;
+    if (op == Op::div) {
+      if (!is_varying(a) || is_varying(b) || g.node(b).op == Op::constant) return -1;
+      b = g.binary(Op::div, one, b);  // a / k = a · (1/k)
+    }
+    if (is_varying(a) == is_varying(b) && !is_varying(a)) return -1;  // parameter-only: stays whole
+    const auto [va, ka] = is_varying(a) ? split(a) : std::pair<int, int>{-1, a};
+    const auto [vb, kb] = is_varying(b) ? split(b) : std::pair<int, int>{-1, b};
+    if (ka < 0 && kb < 0) return op == Op::mul ? -1 : g.binary(Op::mul, a, b);
+    const int v = va < 0 ? vb : vb < 0 ? va : g.binary(Op::mul, va, vb);
+    const int k = ka < 0 ? kb : kb < 0 ? ka : g.binary(Op::mul, ka, kb);
+    return g.binary(Op::mul, v, k);
+  });
+}
+
+OpCounts run_time_operations(const ExpressionGraph& g, const std::vector<int>& outputs) {
+  const std::vector<int> order = g.schedule(outputs);
+  const std::vector<char> varying = varying_nodes(g, order);
+  std::vector<int> run_time;
+  for (int i : order)
+    if (varying[static_cast<std::size_t>(i)]) run_time.push_back(i);
+  return g.count(run_time);
+}
+
+std::vector<int> parameter_frontier(const ExpressionGraph& g, const std::vector<int>& outputs) {
+  const std::vector<int> order = g.schedule(outputs);
+  const std::vector<char> varying = varying_nodes(g, order);
+  std::vector<char> hoist(static_cast<std::size_t>(g.size()), 0);
+  const auto operation = [&](int i) { return g.node(i).op != Op::constant && g.node(i).op != Op::input; };
+  for (int i : order) {
+    const Node& n = g.node(i);
+    if (!varying[static_cast<std::size_t>(i)] || n.op == Op::input) continue;
+    const bool va = varying[static_cast<std::size_t>(n.a)];
+    const bool vb = n.b >= 0 && varying[static_cast<std::size_t>(n.b)];
+    if (!va && operation(n.a)) hoist[static_cast<std::size_t>(n.a)] = 1;
+    if (n.b >= 0 && !vb && operation(n.b)) hoist[static_cast<std::size_t>(n.b)] = 1;
+  }
+  for (int o : outputs)
+    if (!varying[static_cast<std::size_t>(o)] && operation(o)) hoist[static_cast<std::size_t>(o)] = 1;
+  std::vector<int> frontier;
+  for (int i : order)
+    if (hoist[static_cast<std::size_t>(i)]) frontier.push_back(i);
+  return frontier;
 }
 
 std::vector<int> tangent(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& seed) {

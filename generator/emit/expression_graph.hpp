@@ -147,6 +147,28 @@ class ProgramConverter {
 /// depends on the seeded inputs is differentiated.
 std::vector<int> tangent(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& seed);
 
+/// `outputs` with every node `k` of `replace` taken as `replace[k]`: the program above the replaced nodes is
+/// rebuilt (value numbering shares what does not depend on them).
+std::vector<int> substitute(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& replace);
+
+/// The parameter-only work of a program, to be done once per parameter set instead of on every call
+/// (loop-invariant code motion with the parameters as the invariants): the operations that depend on
+/// parameters and constants alone and that are outputs or operands of an operation depending on t, x or in,
+/// in evaluation order. Everything they need is parameter-only too: schedule(result) is the work moved out.
+std::vector<int> parameter_frontier(const ExpressionGraph& g, const std::vector<int>& outputs);
+
+/// `outputs` rewritten so that parameter-only values gather into as few per-call operations as possible: a
+/// division a / k by a parameter-only k becomes a · (1/k), and a product of factors of the form v · k (v
+/// depending on t, x or in, k parameter-only) becomes (v · v′) · (k · k′). The parameter-only products and
+/// reciprocals join the work parameter_frontier moves out; what is left per call has no more operations than
+/// before (each rewritten multiplication replaces one), usually fewer. Reassociation: results may differ from
+/// the original program in the last bits.
+std::vector<int> group_invariants(ExpressionGraph& g, const std::vector<int>& outputs);
+
+/// The operations of the program computing `outputs` that depend on t, x or in: what a kernel whose
+/// parameter-only work is prepared (parameter_frontier) still does per call.
+OpCounts run_time_operations(const ExpressionGraph& g, const std::vector<int>& outputs);
+
 /// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without
 /// pivoting or square roots): no loops or branches in the emitted kernel. M by rows of node indices.
 /// `last_first` eliminates from the last index down (M = LᵀDL): for the mass matrix of a kinematic tree,

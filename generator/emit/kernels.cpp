@@ -2,6 +2,7 @@
 
 #include "algebra/simplify.hpp"
 #include "derive/riemann.hpp"
+#include "emit/polynomial_form.hpp"
 
 #include <optional>
 #include <stdexcept>
@@ -15,6 +16,9 @@ const Kernel& KernelSet::get(const std::string& name) const {
 }
 
 namespace {
+
+// Prepared parameters are built by default when rhs_prepared has at most this share of rhs's operations.
+constexpr double kPreparedShare = 0.9;
 
 // Operations of rhs above which a model that is not a kinematic tree gets its Jacobian by forward mode only.
 constexpr int kSymbolicJacobianLimit = 8000;
@@ -354,6 +358,53 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         linearization.output_names.push_back(name("G_dot", a, b));
       }
     set.kernels.push_back(linearization);
+  }
+  // Prepared parameters: the parameter-only work of rhs and jacobian hoisted into prepare (KernelSet::Prepared).
+  const bool prepared_named = only.count("rhs_prepared") > 0 || only.count("jacobian_prepared") > 0;
+  if (only.empty() || prepared_named) {
+    std::vector<const Kernel*> originals;
+    if (want("rhs") || only.count("rhs_prepared")) originals.push_back(&rhs);
+    if ((want("jacobian") || only.count("jacobian_prepared")) && !jacobian.outputs.empty())
+      originals.push_back(&jacobian);
+    // Parameter-only factors and divisors gathered, so that their products and reciprocals are prepared too;
+    // or, where it leaves fewer operations per call, polynomial outputs as Σ coefficient · monomial.
+    std::vector<std::vector<int>> rewritten;
+    std::vector<int> all;
+    for (const Kernel* k : originals) {
+      std::vector<int> grouped = group_invariants(g, k->outputs);
+      std::vector<int> polynomial = polynomial_form(g, k->outputs);
+      const bool fewer = run_time_operations(g, polynomial).total() < run_time_operations(g, grouped).total();
+      rewritten.push_back(fewer ? std::move(polynomial) : std::move(grouped));
+      all.insert(all.end(), rewritten.back().begin(), rewritten.back().end());
+    }
+    const std::vector<int> frontier = parameter_frontier(g, all);
+    KernelSet::Prepared prepared;
+    prepared.rhs = g.count(g.schedule(rhs.outputs));
+    prepared.once = g.count(g.schedule(frontier));
+    if (!rewritten.empty() && originals.front() == &rhs) prepared.rhs_prepared = run_time_operations(g, rewritten.front());
+    if (prepared_named || (!rewritten.empty() && originals.front() == &rhs &&
+                           prepared.rhs_prepared.total() <= kPreparedShare * prepared.rhs.total())) {
+      const int n_p = static_cast<int>(model.parameters.size());
+      prepared.prepare = {"prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}};
+      for (int k = 0; k < n_p; ++k) {
+        prepared.prepare.outputs.push_back(g.input(Argument::parameter, k));
+        prepared.prepare.output_names.push_back(model.parameters[static_cast<std::size_t>(k)].symbol.get_name());
+      }
+      std::map<int, int> replace;
+      for (std::size_t j = 0; j < frontier.size(); ++j) {
+        prepared.prepare.outputs.push_back(frontier[j]);
+        prepared.prepare.output_names.push_back("prepared " + std::to_string(j));
+        replace[frontier[j]] = g.input(Argument::parameter, n_p + static_cast<int>(j));
+      }
+      for (std::size_t i = 0; i < originals.size(); ++i) {
+        Kernel variant = *originals[i];
+        variant.name += "_prepared";
+        variant.summary = originals[i]->name + " reading the prepared parameters P (prepare_parameters) in place of p";
+        variant.outputs = substitute(g, rewritten[i], replace);
+        prepared.kernels.push_back(variant);
+      }
+      set.prepared = prepared;
+    }
   }
   if (!want("rhs")) set.rhs_pivots.clear();
   if (!only.empty()) {

@@ -8,6 +8,7 @@
 #include "emit/expression_graph.hpp"
 #include "model/model.hpp"
 
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
@@ -21,6 +22,21 @@ struct KernelSet {
   /// when M is inverted at generation time): all positive iff M is positive definite. For the emitted
   /// status-returning rhs (rhs_status); empty when rhs is not built.
   std::vector<int> rhs_pivots;
+  /// Prepared parameters: rhs (and jacobian) with their parameter-only work done once per parameter set.
+  /// `prepare` maps p to P = (p, then the values of parameter_frontier), written into out; the kernels
+  /// (rhs_prepared, jacobian_prepared) read P where the originals read p, and equal them. Per call they do
+  /// what depends on t, x or in: parameter-only factors gathered (group_invariants), or, when that is
+  /// fewer operations, polynomial outputs as Σ coefficient · monomial (polynomial_form). Built by default
+  /// when rhs_prepared saves at least a tenth of rhs's operations per call (symbolic parameters in a constant
+  /// mass matrix: the satellites), or when `only` names rhs_prepared or jacobian_prepared.
+  struct Prepared {
+    Kernel prepare;
+    std::vector<Kernel> kernels;
+    OpCounts rhs;           ///< operations of rhs
+    OpCounts rhs_prepared;  ///< operations of rhs_prepared (per call)
+    OpCounts once;          ///< operations of prepare (once per parameter set)
+  };
+  std::optional<Prepared> prepared;
   const Kernel& get(const std::string& name) const;
 };
 

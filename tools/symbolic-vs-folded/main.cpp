@@ -3,6 +3,8 @@
 // with --fold all at 20 pseudo-random states and the default parameters (max over the states of
 // ||rhs_sym - rhs_fold||_inf / ||rhs_fold||_inf, limit 1e-12), then times both rhs in one Google Benchmark
 // run at one fixed pseudo-random state (CPU time) and prints a Markdown table with the ratio symbolic/folded.
+// A symbolic package with prepared parameters also registers rhs_prepared (variant "prepared", its p[] the
+// prepared array P): checked and timed the same way, and the ratio judged is then prepared/folded.
 //   symbolic_vs_folded [--check-only] [google-benchmark flags...]
 // Exit status: 0, or 1 when a model disagrees (or a package is missing its partner).
 #include "registry.hpp"
@@ -43,6 +45,7 @@ std::vector<double> call(const svf::Package& k, const std::vector<double>& x) {
 struct Pair {
   const svf::Package* symbolic = nullptr;
   const svf::Package* folded = nullptr;
+  const svf::Package* prepared = nullptr;  // rhs_prepared of the symbolic package, if it has one
   double max_relative = 0.0;
   bool ok = true;
 };
@@ -92,7 +95,9 @@ int main(int argc, char** argv) {
   std::map<std::string, Pair> pairs;
   for (const svf::Package& k : svf::packages()) {
     if (!pairs.count(k.model)) models.push_back(k.model);
-    (k.variant == "symbolic" ? pairs[k.model].symbolic : pairs[k.model].folded) = &k;
+    (k.variant == "symbolic" ? pairs[k.model].symbolic
+     : k.variant == "folded" ? pairs[k.model].folded
+                             : pairs[k.model].prepared) = &k;
   }
   std::sort(models.begin(), models.end());
 
@@ -112,15 +117,18 @@ int main(int argc, char** argv) {
     std::mt19937_64 rng(12);
     for (int s = 0; s < n_check_states; ++s) {
       const std::vector<double> x = random_state(rng, pr.symbolic->n_state);
-      const std::vector<double> a = call(*pr.symbolic, x), b = call(*pr.folded, x);
-      double diff = 0.0, scale = 0.0;
-      for (std::size_t i = 0; i < a.size(); ++i) {
-        diff = std::max(diff, std::fabs(a[i] - b[i]));
-        scale = std::max(scale, std::fabs(b[i]));
+      const std::vector<double> b = call(*pr.folded, x);
+      for (const svf::Package* k : {pr.symbolic, pr.prepared}) {
+        if (!k) continue;
+        const std::vector<double> a = call(*k, x);
+        double diff = 0.0, scale = 0.0;
+        for (std::size_t i = 0; i < a.size(); ++i) {
+          diff = std::max(diff, std::fabs(a[i] - b[i]));
+          scale = std::max(scale, std::fabs(b[i]));
+        }
+        const double rel = scale > 0.0 ? diff / scale : diff;
+        pr.max_relative = std::isfinite(rel) ? std::max(pr.max_relative, rel) : INFINITY;
       }
-      const double rel = scale > 0.0 ? diff / scale : diff;
-      if (!std::isfinite(rel)) pr.max_relative = INFINITY;
-      pr.max_relative = std::max(pr.max_relative, rel);
     }
     pr.ok = pr.max_relative <= tolerance;
     if (!pr.ok) ++failures;
@@ -137,7 +145,8 @@ int main(int argc, char** argv) {
     const Pair& pr = pairs[m];
     if (!pr.symbolic || !pr.folded) continue;
     state[m] = random_state(rng, pr.symbolic->n_state);
-    for (const svf::Package* k : {pr.symbolic, pr.folded}) {
+    for (const svf::Package* k : {pr.symbolic, pr.folded, pr.prepared}) {
+      if (!k) continue;
       const std::vector<double>* x = &state[m];
       benchmark::RegisterBenchmark((m + "/" + k->variant).c_str(), [k, x](benchmark::State& st) {
         std::vector<double> p(k->default_parameters, k->default_parameters + k->n_parameters);
@@ -159,19 +168,27 @@ int main(int argc, char** argv) {
 
   std::printf("\n## rhs: symbolic parameters vs --fold all (-O2, CPU time per call, median when repeated)\n\n");
   std::printf(
-      "| model | symbolic ns | folded ns | symbolic/folded | <= 1.5 | symbolic rhs operations | "
-      "folded rhs operations | max rel. difference (%d states) |\n",
+      "| model | symbolic ns | folded ns | symbolic/folded | prepared ns | prepared/folded | <= 1.5 | symbolic rhs "
+      "operations | rhs_prepared operations | folded rhs operations | max rel. difference (%d states) |\n",
       n_check_states);
-  std::printf("|---|---:|---:|---:|---|---|---|---:|\n");
+  std::printf("|---|---:|---:|---:|---:|---:|---|---|---|---|---:|\n");
   for (const std::string& m : models) {
     const Pair& pr = pairs[m];
     if (!pr.symbolic || !pr.folded) continue;
-    const std::string s = m + "/symbolic", f = m + "/folded";
+    const std::string s = m + "/symbolic", f = m + "/folded", p = m + "/prepared";
     if (!collector.has(s) || !collector.has(f)) continue;
     const double ratio = collector.ns(s) / collector.ns(f);
-    std::printf("| %s | %.1f | %.1f | %.2f | %s | %s | %s | %.1e |\n", m.c_str(), collector.ns(s), collector.ns(f),
-                ratio, ratio <= 1.5 ? "yes" : "**no**", pr.symbolic->operations.c_str(), pr.folded->operations.c_str(),
-                pr.max_relative);
+    const bool prepared = pr.prepared && collector.has(p);
+    const double judged = prepared ? collector.ns(p) / collector.ns(f) : ratio;
+    char prepared_ns[32] = "-", prepared_ratio[32] = "-";
+    if (prepared) {
+      std::snprintf(prepared_ns, sizeof prepared_ns, "%.1f", collector.ns(p));
+      std::snprintf(prepared_ratio, sizeof prepared_ratio, "%.2f", judged);
+    }
+    std::printf("| %s | %.1f | %.1f | %.2f | %s | %s | %s | %s | %s | %s | %.1e |\n", m.c_str(), collector.ns(s),
+                collector.ns(f), ratio, prepared_ns, prepared_ratio, judged <= 1.5 ? "yes" : "**no**",
+                pr.symbolic->operations.c_str(), prepared ? pr.prepared->operations.c_str() : "-",
+                pr.folded->operations.c_str(), pr.max_relative);
   }
   return failures ? 1 : 0;
 }

@@ -4,6 +4,7 @@
 #include "model/input_error.hpp"
 #include "derive/derivation.hpp"
 #include "emit/cpp_emitter.hpp"
+#include "emit/kernel_registry.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
 #include "report/progress.hpp"
@@ -21,23 +22,15 @@ struct EmitOptions {
   std::vector<std::string> params;
 };
 
-constexpr const char* kernel_names[] = {"kinematics",     "mass_matrix",   "forcing",        "hamel_coefficients",
-                                        "rhs",            "jacobian",      "energy",         "constraint_residual",
-                                        "group_velocity", "connection",    "locked_inertia", "shape_inertia",
-                                        "linearization",  "riemann_linearization", "rhs_prepared",  "jacobian_prepared"};
-
 // --kernels a,b,c: the kernels to build, each a known name.
 std::set<std::string> parse_kernels(const std::string& list) {
   std::set<std::string> out;
-  std::string known;
-  for (const char* k : kernel_names) known += (known.empty() ? "" : ", ") + std::string(k);
   std::size_t start = 0;
   while (start <= list.size()) {
     const std::size_t comma = std::min(list.find(',', start), list.size());
     const std::string name = list.substr(start, comma - start);
-    bool ok = false;
-    for (const char* k : kernel_names) ok = ok || name == k;
-    if (!ok) throw InputError("--kernels: unknown kernel '" + name + "'; expected a comma-separated list of: " + known);
+    if (!is_kernel_name(name))
+      throw InputError("--kernels: unknown kernel '" + name + "'; expected a comma-separated list of: " + kernel_names());
     out.insert(name);
     start = comma + 1;
   }
@@ -117,8 +110,10 @@ Run add_emit_command(CLI::App& app) {
   cmd->add_option("--fold", opt->fold,
                   std::string(fold_help()) + " (default: none for models, the scene's `fixed` for scenes)");
   cmd->add_option("--kernels", opt->kernels,
-                  "Only these kernels, comma-separated (e.g. rhs,mass_matrix; default: all the model has). The "
-                  "jacobian of a large kinematic tree is by far its biggest kernel");
+                  "Only these kernels, comma-separated (e.g. rhs,mass_matrix; default: all the model has, "
+                  "except linearization and riemann_linearization). The jacobian of a large kinematic tree is by far "
+                  "its biggest kernel. Known: " +
+                      kernel_names());
   return [opt] { run(*opt); };
 }
 

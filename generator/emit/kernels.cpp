@@ -2,6 +2,7 @@
 
 #include "algebra/simplify.hpp"
 #include "derive/riemann.hpp"
+#include "emit/kernel_registry.hpp"
 #include "emit/polynomial_form.hpp"
 
 #include <optional>
@@ -45,10 +46,17 @@ std::optional<std::vector<GiNaC::ex>> exact_accelerations(const HamelEquations& 
   return out;
 }
 
+// An empty kernel with its registered name and summary, and `how` appended to the summary.
+Kernel registered(const char* name, const std::string& how = "") {
+  const KernelSpec& spec = kernel_spec(name);
+  return {spec.name, spec.summary + how, {}, {}};
+}
+
 }  // namespace
 
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only) {
-  const auto want = [&](const char* name) { return only.empty() || only.count(name) > 0; };
+  // A kernel is built when named, or, when none is named, if the registry builds it by default.
+  const auto want = [&](const char* name) { return only.empty() ? kernel_spec(name).by_default : only.count(name) > 0; };
   KernelSet set;
   ExpressionGraph& g = set.graph;
   const HamelEquations& eq = derivation.equations;
@@ -75,14 +83,14 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   const auto diff = [&](const GiNaC::ex& e, const GiNaC::ex& x) { return tape.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); };
   const auto name_of = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
 
-  Kernel kinematics{"kinematics", "q_dot = B_I(q) u_I, eq. (qadot)", {}, {}};
+  Kernel kinematics = registered("kinematics");
   for (int a = 0; a < n; ++a) {
     kinematics.outputs.push_back(node_of(eq.kinematics[static_cast<std::size_t>(a)]));
     kinematics.output_names.push_back(sys.coordinates[static_cast<std::size_t>(a)].get_name() + "_dot");
   }
 
   const std::size_t d = eq.independent.size();
-  Kernel mass{"mass_matrix", "M_IJ = d2L/du^I du^J, row-major, eq. (BHconstr)", {}, {}};
+  Kernel mass = registered("mass_matrix");
   std::vector<std::vector<int>> M(d, std::vector<int>(d));
   for (std::size_t i = 0; i < d; ++i)
     for (std::size_t j = 0; j < d; ++j) {
@@ -91,13 +99,13 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       mass.output_names.push_back("M[" + name_of(eq.independent[i]) + "][" + name_of(eq.independent[j]) + "]");
     }
 
-  Kernel forcing{"forcing", "f_I such that M u_I' = f, eq. (BHconstr)", {}, {}};
+  Kernel forcing = registered("forcing");
   for (std::size_t i = 0; i < d; ++i) {
     forcing.outputs.push_back(node_of(eq.forcing[i]));
     forcing.output_names.push_back("f[" + name_of(eq.independent[i]) + "]");
   }
 
-  Kernel gamma{"hamel_coefficients", "non-zero gamma^c_ab, eq. (gamma); order as in hamel_upper/lower", {}, {}};
+  Kernel gamma = registered("hamel_coefficients");
   for (const HamelCoefficient& h : sys.gamma) {
     gamma.outputs.push_back(node_of(h.value));
     gamma.output_names.push_back("gamma^" + name_of(h.upper) + "_" + name_of(h.lower_a) + "," + name_of(h.lower_b));
@@ -105,12 +113,9 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
 
   const std::optional<std::vector<GiNaC::ex>> exact_accel = exact_accelerations(eq, sys);
   const bool articulated = !eq.recursive_accelerations.empty();
-  Kernel rhs{"rhs",
-             articulated   ? "x' = (q_dot, u_I') with u_I' by the articulated-body algorithm (O(n), no M)"
-             : exact_accel ? "x' = (q_dot, u_I') with u_I' = M^-1 f, M constant, inverted at generation time"
-                           : "x' = (q_dot, u_I') with M u_I' = f solved by unrolled LDL^T",
-             {},
-             {}};
+  Kernel rhs = registered("rhs", articulated   ? " with u_I' by the articulated-body algorithm (O(n), no M)"
+                                 : exact_accel ? " with u_I' = M^-1 f, M constant, inverted at generation time"
+                                               : " with M u_I' = f solved by unrolled LDL^T");
   rhs.outputs = kinematics.outputs;
   rhs.output_names = kinematics.output_names;
   std::vector<int> accel;
@@ -130,7 +135,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   // d(x')/dx for implicit integrators: the kinematics rows by differentiation; the acceleration rows from
   // M u' = f as M d(u')/dx_k = df/dx_k − (dM/dx_k) u', solved with the same LDLᵀ (value numbering shares
   // the factorization between the columns), or by differentiating u' = M⁻¹ f when M is constant.
-  Kernel jacobian{"jacobian", "d(x')/dx, row-major n_state x n_state, for implicit integrators", {}, {}};
+  Kernel jacobian = registered("jacobian");
   // A large rhs program (the Whipple bicycle: 1.5e4 operations) is differentiated in forward mode only: the
   // symbolic route below differentiates M and f through the derivation's program per state component, which
   // costs seconds of GiNaC work there, for a kernel of about the same size (1.25e5 against 1.32e5 operations).
@@ -213,12 +218,8 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
 
   // A = d(x')/dx and B = d(x')/d(in) along any state: forward mode through the rhs program (one tangent pass
   // per state and input component; no symbolic derivative is formed). Built only when asked for by name.
-  Kernel linearization{"linearization",
-                       "A = d(x')/dx (n_state x n_state) then B = d(x')/d(in) (n_state x n_in), row-major, forward "
-                       "mode through rhs",
-                       {},
-                       {}};
-  if (only.count("linearization")) {
+  Kernel linearization = registered("linearization");
+  if (want("linearization")) {
     const int nx = static_cast<int>(rhs.outputs.size());
     const int ni = static_cast<int>(model.inputs.size());
     const std::vector<std::vector<int>> a_columns = forward_columns(Argument::state, nx);
@@ -236,14 +237,14 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       }
   }
 
-  Kernel energy{"energy", "E = dL/du^I u^I - L (invariant when the model is conservative)", {}, {}};
+  Kernel energy = registered("energy");
   energy.outputs.push_back(node_of(eq.energy_terms.at(0)));
   energy.output_names.push_back("E");
 
   set.kernels = {kinematics, mass, forcing, gamma, rhs, jacobian, energy};
-  if (only.count("linearization")) set.kernels.push_back(linearization);
+  if (want("linearization")) set.kernels.push_back(linearization);
   if (!eq.constraint_residual.empty()) {
-    Kernel residual{"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", {}, {}};
+    Kernel residual = registered("constraint_residual");
     for (std::size_t k = 0; k < eq.constraint_residual.size(); ++k) {
       residual.outputs.push_back(node_of(eq.constraint_residual[k]));
       residual.output_names.push_back(name_of(sys.constrained[k]));
@@ -254,7 +255,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     const BundleGeometry& geo = *derivation.bundle;
     const Bundle& b = *model.bundle;
     const std::size_t m = b.group_velocity.size();
-    Kernel xi{"group_velocity", "xi^alpha = u^alpha - A^alpha_I r_dot^I for the reconstruction, eq. (KinRec)", {}, {}};
+    Kernel xi = registered("group_velocity");
     for (std::size_t a = 0; a < m; ++a) {
       xi.outputs.push_back(node_of(derivation.group_velocity[a]));
       xi.output_names.push_back(b.group_velocity[a].get_name());
@@ -278,7 +279,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
                                     : solved_connection[a][static_cast<std::size_t>(I)];
     };
     if (n > 0) {
-      Kernel conn{"connection", "A^alpha_I(r), row-major, eq. (KinConnect)/(mechConn)", {}, {}};
+      Kernel conn = registered("connection");
       for (std::size_t a = 0; a < m; ++a)
         for (int I = 0; I < n; ++I) {
           conn.outputs.push_back(connection_node(a, I));
@@ -288,7 +289,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       set.kernels.push_back(conn);
     }
     if (geo.quadratic) {
-      Kernel locked{"locked_inertia", "L_alpha_beta(r) = d2T/dxi^alpha dxi^beta, row-major, eq. (M)", {}, {}};
+      Kernel locked = registered("locked_inertia");
       for (std::size_t a = 0; a < m; ++a)
         for (std::size_t c = 0; c < m; ++c) {
           locked.outputs.push_back(node_of(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(c))));
@@ -299,7 +300,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     }
     if (b.mechanical && n > 0 && want("shape_inertia")) {
       // The lower block of M^Ω = diag(L, S − AᵀLA) (MOmega); the upper block is locked_inertia.
-      Kernel shape{"shape_inertia", "S - A^T L A, the shape block of M^Omega, row-major, eq. (MOmega)", {}, {}};
+      Kernel shape = registered("shape_inertia");
       for (int I = 0; I < n; ++I)
         for (int J = 0; J < n; ++J) {
           if (geo.connection_derived) {
@@ -321,16 +322,11 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   // The Riemannian view (derive/riemann.hpp), built only when asked for by name: it is defined only for
   // unconstrained models in general coordinates with L = ½ g_ab q̇ᵃq̇ᵇ − V. Matrices in the coordinate basis
   // ∂/∂qᵃ at the state's velocity q̇ = B(q) u_I (qadot); for A = I that is q̇ = u.
-  if (only.count("riemann_linearization")) {
+  if (want("riemann_linearization")) {
     const RiemannGeometry riemann = derive_riemann(model, tape);
     for (int a = 0; a < n; ++a)
       leaves[model.rates[static_cast<std::size_t>(a)]] = node_of(eq.kinematics[static_cast<std::size_t>(a)]);
-    Kernel linearization{"riemann_linearization",
-                         "g_ab, G^a_c = Gamma^a_bc q_dot^b, K_ab = R_cbda q_dot^c q_dot^d - nabla_b Q_a at q_dot = B u, "
-                         "and dG/dt along x' = rhs: g D2x/dt2 + K x = Phi, D x/dt = x_dot + G x; four n x n blocks, "
-                         "row-major",
-                         {},
-                         {}};
+    Kernel linearization = registered("riemann_linearization");
     const auto name = [&](const char* label, int a, int b) {
       return std::string(label) + "[" + sys.coordinates[static_cast<std::size_t>(a)].get_name() + "][" +
              sys.coordinates[static_cast<std::size_t>(b)].get_name() + "]";
@@ -398,8 +394,9 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       }
       for (std::size_t i = 0; i < originals.size(); ++i) {
         Kernel variant = *originals[i];
-        variant.name += "_prepared";
-        variant.summary = originals[i]->name + " reading the prepared parameters P (prepare_parameters) in place of p";
+        const KernelSpec& spec = kernel_spec(originals[i]->name + "_prepared");
+        variant.name = spec.name;
+        variant.summary = spec.summary;
         variant.outputs = substitute(g, rewritten[i], replace);
         prepared.kernels.push_back(variant);
       }

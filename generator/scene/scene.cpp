@@ -1,5 +1,6 @@
 #include "scene/scene.hpp"
 
+#include "emit/kernel_registry.hpp"
 #include "model/expression_parser.hpp"
 #include "model/load_model.hpp"
 
@@ -30,7 +31,7 @@ const std::map<std::string, std::vector<std::string>>& scene_tasks() {
 std::set<std::string> scene_kernels(const Scene& scene) {
   std::set<std::string> out;
   for (const std::string& task : scene.compute)
-    for (const std::string& k : scene_tasks().at(task)) out.insert(k);
+    for (const std::string& k : scene_tasks().at(task)) out.insert(kernel_spec(k).name);  // registered names only
   return out;
 }
 

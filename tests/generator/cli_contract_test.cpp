@@ -1,5 +1,7 @@
 // The command-line contract, exercised on the real binary: JSON shape of `derive`, CSV header of
 // `simulate`, byte-identical regeneration by `emit`, exit status 2 and no output on bad input.
+#include "support/command.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 #include <vector>
@@ -18,33 +20,14 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string source(const std::string& relative) {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return std::string(dir ? dir : ".") + "/" + relative;
-}
-
-struct Outcome {
-  int status;
-  std::string out;
-};
+using hamel::test::Outcome;
+using hamel::test::run;
+using hamel::test::slurp;
+using hamel::test::source;
 
 // Runs `hamel ARGS`, capturing stdout (stderr discarded unless redirected in args).
 Outcome hamel(const std::string& args) {
-  const std::string command = std::string(HAMEL_BINARY) + " " + args;
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), got);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
+  return run(std::string(HAMEL_BINARY) + " " + args);
 }
 
 fs::path scratch(const std::string& name) {

@@ -3,6 +3,8 @@
 // compiles with pdflatex when pdflatex is installed. Also the TeX spelling of names, and --latex's refusals.
 #include "report/latex.hpp"
 
+#include "support/command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -18,25 +20,10 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string source(const std::string& relative) {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return std::string(dir ? dir : ".") + "/" + relative;
-}
-
-struct Outcome {
-  int status;
-  std::string out;
-};
-
-Outcome run(const std::string& command) {
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), got);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+using hamel::test::Outcome;
+using hamel::test::run;
+using hamel::test::slurp;
+using hamel::test::source;
 
 Outcome hamel(const std::string& args) { return run(std::string(HAMEL_BINARY) + " " + args); }
 

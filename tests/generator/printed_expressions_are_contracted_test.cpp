@@ -5,6 +5,8 @@
 #include "algebra/contract_trig.hpp"
 #include "algebra/simplify.hpp"
 
+#include "support/command.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -25,24 +27,13 @@ namespace {
 namespace fs = std::filesystem;
 using GiNaC::ex;
 
-std::string source(const std::string& relative) {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return std::string(dir ? dir : ".") + "/" + relative;
-}
-
-struct Outcome {
-  int status;
-  std::string out;
-};
+using hamel::test::Outcome;
+using hamel::test::run;
+using hamel::test::slurp;
+using hamel::test::source;
 
 Outcome hamel(const std::string& args) {
-  FILE* pipe = popen((std::string(HAMEL_BINARY) + " " + args + " 2>&1").c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), got);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
+  return run(std::string(HAMEL_BINARY) + " " + args + " 2>&1");
 }
 
 class ContractTrig : public ::testing::Test {

@@ -10,6 +10,8 @@
 //    --path on stderr;
 //  - <model>_phase.csv (trajectory) and <model>_phase.svg (x–y plot when the group has a translation, the
 //    rotation vector over time on SO(3)) are written into --out; nothing is written with --no-files.
+#include "support/command.hpp"
+
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -29,17 +31,8 @@ namespace {
 namespace fs = std::filesystem;
 using nlohmann::json;
 
-std::string source(const std::string& relative) {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return std::string(dir ? dir : ".") + "/" + relative;
-}
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using hamel::test::slurp;
+using hamel::test::source;
 
 fs::path scratch_root() { return fs::temp_directory_path() / ("hamel_phase_cli_test_" + std::to_string(::getpid())); }
 
@@ -65,14 +58,8 @@ struct Outcome {
 // Runs `hamel ARGS`, capturing stdout and stderr.
 Outcome hamel(const std::string& args) {
   const fs::path err_file = scratch("stderr") / "err.txt";
-  const std::string command = std::string(HAMEL_BINARY) + " " + args + " 2>" + err_file.string();
-  FILE* pipe = popen(command.c_str(), "r");
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), got);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out, slurp(err_file)};
+  const hamel::test::Outcome r = hamel::test::run(std::string(HAMEL_BINARY) + " " + args + " 2>" + err_file.string());
+  return {r.status, r.out, slurp(err_file)};
 }
 
 // The paper's Sec. 6c path.

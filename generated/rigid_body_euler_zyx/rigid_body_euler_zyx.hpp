@@ -46,7 +46,7 @@ constexpr int hamel_lower_b[6] = {2, 1, 2, 0, 1, 0};
 
 // Output sizes (out[] entries) and named temporaries of each kernel.
 constexpr int n_out_kinematics = 3;
-constexpr int n_temporaries_kinematics = 18;
+constexpr int n_temporaries_kinematics = 19;
 constexpr int n_out_mass_matrix = 9;
 constexpr int n_temporaries_mass_matrix = 0;
 constexpr int n_out_forcing = 3;
@@ -54,9 +54,9 @@ constexpr int n_temporaries_forcing = 10;
 constexpr int n_out_hamel_coefficients = 6;
 constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 6;
-constexpr int n_temporaries_rhs = 31;
+constexpr int n_temporaries_rhs = 32;
 constexpr int n_out_jacobian = 36;
-constexpr int n_temporaries_jacobian = 62;
+constexpr int n_temporaries_jacobian = 63;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 11;
 constexpr int n_out_max = 36;  // the largest out[] of any kernel

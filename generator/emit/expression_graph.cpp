@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <stdexcept>
 #include <utility>
@@ -235,6 +236,20 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
     std::vector<std::pair<int, int>> terms;  // node, sign
     for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(signed_expression(e.op(i), leaves));
     std::sort(terms.begin(), terms.end(), structural);
+    // Terms GiNaC keeps apart that are the same node (the same value written differently, which depends
+    // on GiNaC's term order in earlier steps) are collected: x − x vanishes, x + x becomes 2·x.
+    std::vector<std::pair<int, int>> collected;
+    for (std::size_t i = 0; i < terms.size();) {
+      std::size_t j = i;
+      int count = 0;
+      for (; j < terms.size() && terms[j].first == terms[i].first; ++j) count += terms[j].second;
+      if (count == 1 || count == -1) collected.emplace_back(terms[i].first, count);
+      if (count > 1 || count < -1)
+        collected.emplace_back(binary(Op::mul, constant(std::abs(count)), terms[i].first), count > 0 ? 1 : -1);
+      i = j;
+    }
+    if (collected.size() != terms.size()) std::sort(collected.begin(), collected.end(), structural);
+    terms.swap(collected);
     if (!terms.empty() && terms.front().second < 0) {
       sign = -1;
       for (auto& t : terms) t.second = -t.second;

@@ -143,6 +143,18 @@ TEST(CanonicalOrder, CommutativeOperandsAndScheduleFollowStructureNotIndices) {
   EXPECT_FALSE(g1.structurally_less(p1, p1));
 }
 
+TEST(CanonicalOrder, TermsThatAreTheSameNodeAreCollected) {
+  // Distinct GiNaC terms can be one node (here two symbols for one input; in a derivation the same value
+  // written differently, which depends on GiNaC's order in earlier steps): x - x vanishes, x + x is 2·x.
+  ExpressionGraph g;
+  const GiNaC::realsymbol a("a"), b("b"), c("c");
+  const int x0 = g.input(Argument::state, 0), x2 = g.input(Argument::state, 2);
+  const Leaves leaves{{a, x0}, {b, x0}, {c, x2}};
+  EXPECT_EQ(g.from_expression(a - b + c, leaves), x2);
+  EXPECT_EQ(g.from_expression(a + b, leaves), g.binary(Op::mul, g.constant(2), x0));
+  EXPECT_EQ(g.from_expression(c - a - b, leaves), g.binary(Op::sub, x2, g.binary(Op::mul, g.constant(2), x0)));
+}
+
 TEST(CanonicalOrder, ScheduleIsTopologicalAndComplete) {
   ExpressionGraph g;
   const Symbols v("abcd");

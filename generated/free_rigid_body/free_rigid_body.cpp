@@ -41,11 +41,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   const real w1 = p[1] - p[2];
   const real w2 = w0 * w1;
   const real w3 = p[2] - p[0];
-  const real w4 = x[2] * w3;
-  const real w5 = x[0] * w4;
-  const real w6 = x[0] * x[1];
-  const real w7 = p[1] - p[0];
-  const real w8 = w6 * w7;
+  const real w4 = w3 * x[2];
+  const real w5 = w4 * x[0];
+  const real w6 = p[1] - p[0];
+  const real w7 = w6 * x[1];
+  const real w8 = w7 * x[0];
   const real w9 = -w8;
   out[0] = w2;  // f[wx]
   out[1] = w5;  // f[wy]
@@ -73,19 +73,19 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   const real w0 = x[1] * x[2];
   const real w1 = p[1] - p[2];
   const real w2 = w0 * w1;
-  const real w3 = p[2] - p[0];
-  const real w4 = x[2] * w3;
-  const real w5 = x[0] * w4;
-  const real w6 = x[0] * x[1];
-  const real w7 = p[1] - p[0];
-  const real w8 = w6 * w7;
-  const real w9 = -w8;
-  const real w10 = w9 / p[2];
-  const real w11 = w5 / p[1];
-  const real w12 = w2 / p[0];
-  out[0] = w12;  // wx_rate
-  out[1] = w11;  // wy_rate
-  out[2] = w10;  // wz_rate
+  const real w3 = w2 / p[0];
+  const real w4 = p[2] - p[0];
+  const real w5 = w4 * x[2];
+  const real w6 = w5 * x[0];
+  const real w7 = w6 / p[1];
+  const real w8 = p[1] - p[0];
+  const real w9 = w8 * x[1];
+  const real w10 = w9 * x[0];
+  const real w11 = -w10;
+  const real w12 = w11 / p[2];
+  out[0] = w3;  // wx_rate
+  out[1] = w7;  // wy_rate
+  out[2] = w12;  // wz_rate
 }
 
 /* jacobian: (t, x[3], p[3], in[0]) -> out[9]  ops: 5 add, 6 mul, 6 div, 0 call */
@@ -93,30 +93,30 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = p[1] - p[2];
-  const real w1 = p[2] - p[0];
-  const real w2 = x[2] * w1;
-  const real w3 = p[1] - p[0];
-  const real w4 = x[1] * w3;
-  const real w5 = -w4;
-  const real w6 = w5 / p[2];
-  const real w7 = w2 / p[1];
-  const real w8 = x[2] * w0;
-  const real w9 = x[0] * w3;
-  const real w10 = -w9;
-  const real w11 = w10 / p[2];
-  const real w12 = w8 / p[0];
-  const real w13 = x[1] * w0;
-  const real w14 = x[0] * w1;
-  const real w15 = w14 / p[1];
-  const real w16 = w13 / p[0];
+  const real w1 = x[2] * w0;
+  const real w2 = w1 / p[0];
+  const real w3 = x[1] * w0;
+  const real w4 = w3 / p[0];
+  const real w5 = p[2] - p[0];
+  const real w6 = w5 * x[2];
+  const real w7 = w6 / p[1];
+  const real w8 = w5 * x[0];
+  const real w9 = w8 / p[1];
+  const real w10 = p[1] - p[0];
+  const real w11 = w10 * x[1];
+  const real w12 = -w11;
+  const real w13 = w12 / p[2];
+  const real w14 = w10 * x[0];
+  const real w15 = -w14;
+  const real w16 = w15 / p[2];
   out[0] = real(0.0);  // dwx_rate/dwx
-  out[1] = w12;  // dwx_rate/dwy
-  out[2] = w16;  // dwx_rate/dwz
+  out[1] = w2;  // dwx_rate/dwy
+  out[2] = w4;  // dwx_rate/dwz
   out[3] = w7;  // dwy_rate/dwx
   out[4] = real(0.0);  // dwy_rate/dwy
-  out[5] = w15;  // dwy_rate/dwz
-  out[6] = w6;  // dwz_rate/dwx
-  out[7] = w11;  // dwz_rate/dwy
+  out[5] = w9;  // dwy_rate/dwz
+  out[6] = w13;  // dwz_rate/dwx
+  out[7] = w16;  // dwz_rate/dwy
   out[8] = real(0.0);  // dwz_rate/dwz
 }
 
@@ -124,17 +124,17 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[2] * x[2];
-  const real w1 = p[2] * w0;
-  const real w2 = w1 * real(0.5);
+  const real w0 = x[1] * x[1];
+  const real w1 = p[1] * w0;
+  const real w2 = real(0.5) * w1;
   const real w3 = x[0] * x[0];
   const real w4 = p[0] * w3;
   const real w5 = real(0.5) * w4;
-  const real w6 = w2 + w5;
-  const real w7 = x[1] * x[1];
-  const real w8 = p[1] * w7;
-  const real w9 = real(0.5) * w8;
-  const real w10 = w6 + w9;
+  const real w6 = x[2] * x[2];
+  const real w7 = p[2] * w6;
+  const real w8 = w7 * real(0.5);
+  const real w9 = w5 + w8;
+  const real w10 = w2 + w9;
   out[0] = w10;  // E
 }
 
@@ -173,19 +173,19 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
   const real w0 = x[1] * x[2];
   const real w1 = p[1] - p[2];
   const real w2 = w0 * w1;
-  const real w3 = p[2] - p[0];
-  const real w4 = x[2] * w3;
-  const real w5 = x[0] * w4;
-  const real w6 = x[0] * x[1];
-  const real w7 = p[1] - p[0];
-  const real w8 = w6 * w7;
-  const real w9 = -w8;
-  const real w10 = w9 / p[2];
-  const real w11 = w5 / p[1];
-  const real w12 = w2 / p[0];
-  out[0] = w12;  // wx_rate
-  out[1] = w11;  // wy_rate
-  out[2] = w10;  // wz_rate
+  const real w3 = w2 / p[0];
+  const real w4 = p[2] - p[0];
+  const real w5 = w4 * x[2];
+  const real w6 = w5 * x[0];
+  const real w7 = w6 / p[1];
+  const real w8 = p[1] - p[0];
+  const real w9 = w8 * x[1];
+  const real w10 = w9 * x[0];
+  const real w11 = -w10;
+  const real w12 = w11 / p[2];
+  out[0] = w3;  // wx_rate
+  out[1] = w7;  // wy_rate
+  out[2] = w12;  // wz_rate
   out[3] = p[0];  // pivot 0
   out[4] = p[1];  // pivot 1
   out[5] = p[2];  // pivot 2
@@ -237,20 +237,20 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = p[1] - p[2];
-  const real w1 = p[2] - p[0];
-  const real w2 = real(1.0) / p[2];
+  const real w0 = real(1.0) / p[0];
+  const real w1 = p[1] - p[2];
+  const real w2 = w0 * w1;
   const real w3 = real(1.0) / p[1];
-  const real w4 = w1 * w3;
-  const real w5 = real(1.0) / p[0];
-  const real w6 = w0 * w5;
+  const real w4 = p[2] - p[0];
+  const real w5 = w3 * w4;
+  const real w6 = real(1.0) / p[2];
   const real w7 = p[0] - p[1];
-  const real w8 = w2 * w7;
+  const real w8 = w6 * w7;
   out[0] = p[0];  // I1
   out[1] = p[1];  // I2
   out[2] = p[2];  // I3
-  out[3] = w4;  // prepared 0
-  out[4] = w6;  // prepared 1
+  out[3] = w2;  // prepared 0
+  out[4] = w5;  // prepared 1
   out[5] = w8;  // prepared 2
 }
 
@@ -265,12 +265,12 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   (void)t;
   (void)in;
   const real w0 = x[1] * x[2];
-  const real w1 = x[0] * x[1];
-  const real w2 = x[0] * x[2];
-  const real w3 = w2 * p[3];
-  const real w4 = w0 * p[4];
-  const real w5 = w1 * p[5];
-  out[0] = w4;  // wx_rate
+  const real w1 = w0 * p[3];
+  const real w2 = x[2] * x[0];
+  const real w3 = w2 * p[4];
+  const real w4 = x[1] * x[0];
+  const real w5 = p[5] * w4;
+  out[0] = w1;  // wx_rate
   out[1] = w3;  // wy_rate
   out[2] = w5;  // wz_rate
 }
@@ -279,18 +279,18 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[2] * p[3];
-  const real w1 = x[2] * p[4];
-  const real w2 = x[0] * p[3];
-  const real w3 = x[1] * p[4];
+  const real w0 = p[3] * x[2];
+  const real w1 = x[1] * p[3];
+  const real w2 = p[4] * x[2];
+  const real w3 = p[4] * x[0];
   const real w4 = x[1] * p[5];
-  const real w5 = x[0] * p[5];
+  const real w5 = p[5] * x[0];
   out[0] = real(0.0);  // dwx_rate/dwx
-  out[1] = w1;  // dwx_rate/dwy
-  out[2] = w3;  // dwx_rate/dwz
-  out[3] = w0;  // dwy_rate/dwx
+  out[1] = w0;  // dwx_rate/dwy
+  out[2] = w1;  // dwx_rate/dwz
+  out[3] = w2;  // dwy_rate/dwx
   out[4] = real(0.0);  // dwy_rate/dwy
-  out[5] = w2;  // dwy_rate/dwz
+  out[5] = w3;  // dwy_rate/dwz
   out[6] = w4;  // dwz_rate/dwx
   out[7] = w5;  // dwz_rate/dwy
   out[8] = real(0.0);  // dwz_rate/dwz

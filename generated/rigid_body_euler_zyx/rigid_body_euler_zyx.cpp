@@ -8,32 +8,33 @@
 
 namespace rigid_body_euler_zyx {
 
-/* kinematics: (t, x[6], p[3], in[0]) -> out[3]  ops: 4 add, 8 mul, 2 div, 4 call */
+/* kinematics: (t, x[6], p[3], in[0]) -> out[3]  ops: 4 add, 9 mul, 2 div, 4 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)p;
   (void)in;
-  const real w0 = std::cos(x[1]);
-  const real w1 = std::cos(x[2]);
-  const real w2 = x[5] * w1;
-  const real w3 = std::sin(x[2]);
-  const real w4 = x[4] * w3;
-  const real w5 = w2 + w4;
-  const real w6 = w5 / w0;
-  const real w7 = x[5] * w3;
-  const real w8 = x[4] * w1;
-  const real w9 = w8 - w7;
-  const real w10 = std::sin(x[1]);
-  const real w11 = w3 * w10;
-  const real w12 = x[4] * w11;
-  const real w13 = x[3] * w0;
-  const real w14 = w12 + w13;
-  const real w15 = w2 * w10;
-  const real w16 = w14 + w15;
-  const real w17 = w16 / w0;
+  const real w0 = std::sin(x[2]);
+  const real w1 = x[4] * w0;
+  const real w2 = std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = w1 + w3;
+  const real w5 = std::cos(x[1]);
+  const real w6 = w4 / w5;
+  const real w7 = w2 * x[4];
+  const real w8 = x[5] * w0;
+  const real w9 = w7 - w8;
+  const real w10 = x[3] * w5;
+  const real w11 = std::sin(x[1]);
+  const real w12 = w11 * x[4];
+  const real w13 = w12 * w0;
+  const real w14 = w10 + w13;
+  const real w15 = w2 * w11;
+  const real w16 = w15 * x[5];
+  const real w17 = w14 + w16;
+  const real w18 = w17 / w5;
   out[0] = w6;  // psi_dot
   out[1] = w9;  // theta_dot
-  out[2] = w17;  // phi_dot
+  out[2] = w18;  // phi_dot
 }
 
 /* mass_matrix: (t, x[6], p[3], in[0]) -> out[9]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -56,15 +57,15 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = p[1] - p[2];
-  const real w1 = x[5] * w0;
-  const real w2 = x[4] * w1;
+  const real w0 = x[5] * x[4];
+  const real w1 = p[1] - p[2];
+  const real w2 = w0 * w1;
   const real w3 = p[2] - p[0];
-  const real w4 = x[5] * w3;
-  const real w5 = x[3] * w4;
+  const real w4 = w3 * x[3];
+  const real w5 = w4 * x[5];
   const real w6 = p[1] - p[0];
-  const real w7 = x[3] * w6;
-  const real w8 = x[4] * w7;
+  const real w7 = w6 * x[3];
+  const real w8 = w7 * x[4];
   const real w9 = -w8;
   out[0] = w2;  // f[wx]
   out[1] = w5;  // f[wy]
@@ -85,150 +86,152 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[5] = real(-1.0);  // gamma^wz_wy,wx
 }
 
-/* rhs: (t, x[6], p[3], in[0]) -> out[6]  ops: 8 add, 14 mul, 5 div, 4 call */
+/* rhs: (t, x[6], p[3], in[0]) -> out[6]  ops: 8 add, 15 mul, 5 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[1]);
-  const real w1 = std::cos(x[2]);
-  const real w2 = x[5] * w1;
-  const real w3 = std::sin(x[2]);
-  const real w4 = x[4] * w3;
-  const real w5 = w2 + w4;
-  const real w6 = w5 / w0;
-  const real w7 = x[5] * w3;
-  const real w8 = x[4] * w1;
-  const real w9 = w8 - w7;
-  const real w10 = std::sin(x[1]);
-  const real w11 = w3 * w10;
-  const real w12 = x[4] * w11;
-  const real w13 = x[3] * w0;
-  const real w14 = w12 + w13;
-  const real w15 = w2 * w10;
-  const real w16 = w14 + w15;
-  const real w17 = w16 / w0;
-  const real w18 = p[1] - p[2];
-  const real w19 = x[5] * w18;
-  const real w20 = x[4] * w19;
-  const real w21 = p[2] - p[0];
-  const real w22 = x[5] * w21;
-  const real w23 = x[3] * w22;
-  const real w24 = p[1] - p[0];
-  const real w25 = x[3] * w24;
-  const real w26 = x[4] * w25;
-  const real w27 = -w26;
-  const real w28 = w27 / p[2];
-  const real w29 = w23 / p[1];
-  const real w30 = w20 / p[0];
+  const real w0 = std::sin(x[2]);
+  const real w1 = x[4] * w0;
+  const real w2 = std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = w1 + w3;
+  const real w5 = std::cos(x[1]);
+  const real w6 = w4 / w5;
+  const real w7 = w2 * x[4];
+  const real w8 = x[5] * w0;
+  const real w9 = w7 - w8;
+  const real w10 = x[3] * w5;
+  const real w11 = std::sin(x[1]);
+  const real w12 = w11 * x[4];
+  const real w13 = w12 * w0;
+  const real w14 = w10 + w13;
+  const real w15 = w2 * w11;
+  const real w16 = w15 * x[5];
+  const real w17 = w14 + w16;
+  const real w18 = w17 / w5;
+  const real w19 = x[5] * x[4];
+  const real w20 = p[1] - p[2];
+  const real w21 = w19 * w20;
+  const real w22 = w21 / p[0];
+  const real w23 = p[2] - p[0];
+  const real w24 = w23 * x[3];
+  const real w25 = w24 * x[5];
+  const real w26 = w25 / p[1];
+  const real w27 = p[1] - p[0];
+  const real w28 = w27 * x[3];
+  const real w29 = w28 * x[4];
+  const real w30 = -w29;
+  const real w31 = w30 / p[2];
   out[0] = w6;  // psi_dot
   out[1] = w9;  // theta_dot
-  out[2] = w17;  // phi_dot
-  out[3] = w30;  // wx_rate
-  out[4] = w29;  // wy_rate
-  out[5] = w28;  // wz_rate
+  out[2] = w18;  // phi_dot
+  out[3] = w22;  // wx_rate
+  out[4] = w26;  // wy_rate
+  out[5] = w31;  // wz_rate
 }
 
-/* jacobian: (t, x[6], p[3], in[0]) -> out[36]  ops: 17 add, 26 mul, 15 div, 4 call */
+/* jacobian: (t, x[6], p[3], in[0]) -> out[36]  ops: 17 add, 27 mul, 15 div, 4 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[1]);
-  const real w1 = std::cos(x[2]);
-  const real w2 = x[5] * w1;
-  const real w3 = std::sin(x[2]);
-  const real w4 = x[4] * w3;
-  const real w5 = w2 + w4;
-  const real w6 = x[5] * w3;
-  const real w7 = x[4] * w1;
-  const real w8 = std::sin(x[1]);
-  const real w9 = w3 * w8;
-  const real w10 = x[4] * w9;
-  const real w11 = x[3] * w0;
-  const real w12 = w10 + w11;
-  const real w13 = w2 * w8;
-  const real w14 = w12 + w13;
-  const real w15 = p[1] - p[2];
-  const real w16 = x[5] * w15;
-  const real w17 = p[2] - p[0];
-  const real w18 = x[5] * w17;
-  const real w19 = p[1] - p[0];
-  const real w20 = x[3] * w19;
-  const real w21 = w0 * w0;
-  const real w22 = w5 * w8;
-  const real w23 = w22 / w21;
-  const real w24 = x[3] * w8;
-  const real w25 = x[5] * w0;
-  const real w26 = w1 * w25;
-  const real w27 = w24 - w26;
-  const real w28 = w0 * w3;
-  const real w29 = x[4] * w28;
-  const real w30 = w27 - w29;
-  const real w31 = w30 / w0;
-  const real w32 = w8 * w14;
-  const real w33 = w32 / w21;
-  const real w34 = w33 - w31;
-  const real w35 = w6 - w7;
-  const real w36 = w35 / w0;
-  const real w37 = -w36;
-  const real w38 = -w2;
-  const real w39 = w38 - w4;
-  const real w40 = w1 * w8;
-  const real w41 = x[4] * w40;
-  const real w42 = x[5] * w8;
-  const real w43 = w3 * w42;
-  const real w44 = w41 - w43;
-  const real w45 = w44 / w0;
-  const real w46 = x[4] * w19;
-  const real w47 = -w46;
-  const real w48 = w47 / p[2];
-  const real w49 = w18 / p[1];
-  const real w50 = w3 / w0;
-  const real w51 = w9 / w0;
-  const real w52 = -w20;
-  const real w53 = w52 / p[2];
-  const real w54 = w16 / p[0];
-  const real w55 = w1 / w0;
-  const real w56 = -w3;
-  const real w57 = w40 / w0;
-  const real w58 = x[4] * w15;
-  const real w59 = x[3] * w17;
-  const real w60 = w59 / p[1];
-  const real w61 = w58 / p[0];
+  const real w0 = std::sin(x[2]);
+  const real w1 = x[4] * w0;
+  const real w2 = std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = w1 + w3;
+  const real w5 = std::sin(x[1]);
+  const real w6 = w4 * w5;
+  const real w7 = std::cos(x[1]);
+  const real w8 = w7 * w7;
+  const real w9 = w6 / w8;
+  const real w10 = x[5] * w0;
+  const real w11 = w2 * x[4];
+  const real w12 = w10 - w11;
+  const real w13 = w12 / w7;
+  const real w14 = -w13;
+  const real w15 = w0 / w7;
+  const real w16 = w2 / w7;
+  const real w17 = -w4;
+  const real w18 = -w0;
+  const real w19 = x[3] * w7;
+  const real w20 = w5 * x[4];
+  const real w21 = w20 * w0;
+  const real w22 = w19 + w21;
+  const real w23 = w2 * w5;
+  const real w24 = w23 * x[5];
+  const real w25 = w22 + w24;
+  const real w26 = w25 * w5;
+  const real w27 = w26 / w8;
+  const real w28 = w2 * w7;
+  const real w29 = w28 * x[5];
+  const real w30 = w7 * x[4];
+  const real w31 = w30 * w0;
+  const real w32 = w29 + w31;
+  const real w33 = x[3] * w5;
+  const real w34 = w32 - w33;
+  const real w35 = w34 / w7;
+  const real w36 = w27 + w35;
+  const real w37 = w5 * x[5];
+  const real w38 = w37 * w0;
+  const real w39 = w23 * x[4];
+  const real w40 = w38 - w39;
+  const real w41 = w40 / w7;
+  const real w42 = -w41;
+  const real w43 = w5 * w0;
+  const real w44 = w43 / w7;
+  const real w45 = w23 / w7;
+  const real w46 = p[1] - p[2];
+  const real w47 = x[5] * w46;
+  const real w48 = w47 / p[0];
+  const real w49 = x[4] * w46;
+  const real w50 = w49 / p[0];
+  const real w51 = p[2] - p[0];
+  const real w52 = w51 * x[5];
+  const real w53 = w52 / p[1];
+  const real w54 = w51 * x[3];
+  const real w55 = w54 / p[1];
+  const real w56 = p[1] - p[0];
+  const real w57 = w56 * x[4];
+  const real w58 = -w57;
+  const real w59 = w58 / p[2];
+  const real w60 = w56 * x[3];
+  const real w61 = -w60;
+  const real w62 = w61 / p[2];
   out[0] = real(0.0);  // dpsi_dot/dpsi
-  out[1] = w23;  // dpsi_dot/dtheta
-  out[2] = w37;  // dpsi_dot/dphi
+  out[1] = w9;  // dpsi_dot/dtheta
+  out[2] = w14;  // dpsi_dot/dphi
   out[3] = real(0.0);  // dpsi_dot/dwx
-  out[4] = w50;  // dpsi_dot/dwy
-  out[5] = w55;  // dpsi_dot/dwz
+  out[4] = w15;  // dpsi_dot/dwy
+  out[5] = w16;  // dpsi_dot/dwz
   out[6] = real(0.0);  // dtheta_dot/dpsi
   out[7] = real(0.0);  // dtheta_dot/dtheta
-  out[8] = w39;  // dtheta_dot/dphi
+  out[8] = w17;  // dtheta_dot/dphi
   out[9] = real(0.0);  // dtheta_dot/dwx
-  out[10] = w1;  // dtheta_dot/dwy
-  out[11] = w56;  // dtheta_dot/dwz
+  out[10] = w2;  // dtheta_dot/dwy
+  out[11] = w18;  // dtheta_dot/dwz
   out[12] = real(0.0);  // dphi_dot/dpsi
-  out[13] = w34;  // dphi_dot/dtheta
-  out[14] = w45;  // dphi_dot/dphi
+  out[13] = w36;  // dphi_dot/dtheta
+  out[14] = w42;  // dphi_dot/dphi
   out[15] = real(1.0);  // dphi_dot/dwx
-  out[16] = w51;  // dphi_dot/dwy
-  out[17] = w57;  // dphi_dot/dwz
+  out[16] = w44;  // dphi_dot/dwy
+  out[17] = w45;  // dphi_dot/dwz
   out[18] = real(0.0);  // dwx_rate/dpsi
   out[19] = real(0.0);  // dwx_rate/dtheta
   out[20] = real(0.0);  // dwx_rate/dphi
   out[21] = real(0.0);  // dwx_rate/dwx
-  out[22] = w54;  // dwx_rate/dwy
-  out[23] = w61;  // dwx_rate/dwz
+  out[22] = w48;  // dwx_rate/dwy
+  out[23] = w50;  // dwx_rate/dwz
   out[24] = real(0.0);  // dwy_rate/dpsi
   out[25] = real(0.0);  // dwy_rate/dtheta
   out[26] = real(0.0);  // dwy_rate/dphi
-  out[27] = w49;  // dwy_rate/dwx
+  out[27] = w53;  // dwy_rate/dwx
   out[28] = real(0.0);  // dwy_rate/dwy
-  out[29] = w60;  // dwy_rate/dwz
+  out[29] = w55;  // dwy_rate/dwz
   out[30] = real(0.0);  // dwz_rate/dpsi
   out[31] = real(0.0);  // dwz_rate/dtheta
   out[32] = real(0.0);  // dwz_rate/dphi
-  out[33] = w48;  // dwz_rate/dwx
-  out[34] = w53;  // dwz_rate/dwy
+  out[33] = w59;  // dwz_rate/dwx
+  out[34] = w62;  // dwz_rate/dwy
   out[35] = real(0.0);  // dwz_rate/dwz
 }
 
@@ -236,15 +239,15 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[3] * x[3];
-  const real w1 = p[0] * w0;
-  const real w2 = w1 * real(0.5);
-  const real w3 = x[5] * x[5];
-  const real w4 = p[2] * w3;
+  const real w0 = x[4] * x[4];
+  const real w1 = p[1] * w0;
+  const real w2 = real(0.5) * w1;
+  const real w3 = x[3] * x[3];
+  const real w4 = p[0] * w3;
   const real w5 = real(0.5) * w4;
   const real w6 = w2 + w5;
-  const real w7 = x[4] * x[4];
-  const real w8 = p[1] * w7;
+  const real w7 = x[5] * x[5];
+  const real w8 = p[2] * w7;
   const real w9 = real(0.5) * w8;
   const real w10 = w6 + w9;
   out[0] = w10;  // E
@@ -252,47 +255,48 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
 
 namespace {
 
-/* rhs_with_pivots: (t, x[6], p[3], in[0]) -> out[9]  ops: 8 add, 14 mul, 5 div, 4 call */
+/* rhs_with_pivots: (t, x[6], p[3], in[0]) -> out[9]  ops: 8 add, 15 mul, 5 div, 4 call */
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[1]);
-  const real w1 = std::cos(x[2]);
-  const real w2 = x[5] * w1;
-  const real w3 = std::sin(x[2]);
-  const real w4 = x[4] * w3;
-  const real w5 = w2 + w4;
-  const real w6 = w5 / w0;
-  const real w7 = x[5] * w3;
-  const real w8 = x[4] * w1;
-  const real w9 = w8 - w7;
-  const real w10 = std::sin(x[1]);
-  const real w11 = w3 * w10;
-  const real w12 = x[4] * w11;
-  const real w13 = x[3] * w0;
-  const real w14 = w12 + w13;
-  const real w15 = w2 * w10;
-  const real w16 = w14 + w15;
-  const real w17 = w16 / w0;
-  const real w18 = p[1] - p[2];
-  const real w19 = x[5] * w18;
-  const real w20 = x[4] * w19;
-  const real w21 = p[2] - p[0];
-  const real w22 = x[5] * w21;
-  const real w23 = x[3] * w22;
-  const real w24 = p[1] - p[0];
-  const real w25 = x[3] * w24;
-  const real w26 = x[4] * w25;
-  const real w27 = -w26;
-  const real w28 = w27 / p[2];
-  const real w29 = w23 / p[1];
-  const real w30 = w20 / p[0];
+  const real w0 = std::sin(x[2]);
+  const real w1 = x[4] * w0;
+  const real w2 = std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = w1 + w3;
+  const real w5 = std::cos(x[1]);
+  const real w6 = w4 / w5;
+  const real w7 = w2 * x[4];
+  const real w8 = x[5] * w0;
+  const real w9 = w7 - w8;
+  const real w10 = x[3] * w5;
+  const real w11 = std::sin(x[1]);
+  const real w12 = w11 * x[4];
+  const real w13 = w12 * w0;
+  const real w14 = w10 + w13;
+  const real w15 = w2 * w11;
+  const real w16 = w15 * x[5];
+  const real w17 = w14 + w16;
+  const real w18 = w17 / w5;
+  const real w19 = x[5] * x[4];
+  const real w20 = p[1] - p[2];
+  const real w21 = w19 * w20;
+  const real w22 = w21 / p[0];
+  const real w23 = p[2] - p[0];
+  const real w24 = w23 * x[3];
+  const real w25 = w24 * x[5];
+  const real w26 = w25 / p[1];
+  const real w27 = p[1] - p[0];
+  const real w28 = w27 * x[3];
+  const real w29 = w28 * x[4];
+  const real w30 = -w29;
+  const real w31 = w30 / p[2];
   out[0] = w6;  // psi_dot
   out[1] = w9;  // theta_dot
-  out[2] = w17;  // phi_dot
-  out[3] = w30;  // wx_rate
-  out[4] = w29;  // wy_rate
-  out[5] = w28;  // wz_rate
+  out[2] = w18;  // phi_dot
+  out[3] = w22;  // wx_rate
+  out[4] = w26;  // wy_rate
+  out[5] = w31;  // wz_rate
   out[6] = p[0];  // pivot 0
   out[7] = p[1];  // pivot 1
   out[8] = p[2];  // pivot 2
@@ -344,20 +348,20 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = p[1] - p[2];
-  const real w1 = p[2] - p[0];
-  const real w2 = real(1.0) / p[2];
+  const real w0 = real(1.0) / p[0];
+  const real w1 = p[1] - p[2];
+  const real w2 = w0 * w1;
   const real w3 = real(1.0) / p[1];
-  const real w4 = w1 * w3;
-  const real w5 = real(1.0) / p[0];
-  const real w6 = w0 * w5;
+  const real w4 = p[2] - p[0];
+  const real w5 = w3 * w4;
+  const real w6 = real(1.0) / p[2];
   const real w7 = p[0] - p[1];
-  const real w8 = w2 * w7;
+  const real w8 = w6 * w7;
   out[0] = p[0];  // I1
   out[1] = p[1];  // I2
   out[2] = p[2];  // I3
-  out[3] = w4;  // prepared 0
-  out[4] = w6;  // prepared 1
+  out[3] = w2;  // prepared 0
+  out[4] = w5;  // prepared 1
   out[5] = w8;  // prepared 2
 }
 
@@ -367,132 +371,134 @@ void prepare_parameters(const real* p, real* prepared) {
   prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
 }
 
-/* rhs_prepared: (t, x[6], p[6], in[0]) -> out[6]  ops: 4 add, 14 mul, 2 div, 4 call */
+/* rhs_prepared: (t, x[6], p[6], in[0]) -> out[6]  ops: 4 add, 15 mul, 2 div, 4 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[1]);
-  const real w1 = std::cos(x[2]);
-  const real w2 = x[5] * w1;
-  const real w3 = std::sin(x[2]);
-  const real w4 = x[4] * w3;
-  const real w5 = w2 + w4;
-  const real w6 = w5 / w0;
-  const real w7 = x[5] * w3;
-  const real w8 = x[4] * w1;
-  const real w9 = w8 - w7;
-  const real w10 = std::sin(x[1]);
-  const real w11 = w3 * w10;
-  const real w12 = x[4] * w11;
-  const real w13 = x[3] * w0;
-  const real w14 = w12 + w13;
-  const real w15 = w2 * w10;
-  const real w16 = w14 + w15;
-  const real w17 = w16 / w0;
-  const real w18 = x[4] * x[5];
-  const real w19 = x[3] * x[5];
-  const real w20 = x[3] * x[4];
-  const real w21 = w19 * p[3];
-  const real w22 = w18 * p[4];
-  const real w23 = w20 * p[5];
+  const real w0 = std::sin(x[2]);
+  const real w1 = x[4] * w0;
+  const real w2 = std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = w1 + w3;
+  const real w5 = std::cos(x[1]);
+  const real w6 = w4 / w5;
+  const real w7 = w2 * x[4];
+  const real w8 = x[5] * w0;
+  const real w9 = w7 - w8;
+  const real w10 = x[3] * w5;
+  const real w11 = std::sin(x[1]);
+  const real w12 = w11 * x[4];
+  const real w13 = w12 * w0;
+  const real w14 = w10 + w13;
+  const real w15 = w2 * w11;
+  const real w16 = w15 * x[5];
+  const real w17 = w14 + w16;
+  const real w18 = w17 / w5;
+  const real w19 = x[5] * x[4];
+  const real w20 = w19 * p[3];
+  const real w21 = x[3] * x[5];
+  const real w22 = w21 * p[4];
+  const real w23 = x[3] * x[4];
+  const real w24 = w23 * p[5];
   out[0] = w6;  // psi_dot
   out[1] = w9;  // theta_dot
-  out[2] = w17;  // phi_dot
-  out[3] = w22;  // wx_rate
-  out[4] = w21;  // wy_rate
-  out[5] = w23;  // wz_rate
+  out[2] = w18;  // phi_dot
+  out[3] = w20;  // wx_rate
+  out[4] = w22;  // wy_rate
+  out[5] = w24;  // wz_rate
 }
 
-/* jacobian_prepared: (t, x[6], p[6], in[0]) -> out[36]  ops: 12 add, 26 mul, 9 div, 4 call */
+/* jacobian_prepared: (t, x[6], p[6], in[0]) -> out[36]  ops: 12 add, 27 mul, 9 div, 4 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[1]);
-  const real w1 = std::cos(x[2]);
-  const real w2 = x[5] * w1;
-  const real w3 = std::sin(x[2]);
-  const real w4 = x[4] * w3;
-  const real w5 = w2 + w4;
-  const real w6 = x[5] * w3;
-  const real w7 = x[4] * w1;
-  const real w8 = std::sin(x[1]);
-  const real w9 = w3 * w8;
-  const real w10 = x[4] * w9;
-  const real w11 = x[3] * w0;
-  const real w12 = w10 + w11;
-  const real w13 = w2 * w8;
-  const real w14 = w12 + w13;
-  const real w15 = w0 * w0;
-  const real w16 = w5 * w8;
-  const real w17 = w16 / w15;
-  const real w18 = x[3] * w8;
-  const real w19 = x[5] * w0;
-  const real w20 = w1 * w19;
-  const real w21 = w18 - w20;
-  const real w22 = w0 * w3;
-  const real w23 = x[4] * w22;
-  const real w24 = w21 - w23;
-  const real w25 = w24 / w0;
-  const real w26 = w8 * w14;
-  const real w27 = w26 / w15;
-  const real w28 = w27 - w25;
-  const real w29 = w6 - w7;
-  const real w30 = w29 / w0;
-  const real w31 = -w30;
-  const real w32 = -w2;
-  const real w33 = w32 - w4;
-  const real w34 = w1 * w8;
-  const real w35 = x[4] * w34;
-  const real w36 = x[5] * w8;
-  const real w37 = w3 * w36;
-  const real w38 = w35 - w37;
-  const real w39 = w38 / w0;
-  const real w40 = w3 / w0;
-  const real w41 = w9 / w0;
-  const real w42 = w1 / w0;
-  const real w43 = -w3;
-  const real w44 = w34 / w0;
-  const real w45 = x[5] * p[3];
-  const real w46 = x[5] * p[4];
-  const real w47 = x[3] * p[3];
-  const real w48 = x[4] * p[4];
-  const real w49 = x[4] * p[5];
-  const real w50 = x[3] * p[5];
+  const real w0 = std::sin(x[2]);
+  const real w1 = x[4] * w0;
+  const real w2 = std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = w1 + w3;
+  const real w5 = std::sin(x[1]);
+  const real w6 = w4 * w5;
+  const real w7 = std::cos(x[1]);
+  const real w8 = w7 * w7;
+  const real w9 = w6 / w8;
+  const real w10 = x[5] * w0;
+  const real w11 = w2 * x[4];
+  const real w12 = w10 - w11;
+  const real w13 = w12 / w7;
+  const real w14 = -w13;
+  const real w15 = w0 / w7;
+  const real w16 = w2 / w7;
+  const real w17 = -w4;
+  const real w18 = -w0;
+  const real w19 = x[3] * w7;
+  const real w20 = w5 * x[4];
+  const real w21 = w20 * w0;
+  const real w22 = w19 + w21;
+  const real w23 = w2 * w5;
+  const real w24 = w23 * x[5];
+  const real w25 = w22 + w24;
+  const real w26 = w25 * w5;
+  const real w27 = w26 / w8;
+  const real w28 = w2 * w7;
+  const real w29 = w28 * x[5];
+  const real w30 = w7 * x[4];
+  const real w31 = w30 * w0;
+  const real w32 = w29 + w31;
+  const real w33 = x[3] * w5;
+  const real w34 = w32 - w33;
+  const real w35 = w34 / w7;
+  const real w36 = w27 + w35;
+  const real w37 = w5 * x[5];
+  const real w38 = w37 * w0;
+  const real w39 = w23 * x[4];
+  const real w40 = w38 - w39;
+  const real w41 = w40 / w7;
+  const real w42 = -w41;
+  const real w43 = w5 * w0;
+  const real w44 = w43 / w7;
+  const real w45 = w23 / w7;
+  const real w46 = p[3] * x[5];
+  const real w47 = p[3] * x[4];
+  const real w48 = p[4] * x[5];
+  const real w49 = x[3] * p[4];
+  const real w50 = p[5] * x[4];
+  const real w51 = x[3] * p[5];
   out[0] = real(0.0);  // dpsi_dot/dpsi
-  out[1] = w17;  // dpsi_dot/dtheta
-  out[2] = w31;  // dpsi_dot/dphi
+  out[1] = w9;  // dpsi_dot/dtheta
+  out[2] = w14;  // dpsi_dot/dphi
   out[3] = real(0.0);  // dpsi_dot/dwx
-  out[4] = w40;  // dpsi_dot/dwy
-  out[5] = w42;  // dpsi_dot/dwz
+  out[4] = w15;  // dpsi_dot/dwy
+  out[5] = w16;  // dpsi_dot/dwz
   out[6] = real(0.0);  // dtheta_dot/dpsi
   out[7] = real(0.0);  // dtheta_dot/dtheta
-  out[8] = w33;  // dtheta_dot/dphi
+  out[8] = w17;  // dtheta_dot/dphi
   out[9] = real(0.0);  // dtheta_dot/dwx
-  out[10] = w1;  // dtheta_dot/dwy
-  out[11] = w43;  // dtheta_dot/dwz
+  out[10] = w2;  // dtheta_dot/dwy
+  out[11] = w18;  // dtheta_dot/dwz
   out[12] = real(0.0);  // dphi_dot/dpsi
-  out[13] = w28;  // dphi_dot/dtheta
-  out[14] = w39;  // dphi_dot/dphi
+  out[13] = w36;  // dphi_dot/dtheta
+  out[14] = w42;  // dphi_dot/dphi
   out[15] = real(1.0);  // dphi_dot/dwx
-  out[16] = w41;  // dphi_dot/dwy
-  out[17] = w44;  // dphi_dot/dwz
+  out[16] = w44;  // dphi_dot/dwy
+  out[17] = w45;  // dphi_dot/dwz
   out[18] = real(0.0);  // dwx_rate/dpsi
   out[19] = real(0.0);  // dwx_rate/dtheta
   out[20] = real(0.0);  // dwx_rate/dphi
   out[21] = real(0.0);  // dwx_rate/dwx
   out[22] = w46;  // dwx_rate/dwy
-  out[23] = w48;  // dwx_rate/dwz
+  out[23] = w47;  // dwx_rate/dwz
   out[24] = real(0.0);  // dwy_rate/dpsi
   out[25] = real(0.0);  // dwy_rate/dtheta
   out[26] = real(0.0);  // dwy_rate/dphi
-  out[27] = w45;  // dwy_rate/dwx
+  out[27] = w48;  // dwy_rate/dwx
   out[28] = real(0.0);  // dwy_rate/dwy
-  out[29] = w47;  // dwy_rate/dwz
+  out[29] = w49;  // dwy_rate/dwz
   out[30] = real(0.0);  // dwz_rate/dpsi
   out[31] = real(0.0);  // dwz_rate/dtheta
   out[32] = real(0.0);  // dwz_rate/dphi
-  out[33] = w49;  // dwz_rate/dwx
-  out[34] = w50;  // dwz_rate/dwy
+  out[33] = w50;  // dwz_rate/dwx
+  out[34] = w51;  // dwz_rate/dwy
   out[35] = real(0.0);  // dwz_rate/dwz
 }
 

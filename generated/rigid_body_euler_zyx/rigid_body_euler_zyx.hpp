@@ -46,7 +46,7 @@ constexpr int hamel_lower_b[6] = {2, 1, 2, 0, 1, 0};
 
 // Output sizes (out[] entries) and named temporaries of each kernel.
 constexpr int n_out_kinematics = 3;
-constexpr int n_temporaries_kinematics = 18;
+constexpr int n_temporaries_kinematics = 19;
 constexpr int n_out_mass_matrix = 9;
 constexpr int n_temporaries_mass_matrix = 0;
 constexpr int n_out_forcing = 3;
@@ -54,9 +54,9 @@ constexpr int n_temporaries_forcing = 10;
 constexpr int n_out_hamel_coefficients = 6;
 constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 6;
-constexpr int n_temporaries_rhs = 31;
+constexpr int n_temporaries_rhs = 32;
 constexpr int n_out_jacobian = 36;
-constexpr int n_temporaries_jacobian = 62;
+constexpr int n_temporaries_jacobian = 63;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 11;
 constexpr int n_out_max = 36;  // the largest out[] of any kernel
@@ -106,16 +106,16 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
 
-// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 31 operations per call, rhs_prepared: 24, prepare_parameters: 9).
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 32 operations per call, rhs_prepared: 25, prepare_parameters: 9).
 // prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
 // <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
 // again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
 constexpr int n_prepared_parameters = 6;
 void prepare_parameters(const real* p, real* prepared);
-constexpr int n_temporaries_rhs_prepared = 24;
+constexpr int n_temporaries_rhs_prepared = 25;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[6]
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
-constexpr int n_temporaries_jacobian_prepared = 51;
+constexpr int n_temporaries_jacobian_prepared = 52;
 /// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[36]
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
 

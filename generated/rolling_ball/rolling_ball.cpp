@@ -8,33 +8,32 @@
 
 namespace rolling_ball {
 
-/* kinematics: (t, x[7], p[2], in[0]) -> out[5]  ops: 4 add, 9 mul, 3 div, 4 call */
+/* kinematics: (t, x[7], p[2], in[0]) -> out[5]  ops: 4 add, 8 mul, 3 div, 4 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
-  const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
+  const real w1 = std::cos(x[0]);
+  const real w2 = w1 * x[6];
+  const real w3 = w0 * w2;
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * w0;
+  const real w6 = w5 * x[5];
   const real w7 = w3 - w6;
   const real w8 = std::cos(x[1]);
   const real w9 = p[1] * w8;
   const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = w13 / p[1];
-  const real w15 = x[6] * w4;
-  const real w16 = x[5] * w2;
-  const real w17 = w15 - w16;
+  const real w11 = -w10;
+  const real w12 = w4 * x[6];
+  const real w13 = w1 * x[5];
+  const real w14 = w12 + w13;
+  const real w15 = w14 / p[1];
+  const real w16 = w4 * x[5];
+  const real w17 = w16 - w2;
   const real w18 = w17 / w9;
-  const real w19 = -w18;
-  out[0] = w10;  // psi_dot
-  out[1] = w14;  // theta_dot
-  out[2] = w19;  // phi_dot
+  out[0] = w11;  // psi_dot
+  out[1] = w15;  // theta_dot
+  out[2] = w18;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
 }
@@ -44,7 +43,7 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = p[0] * real(1.4);
+  const real w0 = real(1.4) * p[0];
   out[0] = w0;  // M[vx][vx]
   out[1] = real(0.0);  // M[vx][vy]
   out[2] = real(0.0);  // M[vy][vx]
@@ -89,110 +88,108 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[15] = w3;  // gamma^u3_vy,vx
 }
 
-/* rhs: (t, x[7], p[2], in[0]) -> out[7]  ops: 4 add, 9 mul, 3 div, 4 call */
+/* rhs: (t, x[7], p[2], in[0]) -> out[7]  ops: 4 add, 8 mul, 3 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
-  const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
+  const real w1 = std::cos(x[0]);
+  const real w2 = w1 * x[6];
+  const real w3 = w0 * w2;
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * w0;
+  const real w6 = w5 * x[5];
   const real w7 = w3 - w6;
   const real w8 = std::cos(x[1]);
   const real w9 = p[1] * w8;
   const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = w13 / p[1];
-  const real w15 = x[6] * w4;
-  const real w16 = x[5] * w2;
-  const real w17 = w15 - w16;
+  const real w11 = -w10;
+  const real w12 = w4 * x[6];
+  const real w13 = w1 * x[5];
+  const real w14 = w12 + w13;
+  const real w15 = w14 / p[1];
+  const real w16 = w4 * x[5];
+  const real w17 = w16 - w2;
   const real w18 = w17 / w9;
-  const real w19 = -w18;
-  out[0] = w10;  // psi_dot
-  out[1] = w14;  // theta_dot
-  out[2] = w19;  // phi_dot
+  out[0] = w11;  // psi_dot
+  out[1] = w15;  // theta_dot
+  out[2] = w18;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
   out[5] = real(0.0);  // vx_rate
   out[6] = real(0.0);  // vy_rate
 }
 
-/* jacobian: (t, x[7], p[2], in[0]) -> out[49]  ops: 9 add, 21 mul, 12 div, 4 call */
+/* jacobian: (t, x[7], p[2], in[0]) -> out[49]  ops: 10 add, 19 mul, 12 div, 4 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
-  const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
-  const real w7 = w3 - w6;
+  const real w0 = std::cos(x[0]);
+  const real w1 = std::sin(x[1]);
+  const real w2 = w0 * w1;
+  const real w3 = w2 * x[5];
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * x[6];
+  const real w6 = w5 * w1;
+  const real w7 = w3 + w6;
   const real w8 = std::cos(x[1]);
   const real w9 = p[1] * w8;
-  const real w10 = x[6] * w2;
-  const real w11 = x[5] * w4;
-  const real w12 = w10 + w11;
-  const real w13 = x[6] * w4;
-  const real w14 = x[5] * w2;
-  const real w15 = w13 - w14;
-  const real w16 = x[5] * w5;
-  const real w17 = x[6] * w0;
-  const real w18 = w2 * w17;
-  const real w19 = w16 + w18;
-  const real w20 = w19 / w9;
-  const real w21 = w15 / p[1];
-  const real w22 = w12 / w9;
-  const real w23 = w4 * w8;
-  const real w24 = x[6] * w23;
-  const real w25 = x[5] * w8;
-  const real w26 = w2 * w25;
-  const real w27 = w24 - w26;
-  const real w28 = w27 / w9;
-  const real w29 = w0 * w7;
-  const real w30 = w8 * w8;
-  const real w31 = p[1] * w30;
-  const real w32 = w29 / w31;
-  const real w33 = w32 - w28;
-  const real w34 = w0 * w15;
-  const real w35 = w34 / w31;
-  const real w36 = -w35;
-  const real w37 = w0 * w2;
-  const real w38 = w37 / w9;
-  const real w39 = w4 / p[1];
-  const real w40 = w2 / w9;
-  const real w41 = w5 / w9;
-  const real w42 = -w41;
-  const real w43 = w2 / p[1];
-  const real w44 = w4 / w9;
-  const real w45 = -w44;
-  out[0] = w20;  // dpsi_dot/dpsi
-  out[1] = w33;  // dpsi_dot/dtheta
+  const real w10 = w7 / w9;
+  const real w11 = w0 * x[6];
+  const real w12 = w1 * w11;
+  const real w13 = w4 * w1;
+  const real w14 = w13 * x[5];
+  const real w15 = w12 - w14;
+  const real w16 = w1 * w15;
+  const real w17 = w8 * w8;
+  const real w18 = p[1] * w17;
+  const real w19 = w16 / w18;
+  const real w20 = w0 * w8;
+  const real w21 = x[6] * w20;
+  const real w22 = w4 * w8;
+  const real w23 = w22 * x[5];
+  const real w24 = w21 - w23;
+  const real w25 = w24 / w9;
+  const real w26 = w19 + w25;
+  const real w27 = -w26;
+  const real w28 = w13 / w9;
+  const real w29 = w2 / w9;
+  const real w30 = -w29;
+  const real w31 = w4 * x[5];
+  const real w32 = w31 - w11;
+  const real w33 = w32 / p[1];
+  const real w34 = -w33;
+  const real w35 = w0 / p[1];
+  const real w36 = w4 / p[1];
+  const real w37 = w0 * x[5];
+  const real w38 = w5 + w37;
+  const real w39 = w38 / w9;
+  const real w40 = w1 * w32;
+  const real w41 = w40 / w18;
+  const real w42 = w4 / w9;
+  const real w43 = w0 / w9;
+  const real w44 = -w43;
+  out[0] = w10;  // dpsi_dot/dpsi
+  out[1] = w27;  // dpsi_dot/dtheta
   out[2] = real(0.0);  // dpsi_dot/dphi
   out[3] = real(0.0);  // dpsi_dot/dx
   out[4] = real(0.0);  // dpsi_dot/dy
-  out[5] = w38;  // dpsi_dot/dvx
-  out[6] = w42;  // dpsi_dot/dvy
-  out[7] = w21;  // dtheta_dot/dpsi
+  out[5] = w28;  // dpsi_dot/dvx
+  out[6] = w30;  // dpsi_dot/dvy
+  out[7] = w34;  // dtheta_dot/dpsi
   out[8] = real(0.0);  // dtheta_dot/dtheta
   out[9] = real(0.0);  // dtheta_dot/dphi
   out[10] = real(0.0);  // dtheta_dot/dx
   out[11] = real(0.0);  // dtheta_dot/dy
-  out[12] = w39;  // dtheta_dot/dvx
-  out[13] = w43;  // dtheta_dot/dvy
-  out[14] = w22;  // dphi_dot/dpsi
-  out[15] = w36;  // dphi_dot/dtheta
+  out[12] = w35;  // dtheta_dot/dvx
+  out[13] = w36;  // dtheta_dot/dvy
+  out[14] = w39;  // dphi_dot/dpsi
+  out[15] = w41;  // dphi_dot/dtheta
   out[16] = real(0.0);  // dphi_dot/dphi
   out[17] = real(0.0);  // dphi_dot/dx
   out[18] = real(0.0);  // dphi_dot/dy
-  out[19] = w40;  // dphi_dot/dvx
-  out[20] = w45;  // dphi_dot/dvy
+  out[19] = w42;  // dphi_dot/dvx
+  out[20] = w44;  // dphi_dot/dvy
   out[21] = real(0.0);  // dx_dot/dpsi
   out[22] = real(0.0);  // dx_dot/dtheta
   out[23] = real(0.0);  // dx_dot/dphi
@@ -227,97 +224,94 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[6] * x[6];
+  const real w0 = x[5] * x[5];
   const real w1 = p[0] * w0;
-  const real w2 = w1 * real(0.7);
-  const real w3 = x[5] * x[5];
+  const real w2 = real(0.7) * w1;
+  const real w3 = x[6] * x[6];
   const real w4 = p[0] * w3;
   const real w5 = real(0.7) * w4;
   const real w6 = w2 + w5;
   out[0] = w6;  // E
 }
 
-/* constraint_residual: (t, x[7], p[2], in[0]) -> out[3]  ops: 10 add, 14 mul, 8 div, 4 call */
+/* constraint_residual: (t, x[7], p[2], in[0]) -> out[3]  ops: 9 add, 13 mul, 8 div, 4 call */
 void constraint_residual(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
+  const real w0 = std::cos(x[0]);
+  const real w1 = std::sin(x[0]);
+  const real w2 = w1 * x[5];
+  const real w3 = w0 * x[6];
+  const real w4 = w2 - w3;
   const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
-  const real w7 = w3 - w6;
-  const real w8 = std::cos(x[1]);
-  const real w9 = p[1] * w8;
-  const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = x[6] * w4;
-  const real w15 = x[5] * w2;
-  const real w16 = w14 - w15;
-  const real w17 = w0 * w16;
-  const real w18 = w4 * w16;
-  const real w19 = w18 / p[1];
-  const real w20 = -w19;
-  const real w21 = w2 * w13;
-  const real w22 = w21 / p[1];
-  const real w23 = w20 - w22;
-  const real w24 = x[6] / p[1];
-  const real w25 = w23 + w24;
-  const real w26 = x[5] / p[1];
-  const real w27 = -w26;
-  const real w28 = w2 * w16;
-  const real w29 = w28 / p[1];
+  const real w6 = w5 / p[1];
+  const real w7 = x[6] / p[1];
+  const real w8 = w6 + w7;
+  const real w9 = w1 * x[6];
+  const real w10 = w0 * x[5];
+  const real w11 = w9 + w10;
+  const real w12 = w11 * w1;
+  const real w13 = w12 / p[1];
+  const real w14 = w8 - w13;
+  const real w15 = w1 * w4;
+  const real w16 = w15 / p[1];
+  const real w17 = w11 * w0;
+  const real w18 = w17 / p[1];
+  const real w19 = x[5] / p[1];
+  const real w20 = w18 - w19;
+  const real w21 = w16 + w20;
+  const real w22 = std::sin(x[1]);
+  const real w23 = w22 * w4;
+  const real w24 = std::cos(x[1]);
+  const real w25 = p[1] * w24;
+  const real w26 = w23 / w25;
+  const real w27 = w22 * w3;
+  const real w28 = w1 * w22;
+  const real w29 = w28 * x[5];
   const real w30 = w27 - w29;
-  const real w31 = w4 * w13;
-  const real w32 = w31 / p[1];
-  const real w33 = w30 + w32;
-  const real w34 = w17 / w9;
-  const real w35 = w10 + w34;
-  out[0] = w25;  // u1
-  out[1] = w33;  // u2
-  out[2] = w35;  // u3
+  const real w31 = w30 / w25;
+  const real w32 = w26 + w31;
+  const real w33 = -w32;
+  out[0] = w14;  // u1
+  out[1] = w21;  // u2
+  out[2] = w33;  // u3
 }
 
 namespace {
 
-/* rhs_with_pivots: (t, x[7], p[2], in[0]) -> out[9]  ops: 4 add, 10 mul, 3 div, 4 call */
+/* rhs_with_pivots: (t, x[7], p[2], in[0]) -> out[9]  ops: 4 add, 9 mul, 3 div, 4 call */
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
-  const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
+  const real w1 = std::cos(x[0]);
+  const real w2 = w1 * x[6];
+  const real w3 = w0 * w2;
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * w0;
+  const real w6 = w5 * x[5];
   const real w7 = w3 - w6;
   const real w8 = std::cos(x[1]);
   const real w9 = p[1] * w8;
   const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = w13 / p[1];
-  const real w15 = x[6] * w4;
-  const real w16 = x[5] * w2;
-  const real w17 = w15 - w16;
+  const real w11 = -w10;
+  const real w12 = w4 * x[6];
+  const real w13 = w1 * x[5];
+  const real w14 = w12 + w13;
+  const real w15 = w14 / p[1];
+  const real w16 = w4 * x[5];
+  const real w17 = w16 - w2;
   const real w18 = w17 / w9;
-  const real w19 = -w18;
-  const real w20 = p[0] * real(1.4);
-  out[0] = w10;  // psi_dot
-  out[1] = w14;  // theta_dot
-  out[2] = w19;  // phi_dot
+  const real w19 = real(1.4) * p[0];
+  out[0] = w11;  // psi_dot
+  out[1] = w15;  // theta_dot
+  out[2] = w18;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
   out[5] = real(0.0);  // vx_rate
   out[6] = real(0.0);  // vy_rate
-  out[7] = w20;  // pivot 0
-  out[8] = w20;  // pivot 1
+  out[7] = w19;  // pivot 0
+  out[8] = w19;  // pivot 1
 }
 
 }  // namespace

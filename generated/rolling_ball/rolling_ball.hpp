@@ -46,7 +46,7 @@ constexpr int hamel_lower_b[16] = {2, 1, 3, 2, 2, 0, 4, 2, 1, 3, 0, 4, 0, 4, 1, 
 
 // Output sizes (out[] entries) and named temporaries of each kernel.
 constexpr int n_out_kinematics = 5;
-constexpr int n_temporaries_kinematics = 20;
+constexpr int n_temporaries_kinematics = 19;
 constexpr int n_out_mass_matrix = 4;
 constexpr int n_temporaries_mass_matrix = 1;
 constexpr int n_out_forcing = 2;
@@ -54,13 +54,13 @@ constexpr int n_temporaries_forcing = 0;
 constexpr int n_out_hamel_coefficients = 16;
 constexpr int n_temporaries_hamel_coefficients = 5;
 constexpr int n_out_rhs = 7;
-constexpr int n_temporaries_rhs = 20;
+constexpr int n_temporaries_rhs = 19;
 constexpr int n_out_jacobian = 49;
-constexpr int n_temporaries_jacobian = 46;
+constexpr int n_temporaries_jacobian = 45;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 7;
 constexpr int n_out_constraint_residual = 3;
-constexpr int n_temporaries_constraint_residual = 36;
+constexpr int n_temporaries_constraint_residual = 34;
 constexpr int n_out_max = 49;  // the largest out[] of any kernel
 
 /// q_dot = B_I(q) u_I, eq. (qadot); out[5]

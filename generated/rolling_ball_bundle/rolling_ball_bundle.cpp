@@ -22,7 +22,7 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = p[0] * real(1.4);
+  const real w0 = real(1.4) * p[0];
   out[0] = w0;  // M[x_dot][x_dot]
   out[1] = real(0.0);  // M[x_dot][y_dot]
   out[2] = real(0.0);  // M[y_dot][x_dot]
@@ -106,10 +106,10 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[2] * x[2];
+  const real w0 = x[3] * x[3];
   const real w1 = p[0] * w0;
-  const real w2 = w1 * real(0.7);
-  const real w3 = x[3] * x[3];
+  const real w2 = real(0.7) * w1;
+  const real w3 = x[2] * x[2];
   const real w4 = p[0] * w3;
   const real w5 = real(0.7) * w4;
   const real w6 = w2 + w5;
@@ -149,7 +149,7 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   (void)x;
   (void)in;
   const real w0 = p[1] * p[1];
-  const real w1 = p[0] * w0;
+  const real w1 = w0 * p[0];
   const real w2 = w1 * real(0.4);
   out[0] = w2;  // L[omega_x][omega_x]
   out[1] = real(0.0);  // L[omega_x][omega_y]
@@ -168,7 +168,7 @@ namespace {
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = p[0] * real(1.4);
+  const real w0 = real(1.4) * p[0];
   out[0] = x[2];  // x_dot
   out[1] = x[3];  // y_dot
   out[2] = real(0.0);  // x_dot_rate

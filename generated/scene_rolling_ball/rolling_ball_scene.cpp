@@ -8,64 +8,62 @@
 
 namespace rolling_ball_scene {
 
-/* kinematics: (t, x[7], p[2], in[0]) -> out[5]  ops: 4 add, 9 mul, 3 div, 4 call */
+/* kinematics: (t, x[7], p[2], in[0]) -> out[5]  ops: 4 add, 8 mul, 3 div, 4 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
-  const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
+  const real w1 = std::cos(x[0]);
+  const real w2 = w1 * x[6];
+  const real w3 = w0 * w2;
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * w0;
+  const real w6 = w5 * x[5];
   const real w7 = w3 - w6;
   const real w8 = std::cos(x[1]);
   const real w9 = p[1] * w8;
   const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = w13 / p[1];
-  const real w15 = x[6] * w4;
-  const real w16 = x[5] * w2;
-  const real w17 = w15 - w16;
+  const real w11 = -w10;
+  const real w12 = w4 * x[6];
+  const real w13 = w1 * x[5];
+  const real w14 = w12 + w13;
+  const real w15 = w14 / p[1];
+  const real w16 = w4 * x[5];
+  const real w17 = w16 - w2;
   const real w18 = w17 / w9;
-  const real w19 = -w18;
-  out[0] = w10;  // psi_dot
-  out[1] = w14;  // theta_dot
-  out[2] = w19;  // phi_dot
+  out[0] = w11;  // psi_dot
+  out[1] = w15;  // theta_dot
+  out[2] = w18;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
 }
 
-/* rhs: (t, x[7], p[2], in[0]) -> out[7]  ops: 4 add, 9 mul, 3 div, 4 call */
+/* rhs: (t, x[7], p[2], in[0]) -> out[7]  ops: 4 add, 8 mul, 3 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
-  const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
+  const real w1 = std::cos(x[0]);
+  const real w2 = w1 * x[6];
+  const real w3 = w0 * w2;
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * w0;
+  const real w6 = w5 * x[5];
   const real w7 = w3 - w6;
   const real w8 = std::cos(x[1]);
   const real w9 = p[1] * w8;
   const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = w13 / p[1];
-  const real w15 = x[6] * w4;
-  const real w16 = x[5] * w2;
-  const real w17 = w15 - w16;
+  const real w11 = -w10;
+  const real w12 = w4 * x[6];
+  const real w13 = w1 * x[5];
+  const real w14 = w12 + w13;
+  const real w15 = w14 / p[1];
+  const real w16 = w4 * x[5];
+  const real w17 = w16 - w2;
   const real w18 = w17 / w9;
-  const real w19 = -w18;
-  out[0] = w10;  // psi_dot
-  out[1] = w14;  // theta_dot
-  out[2] = w19;  // phi_dot
+  out[0] = w11;  // psi_dot
+  out[1] = w15;  // theta_dot
+  out[2] = w18;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
   out[5] = real(0.0);  // vx_rate
@@ -76,97 +74,94 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[6] * x[6];
+  const real w0 = x[5] * x[5];
   const real w1 = p[0] * w0;
-  const real w2 = w1 * real(0.7);
-  const real w3 = x[5] * x[5];
+  const real w2 = real(0.7) * w1;
+  const real w3 = x[6] * x[6];
   const real w4 = p[0] * w3;
   const real w5 = real(0.7) * w4;
   const real w6 = w2 + w5;
   out[0] = w6;  // E
 }
 
-/* constraint_residual: (t, x[7], p[2], in[0]) -> out[3]  ops: 10 add, 14 mul, 8 div, 4 call */
+/* constraint_residual: (t, x[7], p[2], in[0]) -> out[3]  ops: 9 add, 13 mul, 8 div, 4 call */
 void constraint_residual(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
+  const real w0 = std::cos(x[0]);
+  const real w1 = std::sin(x[0]);
+  const real w2 = w1 * x[5];
+  const real w3 = w0 * x[6];
+  const real w4 = w2 - w3;
   const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
-  const real w7 = w3 - w6;
-  const real w8 = std::cos(x[1]);
-  const real w9 = p[1] * w8;
-  const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = x[6] * w4;
-  const real w15 = x[5] * w2;
-  const real w16 = w14 - w15;
-  const real w17 = w4 * w16;
+  const real w6 = w5 / p[1];
+  const real w7 = x[6] / p[1];
+  const real w8 = w6 + w7;
+  const real w9 = w1 * x[6];
+  const real w10 = w0 * x[5];
+  const real w11 = w9 + w10;
+  const real w12 = w11 * w1;
+  const real w13 = w12 / p[1];
+  const real w14 = w8 - w13;
+  const real w15 = w1 * w4;
+  const real w16 = w15 / p[1];
+  const real w17 = w11 * w0;
   const real w18 = w17 / p[1];
-  const real w19 = -w18;
-  const real w20 = w2 * w13;
-  const real w21 = w20 / p[1];
-  const real w22 = w19 - w21;
-  const real w23 = x[6] / p[1];
-  const real w24 = w22 + w23;
-  const real w25 = x[5] / p[1];
-  const real w26 = -w25;
-  const real w27 = w2 * w16;
-  const real w28 = w27 / p[1];
-  const real w29 = w26 - w28;
-  const real w30 = w4 * w13;
-  const real w31 = w30 / p[1];
-  const real w32 = w29 + w31;
-  const real w33 = w0 * w16;
-  const real w34 = w33 / w9;
-  const real w35 = w10 + w34;
-  out[0] = w24;  // u1
-  out[1] = w32;  // u2
-  out[2] = w35;  // u3
+  const real w19 = x[5] / p[1];
+  const real w20 = w18 - w19;
+  const real w21 = w16 + w20;
+  const real w22 = std::sin(x[1]);
+  const real w23 = w22 * w4;
+  const real w24 = std::cos(x[1]);
+  const real w25 = p[1] * w24;
+  const real w26 = w23 / w25;
+  const real w27 = w22 * w3;
+  const real w28 = w1 * w22;
+  const real w29 = w28 * x[5];
+  const real w30 = w27 - w29;
+  const real w31 = w30 / w25;
+  const real w32 = w26 + w31;
+  const real w33 = -w32;
+  out[0] = w14;  // u1
+  out[1] = w21;  // u2
+  out[2] = w33;  // u3
 }
 
 namespace {
 
-/* rhs_with_pivots: (t, x[7], p[2], in[0]) -> out[9]  ops: 4 add, 10 mul, 3 div, 4 call */
+/* rhs_with_pivots: (t, x[7], p[2], in[0]) -> out[9]  ops: 4 add, 9 mul, 3 div, 4 call */
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[1]);
-  const real w1 = x[5] * w0;
-  const real w2 = std::sin(x[0]);
-  const real w3 = w1 * w2;
-  const real w4 = std::cos(x[0]);
-  const real w5 = w0 * w4;
-  const real w6 = x[6] * w5;
+  const real w1 = std::cos(x[0]);
+  const real w2 = w1 * x[6];
+  const real w3 = w0 * w2;
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * w0;
+  const real w6 = w5 * x[5];
   const real w7 = w3 - w6;
   const real w8 = std::cos(x[1]);
   const real w9 = p[1] * w8;
   const real w10 = w7 / w9;
-  const real w11 = x[6] * w2;
-  const real w12 = x[5] * w4;
-  const real w13 = w11 + w12;
-  const real w14 = w13 / p[1];
-  const real w15 = x[6] * w4;
-  const real w16 = x[5] * w2;
-  const real w17 = w15 - w16;
+  const real w11 = -w10;
+  const real w12 = w4 * x[6];
+  const real w13 = w1 * x[5];
+  const real w14 = w12 + w13;
+  const real w15 = w14 / p[1];
+  const real w16 = w4 * x[5];
+  const real w17 = w16 - w2;
   const real w18 = w17 / w9;
-  const real w19 = -w18;
-  const real w20 = p[0] * real(1.4);
-  out[0] = w10;  // psi_dot
-  out[1] = w14;  // theta_dot
-  out[2] = w19;  // phi_dot
+  const real w19 = real(1.4) * p[0];
+  out[0] = w11;  // psi_dot
+  out[1] = w15;  // theta_dot
+  out[2] = w18;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
   out[5] = real(0.0);  // vx_rate
   out[6] = real(0.0);  // vy_rate
-  out[7] = w20;  // pivot 0
-  out[8] = w20;  // pivot 1
+  out[7] = w19;  // pivot 0
+  out[8] = w19;  // pivot 1
 }
 
 }  // namespace

@@ -20,6 +20,8 @@ namespace {
 
 // GiNaC orders terms by hash values that include the address of type information in libginac, so with
 // address-space randomisation the same model can print with terms in another order from run to run.
+// The emitted kernels no longer follow that order (emit/expression_graph.hpp orders structurally), but
+// the derivation's size-bounded simplification still sees it (docs/errors.md, "Canonical IR order").
 // Emitted files must be byte-identical on regeneration: run the generator with a fixed address layout
 // by re-executing once with randomisation off. Where the kernel refuses, we go on (output stays
 // correct, only possibly ordered differently).

@@ -186,6 +186,10 @@ std::string array_decl(const std::string& type, const std::string& name, const s
 
 }  // namespace
 
+std::string kernel_text(const ExpressionGraph& graph, const Kernel& kernel, int n_x, int n_p, int n_in) {
+  return print_kernel(graph, kernel, Sizes{0, 0, n_x, n_p, n_in}).text;
+}
+
 std::vector<EmittedFile> EmittedPackage::files() const {
   std::vector<EmittedFile> all{{header_name, header}, {source_name, source}};
   all.insert(all.end(), extra.begin(), extra.end());

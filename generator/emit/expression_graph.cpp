@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <cstring>
 #include <functional>
 #include <stdexcept>
+#include <utility>
 
 namespace hamel {
 
@@ -73,12 +75,24 @@ Op function_op(const std::string& name) {
   return it->second;
 }
 
+std::uint64_t mix(std::uint64_t h, std::uint64_t v) {  // splitmix64's finalizer over h combined with v
+  std::uint64_t z = h ^ (v + 0x9e3779b97f4a7c15ULL + (h << 6) + (h >> 2));
+  z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ULL;
+  z = (z ^ (z >> 27)) * 0x94d049bb133111ebULL;
+  return z ^ (z >> 31);
+}
+
+std::uint64_t value_bits(double value) {
+  std::uint64_t bits = 0;
+  static_assert(sizeof bits == sizeof value, "double is 64 bits");
+  std::memcpy(&bits, &value, sizeof bits);
+  return bits;
+}
+
 }  // namespace
 
 int ExpressionGraph::intern(const Node& n) {
-  std::uint64_t bits = 0;
-  static_assert(sizeof bits == sizeof n.value, "double is 64 bits");
-  std::memcpy(&bits, &n.value, sizeof bits);
+  const std::uint64_t bits = value_bits(n.value);
   const std::uint64_t ops = (static_cast<std::uint64_t>(n.op) << 56) | (static_cast<std::uint64_t>(n.argument) << 48) |
                             static_cast<std::uint64_t>(static_cast<std::uint32_t>(n.index));
   const std::uint64_t operands =
@@ -86,10 +100,32 @@ int ExpressionGraph::intern(const Node& n) {
   const Key key{{ops, operands, n.op == Op::constant ? bits : 0}};
   auto it = index_.find(key);
   if (it != index_.end()) return it->second;
+  // The structural key: what the node computes, from its operands' keys (never their indices).
+  std::uint64_t h = mix(0x68616d656cULL, static_cast<std::uint64_t>(n.op));
+  if (n.op == Op::constant) h = mix(h, bits);
+  if (n.op == Op::input) h = mix(mix(h, static_cast<std::uint64_t>(n.argument)), static_cast<std::uint32_t>(n.index));
+  if (n.a >= 0) h = mix(h, this->key(n.a));
+  if (n.b >= 0) h = mix(h, this->key(n.b));
   nodes_.push_back(n);
+  keys_.push_back(h);
   const int id = static_cast<int>(nodes_.size()) - 1;
   index_.emplace(key, id);
   return id;
+}
+
+bool ExpressionGraph::structurally_less(int i, int j) const {
+  // Distinct nodes differ in structure (value numbering): comparing operation, constant or input and then
+  // the operands (recursively, only on equal keys) decides. Equal keys of distinct nodes are hash
+  // collisions, so the recursion practically never goes deeper than one level.
+  if (i == j) return false;
+  if (key(i) != key(j)) return key(i) < key(j);
+  const Node& x = node(i);
+  const Node& y = node(j);
+  if (x.op != y.op) return x.op < y.op;
+  if (x.op == Op::constant) return value_bits(x.value) < value_bits(y.value);
+  if (x.op == Op::input) return std::make_pair(x.argument, x.index) < std::make_pair(y.argument, y.index);
+  if (x.a != y.a) return structurally_less(x.a, y.a);
+  return structurally_less(x.b, y.b);
 }
 
 int ExpressionGraph::constant(double value) {
@@ -120,6 +156,9 @@ int ExpressionGraph::unary(Op op, int a) {
 }
 
 int ExpressionGraph::binary(Op op, int a, int b) {
+  // Operands of commutative operations in structural order before anything else, so that the rules below
+  // and the node created see the same pair whichever order the caller passed.
+  if (commutative(op) && structurally_less(b, a)) std::swap(a, b);
   const Node& x = node(a);
   const Node& y = node(b);
   if (x.op == Op::constant && y.op == Op::constant) return constant(apply(op, x.value, y.value));
@@ -154,7 +193,6 @@ int ExpressionGraph::binary(Op op, int a, int b) {
   n.op = op;
   n.a = a;
   n.b = b;
-  if (commutative(op) && n.b < n.a) std::swap(n.a, n.b);
   return intern(n);
 }
 
@@ -168,13 +206,24 @@ int ExpressionGraph::integer_power(int base, long exponent) {
 }
 
 int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
+  const auto [id, sign] = signed_expression(e, leaves);
+  return sign < 0 ? unary(Op::neg, id) : id;
+}
+
+std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
   if (auto it = memo_.find(e); it != memo_.end()) return it->second;
-  int id = -1;
+  int id = -1, sign = 1;
+  const auto structural = [this](const std::pair<int, int>& p, const std::pair<int, int>& q) {
+    if (p.first != q.first) return structurally_less(p.first, q.first);
+    return p.second < q.second;
+  };
   if (is_a<GiNaC::numeric>(e)) {
     const GiNaC::numeric& v = ex_to<GiNaC::numeric>(e);
     if (!v.is_real())
       throw std::logic_error("expression graph: complex number " + std::to_string(v.real().to_double()));
-    id = constant(v.to_double());
+    const double d = v.to_double();
+    id = constant(std::fabs(d));
+    sign = d < 0 ? -1 : 1;
   } else if (is_a<GiNaC::constant>(e)) {
     id = constant(ex_to<GiNaC::numeric>(e.evalf()).to_double());
   } else if (is_a<GiNaC::symbol>(e)) {
@@ -183,21 +232,34 @@ int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC:
       throw std::logic_error("expression graph: symbol '" + ex_to<GiNaC::symbol>(e).get_name() + "' is not an input");
     id = it->second;
   } else if (is_a<GiNaC::add>(e)) {
-    // Terms with a negative numeric factor become subtractions, so no constant -1 multiplies remain.
-    id = constant(0);
-    for (std::size_t i = 0; i < e.nops(); ++i) {
-      const ex term = e.op(i);
-      bool negative = false;
-      if (is_a<GiNaC::numeric>(term)) negative = ex_to<GiNaC::numeric>(term).is_negative();
-      if (is_a<GiNaC::mul>(term)) {
-        const ex last = term.op(term.nops() - 1);
-        negative = is_a<GiNaC::numeric>(last) && ex_to<GiNaC::numeric>(last).is_negative();
-      }
-      id = negative ? binary(Op::sub, id, from_expression(-term, leaves))
-                    : binary(Op::add, id, from_expression(term, leaves));
+    // The terms in structural order (not GiNaC's address-dependent one), each added or subtracted by its
+    // sign, so no constant -1 multiplies remain; the first term is added, the sum's sign returned apart.
+    std::vector<std::pair<int, int>> terms;  // node, sign
+    for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(signed_expression(e.op(i), leaves));
+    std::sort(terms.begin(), terms.end(), structural);
+    // Terms GiNaC keeps apart that are the same node (the same value written differently, which depends
+    // on GiNaC's term order in earlier steps) are collected: x − x vanishes, x + x becomes 2·x.
+    std::vector<std::pair<int, int>> collected;
+    for (std::size_t i = 0; i < terms.size();) {
+      std::size_t j = i;
+      int count = 0;
+      for (; j < terms.size() && terms[j].first == terms[i].first; ++j) count += terms[j].second;
+      if (count == 1 || count == -1) collected.emplace_back(terms[i].first, count);
+      if (count > 1 || count < -1)
+        collected.emplace_back(binary(Op::mul, constant(std::abs(count)), terms[i].first), count > 0 ? 1 : -1);
+      i = j;
     }
+    if (collected.size() != terms.size()) std::sort(collected.begin(), collected.end(), structural);
+    terms.swap(collected);
+    if (!terms.empty() && terms.front().second < 0) {
+      sign = -1;
+      for (auto& t : terms) t.second = -t.second;
+    }
+    id = constant(0);
+    for (const auto& [term, s] : terms) id = binary(s < 0 ? Op::sub : Op::add, id, term);
   } else if (is_a<GiNaC::mul>(e)) {
-    int numerator = constant(1), denominator = constant(1);
+    // Numerator and denominator factors, each chained in structural order, their signs collected.
+    std::vector<std::pair<int, int>> numerator, denominator;
     double coefficient = 1.0;
     for (std::size_t i = 0; i < e.nops(); ++i) {
       const ex factor = e.op(i);
@@ -205,30 +267,54 @@ int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC:
         coefficient *= ex_to<GiNaC::numeric>(factor).to_double();
       } else if (is_a<GiNaC::power>(factor) && is_a<GiNaC::numeric>(factor.op(1)) &&
                  ex_to<GiNaC::numeric>(factor.op(1)).is_negative()) {
-        denominator = binary(Op::mul, denominator, from_expression(GiNaC::pow(factor.op(0), -factor.op(1)), leaves));
+        denominator.push_back(signed_expression(GiNaC::pow(factor.op(0), -factor.op(1)), leaves));
       } else {
-        numerator = binary(Op::mul, numerator, from_expression(factor, leaves));
+        numerator.push_back(signed_expression(factor, leaves));
       }
     }
-    const int c = constant(coefficient);  // first: the order of evaluating two arguments is unspecified
-    id = binary(Op::mul, c, binary(Op::div, numerator, denominator));
+    if (coefficient < 0) {
+      sign = -sign;
+      coefficient = -coefficient;
+    }
+    const auto chain = [&](std::vector<std::pair<int, int>>& factors) {
+      std::sort(factors.begin(), factors.end(), structural);
+      int product = constant(1);
+      for (const auto& [f, s] : factors) {
+        product = binary(Op::mul, product, f);
+        sign *= s;
+      }
+      return product;
+    };
+    const int num = chain(numerator);
+    const int den = chain(denominator);
+    const int c = constant(coefficient);
+    id = binary(Op::mul, c, binary(Op::div, num, den));
   } else if (is_a<GiNaC::power>(e)) {
     const ex base = e.op(0), exponent = e.op(1);
-    const int b = from_expression(base, leaves);
-    if (is_a<GiNaC::numeric>(exponent)) {
-      const GiNaC::numeric k = ex_to<GiNaC::numeric>(exponent);
-      if (k.is_integer()) {
-        const long m = k.to_long();
-        id = m >= 0 ? integer_power(b, m) : binary(Op::div, constant(1), integer_power(b, -m));
-      } else if ((2 * k).is_integer()) {
-        const long m = (2 * k).to_long();  // base^(m/2) = sqrt(base)^m
-        const int root = unary(Op::sqrt, b);
-        id = m >= 0 ? integer_power(root, m) : binary(Op::div, constant(1), integer_power(root, -m));
-      } else {
-        id = binary(Op::pow, b, constant(k.to_double()));
-      }
+    bool integer = false;
+    long m = 0;
+    if (is_a<GiNaC::numeric>(exponent) && ex_to<GiNaC::numeric>(exponent).is_integer()) {
+      integer = true;
+      m = ex_to<GiNaC::numeric>(exponent).to_long();
+    }
+    if (integer) {  // (s·b)^m = s^m · b^m
+      const auto [b, s] = signed_expression(base, leaves);
+      id = m >= 0 ? integer_power(b, m) : binary(Op::div, constant(1), integer_power(b, -m));
+      sign = (s < 0 && m % 2 != 0) ? -1 : 1;
     } else {
-      id = binary(Op::pow, b, from_expression(exponent, leaves));
+      const int b = from_expression(base, leaves);
+      if (is_a<GiNaC::numeric>(exponent)) {
+        const GiNaC::numeric k = ex_to<GiNaC::numeric>(exponent);
+        if ((2 * k).is_integer()) {
+          const long h = (2 * k).to_long();  // base^(h/2) = sqrt(base)^h
+          const int root = unary(Op::sqrt, b);
+          id = h >= 0 ? integer_power(root, h) : binary(Op::div, constant(1), integer_power(root, -h));
+        } else {
+          id = binary(Op::pow, b, constant(k.to_double()));
+        }
+      } else {
+        id = binary(Op::pow, b, from_expression(exponent, leaves));
+      }
     }
   } else if (is_a<GiNaC::function>(e)) {
     const std::string name = ex_to<GiNaC::function>(e).get_name();
@@ -237,23 +323,38 @@ int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC:
   } else {
     throw std::logic_error("expression graph: unsupported expression type");
   }
-  memo_.emplace(e, id);
-  return id;
+  const std::pair<int, int> result{id, sign};
+  memo_.emplace(e, result);
+  return result;
 }
 
 std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs) const {
-  std::vector<char> needed(nodes_.size(), 0);
-  for (int o : outputs) needed[static_cast<std::size_t>(o)] = 1;
-  // Operands always have smaller indices than their users: one backward sweep marks everything.
-  for (int i = size() - 1; i >= 0; --i) {
-    if (!needed[static_cast<std::size_t>(i)]) continue;
-    const Node& n = node(i);
-    if (n.a >= 0) needed[static_cast<std::size_t>(n.a)] = 1;
-    if (n.b >= 0) needed[static_cast<std::size_t>(n.b)] = 1;
-  }
+  // Depth first from the outputs in their order, first operand before second, each node after its
+  // operands: a function of the structure reachable from the outputs only (commutative operands are in
+  // structural order), not of node indices, and every value is computed close to where it is used.
+  std::vector<char> seen(nodes_.size(), 0);
   std::vector<int> order;
-  for (int i = 0; i < size(); ++i)
-    if (needed[static_cast<std::size_t>(i)]) order.push_back(i);
+  std::vector<std::pair<int, int>> stack;  // node, operands pushed so far
+  for (int o : outputs) {
+    if (seen[static_cast<std::size_t>(o)]) continue;
+    seen[static_cast<std::size_t>(o)] = 1;
+    stack.emplace_back(o, 0);
+    while (!stack.empty()) {
+      const int i = stack.back().first;
+      const int k = stack.back().second++;
+      const Node& n = node(i);
+      const int operand = k == 0 ? n.a : k == 1 ? n.b : -1;
+      if (k < 2) {
+        if (operand >= 0 && !seen[static_cast<std::size_t>(operand)]) {
+          seen[static_cast<std::size_t>(operand)] = 1;
+          stack.emplace_back(operand, 0);
+        }
+        continue;
+      }
+      order.push_back(i);
+      stack.pop_back();
+    }
+  }
   return order;
 }
 

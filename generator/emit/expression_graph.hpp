@@ -3,6 +3,13 @@
 // operands), so common subexpressions are shared across all kernels of a model. Constants are folded
 // and trivial identities (x+0, x·1, x·0) removed while building. Printing and numeric evaluation are
 // passes over this list.
+//
+// Canonical order: every node carries a structural key (a hash over its operation, constant, argument and
+// the keys of its operands) and nodes are totally ordered by key, ties broken by comparing structure. The
+// operands of add and mul, the terms of a GiNaC sum and the factors of a product are put in that order,
+// and schedule() is a depth-first order from the outputs. So the graph reachable from the outputs, and the
+// emitted text, depend only on the mathematical expressions, not on the order in which GiNaC iterates over
+// terms (hash values that include addresses) nor on the order in which nodes were created.
 #pragma once
 
 #include "algebra/intermediates.hpp"
@@ -14,6 +21,7 @@
 #include <map>
 #include <string>
 #include <unordered_map>
+#include <utility>
 #include <vector>
 
 namespace hamel {
@@ -80,11 +88,18 @@ class ExpressionGraph {
 
   bool is_constant(int i, double v) const { return node(i).op == Op::constant && node(i).value == v; }
 
+  /// Structural key of node `i`: a function of its operation, constant value, argument, index and the keys
+  /// of its operands only (not of node indices), the same in every graph that builds the same expression.
+  std::uint64_t key(int i) const { return keys_[static_cast<std::size_t>(i)]; }
+  /// Total structural order: by key, ties (hash collisions) broken by comparing the nodes' structure.
+  bool structurally_less(int i, int j) const;
+
  private:
   int intern(const Node& n);
   int integer_power(int base, long exponent);
 
   std::vector<Node> nodes_;
+  std::vector<std::uint64_t> keys_;  ///< structural key per node
   struct Key {
     std::array<std::uint64_t, 3> words;
     bool operator==(const Key& o) const { return words == o.words; }
@@ -97,7 +112,10 @@ class ExpressionGraph {
     }
   };
   std::unordered_map<Key, int, KeyHash> index_;
-  std::map<GiNaC::ex, int, GiNaC::ex_is_less> memo_;
+  /// `e` as (node, sign) with e = sign·node, the sign of every sum chosen structurally (its first term in
+  /// structural order is added): GiNaC keeps a sum inside a product as S or −S depending on its term order.
+  std::pair<int, int> signed_expression(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  std::map<GiNaC::ex, std::pair<int, int>, GiNaC::ex_is_less> memo_;
 };
 
 /// One emitted function: named outputs computed from the graph.

@@ -43,38 +43,9 @@ std::string literal(double v) {
 }
 
 const char* function_name(Op op) {
-  switch (op) {
-    case Op::sqrt:
-      return "std::sqrt";
-    case Op::sin:
-      return "std::sin";
-    case Op::cos:
-      return "std::cos";
-    case Op::tan:
-      return "std::tan";
-    case Op::exp:
-      return "std::exp";
-    case Op::log:
-      return "std::log";
-    case Op::asin:
-      return "std::asin";
-    case Op::acos:
-      return "std::acos";
-    case Op::atan:
-      return "std::atan";
-    case Op::sinh:
-      return "std::sinh";
-    case Op::cosh:
-      return "std::cosh";
-    case Op::tanh:
-      return "std::tanh";
-    case Op::abs:
-      return "std::fabs";
-    case Op::pow:
-      return "std::pow";
-    default:
-      return nullptr;
-  }
+  if (op == Op::pow) return "std::pow";
+  const Function* f = function_of(op);
+  return f ? f->cpp : nullptr;
 }
 
 const char* argument_name(Argument a) {

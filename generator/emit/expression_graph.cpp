@@ -30,49 +30,19 @@ double apply(Op op, double a, double b) {
       return a / b;
     case Op::neg:
       return -a;
-    case Op::sqrt:
-      return std::sqrt(a);
-    case Op::sin:
-      return std::sin(a);
-    case Op::cos:
-      return std::cos(a);
-    case Op::tan:
-      return std::tan(a);
-    case Op::exp:
-      return std::exp(a);
-    case Op::log:
-      return std::log(a);
-    case Op::asin:
-      return std::asin(a);
-    case Op::acos:
-      return std::acos(a);
-    case Op::atan:
-      return std::atan(a);
-    case Op::sinh:
-      return std::sinh(a);
-    case Op::cosh:
-      return std::cosh(a);
-    case Op::tanh:
-      return std::tanh(a);
-    case Op::abs:
-      return std::fabs(a);
     case Op::pow:
       return std::pow(a, b);
-    case Op::constant:
-    case Op::input:
+    default:
+      if (const Function* f = function_of(op)) return f->evaluate(a);
       break;
   }
   throw std::logic_error("expression graph: not an operation");
 }
 
 Op function_op(const std::string& name) {
-  static const std::map<std::string, Op> table = {
-      {"sin", Op::sin},   {"cos", Op::cos},   {"tan", Op::tan},   {"exp", Op::exp},   {"log", Op::log},
-      {"asin", Op::asin}, {"acos", Op::acos}, {"atan", Op::atan}, {"sinh", Op::sinh}, {"cosh", Op::cosh},
-      {"tanh", Op::tanh}, {"abs", Op::abs},   {"sqrt", Op::sqrt}};
-  auto it = table.find(name);
-  if (it == table.end()) throw std::logic_error("expression graph: function '" + name + "' cannot be emitted");
-  return it->second;
+  const Function* f = function_named(name);
+  if (!f) throw std::logic_error("expression graph: function '" + name + "' cannot be emitted");
+  return f->op;
 }
 
 std::uint64_t mix(std::uint64_t h, std::uint64_t v) {  // splitmix64's finalizer over h combined with v

@@ -13,6 +13,7 @@
 #pragma once
 
 #include "algebra/intermediates.hpp"
+#include "algebra/operations.hpp"
 
 #include <ginac/ginac.h>
 
@@ -26,29 +27,6 @@
 
 namespace hamel {
 
-enum class Op : std::uint8_t {
-  constant,
-  input,  // argument `array`, element `index`
-  add,
-  sub,
-  mul,
-  div,
-  neg,
-  sqrt,
-  sin,
-  cos,
-  tan,
-  exp,
-  log,
-  asin,
-  acos,
-  atan,
-  sinh,
-  cosh,
-  tanh,
-  abs,
-  pow,
-};
 
 /// Kernel argument arrays, in the order of the kernel ABI: (t, x, p, in).
 enum class Argument : std::uint8_t { time, state, parameter, input };

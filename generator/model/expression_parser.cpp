@@ -1,6 +1,7 @@
 #include "model/expression_parser.hpp"
 
 #include "algebra/expression_text.hpp"
+#include "algebra/operations.hpp"
 #include "model/input_error.hpp"
 
 #include <algorithm>
@@ -107,8 +108,11 @@ void check_structure(const std::string& text) {
 }
 
 const std::set<std::string>& function_set() {
-  static const std::set<std::string> names = {"sin",  "cos",  "tan", "asin", "acos", "atan", "sinh",
-                                              "cosh", "tanh", "exp", "log",  "sqrt", "abs"};
+  static const std::set<std::string> names = [] {
+    std::set<std::string> out;
+    for (const Function& f : functions()) out.insert(f.name);
+    return out;
+  }();
   return names;
 }
 
@@ -203,9 +207,11 @@ bool is_valid_identifier(const std::string& name, std::string* why) {
       "xor_eq"};
   // Names the expression language already uses (user names never reach emitted code: symbols are
   // read from the kernel's argument arrays by index).
-  static const std::set<std::string> reserved = {"t",     "sin",  "cos",  "tan",  "asin", "acos",  "atan",
-                                                 "atan2", "sinh", "cosh", "tanh", "exp",  "log",   "sqrt",
-                                                 "abs",   "pow",  "Pi",   "pi",   "I",    "Euler", "Catalan"};
+  static const std::set<std::string> reserved = [] {
+    std::set<std::string> out = function_set();
+    out.insert({"t", "atan2", "pow", "Pi", "pi", "I", "Euler", "Catalan"});
+    return out;
+  }();
   auto fail = [&](const std::string& m) {
     if (why) *why = m;
     return false;

@@ -1,5 +1,7 @@
 #include "numeric/kernel_accuracy.hpp"
 
+#include "algebra/operations.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -69,28 +71,8 @@ numeric power(const numeric& base, const numeric& exponent) {
   return GiNaC::exp(to_float(exponent) * GiNaC::log(to_float(base)));
 }
 
-numeric apply_function(const std::string& name, const numeric& argument) {
-  const numeric x = to_float(argument);
-  if (name == "sin") return GiNaC::sin(x);
-  if (name == "cos") return GiNaC::cos(x);
-  if (name == "tan") return GiNaC::tan(x);
-  if (name == "exp") return GiNaC::exp(x);
-  if (name == "log") {
-    if (!x.is_positive()) throw std::domain_error("high precision: log of a non-positive number");
-    return GiNaC::log(x);
-  }
-  if (name == "asin" || name == "acos") {
-    if (GiNaC::abs(x) > 1) throw std::domain_error("high precision: " + name + " outside [-1, 1]");
-    return name == "asin" ? GiNaC::asin(x) : GiNaC::acos(x);
-  }
-  if (name == "atan") return GiNaC::atan(x);
-  if (name == "sinh") return GiNaC::sinh(x);
-  if (name == "cosh") return GiNaC::cosh(x);
-  if (name == "tanh") return GiNaC::tanh(x);
-  if (name == "abs") return GiNaC::abs(x);
-  if (name == "sqrt") return power(x, numeric(1, 2));
-  throw std::logic_error("high precision: function '" + name + "' is not supported");
-}
+// An elementary function of the model language (algebra/operations.hpp) in high precision.
+numeric apply_function(const Function& f, const numeric& argument) { return f.evaluate_exactly(to_float(argument)); }
 
 numeric divide(const numeric& a, const numeric& b) {
   if (b.is_zero()) throw std::domain_error("high precision: division by zero");
@@ -176,44 +158,8 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric&
         v = power(a(), exponent.op == Op::constant ? exact_rational(exponent.value) : b());
         break;
       }
-      case Op::sqrt:
-        v = apply_function("sqrt", a());
-        break;
-      case Op::sin:
-        v = apply_function("sin", a());
-        break;
-      case Op::cos:
-        v = apply_function("cos", a());
-        break;
-      case Op::tan:
-        v = apply_function("tan", a());
-        break;
-      case Op::exp:
-        v = apply_function("exp", a());
-        break;
-      case Op::log:
-        v = apply_function("log", a());
-        break;
-      case Op::asin:
-        v = apply_function("asin", a());
-        break;
-      case Op::acos:
-        v = apply_function("acos", a());
-        break;
-      case Op::atan:
-        v = apply_function("atan", a());
-        break;
-      case Op::sinh:
-        v = apply_function("sinh", a());
-        break;
-      case Op::cosh:
-        v = apply_function("cosh", a());
-        break;
-      case Op::tanh:
-        v = apply_function("tanh", a());
-        break;
-      case Op::abs:
-        v = GiNaC::abs(a());
+      default:  // an elementary function
+        v = apply_function(*function_of(n.op), a());
         break;
     }
   }
@@ -291,8 +237,9 @@ numeric HighPrecisionExpressionEvaluator::eval(const ex& e, bool absolute) {
     }
   } else if (is_a<GiNaC::function>(e)) {
     const std::string name = ex_to<GiNaC::function>(e).get_name();
-    if (e.nops() != 1) throw std::logic_error("high precision: function '" + name + "' is not supported");
-    v = apply_function(name, eval(e.op(0), false));
+    const Function* f = function_named(name);
+    if (e.nops() != 1 || !f) throw std::logic_error("high precision: function '" + name + "' is not supported");
+    v = apply_function(*f, eval(e.op(0), false));
     if (absolute) v = GiNaC::abs(v);
   } else {
     throw std::logic_error("high precision: unsupported expression type");

@@ -169,8 +169,7 @@ class PowersOfSums : public GiNaC::map_function {
 
 // One fraction of `e` (sin/cos already expanded), numerator and denominator reduced modulo sin² + cos² = 1;
 // with `powers`, the powers of sums stay whole. Returns 0 when the numerator reduces to 0.
-ex fraction(const ex& e, PowersOfSums* powers) {
-  TrigSymbols trig;
+ex fraction(const ex& e, TrigSymbols& trig, PowersOfSums* powers) {
   ex x = trig.to_symbols(powers ? (*powers)(e) : e);
   // Two rounds: the reduction can expose common factors that normal() then cancels.
   for (int round = 0; round < 2; ++round) {
@@ -182,6 +181,16 @@ ex fraction(const ex& e, PowersOfSums* powers) {
   }
   x = trig.from_symbols(x.normal());
   return powers ? x.subs(powers->back()) : x;
+}
+
+bool has_power_of_sum(const ex& e) {
+  if (is_a<GiNaC::power>(e) && is_a<GiNaC::add>(e.op(0)) && is_a<GiNaC::numeric>(e.op(1))) {
+    const GiNaC::numeric n = ex_to<GiNaC::numeric>(e.op(1));
+    if (n.is_integer() && GiNaC::abs(n) >= 2) return true;
+  }
+  for (std::size_t i = 0; i < e.nops(); ++i)
+    if (has_power_of_sum(e.op(i))) return true;
+  return false;
 }
 
 }  // namespace
@@ -196,12 +205,16 @@ ex fraction(const ex& e, PowersOfSums* powers) {
 // larger one. Zero detection stays exact: the normal form is canonical, and 0 is the smallest of all.
 ex simplify(const ex& e) {
   const ex expanded = expand_trig(e);
-  const ex normal = fraction(expanded, nullptr);
-  if (normal.is_zero()) return normal;
-  PowersOfSums powers;
-  const ex whole = fraction(expanded, &powers);
-  if (powers.back().empty()) return normal;
+  TrigSymbols trig;
+  const ex normal = fraction(expanded, trig, nullptr);
+  if (normal.is_zero() || !has_power_of_sum(expanded)) return normal;
+  // A normal form no larger than the expression as given has not grown by expansion: keep it without
+  // making the other (which costs time, and GiNaC symbols whose serial numbers shift the term order of
+  // everything derived afterwards).
   const std::size_t normal_size = node_count(normal, std::numeric_limits<std::size_t>::max() / 2);
+  if (normal_size <= node_count(expanded, normal_size)) return normal;
+  PowersOfSums powers;
+  const ex whole = fraction(expanded, trig, &powers);
   return node_count(whole, normal_size) < normal_size ? whole : normal;
 }
 

@@ -3,6 +3,7 @@
 #include "algebra/identity_test.hpp"
 
 #include <algorithm>
+#include <limits>
 #include <optional>
 #include <random>
 #include <set>
@@ -132,9 +133,44 @@ ex expand_trig(const ex& e) {
   return expander(e);
 }
 
-ex simplify(const ex& e) {
-  TrigSymbols trig;
-  ex x = trig.to_symbols(expand_trig(e));
+namespace {
+
+// Powers of sums b^n (n an integer, |n| >= 2) stand in as powers of fresh symbols z_b^n while a fraction is
+// formed, so that normal() does not multiply them out. Each base is brought to its own (chosen) form
+// first, recursively, numerator and denominator separately, so a base that is no sum once simplified
+// ((sin² + cos²)^3) does not stay opaque.
+class PowersOfSums : public GiNaC::map_function {
+ public:
+  ex operator()(const ex& e) override {
+    if (is_a<GiNaC::power>(e) && is_a<GiNaC::numeric>(e.op(1))) {
+      const GiNaC::numeric n = ex_to<GiNaC::numeric>(e.op(1));
+      if (n.is_integer() && GiNaC::abs(n) >= 2 && is_a<GiNaC::add>(e.op(0))) {
+        const ex nd = simplify(e.op(0)).numer_denom();
+        return GiNaC::pow(atom(nd.op(0)), n) / GiNaC::pow(atom(nd.op(1)), n);
+      }
+    }
+    return e.map(*this);
+  }
+  const GiNaC::exmap& back() const { return back_; }
+
+ private:
+  ex atom(const ex& base) {
+    if (!is_a<GiNaC::add>(base)) return base;
+    auto it = index_.find(base);
+    if (it != index_.end()) return it->second;
+    const GiNaC::symbol z;
+    index_.emplace(base, z);
+    back_[z] = base;
+    return z;
+  }
+  std::map<ex, ex, GiNaC::ex_is_less> index_;
+  GiNaC::exmap back_;
+};
+
+// One fraction of `e` (sin/cos already expanded), numerator and denominator reduced modulo sin² + cos² = 1;
+// with `powers`, the powers of sums stay whole. Returns 0 when the numerator reduces to 0.
+ex fraction(const ex& e, TrigSymbols& trig, PowersOfSums* powers) {
+  ex x = trig.to_symbols(powers ? (*powers)(e) : e);
   // Two rounds: the reduction can expose common factors that normal() then cancels.
   for (int round = 0; round < 2; ++round) {
     const ex nd = x.normal().numer_denom();
@@ -143,7 +179,43 @@ ex simplify(const ex& e) {
     const ex den = reduce_pythagoras(nd.op(1), trig);
     x = num / den;
   }
-  return trig.from_symbols(x.normal());
+  x = trig.from_symbols(x.normal());
+  return powers ? x.subs(powers->back()) : x;
+}
+
+bool has_power_of_sum(const ex& e) {
+  if (is_a<GiNaC::power>(e) && is_a<GiNaC::add>(e.op(0)) && is_a<GiNaC::numeric>(e.op(1))) {
+    const GiNaC::numeric n = ex_to<GiNaC::numeric>(e.op(1));
+    if (n.is_integer() && GiNaC::abs(n) >= 2) return true;
+  }
+  for (std::size_t i = 0; i < e.nops(); ++i)
+    if (has_power_of_sum(e.op(i))) return true;
+  return false;
+}
+
+}  // namespace
+
+// The normal form multiplies out every power of a sum. That is what makes cancellations exact
+// ((v sin θ + a ω cos θ)² + (a ω sin θ − v cos θ)² is v² + a²ω²), but where nothing cancels it only
+// costs size and accuracy: (x+1)^199 becomes 200 monomials whose sum in doubles at x = −0.9 is −3e38
+// instead of −1e−199 (issue 16, item 9); in general an expanded b^n loses u·(Σ|monomials|)/|b^n| near a
+// root of b, where b^n evaluated whole loses only n times b's own relative error. So both forms are made,
+// the normal form and the one with powers of sums kept whole, and the smaller (in expression nodes) is
+// returned, the normal form on a tie: a cancellation shows as a smaller normal form, a mere expansion as a
+// larger one. Zero detection stays exact: the normal form is canonical, and 0 is the smallest of all.
+ex simplify(const ex& e) {
+  const ex expanded = expand_trig(e);
+  TrigSymbols trig;
+  const ex normal = fraction(expanded, trig, nullptr);
+  if (normal.is_zero() || !has_power_of_sum(expanded)) return normal;
+  // A normal form no larger than the expression as given has not grown by expansion: keep it without
+  // making the other (which costs time, and GiNaC symbols whose serial numbers shift the term order of
+  // everything derived afterwards).
+  const std::size_t normal_size = node_count(normal, std::numeric_limits<std::size_t>::max() / 2);
+  if (normal_size <= node_count(expanded, normal_size)) return normal;
+  PowersOfSums powers;
+  const ex whole = fraction(expanded, trig, &powers);
+  return node_count(whole, normal_size) < normal_size ? whole : normal;
 }
 
 namespace {

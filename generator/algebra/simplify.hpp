@@ -15,7 +15,10 @@ namespace hamel {
 /// sin, cos and tan of a sum or an integer multiple rewritten in sin and cos of the summands/angle.
 GiNaC::ex expand_trig(const GiNaC::ex& e);
 
-/// Normal form of `e`: one fraction, trigonometric polynomials reduced with sin² + cos² = 1.
+/// Normal form of `e`: one fraction, trigonometric polynomials reduced with sin² + cos² = 1. Where `e` holds a
+/// power of a sum (b^n, |n| >= 2) and its normal form grew beyond `e`, the fraction with those powers kept whole
+/// is made too and the smaller of the two (in nodes) returned, the normal form on a tie: an expanded power loses
+/// accuracy near a root of its base (issue 16, item 9). Zero is always found (the normal form is canonical).
 GiNaC::ex simplify(const GiNaC::ex& e);
 
 /// Zero test in exact arithmetic: a 50-digit evaluation at two fixed points first answers "not zero" when

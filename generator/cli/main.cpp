@@ -77,7 +77,8 @@ int main(int argc, char** argv) {
     std::cerr << hamel::printable(e.what()) << "\n";
     return 2;
   } catch (const GiNaC::pole_error& e) {
-    // A denominator that simplifies to zero (x/(sin(x)^2+cos(x)^2-1)) is found only while deriving: bad input.
+    // A denominator that simplifies to zero: the loader finds those written in the model (x/(sin(x)^2+cos(x)^2-1),
+    // with file:line and key); one that arises only while deriving still is bad input.
     std::cerr << "hamel: error: an expression of the model divides by zero once simplified (" << e.what()
               << "); expected denominators that are not identically zero\n";
     return 2;

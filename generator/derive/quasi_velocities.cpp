@@ -65,40 +65,72 @@ std::optional<double> value_at(const GiNaC::ex& e, const SamplePoint& p) {
   }
 }
 
-// |det A| relative to the product of A's row lengths (Hadamard's bound), by Gaussian elimination with
-// partial pivoting in double precision: 0 for a singular matrix, 1 for an orthogonal one.
-std::optional<double> relative_determinant(const GiNaC::matrix& A, const SamplePoint& p) {
+// Regularity of A at a sampled configuration, decided without doubles (a double overflows for
+// A = [[1e200]] and underflows for diag(1e200, 1e-200)): the entries are evaluated exactly where they
+// are rational there, in 50 digits otherwise. `relative` is |det A| divided by the product of A's row
+// lengths (Hadamard's bound): 0 for a singular matrix, 1 for an orthogonal one; in [0, 1], so a double
+// holds it. With exact entries A is regular iff det A != 0 (decided in rationals); with 50-digit entries
+// iff `relative` exceeds singular_tolerance_50_digits, far above the rounding of an identically singular A.
+struct Regularity {
+  bool regular;
+  double relative;
+};
+
+constexpr double singular_tolerance_50_digits = 1e-30;
+
+std::optional<Regularity> regularity_at(const GiNaC::matrix& A, const SamplePoint& p) {
   const unsigned n = A.rows();
-  std::vector<std::vector<double>> m(n, std::vector<double>(n));
-  double bound = 1;
-  for (unsigned i = 0; i < n; ++i) {
-    double row = 0;
+  const long saved_digits = GiNaC::Digits;
+  GiNaC::Digits = 50;
+  struct Restore {
+    long digits;
+    ~Restore() { GiNaC::Digits = digits; }
+  } restore{saved_digits};
+  std::vector<std::vector<GiNaC::numeric>> m(n, std::vector<GiNaC::numeric>(n));
+  bool exact = true;
+  for (unsigned i = 0; i < n; ++i)
     for (unsigned j = 0; j < n; ++j) {
-      const std::optional<double> v = value_at(A(i, j), p);
-      if (!v) return std::nullopt;
-      m[i][j] = *v;
-      row += *v * *v;
+      GiNaC::ex v;
+      try {
+        v = A(i, j).subs(p.values);
+        if (!GiNaC::is_a<GiNaC::numeric>(v) || !GiNaC::ex_to<GiNaC::numeric>(v).is_rational()) {
+          exact = false;
+          v = v.evalf();
+        }
+      } catch (const std::exception&) {
+        return std::nullopt;  // a pole at this point
+      }
+      if (!GiNaC::is_a<GiNaC::numeric>(v) || !GiNaC::ex_to<GiNaC::numeric>(v).is_real()) return std::nullopt;
+      m[i][j] = GiNaC::ex_to<GiNaC::numeric>(v);
     }
-    bound *= std::sqrt(row);
+  GiNaC::numeric bound = 1;
+  for (unsigned i = 0; i < n; ++i) {
+    GiNaC::numeric row = 0;
+    for (unsigned j = 0; j < n; ++j) row += m[i][j] * m[i][j];
+    bound *= GiNaC::ex_to<GiNaC::numeric>(GiNaC::sqrt(row).evalf());
   }
-  if (bound == 0) return 0.0;
-  double det = 1;
-  for (unsigned c = 0; c < n; ++c) {
+  // Gaussian elimination with partial pivoting, in rationals when every entry is one.
+  GiNaC::numeric det = 1;
+  for (unsigned c = 0; c < n && !det.is_zero(); ++c) {
     unsigned pivot = c;
     for (unsigned r = c + 1; r < n; ++r)
-      if (std::fabs(m[r][c]) > std::fabs(m[pivot][c])) pivot = r;
-    if (m[pivot][c] == 0) return 0.0;
+      if (GiNaC::abs(m[r][c]) > GiNaC::abs(m[pivot][c])) pivot = r;
+    if (m[pivot][c].is_zero()) {
+      det = 0;
+      break;
+    }
     std::swap(m[pivot], m[c]);
     det *= m[c][c];
     for (unsigned r = c + 1; r < n; ++r) {
-      const double f = m[r][c] / m[c][c];
+      const GiNaC::numeric f = m[r][c] / m[c][c];
       for (unsigned j = c; j < n; ++j) m[r][j] -= f * m[c][j];
     }
   }
-  return std::fabs(det) / bound;
+  if (det.is_zero() || bound.is_zero()) return Regularity{false, 0.0};
+  const double relative = GiNaC::ex_to<GiNaC::numeric>(GiNaC::ex(GiNaC::abs(det) / bound).evalf()).to_double();
+  return Regularity{exact || relative > singular_tolerance_50_digits, relative};
 }
 
-constexpr double singular_tolerance = 1e-10;  // relative determinant below which A counts as singular
 constexpr double inverse_tolerance = 1e-9;    // |A·B − I| entries above which B is not A⁻¹
 
 }  // namespace
@@ -218,10 +250,10 @@ QuasiVelocities derive_quasi_velocities(const Model& model, Intermediates& progr
     const SamplePoint* first = nullptr;
     bool regular_somewhere = false;
     for (const SamplePoint& p : points) {
-      const std::optional<double> r = relative_determinant(qv.A, p);
+      const std::optional<Regularity> r = regularity_at(qv.A, p);
       if (!r) continue;
-      if (!first) first = &p, smallest = *r;
-      regular_somewhere = regular_somewhere || *r > singular_tolerance;
+      if (!first) first = &p, smallest = r->relative;
+      regular_somewhere = regular_somewhere || r->regular;
     }
     if (first && !regular_somewhere)
       throw InputError(where_A, "quasi_velocities.A",

@@ -1,7 +1,9 @@
 #include "model/load_model.hpp"
 #include "model/physical_checks.hpp"
 
+#include "algebra/expression_text.hpp"
 #include "algebra/identity_test.hpp"
+#include "algebra/simplify.hpp"
 
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
@@ -19,6 +21,7 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -62,6 +65,24 @@ GiNaC::symtab Model::symbols() const {
 }
 
 namespace {
+
+// A divisor of `e` (the base of a negative power) that is identically zero, such as sin(x)^2 + cos(x)^2 - 1:
+// GiNaC sees no zero while parsing, and the derivation's normal form would stop on it with no location.
+// Decided exactly: a 50-digit value clearly away from 0 answers "not zero"; otherwise the modular identity
+// test, and where that cannot read the divisor, is_zero_exactly. Returns the divisor, or nothing.
+std::optional<GiNaC::ex> zero_divisor(const GiNaC::ex& e) {
+  for (std::size_t i = 0; i < e.nops(); ++i)
+    if (std::optional<GiNaC::ex> d = zero_divisor(e.op(i))) return d;
+  if (!GiNaC::is_a<GiNaC::power>(e) || !GiNaC::is_a<GiNaC::numeric>(e.op(1)) ||
+      !GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
+    return std::nullopt;
+  const GiNaC::ex base = e.op(0);
+  if (GiNaC::is_a<GiNaC::symbol>(base) || GiNaC::is_a<GiNaC::numeric>(base) || numerically_nonzero(base))
+    return std::nullopt;
+  const Identity zero = identically_zero(base, Intermediates{});
+  if (zero == Identity::zero || (zero == Identity::undecided && is_zero_exactly(base))) return base;
+  return std::nullopt;
+}
 
 std::size_t edit_distance(const std::string& a, const std::string& b) {
   std::vector<std::size_t> row(b.size() + 1);
@@ -184,6 +205,10 @@ class Loader {
                ", which emitted code cannot evaluate; expected real "
                "numbers, names, + - * / ^, Pi and the functions " +
                emittable_functions());
+    if (const std::optional<GiNaC::ex> divisor = zero_divisor(e))
+      fail(node, key,
+           "expression " + quote(text) + " divides by " + quote(to_text(*divisor)) +
+               ", which is identically zero; expected denominators that are not identically zero");
     return e;
   }
 

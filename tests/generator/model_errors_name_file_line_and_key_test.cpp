@@ -94,4 +94,26 @@ INSTANTIATE_TEST_SUITE_P(
                 "bad.yaml:5:25", "expected 3 rows"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.label; });
 
+// Issue 16, item 13: A = [[1e200]] and A = diag(1e200, 1e-200) (det exactly 1) are regular. Their regularity was
+// decided in doubles, where the product of the row lengths overflows (and 0 * inf is NaN), so both were refused
+// as "singular at every sampled configuration ... is -nan". Decided in rationals now, they derive, with the exact B.
+TEST(RegularA, ExtremeScalesAreNotSingular) {
+  const std::string one =
+      "name: s\ncoordinates: [x]\nquasi_velocities:\n  names: [v]\n  A: [[\"1e200\"]]\n"
+      "lagrangian: \"1/2*x_dot^2 - x^2/2\"\n";
+  const hamel::Derivation d1 = hamel::derive(hamel::load_model_from_text(one, "one.yaml"));
+  ASSERT_EQ(d1.quasi_velocities.B.rows(), 1u);
+  EXPECT_EQ(d1.quasi_velocities.B(0, 0), GiNaC::pow(GiNaC::numeric(10), -200));
+
+  const std::string diagonal =
+      "name: s\ncoordinates: [x, y]\nquasi_velocities:\n  names: [u, w]\n"
+      "  A: [[\"1e200\", 0], [0, \"1e-200\"]]\nlagrangian: \"1/2*x_dot^2 + 1/2*y_dot^2 - x^2/2\"\n";
+  const hamel::Derivation d2 = hamel::derive(hamel::load_model_from_text(diagonal, "diagonal.yaml"));
+  ASSERT_EQ(d2.quasi_velocities.B.rows(), 2u);
+  EXPECT_EQ(d2.quasi_velocities.B(0, 0), GiNaC::pow(GiNaC::numeric(10), -200));
+  EXPECT_EQ(d2.quasi_velocities.B(1, 1), GiNaC::pow(GiNaC::numeric(10), 200));
+  EXPECT_EQ(d2.quasi_velocities.B(0, 1), GiNaC::ex(0));
+  EXPECT_EQ(d2.quasi_velocities.B(1, 0), GiNaC::ex(0));
+}
+
 }  // namespace

@@ -214,13 +214,16 @@ ex as_ex(const Fourier& f, const Angles& angles) {
       out += c;
       continue;
     }
-    ex angle = angles.as_ex(m.angle);
-    ex sign = 1;
-    if (negative_angle(angle)) {
-      angle = -angle;
-      if (m.kind == Kind::sin) sign = -1;
+    const ex angle = angles.as_ex(m.angle);
+    if (m.kind == Kind::cos) {
+      out += c * GiNaC::cos(negative_angle(angle) ? -angle : angle);
+      continue;
     }
-    out += sign * c * (m.kind == Kind::cos ? GiNaC::cos(angle) : GiNaC::sin(angle));
+    // c sin(a) or −c sin(−a): the one with fewer nodes (l sin(a−b), not −l sin(b−a)), whichever order GiNaC
+    // gave the terms of a; on a tie the angle whose leading term is positive.
+    const ex plain = c * GiNaC::sin(angle), flipped = -c * GiNaC::sin(-angle);
+    const std::size_t n_plain = node_count(plain, 1000), n_flipped = node_count(flipped, 1000);
+    out += n_plain < n_flipped || (n_plain == n_flipped && !negative_angle(angle)) ? plain : flipped;
   }
   return out;
 }

@@ -22,6 +22,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <functional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -113,9 +114,11 @@ TEST(PreparedParameters, PolynomialFormDropsIdenticallyZeroCoefficients) {
   EXPECT_EQ(out[1], s);
   EXPECT_EQ(out[2], cubic);
   // Terms: x0², x0·x1, x1², 1 — the x0·x1 coefficient p0·1 − 1/p1 + 0 has the vanishing part dropped.
-  int terms = 0;
-  for (int i = out[0]; g.node(i).op == Op::add; i = g.node(i).a) ++terms;
-  EXPECT_EQ(terms + 1, 4);
+  // The terms of the sum: the leaves of its tree of additions (operands are in structural order, not a chain).
+  const std::function<int(int)> terms = [&](int i) {
+    return g.node(i).op == Op::add ? terms(g.node(i).a) + terms(g.node(i).b) : 1;
+  };
+  EXPECT_EQ(terms(out[0]), 4);
   const std::vector<double> x = {0.7, -1.3}, p = {1.1, 0.4};
   const double expected = (0.7 * 1.1 - 1.3) * (-1.3 - 0.7 / 0.4) + 2;
   EXPECT_NEAR(evaluate(g, {out[0]}, x, p)[0], expected, 1e-14);

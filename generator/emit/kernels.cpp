@@ -149,8 +149,9 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     return k < n ? sys.coordinates[static_cast<std::size_t>(k)].get_name()
                  : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
   };
+  const bool build_jacobian = want("jacobian") || only.count("jacobian_prepared") > 0;  // its variant needs it
   const bool forward_only =
-      want("jacobian") && !articulated && g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
+      build_jacobian && !articulated && g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
   if (forward_only) {
     const int nx = static_cast<int>(rhs.outputs.size());
     const std::vector<std::vector<int>> columns = forward_columns(Argument::state, nx);
@@ -160,7 +161,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         jacobian.outputs.push_back(columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
         jacobian.output_names.push_back("d" + rhs.output_names[static_cast<std::size_t>(row)] + "/d" + state_name(k));
       }
-  } else if (want("jacobian")) {
+  } else if (build_jacobian) {
     // The accelerations a of mass_times_acceleration (M a as a program) are the solved u'.
     for (std::size_t j = 0; j < eq.acceleration_symbols.size(); ++j) leaves[eq.acceleration_symbols[j]] = accel[j];
     std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
@@ -360,7 +361,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   if (only.empty() || prepared_named) {
     std::vector<const Kernel*> originals;
     if (want("rhs") || only.count("rhs_prepared")) originals.push_back(&rhs);
-    if ((want("jacobian") || only.count("jacobian_prepared")) && !jacobian.outputs.empty())
+    if (build_jacobian && !jacobian.outputs.empty())
       originals.push_back(&jacobian);
     // Parameter-only factors and divisors gathered, so that their products and reciprocals are prepared too;
     // or, where it leaves fewer operations per call, polynomial outputs as Σ coefficient · monomial.

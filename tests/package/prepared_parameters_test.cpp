@@ -173,6 +173,20 @@ TEST(PreparedParameters, SatellitesEqualTheirRhsAndTheFoldedDerivation) {
   check_model("models/satellite_se3.yaml");
 }
 
+TEST(PreparedParameters, NamedAloneTheyAreBuiltWithoutTheirOriginals) {
+  const Model model = load_model(source("models/satellite_so3xr3.yaml"));
+  const Derivation derivation = derive(model);
+  const KernelSet only_jacobian = build_kernels(model, derivation, {"jacobian_prepared"});
+  ASSERT_TRUE(only_jacobian.prepared.has_value());
+  ASSERT_EQ(only_jacobian.prepared->kernels.size(), 1u);
+  EXPECT_EQ(only_jacobian.prepared->kernels[0].name, "jacobian_prepared");
+  EXPECT_TRUE(only_jacobian.kernels.empty());  // jacobian itself was not named
+  const KernelSet only_rhs = build_kernels(model, derivation, {"rhs_prepared"});
+  ASSERT_TRUE(only_rhs.prepared.has_value());
+  ASSERT_EQ(only_rhs.prepared->kernels.size(), 1u);
+  EXPECT_EQ(only_rhs.prepared->kernels[0].name, "rhs_prepared");
+}
+
 TEST(PreparedParameters, FoldedModelsGetNone) {
   const Model model = load_model(source("models/satellite_so3xr3.yaml"));
   std::map<std::string, double> values;

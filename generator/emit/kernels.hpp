@@ -42,10 +42,13 @@ struct KernelSet {
 
 /// Kernel ABI: every kernel is `void name(real t, const real* x, const real* p, const real* in, real* out)`
 /// with the state x = (q^1..q^n, u^I...), parameters p in file order and inputs in file order.
-/// `only` (if not empty) selects kernels by name; the others are not built (the Jacobian's derivatives are
-/// not even formed), so nothing of them reaches the emitted code. Built only when `only` names them:
-/// `linearization` (A and B of the linearized state equations, forward mode through rhs) and
-/// `riemann_linearization` (only for unconstrained models in general coordinates with L = ½ g q̇q̇ − V).
+/// `only` (if not empty) selects kernels by name (emit/kernel_registry.hpp); the others are left out of the
+/// set, so nothing of them reaches the emitted code. The cheap ones rhs is made from (kinematics, mass_matrix,
+/// forcing) are formed anyway; the costly ones are not formed at all when not selected (the Jacobian's
+/// derivatives, the linearizations, the tree connection's solves, the prepared kernels). Built only when
+/// `only` names them (the registry's on-request kernels): `linearization` (A and B of the linearized state
+/// equations, forward mode through rhs) and `riemann_linearization` (only for unconstrained models in general
+/// coordinates with L = ½ g q̇q̇ − V).
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {});
 
 }  // namespace hamel

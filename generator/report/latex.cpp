@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <regex>
 #include <sstream>
+#include <utility>
 #include <vector>
 
 namespace hamel {
@@ -116,6 +116,39 @@ std::string latex_name(const std::string& name) {
   return out;
 }
 
+/// The floating-point literals CLN prints, as (position, length): the matches, left to right and not
+/// overlapping, of [0-9]+\.[0-9]*(E[-+]?[0-9]+)?.
+std::vector<std::pair<std::size_t, std::size_t>> float_literals(const std::string& s) {
+  std::vector<std::pair<std::size_t, std::size_t>> found;
+  const auto digit = [&s](std::size_t i) { return i < s.size() && std::isdigit(static_cast<unsigned char>(s[i])); };
+  std::size_t i = 0;
+  while (i < s.size()) {
+    if (!digit(i)) {
+      ++i;
+      continue;
+    }
+    std::size_t j = i;
+    while (digit(j)) ++j;
+    if (j >= s.size() || s[j] != '.') {  // an integer: no literal starts inside it
+      i = j;
+      continue;
+    }
+    ++j;
+    while (digit(j)) ++j;
+    if (j < s.size() && s[j] == 'E') {
+      std::size_t k = j + 1;
+      if (k < s.size() && (s[k] == '-' || s[k] == '+')) ++k;
+      if (digit(k)) {
+        while (digit(k)) ++k;
+        j = k;
+      }
+    }
+    found.emplace_back(i, j - i);
+    i = j;
+  }
+  return found;
+}
+
 std::string latex_text(const std::string& s) {
   std::string out;
   for (char c : s) {
@@ -180,13 +213,11 @@ std::string LatexPrinter::expr(const GiNaC::ex& e) {
   // Floats (CLN writes 0.2999999999999999889 and 1.4999999999999999321E-7) as their shortest decimal, the
   // exponent as \cdot 10^{k}; spaces collapsed (insignificant in math mode).
   const std::string s = os.str();
-  static const std::regex float_literal("[0-9]+\\.[0-9]*(E[-+]?[0-9]+)?");
   std::string floats;
   std::size_t done = 0;
-  for (auto m = std::sregex_iterator(s.begin(), s.end(), float_literal); m != std::sregex_iterator(); ++m) {
-    const std::size_t at = static_cast<std::size_t>(m->position());
+  for (const auto& [at, length] : float_literals(s)) {
     if (at > 0 && (std::isalnum(static_cast<unsigned char>(s[at - 1])) || s[at - 1] == '.')) continue;
-    std::string literal = m->str();
+    std::string literal = s.substr(at, length);
     std::replace(literal.begin(), literal.end(), 'E', 'e');
     std::string shortest = shortest_decimal(std::strtod(literal.c_str(), nullptr));
     const std::size_t e = shortest.find('e');
@@ -195,7 +226,7 @@ std::string LatexPrinter::expr(const GiNaC::ex& e) {
       shortest = shortest.substr(0, e) + " \\cdot 10^{" + std::to_string(exponent) + "}";
     }
     floats += s.substr(done, at - done) + shortest;
-    done = at + static_cast<std::size_t>(m->length());
+    done = at + length;
   }
   floats += s.substr(done);
   std::string out;

@@ -1,6 +1,7 @@
 // SPDX-License-Identifier: MIT
-// The heap-free forms of the integrators (caller-provided work space and state buffer) allocate
-// nothing, from the first rhs call to the last observer call: global operator new and delete are
+// The heap-free forms of the integrators (caller-provided work space and state buffer), the
+// Munthe-Kaas integrators on Lie groups among them, allocate nothing, from the first rhs call to the
+// last observer call: global operator new and delete are
 // replaced by counting versions, and every run inside a counting window must leave the count at 0.
 // Their results equal those of the allocating std::vector forms bit for bit, and they are accurate
 // against closed-form solutions. Too small a work space, or a step or setting that makes no sense,
@@ -18,6 +19,14 @@
 #include "hamel/runtime/dop853.hpp"
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
+#include "hamel/runtime/lie/matrix.hpp"
+#include "hamel/runtime/lie/rkmk.hpp"
+#include "hamel/runtime/lie/rkmk_coupled.hpp"
+#include "hamel/runtime/lie/rn.hpp"
+#include "hamel/runtime/lie/se2.hpp"
+#include "hamel/runtime/lie/se3.hpp"
+#include "hamel/runtime/lie/so3.hpp"
+#include "hamel/runtime/lie/so3xr3.hpp"
 #include "hamel/runtime/radau5.hpp"
 #include "hamel/runtime/rk4.hpp"
 #include "hamel/runtime/status.hpp"
@@ -220,6 +229,15 @@ TEST(RuntimeNoAllocation, CounterSeesTheVectorFormsAllocate) {
   const long allocations = counter.count();
   EXPECT_EQ(r.status, Status::ok);
   EXPECT_GE(allocations, 2);  // the copy of x0 and the work space
+
+  AllocationCounter coupled_counter;
+  const auto c = hamel::runtime::lie::integrate_rkmk4_coupled<hamel::runtime::lie::SO3>(
+      hamel::runtime::lie::Trivialization::left, [](double, const double*, double* f) { f[0] = 0.0; },
+      [](double, const double* x, double* xi) { xi[0] = xi[1] = xi[2] = x[0]; }, hamel::runtime::lie::SO3::identity(),
+      x0, 0.0, 1.0, 0.1, 0.0, hamel::runtime::lie::NoCoupledObserver{});
+  const long coupled_allocations = coupled_counter.count();
+  EXPECT_EQ(c.status, Status::ok);
+  EXPECT_GE(coupled_allocations, 2);  // the copy of x0 and the work space
 }
 
 TEST(RuntimeNoAllocation, Rk4) {
@@ -405,6 +423,270 @@ TEST(RuntimeNoAllocation, Radau5OnStiffProtheroRobinson) {
   EXPECT_LT(o.stats.steps, 1000);  // an explicit method needs ~1e6 steps of 2e-6
 }
 
+// --- Munthe-Kaas RK4 on Lie groups ----------------------------------------
+//
+// integrate_rkmk4 keeps its whole state in fixed-size values (the group element and std::array
+// algebra vectors), so it has a single form, and it allocates nothing. integrate_rkmk4_coupled has
+// a heap-free form for the vector part (caller's x and RkmkCoupledWorkspace) and a std::vector form
+// that must agree with it bit for bit.
+
+using hamel::runtime::lie::CoupledIntegrationOutcome;
+using hamel::runtime::lie::CoupledIntegrationResult;
+using hamel::runtime::lie::GroupIntegrationResult;
+using hamel::runtime::lie::integrate_rkmk4;
+using hamel::runtime::lie::integrate_rkmk4_coupled;
+using hamel::runtime::lie::Mat3;
+using hamel::runtime::lie::NoCoupledObserver;
+using hamel::runtime::lie::RkmkCoupledWorkspace;
+using hamel::runtime::lie::SE3;
+using hamel::runtime::lie::SO3;
+using hamel::runtime::lie::Trivialization;
+using hamel::runtime::lie::Vec3;
+using hamel::runtime::lie::Vec6;
+using hamel::runtime::lie::operator*;
+using hamel::runtime::lie::operator+;
+using hamel::runtime::lie::operator-;
+
+constexpr std::size_t kGroupDoubles = 12;  // an SE3 element: R and p
+void flatten(const Mat3& R, double* out) {
+  for (std::size_t i = 0; i < 9; ++i) out[i] = R[i];
+}
+void flatten(const SE3::Element& g, double* out) {
+  flatten(g.R, out);
+  for (std::size_t i = 0; i < 3; ++i) out[9 + i] = g.p[i];
+}
+template <class Element>
+std::array<double, kGroupDoubles> flat(const Element& g) {
+  std::array<double, kGroupDoubles> a{};
+  flatten(g, a.data());
+  return a;
+}
+
+/// Largest entry of |a - b| over the flattened elements.
+template <class Element>
+double element_distance(const Element& a, const Element& b) {
+  const std::array<double, kGroupDoubles> fa = flat(a), fb = flat(b);
+  double worst = 0.0;
+  for (std::size_t i = 0; i < kGroupDoubles; ++i) worst = std::fmax(worst, std::fabs(fa[i] - fb[i]));
+  return worst;
+}
+
+/// Records (t, x..., g...) rows of a group run into storage sized before the run (N = 0: no x).
+template <std::size_t N>
+struct GroupRecorder {
+  static constexpr std::size_t kWidth = 1 + N + kGroupDoubles;
+  explicit GroupRecorder(std::size_t capacity) : rows(capacity * kWidth) {}
+  template <class Element>
+  void operator()(double t, const double* x, const Element& g) {
+    if ((count + 1) * kWidth > rows.size()) {
+      ++overflow;
+      return;
+    }
+    double* row = rows.data() + count * kWidth;
+    row[0] = t;
+    for (std::size_t i = 0; i < N; ++i) row[1 + i] = x[i];
+    flatten(g, row + 1 + N);
+    ++count;
+  }
+  template <class Element>
+  void operator()(double t, const Element& g) {
+    (*this)(t, nullptr, g);
+  }
+  std::vector<double> recorded() const { return {rows.begin(), rows.begin() + static_cast<long>(count * kWidth)}; }
+  double t(std::size_t k) const { return rows[k * kWidth]; }
+  const double* g(std::size_t k) const { return rows.data() + k * kWidth + 1 + N; }
+  std::vector<double> rows;
+  std::size_t count = 0;
+  long overflow = 0;
+};
+
+// Plain RKMK4 with a velocity of fixed direction and varying size, xi(t) = (1 + sin(t)/2) xi0:
+// g(t) = g0 exp(phi(t) xi0) (left) or exp(phi(t) xi0) g0 (right), phi(t) = t + (1 - cos t)/2.
+double phi(double t) { return t + 0.5 * (1.0 - std::cos(t)); }
+
+template <class Group>
+void check_rkmk4(Trivialization side, const typename Group::Vector& xi0, const typename Group::Element& g0,
+                 const char* label) {
+  using Element = typename Group::Element;
+  auto xi = [&](double t, const Element&, double* out) {
+    for (std::size_t i = 0; i < Group::dim; ++i) out[i] = (1.0 + 0.5 * std::sin(t)) * xi0[i];
+  };
+  GroupRecorder<0> rows(kRows);
+  AllocationCounter counter;
+  const GroupIntegrationResult<Group> r = integrate_rkmk4<Group>(side, xi, g0, 0.0, kTEnd, 0.01, kSample, rows);
+  const long allocations = counter.count();
+  EXPECT_EQ(allocations, 0) << label;
+  ASSERT_EQ(r.status, Status::ok) << label;
+  EXPECT_EQ(r.t, kTEnd) << label;
+  EXPECT_EQ(rows.count, 101u) << label;
+  EXPECT_EQ(rows.overflow, 0) << label;
+
+  auto exact = [&](double t) {
+    typename Group::Vector eta;
+    for (std::size_t i = 0; i < Group::dim; ++i) eta[i] = phi(t) * xi0[i];
+    return side == Trivialization::left ? Group::compose(g0, Group::exp(eta)) : Group::compose(Group::exp(eta), g0);
+  };
+  double worst = 0.0;
+  for (std::size_t k = 0; k < rows.count; ++k) {
+    const std::array<double, kGroupDoubles> e = flat(exact(rows.t(k)));
+    for (std::size_t i = 0; i < kGroupDoubles; ++i) worst = std::fmax(worst, std::fabs(rows.g(k)[i] - e[i]));
+  }
+  std::printf("rkmk4 %s: max error %.3e over %zu rows, %ld evaluations\n", label, worst, rows.count, r.stats.rhs_evals);
+  EXPECT_LT(worst, 1e-8) << label;
+  EXPECT_LT(element_distance(r.g, exact(kTEnd)), 1e-8) << label;
+}
+
+const Mat3 kR0 = SO3::exp({0.3, -0.2, 0.5});
+const SE3::Element kG0{kR0, {1.0, -2.0, 0.5}};
+
+TEST(RuntimeNoAllocation, RkmkOnSO3AndSE3) {
+  check_rkmk4<SO3>(Trivialization::left, {0.4, -1.1, 0.7}, kR0, "SO3 left");
+  check_rkmk4<SO3>(Trivialization::right, {0.4, -1.1, 0.7}, kR0, "SO3 right");
+  check_rkmk4<SE3>(Trivialization::left, {0.4, -1.1, 0.7, 0.3, 0.2, -0.5}, kG0, "SE3 left");
+  check_rkmk4<SE3>(Trivialization::right, {0.4, -1.1, 0.7, 0.3, 0.2, -0.5}, kG0, "SE3 right");
+}
+
+// The coupled runs: a free rigid body. x = body angular velocity w (SO3) or body twist (w, v) (SE3,
+// unit mass, centre of mass at the body origin) with Euler's equations I w' = (I w) x w and
+// v' = v x w. Left: xi = x (body velocities). Right: xi = spatial velocities, (R w) on SO3 and
+// (R w, R v - (R w) x p) on SE3, which depend on the group element. Conserved: the spatial angular
+// momentum R I w and the spatial linear momentum R v; p moves uniformly, p(t) = p0 + t R0 v0.
+constexpr double kInertia[3] = {1.0, 2.0, 3.0};
+void euler(const double* w, double* wdot) {
+  const double l0 = kInertia[0] * w[0], l1 = kInertia[1] * w[1], l2 = kInertia[2] * w[2];
+  wdot[0] = (l1 * w[2] - l2 * w[1]) / kInertia[0];
+  wdot[1] = (l2 * w[0] - l0 * w[2]) / kInertia[1];
+  wdot[2] = (l0 * w[1] - l1 * w[0]) / kInertia[2];
+}
+void rigid_body(double, const double* x, double* xdot) { euler(x, xdot); }
+void rigid_body_se3(double, const double* x, double* xdot) {
+  euler(x, xdot);
+  const Vec3 w{x[0], x[1], x[2]}, v{x[3], x[4], x[5]};
+  const Vec3 vdot = hamel::runtime::lie::cross(v, w);
+  for (std::size_t i = 0; i < 3; ++i) xdot[3 + i] = vdot[i];
+}
+void body_velocity_so3(double, const double* x, double* xi) {
+  for (std::size_t i = 0; i < 3; ++i) xi[i] = x[i];
+}
+void spatial_velocity_so3(double, const double* x, const Mat3& R, double* xi) {
+  const Vec3 ws = R * Vec3{x[0], x[1], x[2]};
+  for (std::size_t i = 0; i < 3; ++i) xi[i] = ws[i];
+}
+void body_velocity_se3(double, const double* x, double* xi) {
+  for (std::size_t i = 0; i < 6; ++i) xi[i] = x[i];
+}
+void spatial_velocity_se3(double, const double* x, const SE3::Element& g, double* xi) {
+  const Vec3 ws = g.R * Vec3{x[0], x[1], x[2]};
+  const Vec3 vs = g.R * Vec3{x[3], x[4], x[5]} - hamel::runtime::lie::cross(ws, g.p);
+  for (std::size_t i = 0; i < 3; ++i) {
+    xi[i] = ws[i];
+    xi[3 + i] = vs[i];
+  }
+}
+
+Vec3 spatial_angular_momentum(const Mat3& R, const double* w) {
+  return R * Vec3{kInertia[0] * w[0], kInertia[1] * w[1], kInertia[2] * w[2]};
+}
+double distance(const Vec3& a, const Vec3& b) {
+  return std::fmax(std::fabs(a[0] - b[0]), std::fmax(std::fabs(a[1] - b[1]), std::fabs(a[2] - b[2])));
+}
+
+// Work space sized at compile time from the number of states, as an emitted package would.
+double rkmk_so3_work[RkmkCoupledWorkspace::doubles(3)];
+double rkmk_se3_work[RkmkCoupledWorkspace::doubles(6)];
+
+/// Heap-free coupled run with no allocation, then the vector form: bit-identical. x0 in, final x out.
+template <class Group, std::size_t N, class F, class Xi>
+CoupledIntegrationOutcome<Group> check_coupled(Trivialization side, F&& f, Xi&& xi, const typename Group::Element& g0,
+                                               std::array<double, N>& x, double* work, const char* label) {
+  const std::vector<double> x0(x.begin(), x.end());
+  GroupRecorder<N> free_rows(kRows), vector_rows(kRows);
+  AllocationCounter counter;
+  const CoupledIntegrationOutcome<Group> o =
+      integrate_rkmk4_coupled<Group>(side, f, xi, g0, x.data(), N, 0.0, kTEnd, 0.01, kSample, free_rows,
+                                     RkmkCoupledWorkspace{work, RkmkCoupledWorkspace::doubles(N)});
+  const long allocations = counter.count();
+  EXPECT_EQ(allocations, 0) << label;
+  EXPECT_EQ(o.status, Status::ok) << label;
+  EXPECT_EQ(o.t, kTEnd) << label;
+  EXPECT_EQ(free_rows.count, 101u) << label;
+
+  const CoupledIntegrationResult<Group> r =
+      integrate_rkmk4_coupled<Group>(side, f, xi, g0, x0, 0.0, kTEnd, 0.01, kSample, vector_rows);
+  EXPECT_EQ(o.status, r.status) << label;
+  EXPECT_EQ(o.t, r.t) << label;
+  expect_same_stats(o.stats, r.stats);
+  EXPECT_EQ(flat(o.g), flat(r.g)) << label;
+  EXPECT_EQ(std::vector<double>(x.begin(), x.end()), r.x) << label;
+  EXPECT_EQ(free_rows.overflow, 0) << label;
+  EXPECT_EQ(vector_rows.overflow, 0) << label;
+  EXPECT_EQ(free_rows.recorded(), vector_rows.recorded()) << label;
+  return o;
+}
+
+TEST(RuntimeNoAllocation, RkmkCoupledOnSO3) {
+  const std::array<double, 3> w0 = {0.3, 1.0, -0.4};  // near the unstable middle axis: a tumbling motion
+  const Vec3 m0 = spatial_angular_momentum(kR0, w0.data());
+  for (const Trivialization side : {Trivialization::left, Trivialization::right}) {
+    const bool left = side == Trivialization::left;
+    std::array<double, 3> w = w0;
+    const CoupledIntegrationOutcome<SO3> o =
+        left ? check_coupled<SO3>(side, rigid_body, body_velocity_so3, kR0, w, rkmk_so3_work, "SO3 left")
+             : check_coupled<SO3>(side, rigid_body, spatial_velocity_so3, kR0, w, rkmk_so3_work, "SO3 right");
+    const double drift = distance(spatial_angular_momentum(o.g, w.data()), m0);
+    std::printf("rkmk4 coupled SO3 %s: momentum drift %.3e, %ld evaluations\n", left ? "left" : "right", drift,
+                o.stats.rhs_evals);
+    EXPECT_LT(drift, 1e-8);
+  }
+}
+
+TEST(RuntimeNoAllocation, RkmkCoupledOnSE3) {
+  const std::array<double, 6> x0 = {0.3, 1.0, -0.4, 0.5, -0.2, 0.1};
+  const Vec3 m0 = spatial_angular_momentum(kG0.R, x0.data());
+  const Vec3 v0 = kG0.R * Vec3{x0[3], x0[4], x0[5]};
+  for (const Trivialization side : {Trivialization::left, Trivialization::right}) {
+    const bool left = side == Trivialization::left;
+    std::array<double, 6> x = x0;
+    const CoupledIntegrationOutcome<SE3> o =
+        left ? check_coupled<SE3>(side, rigid_body_se3, body_velocity_se3, kG0, x, rkmk_se3_work, "SE3 left")
+             : check_coupled<SE3>(side, rigid_body_se3, spatial_velocity_se3, kG0, x, rkmk_se3_work, "SE3 right");
+    const double drift = std::fmax(distance(spatial_angular_momentum(o.g.R, x.data()), m0),
+                                   distance(o.g.R * Vec3{x[3], x[4], x[5]}, v0));
+    const double p_error = distance(o.g.p, kG0.p + kTEnd * v0);
+    std::printf("rkmk4 coupled SE3 %s: momentum drift %.3e, position error %.3e\n", left ? "left" : "right", drift,
+                p_error);
+    EXPECT_LT(drift, 1e-8);
+    EXPECT_LT(p_error, 1e-8);
+  }
+}
+
+// The group policies are fixed-size values: none of their operations allocates.
+template <class Group>
+double exercise(const typename Group::Vector& x) {
+  const typename Group::Element g = Group::exp(x);
+  const typename Group::Element h = Group::compose(g, Group::inverse(g));
+  const typename Group::Vector y = Group::log(Group::compose(g, h));
+  const typename Group::Matrix a = Group::dexpinv(y);
+  const typename Group::Matrix b = Group::dexp(y);
+  const typename Group::Matrix c = Group::Ad(g);
+  const typename Group::Matrix d = Group::ad(x);
+  return y[0] + a[0] + b[0] + c[0] + d[0] + (Group::is_finite(h) ? 1.0 : 0.0);
+}
+
+volatile double g_group_sink = 0.0;
+
+TEST(RuntimeNoAllocation, GroupOperations) {
+  AllocationCounter counter;
+  double sum = exercise<SO3>({0.1, 0.2, 0.3});
+  sum += exercise<SE3>({0.1, 0.2, 0.3, 0.4, 0.5, 0.6});
+  sum += exercise<hamel::runtime::lie::SO3xR3>({0.1, 0.2, 0.3, 0.4, 0.5, 0.6});
+  sum += exercise<hamel::runtime::lie::SE2>({0.1, 0.2, 0.3});
+  sum += exercise<hamel::runtime::lie::Rn<2>>({0.1, 0.2});
+  g_group_sink = sum;
+  const long allocations = counter.count();
+  EXPECT_EQ(allocations, 0);
+}
+
 // --- invalid_argument ------------------------------------------------------
 
 TEST(RuntimeNoAllocation, TooSmallWorkSpaceIsAnInvalidArgument) {
@@ -430,6 +712,31 @@ TEST(RuntimeNoAllocation, TooSmallWorkSpaceIsAnInvalidArgument) {
   EXPECT_EQ(observed, 0);
   EXPECT_EQ(x[0], 1.0);
   EXPECT_EQ(x[1], 0.0);
+}
+
+TEST(RuntimeNoAllocation, TooSmallRkmkCoupledWorkSpaceIsAnInvalidArgument) {
+  int observed = 0;
+  auto count = [&](double, const double*, const Mat3&) { ++observed; };
+  double w[3] = {0.3, 1.0, -0.4};
+  const RkmkCoupledWorkspace small{rkmk_so3_work, RkmkCoupledWorkspace::doubles(3) - 1};
+  const RkmkCoupledWorkspace null{nullptr, RkmkCoupledWorkspace::doubles(3)};
+  const RkmkCoupledWorkspace fits{rkmk_so3_work, std::size(rkmk_so3_work)};
+  const CoupledIntegrationOutcome<SO3> a = integrate_rkmk4_coupled<SO3>(
+      Trivialization::left, rigid_body, body_velocity_so3, kR0, w, 3, 0.0, 1.0, 0.1, 0.0, count, small);
+  const CoupledIntegrationOutcome<SO3> b = integrate_rkmk4_coupled<SO3>(
+      Trivialization::right, rigid_body, spatial_velocity_so3, kR0, w, 3, 0.0, 1.0, 0.1, 0.0, count, null);
+  const CoupledIntegrationOutcome<SO3> c = integrate_rkmk4_coupled<SO3>(
+      Trivialization::left, rigid_body, body_velocity_so3, kR0, nullptr, 3, 0.0, 1.0, 0.1, 0.0, count, fits);
+  for (const CoupledIntegrationOutcome<SO3>& o : {a, b, c}) {
+    EXPECT_EQ(o.status, Status::invalid_argument);
+    EXPECT_EQ(o.stats.rhs_evals, 0);
+    EXPECT_EQ(o.t, 0.0);
+    EXPECT_EQ(o.g, kR0);
+  }
+  EXPECT_EQ(observed, 0);
+  EXPECT_EQ(w[0], 0.3);
+  EXPECT_EQ(w[1], 1.0);
+  EXPECT_EQ(w[2], -0.4);
 }
 
 }  // namespace

@@ -16,6 +16,9 @@
 //   finite accepted state on failure) on return, and nothing in the run allocates: not the steps, not the
 //   observer calls (which see pointers into x or the work space), not the result. Both forms run the same
 //   code and give bit-identical results (tests/runtime/integrators_do_not_allocate_test.cpp).
+// The Lie-group integrators follow the same pattern: lie/rkmk_coupled.hpp's integrate_rkmk4_coupled has a
+// vector form and a heap-free form with RkmkCoupledWorkspace (for the vector part; the group part is
+// fixed-size), and lie/rkmk.hpp's integrate_rkmk4, whose state is fixed-size, allocates nothing at all.
 #pragma once
 
 #include <algorithm>

@@ -78,6 +78,11 @@ std::array<double, N> scaled(double a, const std::array<double, N>& x) {
 /// gives non_finite_state with the last finite state and its time; h <= 0 gives invalid_argument, a
 /// step below 1e-14 * max(1, |t|) gives step_size_underflow; more than 1e15
 /// steps gives too_many_steps.
+///
+/// Memory: none is allocated. The state, the stages and the chart coordinates are fixed-size values
+/// (Group::Element and std::array of Group::dim doubles), so there is no work space to provide and no
+/// separate heap-free form; the observer sees a group element on the stack
+/// (tests/runtime/integrators_do_not_allocate_test.cpp).
 template <class Group, class Xi, class Observer>
 GroupIntegrationResult<Group> integrate_rkmk4(Trivialization side, Xi&& xi, const typename Group::Element& g0,
                                               double t0, double t_end, double h, double sample_dt, Observer&& observe) {

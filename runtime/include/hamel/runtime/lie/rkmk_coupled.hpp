@@ -56,10 +56,32 @@ constexpr bool takes_group() {
 
 }  // namespace detail
 
+/// Outcome of a heap-free coupled run (the workspace overload): as CoupledIntegrationResult, but the
+/// vector state at t is in the caller's buffer x rather than in a vector.
+template <class Group>
+struct CoupledIntegrationOutcome {
+  Status status = Status::ok;
+  double t = 0;  // t_end on success, else the time of the last finite state
+  IntegrationStats stats;
+  typename Group::Element g;  // group state at t
+};
+
+/// Caller-provided work space of the heap-free integrate_rkmk4_coupled: a non-owning view of
+/// doubles(n) doubles, n the dimension of the vector part. The group part needs none: its stages,
+/// chart coordinates and elements are fixed-size values (std::array) sized by Group::dim.
+struct RkmkCoupledWorkspace {
+  /// Doubles needed for n vector states: the four stage derivatives, a stage argument, a sample and
+  /// the new state.
+  static constexpr std::size_t doubles(std::size_t n) { return 7 * n; }
+
+  double* data = nullptr;
+  std::size_t size = 0;  // doubles at data
+};
+
 /// Integrates the coupled system
 ///     x' = f(t, x),   g' = g hat(xi(t, x))  (left)  or  g' = hat(xi(t, x)) g  (right)
 /// from (g0, x0) at t0 to t_end: the reduced (Lagrange-Poincare, Hamel)
-/// dynamics of a symmetric system in any dimension n = x0.size() together with
+/// dynamics of a symmetric system in any dimension n together with
 /// the reconstruction of its motion on the symmetry group, the paper's (KinRec)
 /// with a velocity that is part of the solution.
 ///
@@ -87,30 +109,38 @@ constexpr bool takes_group() {
 /// h <= 0 gives invalid_argument, a step below 1e-14 * max(1, |t|) gives step_size_underflow; more
 /// than 1e15 steps gives too_many_steps.
 ///
-/// Memory: the vector part uses one allocation of 8 n doubles at the start;
-/// the group part uses fixed-size storage only.
+/// Heap-free form: x holds the n initial values on entry and the vector state at the returned t on
+/// return, the outcome the group state at t; work is RkmkCoupledWorkspace::doubles(n) doubles of the
+/// caller's (a smaller or null work space, or a null x with n > 0, gives invalid_argument before any
+/// work). Nothing in the run allocates; the observer sees pointers into x and work.
 template <class Group, class F, class Xi, class Observer>
-CoupledIntegrationResult<Group> integrate_rkmk4_coupled(Trivialization side, F&& f, Xi&& xi,
-                                                        const typename Group::Element& g0, std::vector<double> x0,
-                                                        double t0, double t_end, double h, double sample_dt,
-                                                        Observer&& observe) {
+CoupledIntegrationOutcome<Group> integrate_rkmk4_coupled(Trivialization side, F&& f, Xi&& xi,
+                                                         const typename Group::Element& g0, double* x_io, std::size_t n,
+                                                         double t0, double t_end, double h, double sample_dt,
+                                                         Observer&& observe, RkmkCoupledWorkspace work) {
   using Vector = typename Group::Vector;
   using Element = typename Group::Element;
   constexpr std::size_t m = Group::dim;
   constexpr bool group_dependent = detail::takes_group<Element, std::remove_reference_t<F>>() ||
                                    detail::takes_group<Element, std::remove_reference_t<Xi>>();
-  const std::size_t n = x0.size();
 
-  CoupledIntegrationResult<Group> result;
+  CoupledIntegrationOutcome<Group> result;
   result.t = t0;
   result.g = g0;
-  result.x = std::move(x0);
+  if (!hamel::runtime::detail::buffers_fit(x_io, n, work.data, work.size, RkmkCoupledWorkspace::doubles(n))) {
+    result.status = Status::invalid_argument;
+    return result;
+  }
+  // The current and the new vector state swap roles every step (pointers, not data); the final state
+  // is copied back into the caller's x_io if it ends up in the work space.
+  double* x = x_io;                   // x_n
+  double* x_new = work.data + 6 * n;  // x_{n+1}
   auto finish = [&](Status status) {
     result.status = status;
-    return std::move(result);
+    if (x != x_io) std::copy(x, x + n, x_io);
+    return result;
   };
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !Group::is_finite(g0) ||
-      !hamel::runtime::all_finite(result.x.data(), n)) {
+  if (!std::isfinite(t0) || !std::isfinite(t_end) || !Group::is_finite(g0) || !hamel::runtime::all_finite(x, n)) {
     return finish(Status::non_finite_state);
   }
   const double span = t_end - t0;
@@ -119,24 +149,19 @@ CoupledIntegrationResult<Group> integrate_rkmk4_coupled(Trivialization side, F&&
     return finish(grid);
   }
 
-  observe(t0, static_cast<const double*>(result.x.data()), static_cast<const Element&>(result.g));
+  observe(t0, static_cast<const double*>(x), static_cast<const Element&>(result.g));
   if (count == 0) {
     return finish(Status::ok);
   }
   const double h_eff = span / static_cast<double>(count);
   const bool left = side == Trivialization::left;
 
-  // Work storage of the vector part: one allocation, pointers swapped, not data.
-  std::vector<double> work(8 * n);
-  double* x = work.data();  // x_n
-  double* x_new = x + n;    // x_{n+1}
-  double* a1 = x_new + n;   // f at the step start
-  double* a2 = a1 + n;      // stage derivatives; a2 also receives f at the step end
+  double* a1 = work.data;  // f at the step start
+  double* a2 = a1 + n;     // stage derivatives; a2 also receives f at the step end
   double* a3 = a2 + n;
   double* a4 = a3 + n;
   double* stage = a4 + n;  // stage state
   double* sample = stage + n;
-  std::copy(result.x.begin(), result.x.end(), x);
 
   auto chart = [&](const Element& g, const Vector& eta) {
     return left ? Group::compose(g, Group::exp(eta)) : Group::compose(Group::exp(eta), g);
@@ -214,7 +239,7 @@ CoupledIntegrationResult<Group> integrate_rkmk4_coupled(Trivialization side, F&&
         // The state is fine but cannot be advanced (or interpolated) further.
         result.t = t_next;
         result.g = g_next;
-        std::copy(x_new, x_new + n, result.x.begin());
+        std::swap(x, x_new);
         return finish(Status::non_finite_state);
       }
     }
@@ -240,12 +265,32 @@ CoupledIntegrationResult<Group> integrate_rkmk4_coupled(Trivialization side, F&&
     k1 = v;
     result.t = t;
     result.g = g;
-    std::copy(x, x + n, result.x.begin());
     if (!clock.enabled() || i == count) {
       observe(t, static_cast<const double*>(x), static_cast<const Element&>(g));
     }
   }
   return finish(Status::ok);
+}
+
+/// Convenience form of integrate_rkmk4_coupled, n = x0.size(): the work space is allocated once, before
+/// the first step, and the final vector state is returned in the result's vector. Results are
+/// bit-identical to the heap-free form.
+template <class Group, class F, class Xi, class Observer>
+CoupledIntegrationResult<Group> integrate_rkmk4_coupled(Trivialization side, F&& f, Xi&& xi,
+                                                        const typename Group::Element& g0, std::vector<double> x0,
+                                                        double t0, double t_end, double h, double sample_dt,
+                                                        Observer&& observe) {
+  std::vector<double> work(RkmkCoupledWorkspace::doubles(x0.size()));
+  const CoupledIntegrationOutcome<Group> outcome =
+      integrate_rkmk4_coupled<Group>(side, f, xi, g0, x0.data(), x0.size(), t0, t_end, h, sample_dt, observe,
+                                     RkmkCoupledWorkspace{work.data(), work.size()});
+  CoupledIntegrationResult<Group> result;
+  result.status = outcome.status;
+  result.t = outcome.t;
+  result.stats = outcome.stats;
+  result.g = outcome.g;
+  result.x = std::move(x0);
+  return result;
 }
 
 }  // namespace hamel::runtime::lie

@@ -218,6 +218,16 @@ ex simplify(const ex& e) {
   return node_count(whole, normal_size) < normal_size ? whole : normal;
 }
 
+ex expand_keeping_powers_of_sums(const ex& e) {
+  const ex full = e.expand();
+  if (!has_power_of_sum(e)) return full;
+  const std::size_t full_size = node_count(full, std::numeric_limits<std::size_t>::max() / 2);
+  if (full_size <= node_count(e, full_size)) return full;
+  PowersOfSums powers;
+  const ex whole = powers(e).expand().subs(powers.back());
+  return node_count(whole, full_size) < full_size ? whole : full;
+}
+
 namespace {
 
 void collect_symbols(const ex& e, std::set<ex, GiNaC::ex_is_less>& out) {

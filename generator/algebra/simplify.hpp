@@ -21,6 +21,13 @@ GiNaC::ex expand_trig(const GiNaC::ex& e);
 /// accuracy near a root of its base (issue 16, item 9). Zero is always found (the normal form is canonical).
 GiNaC::ex simplify(const GiNaC::ex& e);
 
+/// e.expand(), except where `e` holds a power of a sum (b^n, |n| >= 2) and its expansion grew beyond `e`: then
+/// the expansion with those powers kept whole is made too and the smaller (in nodes) returned, the full expansion
+/// on a tie. simplify()'s rule, for the same reason (an expanded b^n loses accuracy near a root of b), where an
+/// expansion, not a normal form, is wanted: the kinematic tree's products of the bodies' mass, centre of mass,
+/// inertia, offsets and rotations and its inlined kinetic energy (a body mass "(m+1)^20" became 21 monomials).
+GiNaC::ex expand_keeping_powers_of_sums(const GiNaC::ex& e);
+
 /// Zero test in exact arithmetic: a 50-digit evaluation at two fixed points first answers "not zero" when
 /// the value is clearly away from 0; otherwise identically_zero() decides, and if it cannot (expressions
 /// with functions other than sin/cos), the normal form of simplify().

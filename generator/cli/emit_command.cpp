@@ -59,7 +59,12 @@ void run(const EmitOptions& opt) {
   const Derivation derivation = derive(model, target.settings);
   const KernelSet kernels = [&] {
     progress::Step step("building the kernels' expression graph");
-    return build_kernels(model, derivation, selected);
+    KernelSet set = build_kernels(model, derivation, selected);
+    // A kernel with a constant beyond the range of a double is refused when asked for (--kernels, a scene)
+    // and left out of the default set with a note; nothing is written when it is refused.
+    for (const std::string& note : drop_unrepresentable(set, !selected.empty(), printable(opt.model)))
+      std::cerr << note << "\n";
+    return set;
   }();
   progress::Step writing("printing the C++ package");
   EmittedPackage package = emit_cpp(model, derivation, kernels);

@@ -1,5 +1,7 @@
 #include "derive/kinematic_tree.hpp"
 
+#include "algebra/simplify.hpp"
+
 #include "lie/lie_algebra.hpp"
 
 #include <array>
@@ -79,9 +81,9 @@ Mat6 spatial_inertia(const RigidBody& b) {
     for (std::size_t k = 0; k < 3; ++k) {
       ex cc = 0;
       for (std::size_t j = 0; j < 3; ++j) cc += C[r][j] * C[j][k];
-      I[r][k] = (b.inertia[r][k] - b.mass * cc).expand();
-      I[r][k + 3] = (b.mass * C[r][k]).expand();
-      I[r + 3][k] = (-b.mass * C[r][k]).expand();
+      I[r][k] = expand_keeping_powers_of_sums(b.inertia[r][k] - b.mass * cc);
+      I[r][k + 3] = expand_keeping_powers_of_sums(b.mass * C[r][k]);
+      I[r + 3][k] = expand_keeping_powers_of_sums(-b.mass * C[r][k]);
       I[r + 3][k + 3] = r == k ? b.mass : ex(0);
     }
   return I;
@@ -193,19 +195,19 @@ class TreeProgram {
         for (std::size_t c = 0; c < 3; ++c) {
           ex k2 = 0;
           for (std::size_t j = 0; j < 3; ++j) k2 += K[r][j] * K[j][c];
-          J[r][c] = ((r == c ? 1 : 0) + s * K[r][c] + (1 - co) * k2.expand()).expand();
+          J[r][c] = expand_keeping_powers_of_sums((r == c ? 1 : 0) + s * K[r][c] + (1 - co) * expand_keeping_powers_of_sums(k2));
         }
     }
     for (std::size_t r = 0; r < 3; ++r) {
       for (std::size_t c = 0; c < 3; ++c) {
         ex e = 0;
         for (std::size_t j = 0; j < 3; ++j) e += body.rotation[r][j] * J[j][c];
-        l.R[r][c] = name(e.expand());
+        l.R[r][c] = name(expand_keeping_powers_of_sums(e));
       }
       ex shift = 0;
       if (body.prismatic)
         for (std::size_t j = 0; j < 3; ++j) shift += body.rotation[r][j] * body.axis[j] * q;
-      l.p[r] = name((body.offset[r] + shift).expand());
+      l.p[r] = name(expand_keeping_powers_of_sums(body.offset[r] + shift));
     }
     return l;
   }
@@ -509,7 +511,7 @@ GiNaC::ex tree_kinetic_energy(const Model& model) {
   const TreeDerivation d = derive_tree(model);
   // energy_terms = {T + V} with T one intermediate: inlining it gives the expression.
   const ex potential = model.bundle->potential + joint_springs(model, *model.bundle->tree);
-  return d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - potential).expand();
+  return expand_keeping_powers_of_sums(d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - potential));
 }
 
 Model with_inlined_tree(const Model& model) {

@@ -5,6 +5,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <functional>
+#include <sstream>
 #include <stdexcept>
 #include <utility>
 
@@ -73,6 +74,7 @@ int ExpressionGraph::intern(const Node& n) {
   // The structural key: what the node computes, from its operands' keys (never their indices).
   std::uint64_t h = mix(0x68616d656cULL, static_cast<std::uint64_t>(n.op));
   if (n.op == Op::constant) h = mix(h, bits);
+  if (n.op == Op::constant && n.index > 0) h = mix(h, static_cast<std::uint32_t>(n.index));  // unrepresentable
   if (n.op == Op::input) h = mix(mix(h, static_cast<std::uint64_t>(n.argument)), static_cast<std::uint32_t>(n.index));
   if (n.a >= 0) h = mix(h, this->key(n.a));
   if (n.b >= 0) h = mix(h, this->key(n.b));
@@ -92,7 +94,8 @@ bool ExpressionGraph::structurally_less(int i, int j) const {
   const Node& x = node(i);
   const Node& y = node(j);
   if (x.op != y.op) return x.op < y.op;
-  if (x.op == Op::constant) return value_bits(x.value) < value_bits(y.value);
+  if (x.op == Op::constant)
+    return std::make_pair(value_bits(x.value), x.index) < std::make_pair(value_bits(y.value), y.index);
   if (x.op == Op::input) return std::make_pair(x.argument, x.index) < std::make_pair(y.argument, y.index);
   if (x.a != y.a) return structurally_less(x.a, y.a);
   return structurally_less(x.b, y.b);
@@ -106,6 +109,57 @@ int ExpressionGraph::constant(double value) {
   return intern(n);
 }
 
+int ExpressionGraph::unrepresentable_constant(double value, const std::string& exact) {
+  const auto at = std::find(unrepresentable_values_.begin(), unrepresentable_values_.end(), exact);
+  if (at == unrepresentable_values_.end()) unrepresentable_values_.push_back(exact);
+  Node n;
+  n.op = Op::constant;
+  n.value = value;
+  n.index = static_cast<int>(std::find(unrepresentable_values_.begin(), unrepresentable_values_.end(), exact) -
+                             unrepresentable_values_.begin()) +
+            1;
+  return intern(n);
+}
+
+int ExpressionGraph::exact_constant(const GiNaC::numeric& v) {
+  const double d = v.to_double();
+  if (std::isfinite(d) && (d != 0 || v.is_zero())) return constant(d);
+  // About 6 significant digits of the exact value: GiNaC prints "1.0E400", "2.6199755966169518372E-507".
+  std::ostringstream text;
+  text << v.evalf();
+  std::string s = text.str();
+  const std::size_t e = s.find('E');
+  std::string mantissa = s.substr(0, e), exponent = e == std::string::npos ? "" : s.substr(e + 1);
+  const std::size_t point = mantissa.find('.');
+  if (point != std::string::npos && mantissa.size() > point + 6) mantissa.resize(point + 6);
+  while (point != std::string::npos && mantissa.size() > point + 2 && mantissa.back() == '0') mantissa.pop_back();
+  return unrepresentable_constant(d, exponent.empty() ? mantissa : mantissa + "e" + exponent);
+}
+
+int ExpressionGraph::folded(Op op, double x, double y, double r) {
+  const bool binary_op = op == Op::add || op == Op::sub || op == Op::mul || op == Op::div || op == Op::pow;
+  const bool overflow = !std::isfinite(r) && std::isfinite(x) && (!binary_op || std::isfinite(y));
+  const bool underflow = r == 0 && x != 0 && ((op == Op::mul && y != 0) || (op == Op::div && std::isfinite(y)) ||
+                                              (op == Op::pow && std::isfinite(y)));
+  if (!overflow && !underflow) return constant(r);
+  std::ostringstream text;
+  text.precision(6);
+  const char* symbol = op == Op::add ? " + " : op == Op::sub ? " - " : op == Op::mul ? " * " : op == Op::div ? " / " : "^";
+  if (binary_op)
+    text << x << symbol << y;
+  else
+    text << "a function of " << x;
+  return unrepresentable_constant(r, text.str());
+}
+
+std::pair<int, int> ExpressionGraph::first_unrepresentable(const std::vector<int>& outputs) const {
+  if (unrepresentable_values_.empty()) return {-1, -1};
+  for (std::size_t o = 0; o < outputs.size(); ++o)
+    for (int i : schedule({outputs[o]}))
+      if (is_unrepresentable(i)) return {static_cast<int>(o), i};
+  return {-1, -1};
+}
+
 int ExpressionGraph::input(Argument argument, int index) {
   Node n;
   n.op = Op::input;
@@ -116,7 +170,7 @@ int ExpressionGraph::input(Argument argument, int index) {
 
 int ExpressionGraph::unary(Op op, int a) {
   const Node& x = node(a);
-  if (x.op == Op::constant) return constant(apply(op, x.value, 0.0));
+  if (x.op == Op::constant && x.index == 0) return folded(op, x.value, 0.0, apply(op, x.value, 0.0));
   if (op == Op::neg && x.op == Op::neg) return x.a;
   if (op == Op::neg && x.op == Op::sub) return binary(Op::sub, x.b, x.a);
   Node n;
@@ -131,7 +185,8 @@ int ExpressionGraph::binary(Op op, int a, int b) {
   if (commutative(op) && structurally_less(b, a)) std::swap(a, b);
   const Node& x = node(a);
   const Node& y = node(b);
-  if (x.op == Op::constant && y.op == Op::constant) return constant(apply(op, x.value, y.value));
+  if (x.op == Op::constant && y.op == Op::constant && x.index == 0 && y.index == 0)
+    return folded(op, x.value, y.value, apply(op, x.value, y.value));
   switch (op) {
     case Op::add:
       if (is_constant(a, 0)) return b;
@@ -191,9 +246,8 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
     const GiNaC::numeric& v = ex_to<GiNaC::numeric>(e);
     if (!v.is_real())
       throw std::logic_error("expression graph: complex number " + std::to_string(v.real().to_double()));
-    const double d = v.to_double();
-    id = constant(std::fabs(d));
-    sign = d < 0 ? -1 : 1;
+    id = exact_constant(abs(v));
+    sign = v.is_negative() ? -1 : 1;
   } else if (is_a<GiNaC::constant>(e)) {
     id = constant(ex_to<GiNaC::numeric>(e.evalf()).to_double());
   } else if (is_a<GiNaC::symbol>(e)) {
@@ -230,11 +284,11 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
   } else if (is_a<GiNaC::mul>(e)) {
     // Numerator and denominator factors, each chained in structural order, their signs collected.
     std::vector<std::pair<int, int>> numerator, denominator;
-    double coefficient = 1.0;
+    GiNaC::numeric coefficient = 1;
     for (std::size_t i = 0; i < e.nops(); ++i) {
       const ex factor = e.op(i);
       if (is_a<GiNaC::numeric>(factor)) {
-        coefficient *= ex_to<GiNaC::numeric>(factor).to_double();
+        coefficient *= ex_to<GiNaC::numeric>(factor);
       } else if (is_a<GiNaC::power>(factor) && is_a<GiNaC::numeric>(factor.op(1)) &&
                  ex_to<GiNaC::numeric>(factor.op(1)).is_negative()) {
         denominator.push_back(signed_expression(GiNaC::pow(factor.op(0), -factor.op(1)), leaves));
@@ -242,7 +296,7 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
         numerator.push_back(signed_expression(factor, leaves));
       }
     }
-    if (coefficient < 0) {
+    if (coefficient.is_negative()) {
       sign = -sign;
       coefficient = -coefficient;
     }
@@ -257,7 +311,7 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
     };
     const int num = chain(numerator);
     const int den = chain(denominator);
-    const int c = constant(coefficient);
+    const int c = exact_constant(coefficient);
     id = binary(Op::mul, c, binary(Op::div, num, den));
   } else if (is_a<GiNaC::power>(e)) {
     const ex base = e.op(0), exponent = e.op(1);

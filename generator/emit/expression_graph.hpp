@@ -37,7 +37,11 @@ struct Node {
   int b = -1;          ///< second operand
   double value = 0.0;  ///< constant value
   Argument argument = Argument::time;
-  int index = 0;  ///< element of the argument array
+  /// Input: element of the argument array. Constant: 0, or k > 0 for a constant whose exact value is not a
+  /// finite double (beyond ±1.8e308, or nonzero and below the smallest double): `value` holds what reading it
+  /// as a double gives (±inf, 0) and the k-th entry of ExpressionGraph::unrepresentable_values the exact value.
+  /// Such a constant is never folded nor taken for 0 or 1; a kernel that reaches one is not emitted.
+  int index = 0;
 };
 
 /// Operation counts of a kernel (what its signature comment reports).
@@ -49,6 +53,9 @@ struct OpCounts {
 class ExpressionGraph {
  public:
   int constant(double value);
+  /// The exact number `v` (real) as a constant: constant(v as a double) when that is finite and, for v ≠ 0,
+  /// nonzero; otherwise a constant marked unrepresentable (Node::index), which kernels_unrepresentable reports.
+  int exact_constant(const GiNaC::numeric& v);
   int input(Argument argument, int index);
   int unary(Op op, int a);
   int binary(Op op, int a, int b);
@@ -64,7 +71,19 @@ class ExpressionGraph {
   std::vector<int> schedule(const std::vector<int>& outputs) const;
   OpCounts count(const std::vector<int>& schedule) const;
 
-  bool is_constant(int i, double v) const { return node(i).op == Op::constant && node(i).value == v; }
+  bool is_constant(int i, double v) const {
+    return node(i).op == Op::constant && node(i).index == 0 && node(i).value == v;
+  }
+  /// True for a constant whose exact value is not a finite double (see Node::index).
+  bool is_unrepresentable(int i) const { return node(i).op == Op::constant && node(i).index > 0; }
+  /// The exact value of such a constant, about 6 digits ("1.0e400", "-2.5e-330"), or of a folded one the
+  /// operation that overflowed or underflowed.
+  const std::string& unrepresentable_value(int i) const {
+    return unrepresentable_values_[static_cast<std::size_t>(node(i).index - 1)];
+  }
+  /// The first output (position in `outputs`) whose computation reaches an unrepresentable constant, and
+  /// that constant's node; {-1, -1} when there is none.
+  std::pair<int, int> first_unrepresentable(const std::vector<int>& outputs) const;
 
   /// Structural key of node `i`: a function of its operation, constant value, argument, index and the keys
   /// of its operands only (not of node indices), the same in every graph that builds the same expression.
@@ -75,6 +94,12 @@ class ExpressionGraph {
  private:
   int intern(const Node& n);
   int integer_power(int base, long exponent);
+  int unrepresentable_constant(double value, const std::string& exact);
+  /// constant(r) for r = op(x, y) folded in doubles, or an unrepresentable constant when the fold overflowed
+  /// (finite operands, non-finite result) or underflowed (a nonzero product, quotient or power gave 0).
+  int folded(Op op, double x, double y, double r);
+
+  std::vector<std::string> unrepresentable_values_;  ///< exact values of unrepresentable constants (Node::index)
 
   std::vector<Node> nodes_;
   std::vector<std::uint64_t> keys_;  ///< structural key per node

@@ -4,7 +4,9 @@
 #include "derive/riemann.hpp"
 #include "emit/kernel_registry.hpp"
 #include "emit/polynomial_form.hpp"
+#include "model/input_error.hpp"
 
+#include <cmath>
 #include <optional>
 #include <stdexcept>
 
@@ -412,6 +414,52 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     set.kernels = kept;
   }
   return set;
+}
+
+std::vector<std::string> drop_unrepresentable(KernelSet& set, bool named, const std::string& model_path) {
+  const ExpressionGraph& g = set.graph;
+  // "kernel 'mass_matrix', output M[w][w], needs the constant 1.0e400, ...", or "" when all is representable.
+  const auto problem = [&](const Kernel& k, const std::vector<int>& extra = {}) -> std::string {
+    std::vector<int> outputs = k.outputs;
+    outputs.insert(outputs.end(), extra.begin(), extra.end());
+    const auto [output, node] = g.first_unrepresentable(outputs);
+    if (node < 0) return "";
+    const std::size_t o = static_cast<std::size_t>(output);
+    const std::string what = o < k.output_names.size() ? "output " + k.output_names[o] : "a pivot of its solve";
+    return "kernel '" + k.name + "', " + what + ", needs the constant " + g.unrepresentable_value(node) +
+           ", beyond the range of a double (about 2.2e-308 to 1.8e308 in magnitude), which it would compute as " +
+           (std::isinf(g.node(node).value) ? "infinity" : std::isnan(g.node(node).value) ? "NaN" : "0");
+  };
+  std::vector<std::string> notes, errors;
+  std::vector<Kernel> kept;
+  for (const Kernel& k : set.kernels) {
+    const std::string p = problem(k, k.name == "rhs" ? set.rhs_pivots : std::vector<int>{});
+    if (p.empty()) {
+      kept.push_back(k);
+      continue;
+    }
+    errors.push_back(p);
+    if (k.name == "rhs") set.rhs_pivots.clear();
+  }
+  if (set.prepared) {
+    std::string p = problem(set.prepared->prepare);
+    for (const Kernel& k : set.prepared->kernels)
+      if (p.empty()) p = problem(k);
+    if (!p.empty()) {
+      errors.push_back(p);
+      set.prepared.reset();
+    }
+  }
+  if (errors.empty()) return notes;
+  if (named)
+    throw InputError(model_path + ": error: " + errors.front() +
+                     "; expected constants that fit a double (do not ask for this kernel, or rescale the model)");
+  if (kept.empty() && !set.prepared)
+    throw InputError(model_path + ": error: no kernel can be emitted: " + errors.front() +
+                     "; expected constants that fit a double (rescale the model)");
+  set.kernels = kept;
+  for (const std::string& e : errors) notes.push_back("hamel: note: " + model_path + ": left out " + e);
+  return notes;
 }
 
 }  // namespace hamel

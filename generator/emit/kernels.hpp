@@ -51,4 +51,14 @@ struct KernelSet {
 /// coordinates with L = ½ g q̇q̇ − V).
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {});
 
+/// Kernels that would compute with a constant whose exact value is not a finite double (beyond ±1.8e308, or
+/// nonzero and below the smallest double, so it would be printed as HUGE_VAL or 0.0: the mass matrix of
+/// A = diag(1e200, 1e-200) has 1e400 and 1e-400), counting rhs's pivots with rhs and the prepared kernels with
+/// prepare_parameters. When `named` (the caller asked for these kernels: `emit --kernels`, a scene, simulate) the
+/// first such kernel is an InputError that names it, its output and the constant. Otherwise (the default set)
+/// they are removed from `set` (the prepared kernels as a whole) and the returned notes say which and why; an
+/// InputError still when none would be left. Returns no notes when every kernel is representable. Messages
+/// begin with `model_path`.
+std::vector<std::string> drop_unrepresentable(KernelSet& set, bool named, const std::string& model_path);
+
 }  // namespace hamel

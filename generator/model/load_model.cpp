@@ -834,9 +834,10 @@ void Loader::declare_joints(const YAML::Node& tree, Model& model) {
   if (!list.IsSequence() || list.size() == 0) fail(list, "tree.bodies", "expected a non-empty list of bodies");
   for (std::size_t i = 0; i < list.size(); ++i) {
     const std::string key = "tree.bodies[" + std::to_string(i) + "].joint";
-    YAML::Node joint = list[i]["joint"];
-    if (!list[i].IsMap() || !joint)
+    // A body that is not a map cannot be indexed (yaml-cpp throws on a scalar): test that first.
+    if (!list[i].IsMap() || !list[i]["joint"])
       fail(list[i], key, "missing; every body of a tree needs a joint (name, type, axis, offset)");
+    YAML::Node joint = list[i]["joint"];
     if (!joint.IsMap() || !joint["name"]) fail(joint, key + ".name", "missing; expected the joint coordinate's name");
     model.coordinates.emplace_back(scalar(joint["name"], key + ".name"));
     declare_name(joint["name"], key + ".name", model.coordinates.back().get_name());

@@ -21,7 +21,8 @@ cmake --build build-asan -j"$(nproc)"
 cd build-asan
 # GeneratedPackages.RegenerateByteIdentically compares emitted files byte for byte with generated/: the
 # sanitized hamel orders GiNaC's terms differently (the type-name pin of generator/stable_type_names.ld does not
-# hold under ASan's instrumentation). The emitter's graph is ordered structurally, so term order alone no
-# longer changes the kernels, but a derivation step that simplifies only below a GiNaC tree size still can
-# (docs/errors.md, "Canonical IR order"). The normal stage runs it.
+# hold under ASan's instrumentation). The emitter's graph is ordered structurally, so 20 of 21 packages still
+# come out byte-identical; falling_cat's jacobian has the same operations with a stretch of statements in
+# another order, because the GiNaC form it is converted from depends on that order (docs/errors.md,
+# "Sanitizers"). The normal stage runs the test.
 ctest --output-on-failure -j"$(nproc)" -E 'GeneratedPackages.RegenerateByteIdentically' "$@"

@@ -198,7 +198,7 @@ bool has_power_of_sum(const ex& e) {
 // The normal form multiplies out every power of a sum. That is what makes cancellations exact
 // ((v sin θ + a ω cos θ)² + (a ω sin θ − v cos θ)² is v² + a²ω²), but where nothing cancels it only
 // costs size and accuracy: (x+1)^199 becomes 200 monomials whose sum in doubles at x = −0.9 is −3e38
-// instead of −1e−199 (issue 16, item 9); in general an expanded b^n loses u·(Σ|monomials|)/|b^n| near a
+// instead of −1e−199; in general an expanded b^n loses u·(Σ|monomials|)/|b^n| near a
 // root of b, where b^n evaluated whole loses only n times b's own relative error. So both forms are made,
 // the normal form and the one with powers of sums kept whole, and the smaller (in expression nodes) is
 // returned, the normal form on a tie: a cancellation shows as a smaller normal form, a mere expansion as a

@@ -18,7 +18,7 @@ GiNaC::ex expand_trig(const GiNaC::ex& e);
 /// Normal form of `e`: one fraction, trigonometric polynomials reduced with sin² + cos² = 1. Where `e` holds a
 /// power of a sum (b^n, |n| >= 2) and its normal form grew beyond `e`, the fraction with those powers kept whole
 /// is made too and the smaller of the two (in nodes) returned, the normal form on a tie: an expanded power loses
-/// accuracy near a root of its base (issue 16, item 9). Zero is always found (the normal form is canonical).
+/// accuracy near a root of its base. Zero is always found (the normal form is canonical).
 GiNaC::ex simplify(const GiNaC::ex& e);
 
 /// e.expand(), except where `e` holds a power of a sum (b^n, |n| >= 2) and its expansion grew beyond `e`: then

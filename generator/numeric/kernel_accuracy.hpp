@@ -1,4 +1,4 @@
-// Forward error of the emitted kernels in units in the last place (issue 4, item 3).
+// Forward error of the emitted kernels in units in the last place.
 //
 // For every kernel of a model, the double evaluation of its expression graph (GraphEvaluator, the interpreter
 // that evaluates exactly the graph the C++ emitter prints) is compared with a 50-digit evaluation of the

@@ -1,4 +1,4 @@
-// The expression graph's canonical order (issue 12): the printed kernel is a function of the mathematical
+// The expression graph's canonical order: the printed kernel is a function of the mathematical
 // expressions only, not of the order in which GiNaC iterates over the terms of a sum or the factors of a
 // product (hash values that depend on symbol serial numbers and addresses) nor of the order in which graph
 // nodes were created. Emitted packages are byte-identical because of this, with no pinned address layout.

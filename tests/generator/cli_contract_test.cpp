@@ -153,7 +153,7 @@ TEST(Cli, BadInputExitsTwoAndWritesNothing) {
   EXPECT_EQ(hamel("frobnicate 2>/dev/null").status, 2);
 }
 
-// `hamel linearize ... --json`: the keys of issue 14; the double pendulum hanging at rest has A = [[0, I], [-K, 0]]
+// `hamel linearize ... --json`: its contract keys; the double pendulum hanging at rest has A = [[0, I], [-K, 0]]
 // with eigenvalues ±i ω, the linearized normal modes of a double pendulum (m1 = m2, l1 = l2: ω² = (2 ∓ √2) g/l).
 TEST(Cli, LinearizeJsonShapeAndPendulumModes) {
   const Outcome r = hamel("linearize " + source("models/double_pendulum.yaml") + " --json 2>/dev/null");

@@ -1,4 +1,4 @@
-// Kernel forward error (issue 4, item 3): the 50-digit evaluators against values known exactly, and the
+// Kernel forward error: the 50-digit evaluators against values known exactly, and the
 // double kernels of several models against their expressions in 50 digits (numeric/kernel_accuracy.hpp).
 #include "numeric/kernel_accuracy.hpp"
 #include "derive/derivation.hpp"

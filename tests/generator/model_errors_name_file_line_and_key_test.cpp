@@ -94,7 +94,7 @@ INSTANTIATE_TEST_SUITE_P(
                 "bad.yaml:5:25", "expected 3 rows"}),
     [](const ::testing::TestParamInfo<BadCase>& info) { return info.param.label; });
 
-// Issue 16, item 13: A = [[1e200]] and A = diag(1e200, 1e-200) (det exactly 1) are regular. Their regularity was
+// Extreme scales: A = [[1e200]] and A = diag(1e200, 1e-200) (det exactly 1) are regular. Their regularity was
 // decided in doubles, where the product of the row lengths overflows (and 0 * inf is NaN), so both were refused
 // as "singular at every sampled configuration ... is -nan". Decided in rationals now, they derive, with the exact B.
 TEST(RegularA, ExtremeScalesAreNotSingular) {

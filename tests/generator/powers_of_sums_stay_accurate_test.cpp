@@ -1,4 +1,4 @@
-// Issue 16, item 9: a power of a sum must not reach emitted code multiplied out. With
+// A power of a sum must not reach emitted code multiplied out. With
 // L = ½ẋ² − (x+1)^200/200 the forcing is −(x+1)^199; its 200 monomials, summed in doubles at x = −0.9,
 // gave −3.4e38 where the value is −1e−199. The kernels (evaluated by GraphEvaluator, the double interpreter
 // behind `hamel simulate`, which runs the same graph the emitter prints) must match the exact value at the

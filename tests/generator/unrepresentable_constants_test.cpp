@@ -1,4 +1,4 @@
-// Issue 16, item 13's leftover: A = diag(1e200, 1e-200) derives exactly, but its mass matrix B^T B holds
+// Constants a double cannot hold: A = diag(1e200, 1e-200) derives exactly, but its mass matrix B^T B holds
 // 1e-400 and 1e400 and its energy 5e399, constants no double holds. They were emitted as real(0.0) and
 // real(HUGE_VAL). Now a kernel reaching such a constant is never emitted: `emit` leaves it out of the default
 // set with a note on stderr and keeps the others (rhs is fine: B's 1e±200 fit); asked for by --kernels it is

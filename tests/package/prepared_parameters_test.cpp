@@ -1,4 +1,4 @@
-// Prepared parameters (issue 12): the parameter-only work of rhs and jacobian done once per parameter set.
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set.
 //  - The graph passes on a small program written here: group_invariants, parameter_frontier and substitute
 //    leave no operation on parameters alone in the per-call program, and it evaluates to the original;
 //    polynomial_form rewrites a quadratic as Σ coefficient · monomial, drops a coefficient that vanishes

@@ -1,5 +1,5 @@
 // An independent model of kinematic trees with a floating base, with Eigen in long double, written from the
-// physics and not from the generator (model key `tree`, issue 7):
+// physics and not from the generator (model key `tree`):
 //  - spatial vectors V = (ω, v) (angular first) in each body's own frame; the pose of a child relative to its
 //    parent g = (rotation, offset) · exp(q S), S = (axis, 0) revolute, (0, axis) prismatic;
 //  - the body twists V_i = Ad_{g_pi⁻¹} V_p + S_i q̇_i, the base twist V_0 = B ξ with B the 6×m basis of the

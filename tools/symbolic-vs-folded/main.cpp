@@ -1,4 +1,4 @@
-// Symbolic against folded parameters (issue 12): for every model whose two packages are linked in (see
+// Symbolic against folded parameters: for every model whose two packages are linked in (see
 // tools/symbolic-vs-folded.sh), checks that the rhs with p[] read at run time agrees with the rhs emitted
 // with --fold all at 20 pseudo-random states and the default parameters (max over the states of
 // ||rhs_sym - rhs_fold||_inf / ||rhs_fold||_inf, limit 1e-12), then times both rhs in one Google Benchmark

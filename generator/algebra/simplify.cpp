@@ -335,10 +335,10 @@ bool identically_singular(const GiNaC::matrix& m) {
   });
   if (zero >= 0) return zero == 1;
   const ex det = m.determinant();
-  return is_zero_exactly(det);
+  return is_zero_almost_surely(det);
 }
 
-bool is_zero_exactly(const ex& e) {
+bool is_zero_almost_surely(const ex& e) {
   if (numerically_nonzero(e)) return false;
   return identically_zero(e) || simplify(e).is_zero();
 }

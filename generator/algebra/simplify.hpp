@@ -28,10 +28,12 @@ GiNaC::ex simplify(const GiNaC::ex& e);
 /// inertia, offsets and rotations and its inlined kinetic energy (a body mass "(m+1)^20" became 21 monomials).
 GiNaC::ex expand_keeping_powers_of_sums(const GiNaC::ex& e);
 
-/// Zero test in exact arithmetic: a 50-digit evaluation at two fixed points first answers "not zero" when
-/// the value is clearly away from 0; otherwise identically_zero() decides, and if it cannot (expressions
-/// with functions other than sin/cos), the normal form of simplify().
-bool is_zero_exactly(const GiNaC::ex& e);
+/// Zero test, exact except for a negligible chance of a wrong "zero": a 50-digit evaluation at two fixed
+/// points first answers "not zero" when the value is clearly away from 0; otherwise identically_zero()
+/// decides (randomized, exact rational arithmetic: "zero" is wrong with probability below (degree / 2^31)^3),
+/// and if it cannot (expressions with functions other than sin/cos), the normal form of simplify(), which
+/// does not see every identity of such functions.
+bool is_zero_almost_surely(const GiNaC::ex& e);
 
 /// Randomized identity test with exact rational arithmetic (Schwartz–Zippel): sin/cos pairs at random
 /// rational points of the unit circle, other symbols at random rationals; zero at three independent points

@@ -270,7 +270,7 @@ QuasiVelocities derive_quasi_velocities(const Model& model, Intermediates& progr
     for (unsigned i = 0; i < n; ++i)
       for (unsigned j = 0; j < n; ++j) {
         const GiNaC::ex deviation = product(i, j) - (i == j ? 1 : 0);
-        if (is_zero_exactly(deviation)) continue;
+        if (is_zero_almost_surely(deviation)) continue;
         const Identity exact = identically_zero(deviation, program);
         if (exact == Identity::zero) continue;
         // Not shown to be zero: a sampled configuration where it is not zero proves B wrong; where it is

@@ -69,7 +69,7 @@ namespace {
 // A divisor of `e` (the base of a negative power) that is identically zero, such as sin(x)^2 + cos(x)^2 - 1:
 // GiNaC sees no zero while parsing, and the derivation's normal form would stop on it with no location.
 // Decided exactly: a 50-digit value clearly away from 0 answers "not zero"; otherwise the modular identity
-// test, and where that cannot read the divisor, is_zero_exactly. Returns the divisor, or nothing.
+// test, and where that cannot read the divisor, is_zero_almost_surely. Returns the divisor, or nothing.
 std::optional<GiNaC::ex> zero_divisor(const GiNaC::ex& e) {
   for (std::size_t i = 0; i < e.nops(); ++i)
     if (std::optional<GiNaC::ex> d = zero_divisor(e.op(i))) return d;
@@ -80,7 +80,7 @@ std::optional<GiNaC::ex> zero_divisor(const GiNaC::ex& e) {
   if (GiNaC::is_a<GiNaC::symbol>(base) || GiNaC::is_a<GiNaC::numeric>(base) || numerically_nonzero(base))
     return std::nullopt;
   const Identity zero = identically_zero(base, Intermediates{});
-  if (zero == Identity::zero || (zero == Identity::undecided && is_zero_exactly(base))) return base;
+  if (zero == Identity::zero || (zero == Identity::undecided && is_zero_almost_surely(base))) return base;
   return std::nullopt;
 }
 

@@ -157,7 +157,7 @@ inline GroupChart group_chart(const std::string& group, bool right) {
   const matrix identity_check = rep.g.mul(rep.g_inverse);
   for (unsigned i = 0; i < identity_check.rows(); ++i)
     for (unsigned j = 0; j < identity_check.cols(); ++j)
-      if (!is_zero_exactly(identity_check(i, j) - (i == j ? 1 : 0)))
+      if (!is_zero_almost_surely(identity_check(i, j) - (i == j ? 1 : 0)))
         throw std::logic_error("group_charts: g_inverse is not the inverse of g for " + group);
   const unsigned m = static_cast<unsigned>(chart.s.size());
   chart.A = matrix(m, m);
@@ -171,7 +171,7 @@ inline GroupChart group_chart(const std::string& group, bool right) {
     const matrix back = rep.hat(xi);
     for (unsigned i = 0; i < X.rows(); ++i)
       for (unsigned j = 0; j < X.cols(); ++j)
-        if (!is_zero_exactly(back(i, j) - X(i, j)))
+        if (!is_zero_almost_surely(back(i, j) - X(i, j)))
           throw std::logic_error("group_charts: the velocity of " + group + " is not in its algebra");
     for (unsigned a = 0; a < m; ++a) chart.A(a, k) = simplify(xi[a]);
   }

@@ -2,6 +2,8 @@
 // the real `hamel` binary and building emitted packages as standalone CMake projects.
 #pragma once
 
+#include "support/command.hpp"
+
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -21,39 +23,19 @@ namespace hamel::package_test {
 
 namespace fs = std::filesystem;
 
-inline std::string source(const std::string& relative) {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return std::string(dir ? dir : HAMEL_SOURCE_DIR_DEFAULT) + "/" + relative;
-}
-
-struct Outcome {
-  int status;
-  std::string out;  ///< stdout and stderr together
-};
+// The repository's files, running a command and reading a file whole: as every command-line test does
+// (support/command.hpp); the package tests capture stderr with stdout.
+using hamel::test::Outcome;
+using hamel::test::slurp;
+using hamel::test::source;
 
 /// Runs `command` through the shell, capturing stdout and stderr.
-inline Outcome run(const std::string& command) {
-  FILE* pipe = popen((command + " 2>&1").c_str(), "r");
-  if (!pipe) return {-1, "popen failed"};
-  std::string out;
-  std::array<char, 4096> buf;
-  std::size_t got;
-  while ((got = fread(buf.data(), 1, buf.size(), pipe)) > 0) out.append(buf.data(), got);
-  const int status = pclose(pipe);
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, out};
-}
+inline Outcome run(const std::string& command) { return hamel::test::run(command + " 2>&1"); }
 
 inline std::string quote(const std::string& s) {
   std::string q = "'";
   for (char c : s) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
   return q + "'";
-}
-
-inline std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
 }
 
 /// A fresh folder for one test, removed when the object goes out of scope.

@@ -17,7 +17,7 @@ namespace hamel::test {
 /// A file of the repository, e.g. source("models/double_pendulum.yaml").
 inline std::string source(const std::string& relative) {
   const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return std::string(dir ? dir : ".") + "/" + relative;
+  return std::string(dir ? dir : HAMEL_SOURCE_DIR_DEFAULT) + "/" + relative;  // tests/CMakeLists.txt defines it
 }
 
 struct Outcome {

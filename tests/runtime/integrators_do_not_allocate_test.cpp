@@ -16,6 +16,7 @@
 #include <new>
 #include <vector>
 
+#include "stiff_problems.hpp"
 #include "hamel/runtime/dop853.hpp"
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
@@ -332,17 +333,9 @@ TEST(RuntimeNoAllocation, Radau5OnTheOscillator) {
 // Stiff Van der Pol, mu = 1000, with the analytic Jacobian and with a finite-difference Jacobian on
 // the caller's work space: no allocation, the vector form's trajectory, and the half period of the
 // relaxation oscillation from Dorodnitsyn's asymptotic formula (as radau5_solves_stiff_problems_test).
-constexpr double kMu = 1000.0;
-void van_der_pol_rhs(double, const double* y, double* f) {
-  f[0] = y[1];
-  f[1] = kMu * (1 - y[0] * y[0]) * y[1] - y[0];
-}
-void van_der_pol_jac(double, const double* y, double* J) {
-  J[0] = 0.0;
-  J[1] = 1.0;
-  J[2] = -2 * kMu * y[0] * y[1] - 1.0;
-  J[3] = kMu * (1 - y[0] * y[0]);
-}
+using hamel::runtime_test::kMu;
+using hamel::runtime_test::van_der_pol_jac;
+using hamel::runtime_test::van_der_pol_rhs;
 
 /// Zero crossings of y[0] by linear interpolation between observations, into fixed storage.
 struct Crossings {
@@ -402,8 +395,8 @@ TEST(RuntimeNoAllocation, Radau5OnStiffVanDerPol) {
 }
 
 // Prothero-Robinson x' = lambda (x - sin t) + cos t, lambda = -1e6, x(0) = 0: x = sin t.
-void prothero_robinson_rhs(double t, const double* x, double* f) { f[0] = -1e6 * (x[0] - std::sin(t)) + std::cos(t); }
-void prothero_robinson_jac(double, const double*, double* J) { J[0] = -1e6; }
+using hamel::runtime_test::prothero_robinson_jac;
+using hamel::runtime_test::prothero_robinson_rhs;
 
 TEST(RuntimeNoAllocation, Radau5OnStiffProtheroRobinson) {
   Radau5Options opt;

@@ -10,6 +10,7 @@
 #include <cstdio>
 #include <vector>
 
+#include "stiff_problems.hpp"
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
 #include "hamel/runtime/radau5.hpp"
@@ -56,26 +57,12 @@ void riccati_rhs(double t, const double* x, double* f) { f[0] = x[0] * x[0] * st
 void riccati_jac(double t, const double* x, double* J) { J[0] = 2 * x[0] * std::cos(t); }
 double riccati_exact(double t) { return 1.0 / (2.0 - std::sin(t)); }
 
-// Prothero-Robinson: x' = lambda (x - phi(t)) + phi'(t) with phi = sin has the
-// solution x = phi for x(0) = 0, whatever lambda; lambda = -1e6 makes it stiff.
-constexpr double kLambda = -1e6;
-void prothero_robinson_rhs(double t, const double* x, double* f) {
-  f[0] = kLambda * (x[0] - std::sin(t)) + std::cos(t);
-}
-void prothero_robinson_jac(double, const double*, double* J) { J[0] = kLambda; }
-
-// Van der Pol oscillator x'' - mu (1 - x^2) x' + x = 0 as a first-order system.
-constexpr double kMu = 1000.0;
-void van_der_pol_rhs(double, const double* y, double* f) {
-  f[0] = y[1];
-  f[1] = kMu * (1 - y[0] * y[0]) * y[1] - y[0];
-}
-void van_der_pol_jac(double, const double* y, double* J) {
-  J[0] = 0.0;
-  J[1] = 1.0;
-  J[2] = -2 * kMu * y[0] * y[1] - 1.0;
-  J[3] = kMu * (1 - y[0] * y[0]);
-}
+using hamel::runtime_test::kLambda;
+using hamel::runtime_test::kMu;
+using hamel::runtime_test::prothero_robinson_jac;
+using hamel::runtime_test::prothero_robinson_rhs;
+using hamel::runtime_test::van_der_pol_jac;
+using hamel::runtime_test::van_der_pol_rhs;
 
 Radau5Options tolerance(double tol) {
   Radau5Options opt;

@@ -110,14 +110,13 @@ int ExpressionGraph::constant(double value) {
 }
 
 int ExpressionGraph::unrepresentable_constant(double value, const std::string& exact) {
-  const auto at = std::find(unrepresentable_values_.begin(), unrepresentable_values_.end(), exact);
-  if (at == unrepresentable_values_.end()) unrepresentable_values_.push_back(exact);
+  // index: 1 + the position of the exact value in unrepresentable_values_ (0 marks ordinary constants).
+  auto at = std::find(unrepresentable_values_.begin(), unrepresentable_values_.end(), exact);
+  if (at == unrepresentable_values_.end()) at = unrepresentable_values_.insert(at, exact);
   Node n;
   n.op = Op::constant;
   n.value = value;
-  n.index = static_cast<int>(std::find(unrepresentable_values_.begin(), unrepresentable_values_.end(), exact) -
-                             unrepresentable_values_.begin()) +
-            1;
+  n.index = static_cast<int>(at - unrepresentable_values_.begin()) + 1;
   return intern(n);
 }
 

@@ -11,6 +11,8 @@
 // kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and
 // branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is
 // n_temporaries_<kernel> named locals (an upper bound; the compiler keeps most in registers).
+// A kernel longer than 2000 statements is printed as functions <kernel>_part<k> of at most that many,
+// called in turn, which pass values in a local array v[] (counted in n_temporaries).
 // Scalar type: define HAMEL_PLANAR_SPACE_ROBOT_REAL (e.g. to float) before including this header and
 // when compiling planar_space_robot.cpp (CMake: -DHAMEL_PLANAR_SPACE_ROBOT_REAL=float); the kernels' signatures
 // change with it, so a mismatch fails to link instead of running wrong.
@@ -50,13 +52,13 @@ constexpr int n_temporaries_kinematics = 0;
 constexpr int n_out_mass_matrix = 25;
 constexpr int n_temporaries_mass_matrix = 606;
 constexpr int n_out_forcing = 5;
-constexpr int n_temporaries_forcing = 2672;
+constexpr int n_temporaries_forcing = 2838;
 constexpr int n_out_hamel_coefficients = 26;
 constexpr int n_temporaries_hamel_coefficients = 1272;
 constexpr int n_out_rhs = 7;
-constexpr int n_temporaries_rhs = 2955;
+constexpr int n_temporaries_rhs = 3128;
 constexpr int n_out_jacobian = 49;
-constexpr int n_temporaries_jacobian = 14905;
+constexpr int n_temporaries_jacobian = 16264;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 646;
 constexpr int n_out_group_velocity = 3;

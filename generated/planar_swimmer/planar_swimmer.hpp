@@ -11,6 +11,8 @@
 // kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and
 // branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is
 // n_temporaries_<kernel> named locals (an upper bound; the compiler keeps most in registers).
+// A kernel longer than 2000 statements is printed as functions <kernel>_part<k> of at most that many,
+// called in turn, which pass values in a local array v[] (counted in n_temporaries).
 // Scalar type: define HAMEL_PLANAR_SWIMMER_REAL (e.g. to float) before including this header and
 // when compiling planar_swimmer.cpp (CMake: -DHAMEL_PLANAR_SWIMMER_REAL=float); the kernels' signatures
 // change with it, so a mismatch fails to link instead of running wrong.
@@ -56,7 +58,7 @@ constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 9;
 constexpr int n_temporaries_rhs = 430;
 constexpr int n_out_jacobian = 81;
-constexpr int n_temporaries_jacobian = 2509;
+constexpr int n_temporaries_jacobian = 2644;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 101;
 constexpr int n_out_group_velocity = 3;

@@ -12,6 +12,8 @@
 // kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and
 // branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is
 // n_temporaries_<kernel> named locals (an upper bound; the compiler keeps most in registers).
+// A kernel longer than 2000 statements is printed as functions <kernel>_part<k> of at most that many,
+// called in turn, which pass values in a local array v[] (counted in n_temporaries).
 // Scalar type: define HAMEL_SPACE_ROBOT_ARM_REAL (e.g. to float) before including this header and
 // when compiling space_robot_arm.cpp (CMake: -DHAMEL_SPACE_ROBOT_ARM_REAL=float); the kernels' signatures
 // change with it, so a mismatch fails to link instead of running wrong.
@@ -49,7 +51,7 @@ constexpr int hamel_lower_b[18] = {2, 1, 2, 0, 1, 0, 5, 4, 2, 1, 5, 3, 2, 0, 4, 
 constexpr int n_out_kinematics = 7;
 constexpr int n_temporaries_kinematics = 0;
 constexpr int n_out_rhs = 20;
-constexpr int n_temporaries_rhs = 3308;
+constexpr int n_temporaries_rhs = 3576;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 574;
 constexpr int n_out_max = 20;  // the largest out[] of any kernel

@@ -11,6 +11,8 @@
 // kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and
 // branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is
 // n_temporaries_<kernel> named locals (an upper bound; the compiler keeps most in registers).
+// A kernel longer than 2000 statements is printed as functions <kernel>_part<k> of at most that many,
+// called in turn, which pass values in a local array v[] (counted in n_temporaries).
 // Scalar type: define HAMEL_SPACE_ROBOT_REAL (e.g. to float) before including this header and
 // when compiling space_robot.cpp (CMake: -DHAMEL_SPACE_ROBOT_REAL=float); the kernels' signatures
 // change with it, so a mismatch fails to link instead of running wrong.
@@ -54,19 +56,19 @@ constexpr int n_temporaries_forcing = 1275;
 constexpr int n_out_hamel_coefficients = 18;
 constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 20;
-constexpr int n_temporaries_rhs = 3308;
+constexpr int n_temporaries_rhs = 3576;
 constexpr int n_out_jacobian = 400;
-constexpr int n_temporaries_jacobian = 31469;
+constexpr int n_temporaries_jacobian = 32461;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 574;
 constexpr int n_out_group_velocity = 6;
 constexpr int n_temporaries_group_velocity = 0;
 constexpr int n_out_connection = 42;
-constexpr int n_temporaries_connection = 2394;
+constexpr int n_temporaries_connection = 2495;
 constexpr int n_out_locked_inertia = 36;
 constexpr int n_temporaries_locked_inertia = 1385;
 constexpr int n_out_shape_inertia = 49;
-constexpr int n_temporaries_shape_inertia = 2940;
+constexpr int n_temporaries_shape_inertia = 3106;
 constexpr int n_out_max = 400;  // the largest out[] of any kernel
 
 /// q_dot = B_I(q) u_I, eq. (qadot); out[7]

@@ -20,6 +20,7 @@ namespace {
 struct EmitOptions {
   std::string model, output, form, fold, kernels, dynamics;
   std::vector<std::string> params;
+  EmitSettings settings;
 };
 
 // --kernels a,b,c: the kernels to build, each a known name.
@@ -67,7 +68,7 @@ void run(const EmitOptions& opt) {
     return set;
   }();
   progress::Step writing("printing the C++ package");
-  EmittedPackage package = emit_cpp(model, derivation, kernels);
+  EmittedPackage package = emit_cpp(model, derivation, kernels, opt.settings);
   if (target.scene) {
     // Pruning report: operations of the scene's kernels (shared subexpressions counted once) against all
     // kernels of the same model, form and fixed parameters. (Unfolded symbolic derivations of models with
@@ -119,6 +120,19 @@ Run add_emit_command(CLI::App& app) {
                   "except linearization and riemann_linearization). The jacobian of a large kinematic tree is by far "
                   "its biggest kernel. Known: " +
                       kernel_names());
+  cmd->add_option("--split", opt->settings.split_statements,
+                  "Print a kernel of more than N statements as functions of N statements each, called in turn "
+                  "(an optimizing compiler's register allocation grows faster than linearly with the length of one "
+                  "function; 0: never split)")
+      ->default_val(opt->settings.split_statements)
+      ->check(CLI::Validator(
+          [](std::string& value) {
+            const bool digits = !value.empty() && value.size() <= 9 &&
+                                std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+            return digits ? std::string() : "expected a whole number of statements, 0 or more (0: never split), got '" + value + "'";
+          },
+          "", "statements"))
+      ->type_name("N");
   return [opt] { run(*opt); };
 }
 

@@ -17,6 +17,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
+#include <functional>
 #include <fstream>
 #include <map>
 #include <set>
@@ -69,6 +70,7 @@ std::string upper(std::string s) {
 
 struct Sizes {
   int n_q, n_u, n_x, n_p, n_in;
+  int split = 0;  ///< statements per part of a split kernel; 0: never split
 };
 
 std::string signature(const Kernel& k) {
@@ -82,69 +84,137 @@ struct PrintedKernel {
   OpCounts ops;
 };
 
+// The right-hand side of node i's statement, its operands named by `name_of`.
+std::string statement_text(const Node& n, const std::function<std::string(int)>& name_of) {
+  const std::string a = name_of(n.a);
+  switch (n.op) {
+    case Op::add:
+      return a + " + " + name_of(n.b);
+    case Op::sub:
+      return a + " - " + name_of(n.b);
+    case Op::mul:
+      return a + " * " + name_of(n.b);
+    case Op::div:
+      return a + " / " + name_of(n.b);
+    case Op::neg:
+      return "-" + a;
+    case Op::pow:
+      return std::string(function_name(n.op)) + "(" + a + ", " + name_of(n.b) + ")";
+    default:
+      return std::string(function_name(n.op)) + "(" + a + ")";
+  }
+}
+
+std::string argument_voids(const bool uses[4]) {
+  static const char* args[4] = {"t", "x", "p", "in"};
+  std::string s;
+  for (int a = 0; a < 4; ++a)
+    if (!uses[a]) s += std::string("  (void)") + args[a] + ";\n";
+  return s;
+}
+
 PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
   const std::vector<int> order = g.schedule(k.outputs);
   const OpCounts c = g.count(order);
-  std::map<int, std::string> name;  // node -> operand text
+  // Leaves (constants and arguments) are written in place; every other node is a statement.
+  std::map<int, std::string> leaf;
+  std::vector<int> statements;
   bool uses[4] = {false, false, false, false};
-  std::ostringstream body;
-  int work = 0;
   for (int i : order) {
     const Node& n = g.node(i);
     if (n.op == Op::constant) {
-      name[i] = literal(n.value);
-      continue;
-    }
-    if (n.op == Op::input) {
+      leaf[i] = literal(n.value);
+    } else if (n.op == Op::input) {
       uses[static_cast<int>(n.argument)] = true;
-      name[i] = n.argument == Argument::time
+      leaf[i] = n.argument == Argument::time
                     ? std::string("t")
                     : std::string(argument_name(n.argument)) + "[" + std::to_string(n.index) + "]";
-      continue;
+    } else {
+      statements.push_back(i);
     }
-    const std::string a = name.at(n.a);
-    std::string rhs;
-    switch (n.op) {
-      case Op::add:
-        rhs = a + " + " + name.at(n.b);
-        break;
-      case Op::sub:
-        rhs = a + " - " + name.at(n.b);
-        break;
-      case Op::mul:
-        rhs = a + " * " + name.at(n.b);
-        break;
-      case Op::div:
-        rhs = a + " / " + name.at(n.b);
-        break;
-      case Op::neg:
-        rhs = "-" + a;
-        break;
-      case Op::pow:
-        rhs = std::string(function_name(n.op)) + "(" + a + ", " + name.at(n.b) + ")";
-        break;
-      default:
-        rhs = std::string(function_name(n.op)) + "(" + a + ")";
-        break;
-    }
-    const std::string w = "w" + std::to_string(work++);
-    body << "  const real " << w << " = " << rhs << ";\n";
-    name[i] = w;
   }
-  for (std::size_t o = 0; o < k.outputs.size(); ++o)
-    body << "  out[" << o << "] = " << name.at(k.outputs[o]) << ";  // " << k.output_names[o] << "\n";
+  const int work = static_cast<int>(statements.size());
+  std::map<int, int> index;  // statement node -> its position, named w<position>
+  for (int w = 0; w < work; ++w) index[statements[static_cast<std::size_t>(w)]] = w;
+  const auto local = [&](int i) { return "w" + std::to_string(index.at(i)); };
 
   std::ostringstream os;
   os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> out["
      << k.outputs.size() << "]  ops: " << c.add << " add, " << c.mul << " mul, " << c.div << " div, " << c.call
      << " call */\n";
-  os << signature(k) << " {\n";
-  static const char* args[4] = {"t", "x", "p", "in"};
-  for (int a = 0; a < 4; ++a)
-    if (!uses[a]) os << "  (void)" << args[a] << ";\n";
-  if (k.outputs.empty()) os << "  (void)out;\n";
-  os << body.str() << "}\n";
-  return {k.name, os.str(), work, c};
+  const int part_size = s.split;
+  if (part_size <= 0 || work <= part_size) {
+    std::ostringstream body;
+    const auto name_of = [&](int i) { return leaf.count(i) ? leaf.at(i) : local(i); };
+    for (int i : statements) body << "  const real " << local(i) << " = " << statement_text(g.node(i), name_of) << ";\n";
+    for (std::size_t o = 0; o < k.outputs.size(); ++o)
+      body << "  out[" << o << "] = " << name_of(k.outputs[o]) << ";  // " << k.output_names[o] << "\n";
+    os << signature(k) << " {\n" << argument_voids(uses);
+    if (k.outputs.empty()) os << "  (void)out;\n";
+    os << body.str() << "}\n";
+    return {k.name, os.str(), work, c};
+  }
+
+  // A long kernel is split into parts of part_size consecutive statements, each a function of its own: an
+  // optimizing compiler's register allocation grows faster than linearly with the length of one function
+  // (g++ -O2 spent 75 % of a 63 s compile in LRA on a 44 000-statement file), and a part's code stays
+  // closer to the instruction cache. A value one part computes and a later part (or out[]) reads is passed
+  // in the kernel's stack array v[]; a slot is reused once its value has been read for the last time.
+  const int parts = (work + part_size - 1) / part_size;
+  const auto part_of = [&](int i) { return index.at(i) / part_size; };
+  std::map<int, int> last_part;  // statement node read outside its part -> last part reading it (parts: out[])
+  for (int i : statements)
+    for (int operand : {g.node(i).a, g.node(i).b})
+      if (operand >= 0 && !leaf.count(operand) && part_of(operand) != part_of(i))
+        last_part[operand] = std::max(last_part[operand], part_of(i));
+  for (int o : k.outputs)
+    if (!leaf.count(o)) last_part[o] = parts;
+  std::map<int, int> slot;
+  std::vector<std::vector<int>> expiring(static_cast<std::size_t>(parts) + 1);
+  std::set<int> free_slots;
+  int n_slots = 0;
+  for (int part = 0; part < parts; ++part) {
+    for (int i : expiring[static_cast<std::size_t>(part)]) free_slots.insert(slot.at(i));
+    for (int w = part * part_size; w < std::min(work, (part + 1) * part_size); ++w) {
+      const int i = statements[static_cast<std::size_t>(w)];
+      const auto last = last_part.find(i);
+      if (last == last_part.end()) continue;
+      if (free_slots.empty()) free_slots.insert(n_slots++);
+      slot[i] = *free_slots.begin();
+      free_slots.erase(free_slots.begin());
+      // Free from the part after its last reader on (a part may read it after writing its own values).
+      expiring[static_cast<std::size_t>(std::min(last->second + 1, parts))].push_back(i);
+    }
+  }
+  const auto passed = [&](int i) { return "v[" + std::to_string(slot.at(i)) + "]"; };
+  os << "namespace {\n\n";
+  for (int part = 0; part < parts; ++part) {
+    std::ostringstream body;
+    bool part_uses[4] = {false, false, false, false};
+    const auto name_of = [&](int i) {
+      if (leaf.count(i)) {
+        const Node& n = g.node(i);
+        if (n.op == Op::input) part_uses[static_cast<int>(n.argument)] = true;
+        return leaf.at(i);
+      }
+      return part_of(i) == part ? local(i) : passed(i);
+    };
+    for (int w = part * part_size; w < std::min(work, (part + 1) * part_size); ++w) {
+      const int i = statements[static_cast<std::size_t>(w)];
+      body << "  const real " << local(i) << " = " << statement_text(g.node(i), name_of) << ";\n";
+      if (slot.count(i)) body << "  " << passed(i) << " = " << local(i) << ";\n";
+    }
+    os << "void " << k.name << "_part" << part << "(real t, const real* x, const real* p, const real* in, real* v) {\n"
+       << argument_voids(part_uses) << body.str() << "}\n\n";
+  }
+  os << "}  // namespace\n\n" << signature(k) << " {\n  real v[" << std::max(n_slots, 1) << "];\n";
+  for (int part = 0; part < parts; ++part) os << "  " << k.name << "_part" << part << "(t, x, p, in, v);\n";
+  for (std::size_t o = 0; o < k.outputs.size(); ++o) {
+    const int i = k.outputs[o];
+    os << "  out[" << o << "] = " << (leaf.count(i) ? leaf.at(i) : passed(i)) << ";  // " << k.output_names[o] << "\n";
+  }
+  os << "}\n";
+  return {k.name, os.str(), work + n_slots, c};
 }
 
 template <class T, class F>
@@ -157,8 +227,9 @@ std::string array_decl(const std::string& type, const std::string& name, const s
 
 }  // namespace
 
-std::string kernel_text(const ExpressionGraph& graph, const Kernel& kernel, int n_x, int n_p, int n_in) {
-  return print_kernel(graph, kernel, Sizes{0, 0, n_x, n_p, n_in}).text;
+std::string kernel_text(const ExpressionGraph& graph, const Kernel& kernel, int n_x, int n_p, int n_in,
+                        int split_statements) {
+  return print_kernel(graph, kernel, Sizes{0, 0, n_x, n_p, n_in, split_statements}).text;
 }
 
 std::vector<EmittedFile> EmittedPackage::files() const {
@@ -260,7 +331,7 @@ namespace {
 // names, the kernels as text, which parameters and inputs they read.
 class PackageWriter {
  public:
-  PackageWriter(const Model& model, const Derivation& derivation, const KernelSet& kernels);
+  PackageWriter(const Model& model, const Derivation& derivation, const KernelSet& kernels, const EmitSettings& settings);
 
   std::string header() const;    // <name>.hpp: the ABI, sizes, names and declarations
   std::string source() const;    // <name>.cpp: the kernels, rhs_status, rk4_step, the C entry points
@@ -295,7 +366,8 @@ class PackageWriter {
   int n_prepared = 0;
 };
 
-PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_, const KernelSet& kernels_)
+PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_, const KernelSet& kernels_,
+                             const EmitSettings& settings)
     : model(model_),
       kernels(kernels_),
       eq(derivation_.equations),
@@ -304,6 +376,7 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   const int n_q = static_cast<int>(sys.coordinates.size());
   s = Sizes{n_q, static_cast<int>(eq.independent.size()), n_q + static_cast<int>(eq.independent.size()),
             static_cast<int>(model.parameters.size()), static_cast<int>(model.inputs.size())};
+  s.split = settings.split_statements;
   file = comment_safe(std::filesystem::path(model.source_path).filename().string());
   origin = "Generated by hamel " + std::string(generator_version()) + " from " + file +
            " (FNV-1a 64: " + model.source_hash + "). Do not edit.";
@@ -370,6 +443,10 @@ std::string PackageWriter::header() const {
     << "// kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and\n"
     << "// branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is\n"
     << "// n_temporaries_<kernel> named locals (an upper bound; the compiler keeps most in registers).\n"
+    << (s.split > 0 ? "// A kernel longer than " + std::to_string(s.split) +
+                          " statements is printed as functions <kernel>_part<k> of at most that many,\n"
+                          "// called in turn, which pass values in a local array v[] (counted in n_temporaries).\n"
+                    : std::string("// Every kernel is printed as one function (emit --split 0).\n"))
     << "// Scalar type: define " << guard_macro << " (e.g. to float) before including this header and\n"
     << "// when compiling " << model.name << ".cpp (CMake: -D" << guard_macro << "=float); the kernels' signatures\n"
     << "// change with it, so a mismatch fails to link instead of running wrong.\n"
@@ -713,8 +790,9 @@ std::string PackageWriter::readme() const {
 
 }  // namespace
 
-EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const KernelSet& kernels) {
-  const PackageWriter writer(model, derivation, kernels);
+EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const KernelSet& kernels,
+                        const EmitSettings& settings) {
+  const PackageWriter writer(model, derivation, kernels, settings);
   EmittedPackage package{model.name + ".hpp", writer.header(), model.name + ".cpp", writer.source(), {}};
   package.extra.push_back({model.name + ".h", writer.c_header()});
   package.extra.push_back({"CMakeLists.txt", writer.cmake()});

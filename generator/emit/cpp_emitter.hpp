@@ -26,7 +26,16 @@ struct EmittedPackage {
   std::vector<EmittedFile> files() const;
 };
 
-EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const KernelSet& kernels);
+/// How kernels are printed.
+struct EmitSettings {
+  /// A kernel of more than this many statements (operations) is split into functions of this many, called in
+  /// turn and passing values through a stack array: g++ -O2 compiles the 30-joint chain's rhs and mass_matrix
+  /// in 8.8 s instead of 66 s (docs/benchmarks.md, "Long kernels split into parts"). 0: never split.
+  int split_statements = 2000;
+};
+
+EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const KernelSet& kernels,
+                        const EmitSettings& settings = {});
 
 /// The checks write_package makes of `directory`, made before any derivation so that a refused folder fails
 /// at once: a folder name, and, if the folder exists, one an earlier emit of a model `model_name` wrote.
@@ -39,7 +48,8 @@ void write_package(const EmittedPackage& package, const std::string& directory);
 
 /// One kernel as emit_cpp prints it into the package source (with argument sizes n_x, n_p, n_in for its
 /// comment): for tests of the printed text, e.g. that it does not depend on the order the graph was built in.
-std::string kernel_text(const ExpressionGraph& graph, const Kernel& kernel, int n_x, int n_p, int n_in);
+std::string kernel_text(const ExpressionGraph& graph, const Kernel& kernel, int n_x, int n_p, int n_in,
+                        int split_statements = EmitSettings{}.split_statements);
 
 /// The generator's version string, stamped into every emitted file.
 const char* generator_version();

@@ -61,22 +61,24 @@ const Reference& references() {
   return r;
 }
 
-// Emits the two packages into `root` (chaplygin_sleigh/, satellite_se3/).
-void emit_packages(const fs::path& root) {
-  const Outcome a = emit(source("models/chaplygin_sleigh.yaml"), "", root / "chaplygin_sleigh");
+// Emits the two packages into `root` (chaplygin_sleigh/, satellite_se3/), with `flags` added.
+void emit_packages(const fs::path& root, const std::string& flags = "") {
+  const Outcome a = emit(source("models/chaplygin_sleigh.yaml"), flags, root / "chaplygin_sleigh");
   ASSERT_EQ(a.status, 0) << a.out;
-  const Outcome b = emit(source("models/satellite_se3.yaml"), "--fold all", root / "satellite_se3");
+  const Outcome b = emit(source("models/satellite_se3.yaml"), "--fold all " + flags, root / "satellite_se3");
   ASSERT_EQ(b.status, 0) << b.out;
 }
 
-class StandalonePackage : public ::testing::TestWithParam<std::tuple<std::string, std::string>> {};
+// Compiler, scalar type and the flags of emit (--split 5 prints every kernel longer than five statements as
+// functions of five, passing values in a stack array: the path the longest kernels of large models take).
+class StandalonePackage : public ::testing::TestWithParam<std::tuple<std::string, std::string, std::string>> {};
 
 TEST_P(StandalonePackage, BuildsWithStrictFlagsAndItsRk4StepMatchesTheGenerator) {
-  const auto& [compiler, real] = GetParam();
+  const auto& [compiler, real, flags] = GetParam();
   const std::string cxx = compiler == "gcc" ? HAMEL_GXX : HAMEL_CLANGXX;
   if (cxx.empty()) GTEST_SKIP() << "no " << compiler << " C++ compiler found at configure time";
-  Scratch dir(compiler + "_" + real);
-  emit_packages(dir.path() / "packages");
+  Scratch dir(compiler + "_" + real + (flags.empty() ? "" : "_split"));
+  emit_packages(dir.path() / "packages", flags);
   if (HasFatalFailure()) return;
   const Outcome built = cmake_build(source("tests/package/standalone"), dir.path() / "build", cxx, strict_flags,
                                     {{"PACKAGE_ROOT", (dir.path() / "packages").string()},
@@ -129,9 +131,18 @@ TEST_P(StandalonePackage, BuildsWithStrictFlagsAndItsRk4StepMatchesTheGenerator)
   compare("satellite_se3", references().satellite);
 }
 
+std::string case_name(const ::testing::TestParamInfo<StandalonePackage::ParamType>& info) {
+  return std::get<0>(info.param) + "_" + std::get<1>(info.param) + (std::get<2>(info.param).empty() ? "" : "_split");
+}
+
 INSTANTIATE_TEST_SUITE_P(CompilersAndScalars, StandalonePackage,
-                         ::testing::Combine(::testing::Values("gcc", "clang"), ::testing::Values("float", "double")),
-                         [](const auto& info) { return std::get<0>(info.param) + "_" + std::get<1>(info.param); });
+                         ::testing::Combine(::testing::Values("gcc", "clang"), ::testing::Values("float", "double"),
+                                            ::testing::Values("")),
+                         case_name);
+INSTANTIATE_TEST_SUITE_P(SplitKernels, StandalonePackage,
+                         ::testing::Values(StandalonePackage::ParamType{"gcc", "double", "--split 5"},
+                                           StandalonePackage::ParamType{"clang", "float", "--split 5"}),
+                         case_name);
 
 TEST(EmittedPackage, ReEmissionIsByteIdentical) {
   Scratch a("identical_a"), b("identical_b");

@@ -18,9 +18,6 @@
 #include "tree_from_model.hpp"
 #include "tree_reference.hpp"
 
-#if __has_include("derive/kinematic_tree.hpp")
-#define HAMEL_HAVE_TREES 1
-#endif
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/fold_parameters.hpp"
@@ -120,8 +117,6 @@ TEST(NewtonEulerReference, ConservesEnergyAndSatisfiesTheBaseEulerPoincareEquati
                 std::fabs(dT - Q.dot(s.qd)) / T, ep.norm() / h.norm());
   }
 }
-
-#ifdef HAMEL_HAVE_TREES
 
 // ---------------------------------------------------------------------------------------------------
 // Generated kernels against the reference.
@@ -376,13 +371,5 @@ TEST(TreeAccelerations, SatelliteAsTreeEqualsHandWrittenBundleModel) {
   std::printf("satellite_se3 (hand-written) vs satellite_se3_tree, ep rhs: max relative difference %.2e\n", worst);
   EXPECT_LE(worst, kTolerance);
 }
-
-#else
-
-TEST(TreeAccelerations, NeedsTheGenerator) {
-  GTEST_SKIP() << "the generator has no kinematic trees yet (derive/kinematic_tree.hpp missing)";
-}
-
-#endif
 
 }  // namespace

@@ -9,10 +9,7 @@
 // Differences are first expanded; where the two sides use different frames the trigonometric identity
 // sin² + cos² = 1 is settled by the rational substitution sin a = 2s/(1+s²), cos a = (1−s²)/(1+s²) and
 // GiNaC's normal().
-#if __has_include("derive/kinematic_tree.hpp")
 #include "derive/kinematic_tree.hpp"
-#define HAMEL_HAVE_TREES 1
-#endif
 #include "model/load_model.hpp"
 
 #include <gtest/gtest.h>
@@ -61,8 +58,6 @@ std::string text(const ex& e) {
   s << e;
   return s.str();
 }
-
-#ifdef HAMEL_HAVE_TREES
 
 TEST(TreeKineticEnergy, SatelliteAsTreeEqualsHandWrittenBundle) {
   const hamel::Model hand = hamel::load_model(model_path("satellite_se3"));
@@ -247,13 +242,5 @@ tree:
   const ex T_tree = hamel::tree_kinetic_energy(model);
   EXPECT_EQ(vanishes(T_tree - T_hand, {}), Zero::expanded) << "tree:  " << text(T_tree) << "\nhand:  " << text(T_hand);
 }
-
-#else
-
-TEST(TreeKineticEnergy, NeedsTheGenerator) {
-  GTEST_SKIP() << "the generator has no kinematic trees yet (derive/kinematic_tree.hpp missing)";
-}
-
-#endif
 
 }  // namespace

@@ -8,6 +8,39 @@
 
 namespace chaplygin_sleigh {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[5], p[3], in[2]) -> out[5], pivots[2]  ops: 3 add, 10 mul, 2 div, 2 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  const real w0 = std::cos(x[2]);
+  const real w1 = x[3] * w0;
+  const real w2 = std::sin(x[2]);
+  const real w3 = x[3] * w2;
+  const real w4 = x[4] * x[4];
+  const real w5 = p[2] * p[0];
+  const real w6 = w4 * w5;
+  const real w7 = w6 + in[1];
+  const real w8 = w7 / p[0];
+  const real w9 = x[3] * p[2];
+  const real w10 = p[0] * w9;
+  const real w11 = w10 * x[4];
+  const real w12 = in[0] - w11;
+  const real w13 = p[2] * p[2];
+  const real w14 = w13 * p[0];
+  const real w15 = p[1] + w14;
+  const real w16 = w12 / w15;
+  out[0] = w1;  // x_dot
+  out[1] = w3;  // y_dot
+  out[2] = x[4];  // theta_dot
+  out[3] = w8;  // v_rate
+  out[4] = w16;  // omega_rate
+  pivots[0] = p[0];  // pivot 0
+  pivots[1] = w15;  // pivot 1
+}
+
+}  // namespace
+
 /* kinematics: (t, x[5], p[3], in[2]) -> out[3]  ops: 0 add, 2 mul, 0 div, 2 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -167,44 +200,12 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[0] = real(0.0);  // u_lat
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[5], p[3], in[2]) -> out[7]  ops: 3 add, 10 mul, 2 div, 2 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = x[3] * w0;
-  const real w2 = std::sin(x[2]);
-  const real w3 = x[3] * w2;
-  const real w4 = x[4] * x[4];
-  const real w5 = p[2] * p[0];
-  const real w6 = w4 * w5;
-  const real w7 = w6 + in[1];
-  const real w8 = w7 / p[0];
-  const real w9 = x[3] * p[2];
-  const real w10 = p[0] * w9;
-  const real w11 = w10 * x[4];
-  const real w12 = in[0] - w11;
-  const real w13 = p[2] * p[2];
-  const real w14 = w13 * p[0];
-  const real w15 = p[1] + w14;
-  const real w16 = w12 / w15;
-  out[0] = w1;  // x_dot
-  out[1] = w3;  // y_dot
-  out[2] = x[4];  // theta_dot
-  out[3] = w8;  // v_rate
-  out[4] = w16;  // omega_rate
-  out[5] = p[0];  // pivot 0
-  out[6] = w15;  // pivot 1
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -8,6 +8,69 @@
 
 namespace double_pendulum {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[4], pivots[2]  ops: 10 add, 30 mul, 3 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  (void)in;
+  const real w0 = std::sin(x[0]);
+  const real w1 = w0 * p[1];
+  const real w2 = p[2] * w1;
+  const real w3 = p[3] * w2;
+  const real w4 = std::cos(x[1]);
+  const real w5 = w3 * w4;
+  const real w6 = std::sin(x[1]);
+  const real w7 = p[1] * p[2];
+  const real w8 = std::cos(x[0]);
+  const real w9 = w7 * w8;
+  const real w10 = p[3] * w9;
+  const real w11 = w6 * w10;
+  const real w12 = w5 - w11;
+  const real w13 = x[3] * x[3];
+  const real w14 = w12 * w13;
+  const real w15 = p[4] * w2;
+  const real w16 = w0 * p[2];
+  const real w17 = w16 * p[0];
+  const real w18 = p[4] * w17;
+  const real w19 = w15 + w18;
+  const real w20 = w14 + w19;
+  const real w21 = -w20;
+  const real w22 = p[2] * p[2];
+  const real w23 = p[1] * w22;
+  const real w24 = w22 * p[0];
+  const real w25 = w23 + w24;
+  const real w26 = w21 / w25;
+  const real w27 = x[2] * x[2];
+  const real w28 = w12 * w27;
+  const real w29 = p[1] * p[3];
+  const real w30 = p[4] * w29;
+  const real w31 = w30 * w6;
+  const real w32 = w28 - w31;
+  const real w33 = w3 * w6;
+  const real w34 = w4 * w10;
+  const real w35 = w33 + w34;
+  const real w36 = w35 / w25;
+  const real w37 = w21 * w36;
+  const real w38 = w32 - w37;
+  const real w39 = p[3] * p[3];
+  const real w40 = p[1] * w39;
+  const real w41 = w36 * w36;
+  const real w42 = w41 * w25;
+  const real w43 = w40 - w42;
+  const real w44 = w38 / w43;
+  const real w45 = w44 * w36;
+  const real w46 = w26 - w45;
+  out[0] = x[2];  // theta1_dot
+  out[1] = x[3];  // theta2_dot
+  out[2] = w46;  // omega1_rate
+  out[3] = w44;  // omega2_rate
+  pivots[0] = w25;  // pivot 0
+  pivots[1] = w43;  // pivot 1
+}
+
+}  // namespace
+
 /* kinematics: (t, x[4], p[5], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -317,74 +380,12 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w44;  // E
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[6]  ops: 10 add, 30 mul, 3 div, 4 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  (void)in;
-  const real w0 = std::sin(x[0]);
-  const real w1 = w0 * p[1];
-  const real w2 = p[2] * w1;
-  const real w3 = p[3] * w2;
-  const real w4 = std::cos(x[1]);
-  const real w5 = w3 * w4;
-  const real w6 = std::sin(x[1]);
-  const real w7 = p[1] * p[2];
-  const real w8 = std::cos(x[0]);
-  const real w9 = w7 * w8;
-  const real w10 = p[3] * w9;
-  const real w11 = w6 * w10;
-  const real w12 = w5 - w11;
-  const real w13 = x[3] * x[3];
-  const real w14 = w12 * w13;
-  const real w15 = p[4] * w2;
-  const real w16 = w0 * p[2];
-  const real w17 = w16 * p[0];
-  const real w18 = p[4] * w17;
-  const real w19 = w15 + w18;
-  const real w20 = w14 + w19;
-  const real w21 = -w20;
-  const real w22 = p[2] * p[2];
-  const real w23 = p[1] * w22;
-  const real w24 = w22 * p[0];
-  const real w25 = w23 + w24;
-  const real w26 = w21 / w25;
-  const real w27 = x[2] * x[2];
-  const real w28 = w12 * w27;
-  const real w29 = p[1] * p[3];
-  const real w30 = p[4] * w29;
-  const real w31 = w30 * w6;
-  const real w32 = w28 - w31;
-  const real w33 = w3 * w6;
-  const real w34 = w4 * w10;
-  const real w35 = w33 + w34;
-  const real w36 = w35 / w25;
-  const real w37 = w21 * w36;
-  const real w38 = w32 - w37;
-  const real w39 = p[3] * p[3];
-  const real w40 = p[1] * w39;
-  const real w41 = w36 * w36;
-  const real w42 = w41 * w25;
-  const real w43 = w40 - w42;
-  const real w44 = w38 / w43;
-  const real w45 = w44 * w36;
-  const real w46 = w26 - w45;
-  out[0] = x[2];  // theta1_dot
-  out[1] = x[3];  // theta2_dot
-  out[2] = w46;  // omega1_rate
-  out[3] = w44;  // omega2_rate
-  out[4] = w25;  // pivot 0
-  out[5] = w43;  // pivot 1
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -8,6 +8,75 @@
 
 namespace double_pendulum_mass_ratio {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[4], pivots[2]  ops: 10 add, 36 mul, 3 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  (void)in;
+  const real w0 = p[1] * p[2];
+  const real w1 = std::cos(x[0]);
+  const real w2 = w0 * w1;
+  const real w3 = p[3] * w2;
+  const real w4 = p[0] * w3;
+  const real w5 = std::sin(x[1]);
+  const real w6 = w4 * w5;
+  const real w7 = std::cos(x[1]);
+  const real w8 = std::sin(x[0]);
+  const real w9 = w8 * p[1];
+  const real w10 = p[2] * w9;
+  const real w11 = p[3] * w10;
+  const real w12 = p[0] * w11;
+  const real w13 = w7 * w12;
+  const real w14 = w6 - w13;
+  const real w15 = x[3] * x[3];
+  const real w16 = w14 * w15;
+  const real w17 = p[0] * w10;
+  const real w18 = p[4] * w17;
+  const real w19 = w8 * p[2];
+  const real w20 = w19 * p[0];
+  const real w21 = p[4] * w20;
+  const real w22 = w18 + w21;
+  const real w23 = w16 - w22;
+  const real w24 = p[2] * p[2];
+  const real w25 = p[1] * w24;
+  const real w26 = p[0] * w25;
+  const real w27 = w24 * p[0];
+  const real w28 = w26 + w27;
+  const real w29 = w23 / w28;
+  const real w30 = w5 * w12;
+  const real w31 = w4 * w7;
+  const real w32 = w30 + w31;
+  const real w33 = w32 / w28;
+  const real w34 = p[1] * p[3];
+  const real w35 = p[0] * w34;
+  const real w36 = p[4] * w35;
+  const real w37 = w5 * w36;
+  const real w38 = x[2] * x[2];
+  const real w39 = w14 * w38;
+  const real w40 = w37 + w39;
+  const real w41 = -w40;
+  const real w42 = w33 * w23;
+  const real w43 = w41 - w42;
+  const real w44 = p[3] * p[3];
+  const real w45 = p[1] * w44;
+  const real w46 = w45 * p[0];
+  const real w47 = w33 * w33;
+  const real w48 = w28 * w47;
+  const real w49 = w46 - w48;
+  const real w50 = w43 / w49;
+  const real w51 = w33 * w50;
+  const real w52 = w29 - w51;
+  out[0] = x[2];  // theta1_dot
+  out[1] = x[3];  // theta2_dot
+  out[2] = w52;  // omega1_rate
+  out[3] = w50;  // omega2_rate
+  pivots[0] = w28;  // pivot 0
+  pivots[1] = w49;  // pivot 1
+}
+
+}  // namespace
+
 /* kinematics: (t, x[4], p[5], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -344,80 +413,12 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w50;  // E
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[6]  ops: 10 add, 36 mul, 3 div, 4 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  (void)in;
-  const real w0 = p[1] * p[2];
-  const real w1 = std::cos(x[0]);
-  const real w2 = w0 * w1;
-  const real w3 = p[3] * w2;
-  const real w4 = p[0] * w3;
-  const real w5 = std::sin(x[1]);
-  const real w6 = w4 * w5;
-  const real w7 = std::cos(x[1]);
-  const real w8 = std::sin(x[0]);
-  const real w9 = w8 * p[1];
-  const real w10 = p[2] * w9;
-  const real w11 = p[3] * w10;
-  const real w12 = p[0] * w11;
-  const real w13 = w7 * w12;
-  const real w14 = w6 - w13;
-  const real w15 = x[3] * x[3];
-  const real w16 = w14 * w15;
-  const real w17 = p[0] * w10;
-  const real w18 = p[4] * w17;
-  const real w19 = w8 * p[2];
-  const real w20 = w19 * p[0];
-  const real w21 = p[4] * w20;
-  const real w22 = w18 + w21;
-  const real w23 = w16 - w22;
-  const real w24 = p[2] * p[2];
-  const real w25 = p[1] * w24;
-  const real w26 = p[0] * w25;
-  const real w27 = w24 * p[0];
-  const real w28 = w26 + w27;
-  const real w29 = w23 / w28;
-  const real w30 = w5 * w12;
-  const real w31 = w4 * w7;
-  const real w32 = w30 + w31;
-  const real w33 = w32 / w28;
-  const real w34 = p[1] * p[3];
-  const real w35 = p[0] * w34;
-  const real w36 = p[4] * w35;
-  const real w37 = w5 * w36;
-  const real w38 = x[2] * x[2];
-  const real w39 = w14 * w38;
-  const real w40 = w37 + w39;
-  const real w41 = -w40;
-  const real w42 = w33 * w23;
-  const real w43 = w41 - w42;
-  const real w44 = p[3] * p[3];
-  const real w45 = p[1] * w44;
-  const real w46 = w45 * p[0];
-  const real w47 = w33 * w33;
-  const real w48 = w28 * w47;
-  const real w49 = w46 - w48;
-  const real w50 = w43 / w49;
-  const real w51 = w33 * w50;
-  const real w52 = w29 - w51;
-  out[0] = x[2];  // theta1_dot
-  out[1] = x[3];  // theta2_dot
-  out[2] = w52;  // omega1_rate
-  out[3] = w50;  // omega2_rate
-  out[4] = w28;  // pivot 0
-  out[5] = w49;  // pivot 1
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -8,6 +8,35 @@
 
 namespace free_rigid_body {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[3], p[3], in[0]) -> out[3], pivots[3]  ops: 4 add, 6 mul, 3 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  (void)in;
+  const real w0 = x[1] * x[2];
+  const real w1 = p[1] - p[2];
+  const real w2 = w0 * w1;
+  const real w3 = w2 / p[0];
+  const real w4 = p[2] - p[0];
+  const real w5 = w4 * x[2];
+  const real w6 = w5 * x[0];
+  const real w7 = w6 / p[1];
+  const real w8 = p[1] - p[0];
+  const real w9 = w8 * x[1];
+  const real w10 = w9 * x[0];
+  const real w11 = -w10;
+  const real w12 = w11 / p[2];
+  out[0] = w3;  // wx_rate
+  out[1] = w7;  // wy_rate
+  out[2] = w12;  // wz_rate
+  pivots[0] = p[0];  // pivot 0
+  pivots[1] = p[1];  // pivot 1
+  pivots[2] = p[2];  // pivot 2
+}
+
+}  // namespace
+
 /* kinematics: (t, x[3], p[3], in[0]) -> out[0]  ops: 0 add, 0 mul, 0 div, 0 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -164,40 +193,12 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[8] = p[2];  // L[wz][wz]
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[3], p[3], in[0]) -> out[6]  ops: 4 add, 6 mul, 3 div, 0 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  (void)in;
-  const real w0 = x[1] * x[2];
-  const real w1 = p[1] - p[2];
-  const real w2 = w0 * w1;
-  const real w3 = w2 / p[0];
-  const real w4 = p[2] - p[0];
-  const real w5 = w4 * x[2];
-  const real w6 = w5 * x[0];
-  const real w7 = w6 / p[1];
-  const real w8 = p[1] - p[0];
-  const real w9 = w8 * x[1];
-  const real w10 = w9 * x[0];
-  const real w11 = -w10;
-  const real w12 = w11 / p[2];
-  out[0] = w3;  // wx_rate
-  out[1] = w7;  // wy_rate
-  out[2] = w12;  // wz_rate
-  out[3] = p[0];  // pivot 0
-  out[4] = p[1];  // pivot 1
-  out[5] = p[2];  // pivot 2
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -8,6 +8,57 @@
 
 namespace rigid_body_euler_zyx {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[6], p[3], in[0]) -> out[6], pivots[3]  ops: 8 add, 15 mul, 5 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  (void)in;
+  const real w0 = std::sin(x[2]);
+  const real w1 = x[4] * w0;
+  const real w2 = std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = w1 + w3;
+  const real w5 = std::cos(x[1]);
+  const real w6 = w4 / w5;
+  const real w7 = w2 * x[4];
+  const real w8 = x[5] * w0;
+  const real w9 = w7 - w8;
+  const real w10 = x[3] * w5;
+  const real w11 = std::sin(x[1]);
+  const real w12 = w11 * x[4];
+  const real w13 = w12 * w0;
+  const real w14 = w10 + w13;
+  const real w15 = w2 * w11;
+  const real w16 = w15 * x[5];
+  const real w17 = w14 + w16;
+  const real w18 = w17 / w5;
+  const real w19 = x[5] * x[4];
+  const real w20 = p[1] - p[2];
+  const real w21 = w19 * w20;
+  const real w22 = w21 / p[0];
+  const real w23 = p[2] - p[0];
+  const real w24 = w23 * x[3];
+  const real w25 = w24 * x[5];
+  const real w26 = w25 / p[1];
+  const real w27 = p[1] - p[0];
+  const real w28 = w27 * x[3];
+  const real w29 = w28 * x[4];
+  const real w30 = -w29;
+  const real w31 = w30 / p[2];
+  out[0] = w6;  // psi_dot
+  out[1] = w9;  // theta_dot
+  out[2] = w18;  // phi_dot
+  out[3] = w22;  // wx_rate
+  out[4] = w26;  // wy_rate
+  out[5] = w31;  // wz_rate
+  pivots[0] = p[0];  // pivot 0
+  pivots[1] = p[1];  // pivot 1
+  pivots[2] = p[2];  // pivot 2
+}
+
+}  // namespace
+
 /* kinematics: (t, x[6], p[3], in[0]) -> out[3]  ops: 4 add, 9 mul, 2 div, 4 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -253,62 +304,12 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w10;  // E
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[6], p[3], in[0]) -> out[9]  ops: 8 add, 15 mul, 5 div, 4 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  (void)in;
-  const real w0 = std::sin(x[2]);
-  const real w1 = x[4] * w0;
-  const real w2 = std::cos(x[2]);
-  const real w3 = w2 * x[5];
-  const real w4 = w1 + w3;
-  const real w5 = std::cos(x[1]);
-  const real w6 = w4 / w5;
-  const real w7 = w2 * x[4];
-  const real w8 = x[5] * w0;
-  const real w9 = w7 - w8;
-  const real w10 = x[3] * w5;
-  const real w11 = std::sin(x[1]);
-  const real w12 = w11 * x[4];
-  const real w13 = w12 * w0;
-  const real w14 = w10 + w13;
-  const real w15 = w2 * w11;
-  const real w16 = w15 * x[5];
-  const real w17 = w14 + w16;
-  const real w18 = w17 / w5;
-  const real w19 = x[5] * x[4];
-  const real w20 = p[1] - p[2];
-  const real w21 = w19 * w20;
-  const real w22 = w21 / p[0];
-  const real w23 = p[2] - p[0];
-  const real w24 = w23 * x[3];
-  const real w25 = w24 * x[5];
-  const real w26 = w25 / p[1];
-  const real w27 = p[1] - p[0];
-  const real w28 = w27 * x[3];
-  const real w29 = w28 * x[4];
-  const real w30 = -w29;
-  const real w31 = w30 / p[2];
-  out[0] = w6;  // psi_dot
-  out[1] = w9;  // theta_dot
-  out[2] = w18;  // phi_dot
-  out[3] = w22;  // wx_rate
-  out[4] = w26;  // wy_rate
-  out[5] = w31;  // wz_rate
-  out[6] = p[0];  // pivot 0
-  out[7] = p[1];  // pivot 1
-  out[8] = p[2];  // pivot 2
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

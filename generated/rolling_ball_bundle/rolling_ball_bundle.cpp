@@ -8,6 +8,23 @@
 
 namespace rolling_ball_bundle {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[4], p[2], in[0]) -> out[4], pivots[2]  ops: 0 add, 1 mul, 0 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  (void)in;
+  const real w0 = real(1.4) * p[0];
+  out[0] = x[2];  // x_dot
+  out[1] = x[3];  // y_dot
+  out[2] = real(0.0);  // x_dot_rate
+  out[3] = real(0.0);  // y_dot_rate
+  pivots[0] = w0;  // pivot 0
+  pivots[1] = w0;  // pivot 1
+}
+
+}  // namespace
+
 /* kinematics: (t, x[4], p[2], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -162,28 +179,12 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[8] = w2;  // L[omega_z][omega_z]
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[4], p[2], in[0]) -> out[6]  ops: 0 add, 1 mul, 0 div, 0 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  (void)in;
-  const real w0 = real(1.4) * p[0];
-  out[0] = x[2];  // x_dot
-  out[1] = x[3];  // y_dot
-  out[2] = real(0.0);  // x_dot_rate
-  out[3] = real(0.0);  // y_dot_rate
-  out[4] = w0;  // pivot 0
-  out[5] = w0;  // pivot 1
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -8,6 +8,34 @@
 
 namespace rolling_disk {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[6], p[4], in[2]) -> out[6], pivots[2]  ops: 1 add, 6 mul, 2 div, 2 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  const real w0 = std::cos(x[2]);
+  const real w1 = p[1] * w0;
+  const real w2 = w1 * x[5];
+  const real w3 = p[1] * x[5];
+  const real w4 = std::sin(x[2]);
+  const real w5 = w3 * w4;
+  const real w6 = in[0] / p[2];
+  const real w7 = p[1] * p[1];
+  const real w8 = w7 * p[0];
+  const real w9 = w8 + p[3];
+  const real w10 = in[1] / w9;
+  out[0] = w2;  // x_dot
+  out[1] = w5;  // y_dot
+  out[2] = x[4];  // theta_dot
+  out[3] = x[5];  // phi_dot
+  out[4] = w6;  // omega_heading_rate
+  out[5] = w10;  // omega_roll_rate
+  pivots[0] = p[2];  // pivot 0
+  pivots[1] = w9;  // pivot 1
+}
+
+}  // namespace
+
 /* kinematics: (t, x[6], p[4], in[2]) -> out[4]  ops: 0 add, 4 mul, 0 div, 2 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -164,39 +192,12 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[1] = real(0.0);  // u_y
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[6], p[4], in[2]) -> out[8]  ops: 1 add, 6 mul, 2 div, 2 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = p[1] * w0;
-  const real w2 = w1 * x[5];
-  const real w3 = p[1] * x[5];
-  const real w4 = std::sin(x[2]);
-  const real w5 = w3 * w4;
-  const real w6 = in[0] / p[2];
-  const real w7 = p[1] * p[1];
-  const real w8 = w7 * p[0];
-  const real w9 = w8 + p[3];
-  const real w10 = in[1] / w9;
-  out[0] = w2;  // x_dot
-  out[1] = w5;  // y_dot
-  out[2] = x[4];  // theta_dot
-  out[3] = x[5];  // phi_dot
-  out[4] = w6;  // omega_heading_rate
-  out[5] = w10;  // omega_roll_rate
-  out[6] = p[2];  // pivot 0
-  out[7] = w9;  // pivot 1
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -8,6 +8,103 @@
 
 namespace satellite_compliant_rotor {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[7], p[6], in[0]) -> out[7], pivots[5]  ops: 26 add, 34 mul, 15 div, 0 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  (void)in;
+  const real w0 = p[1] - p[2];
+  const real w1 = p[4] + w0;
+  const real w2 = x[3] * w1;
+  const real w3 = w2 * x[4];
+  const real w4 = p[2] * x[6];
+  const real w5 = p[4] * w4;
+  const real w6 = w5 * x[4];
+  const real w7 = p[1] + p[4];
+  const real w8 = w6 / w7;
+  const real w9 = w3 + w8;
+  const real w10 = p[3] + p[0];
+  const real w11 = w9 / w10;
+  const real w12 = p[2] - p[3];
+  const real w13 = w12 - p[0];
+  const real w14 = w13 * x[2];
+  const real w15 = w14 * x[4];
+  const real w16 = p[2] * p[3];
+  const real w17 = w16 * x[5];
+  const real w18 = w17 * x[4];
+  const real w19 = w18 / w10;
+  const real w20 = w15 - w19;
+  const real w21 = w20 / w7;
+  const real w22 = p[1] * p[3];
+  const real w23 = p[3] * p[4];
+  const real w24 = w22 + w23;
+  const real w25 = x[3] * w24;
+  const real w26 = w25 * x[5];
+  const real w27 = w26 / w10;
+  const real w28 = p[1] - p[3];
+  const real w29 = w28 - p[0];
+  const real w30 = w29 + p[4];
+  const real w31 = x[3] * x[2];
+  const real w32 = w30 * w31;
+  const real w33 = x[6] * x[2];
+  const real w34 = p[0] * p[4];
+  const real w35 = w34 + w23;
+  const real w36 = w33 * w35;
+  const real w37 = w36 / w7;
+  const real w38 = w32 + w37;
+  const real w39 = w27 - w38;
+  const real w40 = w39 / p[2];
+  const real w41 = w16 * x[6];
+  const real w42 = p[4] * w41;
+  const real w43 = w42 * x[4];
+  const real w44 = p[1] * p[0];
+  const real w45 = w34 + w44;
+  const real w46 = w45 + w22;
+  const real w47 = w46 + w23;
+  const real w48 = w43 / w47;
+  const real w49 = w16 - w22;
+  const real w50 = w49 - w23;
+  const real w51 = w50 * x[3];
+  const real w52 = x[4] * w51;
+  const real w53 = w52 / w10;
+  const real w54 = w48 - w53;
+  const real w55 = p[5] * x[0];
+  const real w56 = w54 + w55;
+  const real w57 = -w56;
+  const real w58 = p[3] * p[0];
+  const real w59 = w58 / w10;
+  const real w60 = w57 / w59;
+  const real w61 = p[2] * p[4];
+  const real w62 = w34 - w61;
+  const real w63 = w62 + w23;
+  const real w64 = x[2] * w63;
+  const real w65 = w64 * x[4];
+  const real w66 = w65 / w7;
+  const real w67 = w16 * p[4];
+  const real w68 = w67 * x[5];
+  const real w69 = w68 * x[4];
+  const real w70 = w69 / w47;
+  const real w71 = w66 + w70;
+  const real w72 = p[1] * p[4];
+  const real w73 = w72 / w7;
+  const real w74 = w71 / w73;
+  out[0] = x[5];  // phi1_dot
+  out[1] = x[6];  // phi2_dot
+  out[2] = w11;  // wx_locked_rate
+  out[3] = w21;  // wy_locked_rate
+  out[4] = w40;  // wz_locked_rate
+  out[5] = w60;  // phi1_dot_rate
+  out[6] = w74;  // phi2_dot_rate
+  pivots[0] = w10;  // pivot 0
+  pivots[1] = w7;  // pivot 1
+  pivots[2] = p[2];  // pivot 2
+  pivots[3] = w59;  // pivot 3
+  pivots[4] = w73;  // pivot 4
+}
+
+}  // namespace
+
 /* kinematics: (t, x[7], p[6], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -583,108 +680,12 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[3] = w5;  // M_shape[phi2][phi2]
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[7], p[6], in[0]) -> out[12]  ops: 26 add, 34 mul, 15 div, 0 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  (void)in;
-  const real w0 = p[1] - p[2];
-  const real w1 = p[4] + w0;
-  const real w2 = x[3] * w1;
-  const real w3 = w2 * x[4];
-  const real w4 = p[2] * x[6];
-  const real w5 = p[4] * w4;
-  const real w6 = w5 * x[4];
-  const real w7 = p[1] + p[4];
-  const real w8 = w6 / w7;
-  const real w9 = w3 + w8;
-  const real w10 = p[3] + p[0];
-  const real w11 = w9 / w10;
-  const real w12 = p[2] - p[3];
-  const real w13 = w12 - p[0];
-  const real w14 = w13 * x[2];
-  const real w15 = w14 * x[4];
-  const real w16 = p[2] * p[3];
-  const real w17 = w16 * x[5];
-  const real w18 = w17 * x[4];
-  const real w19 = w18 / w10;
-  const real w20 = w15 - w19;
-  const real w21 = w20 / w7;
-  const real w22 = p[1] * p[3];
-  const real w23 = p[3] * p[4];
-  const real w24 = w22 + w23;
-  const real w25 = x[3] * w24;
-  const real w26 = w25 * x[5];
-  const real w27 = w26 / w10;
-  const real w28 = p[1] - p[3];
-  const real w29 = w28 - p[0];
-  const real w30 = w29 + p[4];
-  const real w31 = x[3] * x[2];
-  const real w32 = w30 * w31;
-  const real w33 = x[6] * x[2];
-  const real w34 = p[0] * p[4];
-  const real w35 = w34 + w23;
-  const real w36 = w33 * w35;
-  const real w37 = w36 / w7;
-  const real w38 = w32 + w37;
-  const real w39 = w27 - w38;
-  const real w40 = w39 / p[2];
-  const real w41 = w16 * x[6];
-  const real w42 = p[4] * w41;
-  const real w43 = w42 * x[4];
-  const real w44 = p[1] * p[0];
-  const real w45 = w34 + w44;
-  const real w46 = w45 + w22;
-  const real w47 = w46 + w23;
-  const real w48 = w43 / w47;
-  const real w49 = w16 - w22;
-  const real w50 = w49 - w23;
-  const real w51 = w50 * x[3];
-  const real w52 = x[4] * w51;
-  const real w53 = w52 / w10;
-  const real w54 = w48 - w53;
-  const real w55 = p[5] * x[0];
-  const real w56 = w54 + w55;
-  const real w57 = -w56;
-  const real w58 = p[3] * p[0];
-  const real w59 = w58 / w10;
-  const real w60 = w57 / w59;
-  const real w61 = p[2] * p[4];
-  const real w62 = w34 - w61;
-  const real w63 = w62 + w23;
-  const real w64 = x[2] * w63;
-  const real w65 = w64 * x[4];
-  const real w66 = w65 / w7;
-  const real w67 = w16 * p[4];
-  const real w68 = w67 * x[5];
-  const real w69 = w68 * x[4];
-  const real w70 = w69 / w47;
-  const real w71 = w66 + w70;
-  const real w72 = p[1] * p[4];
-  const real w73 = w72 / w7;
-  const real w74 = w71 / w73;
-  out[0] = x[5];  // phi1_dot
-  out[1] = x[6];  // phi2_dot
-  out[2] = w11;  // wx_locked_rate
-  out[3] = w21;  // wy_locked_rate
-  out[4] = w40;  // wz_locked_rate
-  out[5] = w60;  // phi1_dot_rate
-  out[6] = w74;  // phi2_dot_rate
-  out[7] = w10;  // pivot 0
-  out[8] = w7;  // pivot 1
-  out[9] = p[2];  // pivot 2
-  out[10] = w59;  // pivot 3
-  out[11] = w73;  // pivot 4
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -8,6 +8,45 @@
 
 namespace rolling_ball_scene {
 
+namespace {
+
+/* rhs_with_pivots: (t, x[7], p[2], in[0]) -> out[7], pivots[2]  ops: 4 add, 9 mul, 3 div, 4 call */
+void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  (void)t;
+  (void)in;
+  const real w0 = std::sin(x[1]);
+  const real w1 = std::cos(x[0]);
+  const real w2 = w1 * x[6];
+  const real w3 = w0 * w2;
+  const real w4 = std::sin(x[0]);
+  const real w5 = w4 * w0;
+  const real w6 = w5 * x[5];
+  const real w7 = w3 - w6;
+  const real w8 = std::cos(x[1]);
+  const real w9 = p[1] * w8;
+  const real w10 = w7 / w9;
+  const real w11 = -w10;
+  const real w12 = w4 * x[6];
+  const real w13 = w1 * x[5];
+  const real w14 = w12 + w13;
+  const real w15 = w14 / p[1];
+  const real w16 = w4 * x[5];
+  const real w17 = w16 - w2;
+  const real w18 = w17 / w9;
+  const real w19 = real(1.4) * p[0];
+  out[0] = w11;  // psi_dot
+  out[1] = w15;  // theta_dot
+  out[2] = w18;  // phi_dot
+  out[3] = x[5];  // x_dot
+  out[4] = x[6];  // y_dot
+  out[5] = real(0.0);  // vx_rate
+  out[6] = real(0.0);  // vy_rate
+  pivots[0] = w19;  // pivot 0
+  pivots[1] = w19;  // pivot 1
+}
+
+}  // namespace
+
 /* kinematics: (t, x[7], p[2], in[0]) -> out[5]  ops: 4 add, 8 mul, 3 div, 4 call */
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -127,50 +166,12 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[2] = w33;  // u3
 }
 
-namespace {
-
-/* rhs_with_pivots: (t, x[7], p[2], in[0]) -> out[9]  ops: 4 add, 9 mul, 3 div, 4 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out) {
-  (void)t;
-  (void)in;
-  const real w0 = std::sin(x[1]);
-  const real w1 = std::cos(x[0]);
-  const real w2 = w1 * x[6];
-  const real w3 = w0 * w2;
-  const real w4 = std::sin(x[0]);
-  const real w5 = w4 * w0;
-  const real w6 = w5 * x[5];
-  const real w7 = w3 - w6;
-  const real w8 = std::cos(x[1]);
-  const real w9 = p[1] * w8;
-  const real w10 = w7 / w9;
-  const real w11 = -w10;
-  const real w12 = w4 * x[6];
-  const real w13 = w1 * x[5];
-  const real w14 = w12 + w13;
-  const real w15 = w14 / p[1];
-  const real w16 = w4 * x[5];
-  const real w17 = w16 - w2;
-  const real w18 = w17 / w9;
-  const real w19 = real(1.4) * p[0];
-  out[0] = w11;  // psi_dot
-  out[1] = w15;  // theta_dot
-  out[2] = w18;  // phi_dot
-  out[3] = x[5];  // x_dot
-  out[4] = x[6];  // y_dot
-  out[5] = real(0.0);  // vx_rate
-  out[6] = real(0.0);  // vy_rate
-  out[7] = w19;  // pivot 0
-  out[8] = w19;  // pivot 1
-}
-
-}  // namespace
-
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
-  real all[n_out_rhs + n_pivots_rhs];
-  rhs_with_pivots(t, x, p, in, all);
-  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)
-    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;
+  real all[n_out_rhs];
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots(t, x, p, in, all, pivots);
+  for (int i = 0; i < n_pivots_rhs; ++i)
+    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;
   for (int i = 0; i < n_out_rhs; ++i)
     if (!std::isfinite(all[i])) return 2;
   for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];

@@ -82,6 +82,7 @@ struct PrintedKernel {
   std::string text;
   int temporaries = 0;  ///< named locals w0, w1, ...
   OpCounts ops;
+  int parts = 1;  ///< functions the kernel is printed as (emit --split)
 };
 
 // The right-hand side of node i's statement, its operands named by `name_of`.
@@ -113,8 +114,16 @@ std::string argument_voids(const bool uses[4]) {
   return s;
 }
 
-PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
+// With n_main >= 0, outputs from n_main on are written to a second array, `pivots`, an extra argument.
+PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, int n_main = -1) {
   const std::vector<int> order = g.schedule(k.outputs);
+  const std::string head =
+      n_main < 0 ? signature(k)
+                 : "void " + k.name + "(real t, const real* x, const real* p, const real* in, real* out, real* pivots)";
+  const auto target = [&](std::size_t o) {
+    return n_main < 0 || o < static_cast<std::size_t>(n_main) ? "out[" + std::to_string(o) + "]"
+                                                               : "pivots[" + std::to_string(o - static_cast<std::size_t>(n_main)) + "]";
+  };
   const OpCounts c = g.count(order);
   // Leaves (constants and arguments) are written in place; every other node is a statement.
   std::map<int, std::string> leaf;
@@ -139,8 +148,10 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   const auto local = [&](int i) { return "w" + std::to_string(index.at(i)); };
 
   std::ostringstream os;
-  os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> out["
-     << k.outputs.size() << "]  ops: " << c.add << " add, " << c.mul << " mul, " << c.div << " div, " << c.call
+  os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> "
+     << (n_main < 0 ? "out[" + std::to_string(k.outputs.size()) + "]"
+                    : "out[" + std::to_string(n_main) + "], pivots[" + std::to_string(static_cast<int>(k.outputs.size()) - n_main) + "]")
+     << "  ops: " << c.add << " add, " << c.mul << " mul, " << c.div << " div, " << c.call
      << " call */\n";
   const int part_size = s.split;
   if (part_size <= 0 || work <= part_size) {
@@ -148,8 +159,8 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     const auto name_of = [&](int i) { return leaf.count(i) ? leaf.at(i) : local(i); };
     for (int i : statements) body << "  const real " << local(i) << " = " << statement_text(g.node(i), name_of) << ";\n";
     for (std::size_t o = 0; o < k.outputs.size(); ++o)
-      body << "  out[" << o << "] = " << name_of(k.outputs[o]) << ";  // " << k.output_names[o] << "\n";
-    os << signature(k) << " {\n" << argument_voids(uses);
+      body << "  " << target(o) << " = " << name_of(k.outputs[o]) << ";  // " << k.output_names[o] << "\n";
+    os << head << " {\n" << argument_voids(uses);
     if (k.outputs.empty()) os << "  (void)out;\n";
     os << body.str() << "}\n";
     return {k.name, os.str(), work, c};
@@ -207,14 +218,14 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     os << "void " << k.name << "_part" << part << "(real t, const real* x, const real* p, const real* in, real* v) {\n"
        << argument_voids(part_uses) << body.str() << "}\n\n";
   }
-  os << "}  // namespace\n\n" << signature(k) << " {\n  real v[" << std::max(n_slots, 1) << "];\n";
+  os << "}  // namespace\n\n" << head << " {\n  real v[" << std::max(n_slots, 1) << "];\n";
   for (int part = 0; part < parts; ++part) os << "  " << k.name << "_part" << part << "(t, x, p, in, v);\n";
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     const int i = k.outputs[o];
-    os << "  out[" << o << "] = " << (leaf.count(i) ? leaf.at(i) : passed(i)) << ";  // " << k.output_names[o] << "\n";
+    os << "  " << target(o) << " = " << (leaf.count(i) ? leaf.at(i) : passed(i)) << ";  // " << k.output_names[o] << "\n";
   }
   os << "}\n";
-  return {k.name, os.str(), work + n_slots, c};
+  return {k.name, os.str(), work + n_slots, c, parts};
 }
 
 template <class T, class F>
@@ -359,6 +370,7 @@ class PackageWriter {
   std::vector<double> defaults;
   std::vector<int> upper_index, lower_a, lower_b;
   std::vector<PrintedKernel> printed;  // kernels.kernels as text
+  std::string rhs_with_pivots;         // rhs and the pivots of its solve, which rhs and rhs_status call; or empty
   std::vector<bool> parameter_used, input_used;
   bool has_rhs = false, has_group_velocity = false;
   const std::optional<KernelSet::Prepared>& prepared;
@@ -405,6 +417,28 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
 
   // The kernels as text, with their sizes for the ABI constants; which parameters and inputs any kernel reads.
   for (const Kernel& k : kernels.kernels) printed.push_back(print_kernel(kernels.graph, k, s));
+  // rhs_status needs the pivots of rhs's solve, intermediate values of rhs: rhs_with_pivots computes both. When
+  // rhs is long enough to be split, rhs calls it with a scratch array for the pivots, so that the package holds
+  // and compiles rhs once; a shorter rhs keeps its own copy, which saves the call (2-8 ns, 1-4 % of a rhs of
+  // 700-1 400 operations, docs/benchmarks.md).
+  for (std::size_t i = 0; i < kernels.kernels.size(); ++i) {
+    if (kernels.kernels[i].name != "rhs" || kernels.rhs_pivots.empty()) continue;
+    const bool shared = printed[i].parts > 1;
+    Kernel checked = kernels.kernels[i];
+    checked.name = "rhs_with_pivots";
+    for (std::size_t k = 0; k < kernels.rhs_pivots.size(); ++k) {
+      checked.outputs.push_back(kernels.rhs_pivots[k]);
+      checked.output_names.push_back("pivot " + std::to_string(k));
+    }
+    rhs_with_pivots = print_kernel(kernels.graph, checked, s, static_cast<int>(kernels.kernels[i].outputs.size())).text;
+    if (!shared) continue;
+    std::string& text = printed[i].text;
+    text = text.substr(0, text.find('\n') + 1) + signature(kernels.kernels[i]) +
+           " {\n"
+           "  real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)\n"
+           "  rhs_with_pivots(t, x, p, in, out, pivots);\n"
+           "}\n";
+  }
   parameter_used.assign(defaults.size(), false);
   input_used.assign(input_names.size(), false);
   {
@@ -540,23 +574,21 @@ std::string PackageWriter::source() const {
   std::ostringstream c;
   c << stamp << "#include \"" << model.name << ".hpp\"\n#include \"" << model.name
     << ".h\"\n\n#include <cmath>\n\nnamespace " << model.name << " {\n";
+  if (!rhs_with_pivots.empty()) c << "\nnamespace {\n\n" << rhs_with_pivots << "\n}  // namespace\n";
   for (const PrintedKernel& k : printed) c << "\n" << k.text;
   if (has_rhs) {
-    // rhs and its pivots in one branch-free pass; the checks are in rhs_status, outside the kernel.
-    Kernel checked = kernels.get("rhs");
-    checked.name = "rhs_with_pivots";
-    checked.summary = "rhs, then the pivots of its solve";
-    for (std::size_t i = 0; i < kernels.rhs_pivots.size(); ++i) {
-      checked.outputs.push_back(kernels.rhs_pivots[i]);
-      checked.output_names.push_back("pivot " + std::to_string(i));
+    // The checks are in rhs_status, outside the branch-free kernel.
+    c << "\nint rhs_status(real t, const real* x, const real* p, const real* in, real* out) {\n"
+      << "  real all[n_out_rhs];\n";
+    if (rhs_with_pivots.empty()) {
+      c << "  rhs(t, x, p, in, all);\n";
+    } else {
+      c << "  real pivots[n_pivots_rhs];\n"
+        << "  rhs_with_pivots(t, x, p, in, all, pivots);\n"
+        << "  for (int i = 0; i < n_pivots_rhs; ++i)\n"
+        << "    if (!(pivots[i] > real(0)) || !std::isfinite(pivots[i])) return 1;\n";
     }
-    c << "\nnamespace {\n\n" << print_kernel(kernels.graph, checked, s).text << "\n}  // namespace\n\n"
-      << "int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {\n"
-      << "  real all[n_out_rhs + n_pivots_rhs];\n"
-      << "  rhs_with_pivots(t, x, p, in, all);\n"
-      << "  for (int i = n_out_rhs; i < n_out_rhs + n_pivots_rhs; ++i)\n"
-      << "    if (!(all[i] > real(0)) || !std::isfinite(all[i])) return 1;\n"
-      << "  for (int i = 0; i < n_out_rhs; ++i)\n"
+    c << "  for (int i = 0; i < n_out_rhs; ++i)\n"
       << "    if (!std::isfinite(all[i])) return 2;\n"
       << "  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];\n"
       << "  return 0;\n"

@@ -135,15 +135,19 @@ TEST(Cli, EmitIsByteIdenticalOnRegeneration) {
 }
 
 // --split N: kernels longer than N statements become functions <kernel>_part<k>; --split 0 prints every kernel
-// whole; a value that is not a whole number of statements exits 2 naming the flag and writes nothing.
+// whole (rhs and rhs_with_pivots each in full); a value that is not a whole number of statements exits 2 naming the flag and writes nothing.
 TEST(Cli, EmitSplitPrintsLongKernelsInParts) {
   const fs::path whole = scratch("split_whole"), parts = scratch("split_parts"), never = scratch("split_never");
   ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + whole.string() + " --split 0 2>/dev/null").status, 0);
   ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + parts.string() + " --split 30 2>/dev/null").status, 0);
   const std::string a = slurp(whole / "double_pendulum.cpp"), b = slurp(parts / "double_pendulum.cpp");
   EXPECT_EQ(a.find("_part0("), std::string::npos);
-  EXPECT_NE(b.find("void rhs_part0(real t, const real* x, const real* p, const real* in, real* v) {"), std::string::npos);
-  EXPECT_NE(b.find("  rhs_part1(t, x, p, in, v);"), std::string::npos);
+  EXPECT_NE(b.find("void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v) {"), std::string::npos);
+  EXPECT_NE(b.find("  jacobian_part1(t, x, p, in, v);"), std::string::npos);
+  // A split rhs is printed once, as rhs_with_pivots, which rhs and rhs_status call.
+  EXPECT_NE(b.find("void rhs_with_pivots_part0("), std::string::npos);
+  EXPECT_NE(b.find("  rhs_with_pivots(t, x, p, in, out, pivots);"), std::string::npos);
+  EXPECT_EQ(a.find("  rhs_with_pivots(t, x, p, in, out, pivots);"), std::string::npos);
   for (const char* value : {"-1", "1.5", "many"}) {
     const Outcome r = hamel("emit " + source("models/double_pendulum.yaml") + " -o " + never.string() + " --split " +
                             value + " 2>&1");

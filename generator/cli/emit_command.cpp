@@ -44,7 +44,24 @@ std::size_t total_operations(const KernelSet& kernels) {
   return static_cast<std::size_t>(kernels.graph.count(kernels.graph.schedule(all)).total());
 }
 
-void run(const EmitOptions& opt) {
+// The options as given, for the package's stamp (emit's defaults left out, so that they read as typed).
+std::string given_options(const EmitOptions& opt) {
+  std::string s;
+  const auto add = [&](const std::string& flag, const std::string& value) {
+    if (!value.empty()) s += (s.empty() ? "" : " ") + flag + " " + value;
+  };
+  add("--form", opt.form);
+  add("--fold", opt.fold);
+  for (const std::string& p : opt.params) add("--param", p);
+  add("--kernels", opt.kernels);
+  add("--dynamics", opt.dynamics);
+  if (opt.settings.split_statements != EmitSettings{}.split_statements)
+    add("--split", std::to_string(opt.settings.split_statements));
+  return s;
+}
+
+void run(EmitOptions opt) {
+  opt.settings.options = given_options(opt);
   Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
   target.settings.dynamics = opt.dynamics;
   std::set<std::string> selected = target.kernels;

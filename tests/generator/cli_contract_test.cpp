@@ -142,6 +142,9 @@ TEST(Cli, EmitSplitPrintsLongKernelsInParts) {
   ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + parts.string() + " --split 30 2>/dev/null").status, 0);
   const std::string a = slurp(whole / "double_pendulum.cpp"), b = slurp(parts / "double_pendulum.cpp");
   EXPECT_EQ(a.find("_part0("), std::string::npos);
+  // The first line of every file records the options emit was given.
+  EXPECT_NE(a.substr(0, a.find('\n')).find("; emit --split 0). Do not edit."), std::string::npos) << a.substr(0, 200);
+  EXPECT_NE(b.substr(0, b.find('\n')).find("; emit --split 30). Do not edit."), std::string::npos) << b.substr(0, 200);
   EXPECT_NE(b.find("void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v) {"), std::string::npos);
   EXPECT_NE(b.find("  jacobian_part1(t, x, p, in, v);"), std::string::npos);
   // A split rhs is printed once, as rhs_with_pivots, which rhs and rhs_status call.

@@ -70,7 +70,7 @@ std::string upper(std::string s) {
 
 struct Sizes {
   int n_q, n_u, n_x, n_p, n_in;
-  int split = 0;  ///< statements per part of a split kernel; 0: never split
+  int split = 0;  ///< the most statements a part of a split kernel has; 0: never split
 };
 
 std::string signature(const Kernel& k) {
@@ -166,7 +166,7 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     return {k.name, os.str(), work, c};
   }
 
-  // A long kernel is split into parts of part_size consecutive statements, each a function of its own: an
+  // A long kernel is split into parts of at most part_size consecutive statements, each a function of its own: an
   // optimizing compiler's register allocation grows faster than linearly with the length of one function
   // (g++ -O2 spent 75 % of a 63 s compile in LRA on a 44 000-statement file), and a part's code stays
   // closer to the instruction cache. A value one part computes and a later part (or out[]) reads is passed
@@ -178,9 +178,11 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   std::vector<int> live(static_cast<std::size_t>(work) + 1, 0);
   {
     std::vector<int> last_use(static_cast<std::size_t>(work), 0);  // position of the last reader; work: out[]
-    for (int w = 0; w < work; ++w)
-      for (int operand : {g.node(statements[static_cast<std::size_t>(w)]).a, g.node(statements[static_cast<std::size_t>(w)]).b})
+    for (int w = 0; w < work; ++w) {
+      const Node& n = g.node(statements[static_cast<std::size_t>(w)]);
+      for (int operand : {n.a, n.b})
         if (operand >= 0 && !leaf.count(operand)) last_use[static_cast<std::size_t>(index.at(operand))] = w;
+    }
     for (int o : k.outputs)
       if (!leaf.count(o)) last_use[static_cast<std::size_t>(index.at(o))] = work;
     std::vector<int> change(static_cast<std::size_t>(work) + 2, 0);

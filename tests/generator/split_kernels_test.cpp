@@ -14,7 +14,6 @@
 #include <limits>
 #include <map>
 #include <random>
-#include <regex>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -75,29 +74,37 @@ struct Interpreted {
   int slot_writes = 0;  // values passed between parts
 };
 
+bool starts(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
+bool ends(const std::string& s, const std::string& suffix) {
+  return s.size() >= suffix.size() && s.compare(s.size() - suffix.size(), suffix.size(), suffix) == 0;
+}
+// The number in "name[k]" or "name[k];".
+std::size_t subscript(const std::string& s) {
+  return static_cast<std::size_t>(std::stoul(s.substr(s.find('[') + 1, s.find(']') - s.find('[') - 1)));
+}
+std::vector<std::string> words(const std::string& line) {
+  std::istringstream in(line);
+  std::vector<std::string> w;
+  for (std::string word; in >> word;) w.push_back(word);
+  return w;
+}
+
+// (Parsed by hand: GCC 12's <regex> trips -Wmaybe-uninitialized in the sanitized build.)
 Interpreted interpret(const std::string& text, const double* x, std::size_t n_out) {
-  static const std::regex part_def(R"(^void f_part(\d+)\(.*\) \{$)");
-  static const std::regex kernel_def(R"(^void f\(.*\) \{$)");
-  static const std::regex local_def(R"(^  const real (w\d+) = (\S+)(?: ([-+*/]) (\S+))?;$)");
-  static const std::regex slot_write(R"(^  v\[(\d+)\] = (w\d+);$)");
-  static const std::regex slot_decl(R"(^  real v\[(\d+)\];$)");
-  static const std::regex call(R"(^  f_part(\d+)\(t, x, p, in, v\);$)");
-  static const std::regex output(R"(^  out\[(\d+)\] = (\S+);  // .*$)");
   std::map<int, std::vector<std::string>> parts;
   std::vector<std::string> main_body;
   std::vector<std::string>* current = nullptr;
   std::istringstream lines(text);
   std::string line;
-  std::smatch m;
   Interpreted run;
   while (std::getline(lines, line)) {
-    if (std::regex_match(line, m, part_def)) {
-      current = &parts[std::stoi(m[1])];
-    } else if (std::regex_match(line, m, kernel_def)) {
+    if (starts(line, "void f_part") && ends(line, ") {")) {
+      current = &parts[std::stoi(line.substr(11, line.find('(') - 11))];
+    } else if (starts(line, "void f(") && ends(line, ") {")) {
       current = &main_body;
     } else if (line == "}") {
       current = nullptr;
-    } else if (current && line.rfind("  (void)", 0) != 0) {
+    } else if (current && !starts(line, "  (void)")) {
       current->push_back(line);
     }
   }
@@ -106,39 +113,43 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
   std::function<void(const std::vector<std::string>&, int)> execute = [&](const std::vector<std::string>& body,
                                                                          int part) {
     std::map<std::string, double> locals;
-    std::function<double(const std::string&)> value = [&](const std::string& token) -> double {
-      std::smatch t;
+    std::function<double(std::string)> value = [&](std::string token) -> double {
+      if (ends(token, ";")) token.pop_back();
       if (token.size() > 1 && token[0] == '-') return -value(token.substr(1));
-      if (std::regex_match(token, t, std::regex(R"(x\[(\d+)\])"))) return x[std::stoi(t[1])];
-      if (std::regex_match(token, t, std::regex(R"(v\[(\d+)\])"))) return v.at(std::stoul(t[1]));
-      if (std::regex_match(token, t, std::regex(R"(real\((.*)\))"))) return std::stod(t[1]);
+      if (starts(token, "x[")) return x[subscript(token)];
+      if (starts(token, "v[")) return v.at(subscript(token));
+      if (starts(token, "real(")) return std::stod(token.substr(5));
       const auto it = locals.find(token);
       if (it == locals.end()) ADD_FAILURE() << "'" << token << "' is not in scope in part " << part;
       return it == locals.end() ? std::numeric_limits<double>::quiet_NaN() : it->second;
     };
     for (const std::string& l : body) {
-      if (std::regex_match(l, m, local_def)) {
-        const double a = value(m[2]);
+      const std::vector<std::string> w = words(l);
+      if (!starts(l, "  ") || w.empty()) {
+        ADD_FAILURE() << "unexpected line: " << l;
+      } else if ((w.size() == 5 || w.size() == 7) && w[0] == "const" && w[1] == "real" && w[3] == "=" &&
+                 ends(w.back(), ";")) {
+        const double a = value(w[4]);
         double r = a;
-        if (m[3].matched) {
-          const double b = value(m[4]);
-          const char op = m[3].str()[0];
+        if (w.size() == 7) {
+          const double b = value(w[6]);
+          const char op = w[5][0];
           r = op == '+' ? a + b : op == '-' ? a - b : op == '*' ? a * b : a / b;
         }
-        locals[m[1]] = r;
+        locals[w[2]] = r;
         ++run.statements_per_part[part];
-      } else if (std::regex_match(l, m, slot_write)) {
-        v.at(std::stoul(m[1])) = value(m[2]);
+      } else if (w.size() == 3 && starts(w[0], "v[") && w[1] == "=" && starts(w[2], "w") && ends(w[2], ";")) {
+        v.at(subscript(w[0])) = value(w[2]);
         ++run.slot_writes;
-      } else if (std::regex_match(l, m, slot_decl)) {
-        run.slots = std::stoi(m[1]);
+      } else if (w.size() == 2 && w[0] == "real" && starts(w[1], "v[") && ends(w[1], "];")) {
+        run.slots = static_cast<int>(subscript(w[1]));
         v.assign(static_cast<std::size_t>(run.slots), std::numeric_limits<double>::quiet_NaN());
-      } else if (std::regex_match(l, m, call)) {
-        const int called = std::stoi(m[1]);
+      } else if (starts(l, "  f_part") && ends(l, "(t, x, p, in, v);")) {
+        const int called = std::stoi(l.substr(8, l.find('(') - 8));
         EXPECT_TRUE(parts.count(called)) << l;
         if (parts.count(called)) execute(parts.at(called), called);
-      } else if (std::regex_match(l, m, output)) {
-        run.out.at(std::stoul(m[1])) = value(m[2]);
+      } else if (w.size() >= 4 && starts(w[0], "out[") && w[1] == "=" && ends(w[2], ";") && w[3] == "//") {
+        run.out.at(subscript(w[0])) = value(w[2]);
       } else {
         ADD_FAILURE() << "unexpected line: " << l;
       }

@@ -138,7 +138,7 @@ Run add_emit_command(CLI::App& app) {
                   "its biggest kernel. Known: " +
                       kernel_names());
   cmd->add_option("--split", opt->settings.split_statements,
-                  "Print a kernel of more than N statements as functions of N statements each, called in turn "
+                  "Print a kernel of more than N statements as functions of at most N statements each, called in turn "
                   "(an optimizing compiler's register allocation grows faster than linearly with the length of one "
                   "function; 0: never split)")
       ->default_val(opt->settings.split_statements)

@@ -123,7 +123,7 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[4] = w16;  // omega_rate
 }
 
-/* jacobian: (t, x[5], p[3], in[2]) -> out[25]  ops: 4 add, 9 mul, 3 div, 2 call */
+/* jacobian: (t, x[5], p[3], in[2]) -> out[25]  ops: 4 add, 12 mul, 2 div, 2 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -132,19 +132,21 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   const real w2 = -w1;
   const real w3 = std::cos(x[2]);
   const real w4 = x[3] * w3;
-  const real w5 = p[2] * p[0];
-  const real w6 = w5 * x[4];
-  const real w7 = w6 * real(2.0);
-  const real w8 = w7 / p[0];
-  const real w9 = -w6;
-  const real w10 = p[2] * p[2];
-  const real w11 = w10 * p[0];
-  const real w12 = p[1] + w11;
-  const real w13 = w9 / w12;
-  const real w14 = x[3] * p[2];
-  const real w15 = p[0] * w14;
-  const real w16 = -w15;
-  const real w17 = w16 / w12;
+  const real w5 = real(1.0) / p[0];
+  const real w6 = p[2] * p[0];
+  const real w7 = w6 * x[4];
+  const real w8 = w7 * real(2.0);
+  const real w9 = w5 * w8;
+  const real w10 = -w7;
+  const real w11 = p[2] * p[2];
+  const real w12 = w11 * p[0];
+  const real w13 = p[1] + w12;
+  const real w14 = real(1.0) / w13;
+  const real w15 = w10 * w14;
+  const real w16 = x[3] * p[2];
+  const real w17 = p[0] * w16;
+  const real w18 = -w17;
+  const real w19 = w18 * w14;
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
   out[2] = w2;  // dx_dot/dtheta
@@ -164,12 +166,12 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[16] = real(0.0);  // dv_rate/dy
   out[17] = real(0.0);  // dv_rate/dtheta
   out[18] = real(0.0);  // dv_rate/dv
-  out[19] = w8;  // dv_rate/domega
+  out[19] = w9;  // dv_rate/domega
   out[20] = real(0.0);  // domega_rate/dx
   out[21] = real(0.0);  // domega_rate/dy
   out[22] = real(0.0);  // domega_rate/dtheta
-  out[23] = w13;  // domega_rate/dv
-  out[24] = w17;  // domega_rate/domega
+  out[23] = w15;  // domega_rate/dv
+  out[24] = w19;  // domega_rate/domega
 }
 
 /* energy: (t, x[5], p[3], in[2]) -> out[1]  ops: 2 add, 10 mul, 0 div, 0 call */

@@ -58,7 +58,7 @@ constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 4;
 constexpr int n_temporaries_rhs = 53;
 constexpr int n_out_jacobian = 16;
-constexpr int n_temporaries_jacobian = 102;
+constexpr int n_temporaries_jacobian = 104;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 51;
 constexpr int n_out_max = 16;  // the largest out[] of any kernel
@@ -117,7 +117,7 @@ void prepare_parameters(const real* p, real* prepared);
 constexpr int n_temporaries_rhs_prepared = 36;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[4]
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
-constexpr int n_temporaries_jacobian_prepared = 87;
+constexpr int n_temporaries_jacobian_prepared = 88;
 /// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[16]
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
 

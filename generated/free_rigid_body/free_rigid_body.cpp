@@ -117,35 +117,38 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[2] = w12;  // wz_rate
 }
 
-/* jacobian: (t, x[3], p[3], in[0]) -> out[9]  ops: 5 add, 6 mul, 6 div, 0 call */
+/* jacobian: (t, x[3], p[3], in[0]) -> out[9]  ops: 5 add, 12 mul, 3 div, 0 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = p[1] - p[2];
   const real w1 = x[2] * w0;
-  const real w2 = w1 / p[0];
-  const real w3 = x[1] * w0;
-  const real w4 = w3 / p[0];
-  const real w5 = p[2] - p[0];
-  const real w6 = w5 * x[2];
-  const real w7 = w6 / p[1];
-  const real w8 = w5 * x[0];
-  const real w9 = w8 / p[1];
-  const real w10 = p[1] - p[0];
-  const real w11 = w10 * x[1];
-  const real w12 = -w11;
-  const real w13 = w12 / p[2];
-  const real w14 = w10 * x[0];
+  const real w2 = real(1.0) / p[0];
+  const real w3 = w1 * w2;
+  const real w4 = x[1] * w0;
+  const real w5 = w4 * w2;
+  const real w6 = real(1.0) / p[1];
+  const real w7 = p[2] - p[0];
+  const real w8 = w7 * x[2];
+  const real w9 = w6 * w8;
+  const real w10 = w7 * x[0];
+  const real w11 = w6 * w10;
+  const real w12 = real(1.0) / p[2];
+  const real w13 = p[1] - p[0];
+  const real w14 = w13 * x[1];
   const real w15 = -w14;
-  const real w16 = w15 / p[2];
+  const real w16 = w12 * w15;
+  const real w17 = w13 * x[0];
+  const real w18 = -w17;
+  const real w19 = w18 * w12;
   out[0] = real(0.0);  // dwx_rate/dwx
-  out[1] = w2;  // dwx_rate/dwy
-  out[2] = w4;  // dwx_rate/dwz
-  out[3] = w7;  // dwy_rate/dwx
+  out[1] = w3;  // dwx_rate/dwy
+  out[2] = w5;  // dwx_rate/dwz
+  out[3] = w9;  // dwy_rate/dwx
   out[4] = real(0.0);  // dwy_rate/dwy
-  out[5] = w9;  // dwy_rate/dwz
-  out[6] = w13;  // dwz_rate/dwx
-  out[7] = w16;  // dwz_rate/dwy
+  out[5] = w11;  // dwy_rate/dwz
+  out[6] = w16;  // dwz_rate/dwx
+  out[7] = w19;  // dwz_rate/dwy
   out[8] = real(0.0);  // dwz_rate/dwz
 }
 

@@ -181,7 +181,7 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[5] = w31;  // wz_rate
 }
 
-/* jacobian: (t, x[6], p[3], in[0]) -> out[36]  ops: 17 add, 27 mul, 15 div, 4 call */
+/* jacobian: (t, x[6], p[3], in[0]) -> out[36]  ops: 17 add, 33 mul, 12 div, 4 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -231,23 +231,26 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   const real w43 = w5 * w0;
   const real w44 = w43 / w7;
   const real w45 = w23 / w7;
-  const real w46 = p[1] - p[2];
-  const real w47 = x[5] * w46;
-  const real w48 = w47 / p[0];
-  const real w49 = x[4] * w46;
-  const real w50 = w49 / p[0];
-  const real w51 = p[2] - p[0];
-  const real w52 = w51 * x[5];
-  const real w53 = w52 / p[1];
-  const real w54 = w51 * x[3];
-  const real w55 = w54 / p[1];
-  const real w56 = p[1] - p[0];
-  const real w57 = w56 * x[4];
-  const real w58 = -w57;
-  const real w59 = w58 / p[2];
-  const real w60 = w56 * x[3];
-  const real w61 = -w60;
-  const real w62 = w61 / p[2];
+  const real w46 = real(1.0) / p[0];
+  const real w47 = p[1] - p[2];
+  const real w48 = x[5] * w47;
+  const real w49 = w46 * w48;
+  const real w50 = x[4] * w47;
+  const real w51 = w46 * w50;
+  const real w52 = p[2] - p[0];
+  const real w53 = w52 * x[5];
+  const real w54 = real(1.0) / p[1];
+  const real w55 = w53 * w54;
+  const real w56 = w52 * x[3];
+  const real w57 = w54 * w56;
+  const real w58 = p[1] - p[0];
+  const real w59 = w58 * x[4];
+  const real w60 = -w59;
+  const real w61 = real(1.0) / p[2];
+  const real w62 = w60 * w61;
+  const real w63 = w58 * x[3];
+  const real w64 = -w63;
+  const real w65 = w64 * w61;
   out[0] = real(0.0);  // dpsi_dot/dpsi
   out[1] = w9;  // dpsi_dot/dtheta
   out[2] = w14;  // dpsi_dot/dphi
@@ -270,19 +273,19 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[19] = real(0.0);  // dwx_rate/dtheta
   out[20] = real(0.0);  // dwx_rate/dphi
   out[21] = real(0.0);  // dwx_rate/dwx
-  out[22] = w48;  // dwx_rate/dwy
-  out[23] = w50;  // dwx_rate/dwz
+  out[22] = w49;  // dwx_rate/dwy
+  out[23] = w51;  // dwx_rate/dwz
   out[24] = real(0.0);  // dwy_rate/dpsi
   out[25] = real(0.0);  // dwy_rate/dtheta
   out[26] = real(0.0);  // dwy_rate/dphi
-  out[27] = w53;  // dwy_rate/dwx
+  out[27] = w55;  // dwy_rate/dwx
   out[28] = real(0.0);  // dwy_rate/dwy
-  out[29] = w55;  // dwy_rate/dwz
+  out[29] = w57;  // dwy_rate/dwz
   out[30] = real(0.0);  // dwz_rate/dpsi
   out[31] = real(0.0);  // dwz_rate/dtheta
   out[32] = real(0.0);  // dwz_rate/dphi
-  out[33] = w59;  // dwz_rate/dwx
-  out[34] = w62;  // dwz_rate/dwy
+  out[33] = w62;  // dwz_rate/dwx
+  out[34] = w65;  // dwz_rate/dwy
   out[35] = real(0.0);  // dwz_rate/dwz
 }
 

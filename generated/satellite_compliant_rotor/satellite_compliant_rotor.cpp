@@ -355,7 +355,7 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[6] = w74;  // phi2_dot_rate
 }
 
-/* jacobian: (t, x[7], p[6], in[0]) -> out[49]  ops: 29 add, 32 mul, 34 div, 0 call */
+/* jacobian: (t, x[7], p[6], in[0]) -> out[49]  ops: 29 add, 49 mul, 22 div, 0 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -363,97 +363,102 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   const real w1 = p[4] + w0;
   const real w2 = w1 * x[4];
   const real w3 = p[3] + p[0];
-  const real w4 = w2 / w3;
-  const real w5 = x[3] * w1;
-  const real w6 = p[2] * x[6];
-  const real w7 = p[4] * w6;
-  const real w8 = p[1] + p[4];
-  const real w9 = w7 / w8;
-  const real w10 = w5 + w9;
-  const real w11 = w10 / w3;
-  const real w12 = p[2] * p[4];
-  const real w13 = w12 * x[4];
-  const real w14 = w13 / w8;
-  const real w15 = w14 / w3;
-  const real w16 = p[2] - p[3];
-  const real w17 = w16 - p[0];
-  const real w18 = w17 * x[4];
-  const real w19 = w18 / w8;
-  const real w20 = w17 * x[2];
-  const real w21 = p[2] * p[3];
-  const real w22 = w21 * x[5];
-  const real w23 = w22 / w3;
-  const real w24 = w20 - w23;
-  const real w25 = w24 / w8;
-  const real w26 = w21 * x[4];
-  const real w27 = w26 / w3;
-  const real w28 = -w27;
-  const real w29 = w28 / w8;
-  const real w30 = p[1] - p[3];
-  const real w31 = w30 - p[0];
-  const real w32 = w31 + p[4];
-  const real w33 = x[3] * w32;
-  const real w34 = p[0] * p[4];
-  const real w35 = p[3] * p[4];
-  const real w36 = w34 + w35;
-  const real w37 = x[6] * w36;
-  const real w38 = w37 / w8;
-  const real w39 = w33 + w38;
-  const real w40 = -w39;
-  const real w41 = w40 / p[2];
-  const real w42 = p[1] * p[3];
-  const real w43 = w42 + w35;
-  const real w44 = w43 * x[5];
-  const real w45 = w44 / w3;
-  const real w46 = x[2] * w32;
-  const real w47 = w45 - w46;
-  const real w48 = w47 / p[2];
-  const real w49 = x[3] * w43;
-  const real w50 = w49 / w3;
-  const real w51 = w50 / p[2];
-  const real w52 = x[2] * w36;
-  const real w53 = w52 / w8;
-  const real w54 = -w53;
-  const real w55 = w54 / p[2];
-  const real w56 = -p[5];
-  const real w57 = p[3] * p[0];
-  const real w58 = w57 / w3;
-  const real w59 = w56 / w58;
-  const real w60 = w21 - w42;
-  const real w61 = w60 - w35;
-  const real w62 = w61 * x[4];
-  const real w63 = w62 / w3;
-  const real w64 = w63 / w58;
-  const real w65 = w61 * x[3];
-  const real w66 = w65 / w3;
-  const real w67 = w21 * x[6];
-  const real w68 = p[4] * w67;
-  const real w69 = p[1] * p[0];
-  const real w70 = w34 + w69;
-  const real w71 = w70 + w42;
-  const real w72 = w71 + w35;
-  const real w73 = w68 / w72;
-  const real w74 = w66 - w73;
-  const real w75 = w74 / w58;
-  const real w76 = w21 * p[4];
-  const real w77 = w76 * x[4];
-  const real w78 = w77 / w72;
-  const real w79 = -w78;
-  const real w80 = w79 / w58;
-  const real w81 = w34 - w12;
-  const real w82 = w81 + w35;
-  const real w83 = w82 * x[4];
-  const real w84 = w83 / w8;
-  const real w85 = p[1] * p[4];
-  const real w86 = w85 / w8;
-  const real w87 = w84 / w86;
-  const real w88 = x[2] * w82;
-  const real w89 = w88 / w8;
-  const real w90 = w76 * x[5];
-  const real w91 = w90 / w72;
-  const real w92 = w89 + w91;
-  const real w93 = w92 / w86;
-  const real w94 = w78 / w86;
+  const real w4 = real(1.0) / w3;
+  const real w5 = w2 * w4;
+  const real w6 = x[3] * w1;
+  const real w7 = p[2] * x[6];
+  const real w8 = p[4] * w7;
+  const real w9 = p[1] + p[4];
+  const real w10 = w8 / w9;
+  const real w11 = w6 + w10;
+  const real w12 = w4 * w11;
+  const real w13 = p[2] * p[4];
+  const real w14 = w13 * x[4];
+  const real w15 = w14 / w9;
+  const real w16 = w4 * w15;
+  const real w17 = real(1.0) / w9;
+  const real w18 = p[2] - p[3];
+  const real w19 = w18 - p[0];
+  const real w20 = w19 * x[4];
+  const real w21 = w17 * w20;
+  const real w22 = w19 * x[2];
+  const real w23 = p[2] * p[3];
+  const real w24 = w23 * x[5];
+  const real w25 = w24 / w3;
+  const real w26 = w22 - w25;
+  const real w27 = w26 * w17;
+  const real w28 = w23 * x[4];
+  const real w29 = w28 / w3;
+  const real w30 = -w29;
+  const real w31 = w17 * w30;
+  const real w32 = real(1.0) / p[2];
+  const real w33 = p[1] - p[3];
+  const real w34 = w33 - p[0];
+  const real w35 = w34 + p[4];
+  const real w36 = x[3] * w35;
+  const real w37 = p[0] * p[4];
+  const real w38 = p[3] * p[4];
+  const real w39 = w37 + w38;
+  const real w40 = x[6] * w39;
+  const real w41 = w40 / w9;
+  const real w42 = w36 + w41;
+  const real w43 = -w42;
+  const real w44 = w32 * w43;
+  const real w45 = p[1] * p[3];
+  const real w46 = w45 + w38;
+  const real w47 = w46 * x[5];
+  const real w48 = w47 / w3;
+  const real w49 = x[2] * w35;
+  const real w50 = w48 - w49;
+  const real w51 = w32 * w50;
+  const real w52 = x[3] * w46;
+  const real w53 = w52 / w3;
+  const real w54 = w32 * w53;
+  const real w55 = x[2] * w39;
+  const real w56 = w55 / w9;
+  const real w57 = -w56;
+  const real w58 = w32 * w57;
+  const real w59 = -p[5];
+  const real w60 = p[3] * p[0];
+  const real w61 = w60 / w3;
+  const real w62 = real(1.0) / w61;
+  const real w63 = w59 * w62;
+  const real w64 = w23 - w45;
+  const real w65 = w64 - w38;
+  const real w66 = w65 * x[4];
+  const real w67 = w66 / w3;
+  const real w68 = w62 * w67;
+  const real w69 = w65 * x[3];
+  const real w70 = w69 / w3;
+  const real w71 = w23 * x[6];
+  const real w72 = p[4] * w71;
+  const real w73 = p[1] * p[0];
+  const real w74 = w37 + w73;
+  const real w75 = w74 + w45;
+  const real w76 = w75 + w38;
+  const real w77 = w72 / w76;
+  const real w78 = w70 - w77;
+  const real w79 = w78 * w62;
+  const real w80 = w23 * p[4];
+  const real w81 = w80 * x[4];
+  const real w82 = w81 / w76;
+  const real w83 = -w82;
+  const real w84 = w83 * w62;
+  const real w85 = w37 - w13;
+  const real w86 = w85 + w38;
+  const real w87 = w86 * x[4];
+  const real w88 = w87 / w9;
+  const real w89 = p[1] * p[4];
+  const real w90 = w89 / w9;
+  const real w91 = real(1.0) / w90;
+  const real w92 = w88 * w91;
+  const real w93 = x[2] * w86;
+  const real w94 = w93 / w9;
+  const real w95 = w80 * x[5];
+  const real w96 = w95 / w76;
+  const real w97 = w94 + w96;
+  const real w98 = w91 * w97;
+  const real w99 = w91 * w82;
   out[0] = real(0.0);  // dphi1_dot/dphi1
   out[1] = real(0.0);  // dphi1_dot/dphi2
   out[2] = real(0.0);  // dphi1_dot/dwx_locked
@@ -471,37 +476,37 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[14] = real(0.0);  // dwx_locked_rate/dphi1
   out[15] = real(0.0);  // dwx_locked_rate/dphi2
   out[16] = real(0.0);  // dwx_locked_rate/dwx_locked
-  out[17] = w4;  // dwx_locked_rate/dwy_locked
-  out[18] = w11;  // dwx_locked_rate/dwz_locked
+  out[17] = w5;  // dwx_locked_rate/dwy_locked
+  out[18] = w12;  // dwx_locked_rate/dwz_locked
   out[19] = real(0.0);  // dwx_locked_rate/dphi1_dot
-  out[20] = w15;  // dwx_locked_rate/dphi2_dot
+  out[20] = w16;  // dwx_locked_rate/dphi2_dot
   out[21] = real(0.0);  // dwy_locked_rate/dphi1
   out[22] = real(0.0);  // dwy_locked_rate/dphi2
-  out[23] = w19;  // dwy_locked_rate/dwx_locked
+  out[23] = w21;  // dwy_locked_rate/dwx_locked
   out[24] = real(0.0);  // dwy_locked_rate/dwy_locked
-  out[25] = w25;  // dwy_locked_rate/dwz_locked
-  out[26] = w29;  // dwy_locked_rate/dphi1_dot
+  out[25] = w27;  // dwy_locked_rate/dwz_locked
+  out[26] = w31;  // dwy_locked_rate/dphi1_dot
   out[27] = real(0.0);  // dwy_locked_rate/dphi2_dot
   out[28] = real(0.0);  // dwz_locked_rate/dphi1
   out[29] = real(0.0);  // dwz_locked_rate/dphi2
-  out[30] = w41;  // dwz_locked_rate/dwx_locked
-  out[31] = w48;  // dwz_locked_rate/dwy_locked
+  out[30] = w44;  // dwz_locked_rate/dwx_locked
+  out[31] = w51;  // dwz_locked_rate/dwy_locked
   out[32] = real(0.0);  // dwz_locked_rate/dwz_locked
-  out[33] = w51;  // dwz_locked_rate/dphi1_dot
-  out[34] = w55;  // dwz_locked_rate/dphi2_dot
-  out[35] = w59;  // dphi1_dot_rate/dphi1
+  out[33] = w54;  // dwz_locked_rate/dphi1_dot
+  out[34] = w58;  // dwz_locked_rate/dphi2_dot
+  out[35] = w63;  // dphi1_dot_rate/dphi1
   out[36] = real(0.0);  // dphi1_dot_rate/dphi2
   out[37] = real(0.0);  // dphi1_dot_rate/dwx_locked
-  out[38] = w64;  // dphi1_dot_rate/dwy_locked
-  out[39] = w75;  // dphi1_dot_rate/dwz_locked
+  out[38] = w68;  // dphi1_dot_rate/dwy_locked
+  out[39] = w79;  // dphi1_dot_rate/dwz_locked
   out[40] = real(0.0);  // dphi1_dot_rate/dphi1_dot
-  out[41] = w80;  // dphi1_dot_rate/dphi2_dot
+  out[41] = w84;  // dphi1_dot_rate/dphi2_dot
   out[42] = real(0.0);  // dphi2_dot_rate/dphi1
   out[43] = real(0.0);  // dphi2_dot_rate/dphi2
-  out[44] = w87;  // dphi2_dot_rate/dwx_locked
+  out[44] = w92;  // dphi2_dot_rate/dwx_locked
   out[45] = real(0.0);  // dphi2_dot_rate/dwy_locked
-  out[46] = w93;  // dphi2_dot_rate/dwz_locked
-  out[47] = w94;  // dphi2_dot_rate/dphi1_dot
+  out[46] = w98;  // dphi2_dot_rate/dwz_locked
+  out[47] = w99;  // dphi2_dot_rate/dphi1_dot
   out[48] = real(0.0);  // dphi2_dot_rate/dphi2_dot
 }
 
@@ -720,7 +725,7 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 
 namespace {
 
-/* prepare_parameters_kernel: (t, x[7], p[6], in[0]) -> out[19]  ops: 23 add, 28 mul, 9 div, 0 call */
+/* prepare_parameters_kernel: (t, x[7], p[6], in[0]) -> out[18]  ops: 23 add, 28 mul, 8 div, 0 call */
 void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)x;
@@ -784,7 +789,6 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   const real w56 = real(1.0) / w55;
   const real w57 = w53 * w56;
   const real w58 = w48 * w56;
-  const real w59 = w33 / w35;
   out[0] = p[0];  // Ix
   out[1] = p[1];  // Iy
   out[2] = p[2];  // Iz
@@ -803,7 +807,6 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   out[15] = w50;  // prepared 9
   out[16] = w57;  // prepared 10
   out[17] = w58;  // prepared 11
-  out[18] = w59;  // prepared 12
 }
 
 }  // namespace
@@ -812,7 +815,7 @@ void prepare_parameters(const real* p, real* prepared) {
   prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
 }
 
-/* rhs_prepared: (t, x[7], p[19], in[0]) -> out[7]  ops: 7 add, 19 mul, 0 div, 0 call */
+/* rhs_prepared: (t, x[7], p[18], in[0]) -> out[7]  ops: 7 add, 19 mul, 0 div, 0 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -851,7 +854,7 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[6] = w25;  // phi2_dot_rate
 }
 
-/* jacobian_prepared: (t, x[7], p[19], in[0]) -> out[49]  ops: 6 add, 22 mul, 0 div, 0 call */
+/* jacobian_prepared: (t, x[7], p[18], in[0]) -> out[49]  ops: 6 add, 22 mul, 0 div, 0 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -918,7 +921,7 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[32] = real(0.0);  // dwz_locked_rate/dwz_locked
   out[33] = w16;  // dwz_locked_rate/dphi1_dot
   out[34] = w17;  // dwz_locked_rate/dphi2_dot
-  out[35] = p[18];  // dphi1_dot_rate/dphi1
+  out[35] = p[13];  // dphi1_dot_rate/dphi1
   out[36] = real(0.0);  // dphi1_dot_rate/dphi2
   out[37] = real(0.0);  // dphi1_dot_rate/dwx_locked
   out[38] = w18;  // dphi1_dot_rate/dwy_locked

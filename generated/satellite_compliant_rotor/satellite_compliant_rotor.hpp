@@ -58,7 +58,7 @@ constexpr int n_temporaries_hamel_coefficients = 15;
 constexpr int n_out_rhs = 7;
 constexpr int n_temporaries_rhs = 75;
 constexpr int n_out_jacobian = 49;
-constexpr int n_temporaries_jacobian = 95;
+constexpr int n_temporaries_jacobian = 100;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 99;
 constexpr int n_out_group_velocity = 3;
@@ -128,11 +128,11 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
 
-// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 75 operations per call, rhs_prepared: 26, prepare_parameters: 60).
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 75 operations per call, rhs_prepared: 26, prepare_parameters: 59).
 // prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
 // <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
 // again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
-constexpr int n_prepared_parameters = 19;
+constexpr int n_prepared_parameters = 18;
 void prepare_parameters(const real* p, real* prepared);
 constexpr int n_temporaries_rhs_prepared = 26;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[7]

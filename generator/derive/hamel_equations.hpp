@@ -6,9 +6,12 @@
 #include "algebra/intermediates.hpp"
 #include "derive/hamel_system.hpp"
 
+#include <memory>
 #include <vector>
 
 namespace hamel {
+
+struct TreeRecursion;  // derive/tree_derivatives.hpp
 
 struct HamelEquations {
   std::vector<int> independent;                ///< indices I of the independent quasi-velocities
@@ -26,6 +29,8 @@ struct HamelEquations {
   std::vector<GiNaC::ex> recursive_accelerations;  ///< u̇ by the articulated-body algorithm (trees with
                                                    ///< --dynamics aba), in the intermediates; empty otherwise
   std::vector<GiNaC::ex> recursive_pivots;  ///< its pivots (articulated inertias D_i, the base's LDLᵀ d_k)
+  std::shared_ptr<const TreeRecursion> tree;  ///< trees: the inverse dynamics by recursion, for the
+                                              ///< Jacobian's analytical ∂ID/∂x (derive/tree_derivatives.hpp)
   bool factor_last_first = false;  ///< solve M u̇ = f eliminating from the last index (trees: no fill-in)
   Intermediates intermediates;  ///< definitions of the intermediate symbols the expressions above may use
                                 ///< (recursive derivations, derive/kinematic_tree.hpp); empty otherwise

@@ -2,6 +2,8 @@
 
 #include "algebra/simplify.hpp"
 
+#include "derive/spatial_algebra.hpp"
+#include "derive/tree_derivatives.hpp"
 #include "lie/lie_algebra.hpp"
 
 #include <array>
@@ -10,66 +12,9 @@
 namespace hamel {
 
 using GiNaC::ex;
+using namespace spatial;
 
 namespace {
-
-using Vec3 = std::array<ex, 3>;
-using Vec6 = std::array<ex, 6>;
-using Mat3 = std::array<Vec3, 3>;
-using Mat6 = std::array<Vec6, 6>;
-
-Vec3 cross(const Vec3& a, const Vec3& b) {
-  return {a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]};
-}
-Vec3 angular(const Vec6& v) { return {v[0], v[1], v[2]}; }
-Vec3 linear(const Vec6& v) { return {v[3], v[4], v[5]}; }
-Vec6 join(const Vec3& a, const Vec3& b) { return {a[0], a[1], a[2], b[0], b[1], b[2]}; }
-Vec6 zero6() { return {0, 0, 0, 0, 0, 0}; }
-Vec6 unit6(int k) {
-  Vec6 e = zero6();
-  e[static_cast<std::size_t>(k)] = 1;
-  return e;
-}
-Vec6 operator+(const Vec6& a, const Vec6& b) {
-  Vec6 c;
-  for (std::size_t k = 0; k < 6; ++k) c[k] = a[k] + b[k];
-  return c;
-}
-Vec6 operator*(const Vec6& a, const ex& s) {
-  Vec6 c;
-  for (std::size_t k = 0; k < 6; ++k) c[k] = a[k] * s;
-  return c;
-}
-ex dot(const Vec6& a, const Vec6& b) {
-  ex s = 0;
-  for (std::size_t k = 0; k < 6; ++k) s += a[k] * b[k];
-  return s;
-}
-Vec6 times(const Mat6& m, const Vec6& v) {
-  Vec6 out;
-  for (std::size_t r = 0; r < 6; ++r) {
-    ex s = 0;
-    for (std::size_t c = 0; c < 6; ++c) s += m[r][c] * v[c];
-    out[r] = s;
-  }
-  return out;
-}
-Mat3 skew(const Vec3& c) { return {{{0, -c[2], c[1]}, {c[2], 0, -c[0]}, {-c[1], c[0], 0}}}; }
-
-// ad_V W for twists V = (ω, v), W = (a, b): the velocity-product term of a body's acceleration.
-Vec6 ad(const Vec6& V, const Vec6& W) {
-  const Vec3 w = angular(V), v = linear(V), a = angular(W), b = linear(W);
-  const Vec3 top = cross(w, a), l = cross(w, b), r = cross(v, a);
-  return join(top, {l[0] + r[0], l[1] + r[1], l[2] + r[2]});
-}
-
-// −ad*_V h for a twist V = (ω, v) and a momentum h = (l, p): (ω×l + v×p, ω×p), the gyroscopic wrench
-// of the Euler–Poincaré equation on SE(3), left-trivialized.
-Vec6 coadjoint_term(const Vec6& V, const Vec6& h) {
-  const Vec3 w = angular(V), v = linear(V), l = angular(h), p = linear(h);
-  const Vec3 a = cross(w, l), b = cross(v, p);
-  return join({a[0] + b[0], a[1] + b[1], a[2] + b[2]}, cross(w, p));
-}
 
 // 𝕀 = [[Θ − m[c]×², m[c]×], [−m[c]×, m 1]]: the spatial inertia about the body frame's origin, with
 // momentum 𝕀 V = (Θ ω + c × p, p), p = m (v + ω × c).
@@ -102,32 +47,6 @@ std::vector<Vec6> base_directions(const std::string& group) {
     for (int k = 0; k < group[1] - '0'; ++k) s.push_back(unit6(3 + k));
   return s;
 }
-
-// The pose of a body relative to its parent, g = (R, p), and the two maps it induces: twists from the
-// parent's frame to the body's (Ad_{g⁻¹}) and wrenches back (its transpose).
-struct Link {
-  Mat3 R;
-  Vec3 p;
-  Vec6 to_child(const Vec6& V) const {
-    const Vec3 w = angular(V), v = linear(V), wp = cross(w, p);
-    Vec3 a, b;
-    for (std::size_t r = 0; r < 3; ++r) {
-      a[r] = R[0][r] * w[0] + R[1][r] * w[1] + R[2][r] * w[2];
-      b[r] = R[0][r] * (v[0] + wp[0]) + R[1][r] * (v[1] + wp[1]) + R[2][r] * (v[2] + wp[2]);
-    }
-    return join(a, b);
-  }
-  Vec6 to_parent(const Vec6& F) const {
-    const Vec3 t = angular(F), f = linear(F);
-    Vec3 Rt, Rf;
-    for (std::size_t r = 0; r < 3; ++r) {
-      Rt[r] = R[r][0] * t[0] + R[r][1] * t[1] + R[r][2] * t[2];
-      Rf[r] = R[r][0] * f[0] + R[r][1] * f[1] + R[r][2] * f[2];
-    }
-    const Vec3 m = cross(p, Rf);
-    return join({Rt[0] + m[0], Rt[1] + m[1], Rt[2] + m[2]}, Rf);
-  }
-};
 
 class TreeProgram {
  public:
@@ -370,6 +289,22 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     joint_force[i] = model.forces[i - 1] - (base_potential + springs).diff(model.coordinates[i - 1]) -
                      body.damping * model.rates[i - 1];
     eq.forcing[m + i - 1] = joint_force[i] - dot(axis[i], F[i]);
+  }
+  {
+    auto recursion = std::make_shared<TreeRecursion>();
+    recursion->parent = parent;
+    recursion->link = link;
+    recursion->axis = axis;
+    recursion->bodies.push_back(tree.base);
+    for (const TreeBody& body : tree.bodies) recursion->bodies.push_back(body.body);
+    recursion->base = base;
+    recursion->base_acceleration = a[0];
+    recursion->base_velocity.assign(group_velocity.begin(), group_velocity.end());
+    recursion->coordinates.assign(model.coordinates.begin(), model.coordinates.end());
+    recursion->rates.assign(model.rates.begin(), model.rates.end());
+    recursion->accelerations.assign(eq.acceleration_symbols.begin(), eq.acceleration_symbols.end());
+    recursion->joint_force.assign(joint_force.begin() + 1, joint_force.end());
+    eq.tree = recursion;
   }
 
   // The articulated-body algorithm (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1) in the bodies'

@@ -445,50 +445,92 @@ void GraphEvaluator::evaluate(double t, const double* x, const double* p, const 
   for (std::size_t k = 0; k < outputs_.size(); ++k) out[k] = values_[static_cast<std::size_t>(outputs_[k])];
 }
 
-// Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
-// square roots): no loops or branches are left in the emitted kernel.
-std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
-                            bool last_first, std::vector<int>* pivots) {
-  const std::size_t n = f.size();
-  if (last_first) {  // the same factorization of the reversed system, P M Pᵀ (P y) = P f
-    std::vector<std::vector<int>> R(n, std::vector<int>(n));
-    std::vector<int> r(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      r[i] = f[n - 1 - i];
-      for (std::size_t j = 0; j < n; ++j) R[i][j] = M[n - 1 - i][n - 1 - j];
-    }
-    std::vector<int> y = ldlt_solve(g, R, r, false, pivots);
-    std::reverse(y.begin(), y.end());
-    return y;
-  }
-  std::vector<std::vector<int>> L(n, std::vector<int>(n, g.constant(0)));
-  std::vector<int> d(n);
+namespace {
+
+// M = L D Lᵀ (unit lower L) as graph nodes, M in natural order.
+struct LdltFactors {
+  std::vector<std::vector<int>> L;
+  std::vector<int> d;
+};
+
+LdltFactors ldlt_factor(ExpressionGraph& g, const std::vector<std::vector<int>>& M, std::vector<int>* pivots) {
+  const std::size_t n = M.size();
+  LdltFactors F{std::vector<std::vector<int>>(n, std::vector<int>(n, g.constant(0))), std::vector<int>(n)};
   for (std::size_t j = 0; j < n; ++j) {
     int dj = M[j][j];
     for (std::size_t k = 0; k < j; ++k)
-      dj = g.binary(Op::sub, dj, g.binary(Op::mul, g.binary(Op::mul, L[j][k], L[j][k]), d[k]));
-    d[j] = dj;
+      dj = g.binary(Op::sub, dj, g.binary(Op::mul, g.binary(Op::mul, F.L[j][k], F.L[j][k]), F.d[k]));
+    F.d[j] = dj;
     if (pivots) pivots->push_back(dj);
     for (std::size_t i = j + 1; i < n; ++i) {
       int s = M[i][j];
       for (std::size_t k = 0; k < j; ++k)
-        s = g.binary(Op::sub, s, g.binary(Op::mul, g.binary(Op::mul, L[i][k], L[j][k]), d[k]));
-      L[i][j] = g.binary(Op::div, s, dj);
+        s = g.binary(Op::sub, s, g.binary(Op::mul, g.binary(Op::mul, F.L[i][k], F.L[j][k]), F.d[k]));
+      F.L[i][j] = g.binary(Op::div, s, dj);
     }
   }
+  return F;
+}
+
+// y = L⁻¹ f, then x = D⁻¹ y − Lᵀ x from the last row up: dividing by d, or multiplying by `inverse` (1/d)
+// when given.
+std::vector<int> ldlt_substitute(ExpressionGraph& g, const LdltFactors& F, const std::vector<int>& f,
+                                 const std::vector<int>* inverse) {
+  const std::size_t n = f.size();
   std::vector<int> y(n);
   for (std::size_t i = 0; i < n; ++i) {
     int s = f[i];
-    for (std::size_t k = 0; k < i; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, L[i][k], y[k]));
+    for (std::size_t k = 0; k < i; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, F.L[i][k], y[k]));
     y[i] = s;
   }
   std::vector<int> x(n);
   for (std::size_t i = n; i-- > 0;) {
-    int s = g.binary(Op::div, y[i], d[i]);
-    for (std::size_t k = i + 1; k < n; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, L[k][i], x[k]));
+    int s = inverse ? g.binary(Op::mul, y[i], (*inverse)[i]) : g.binary(Op::div, y[i], F.d[i]);
+    for (std::size_t k = i + 1; k < n; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, F.L[k][i], x[k]));
     x[i] = s;
   }
   return x;
+}
+
+// P v: v reversed (P the exchange matrix), and P M Pᵀ.
+std::vector<int> reversed(std::vector<int> v) {
+  std::reverse(v.begin(), v.end());
+  return v;
+}
+std::vector<std::vector<int>> reversed(const std::vector<std::vector<int>>& M) {
+  const std::size_t n = M.size();
+  std::vector<std::vector<int>> R(n, std::vector<int>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) R[i][j] = M[n - 1 - i][n - 1 - j];
+  return R;
+}
+
+}  // namespace
+
+// Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
+// square roots): no loops or branches are left in the emitted kernel. With `last_first`, the same
+// factorization of the reversed system, P M Pᵀ (P y) = P f.
+std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
+                            bool last_first, std::vector<int>* pivots) {
+  if (last_first) return reversed(ldlt_solve(g, reversed(M), reversed(f), false, pivots));
+  return ldlt_substitute(g, ldlt_factor(g, M, pivots), f, nullptr);
+}
+
+std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::vector<std::vector<int>>& M,
+                                                 const std::vector<std::vector<int>>& columns, bool last_first) {
+  if (last_first) {
+    std::vector<std::vector<int>> flipped;
+    for (const std::vector<int>& f : columns) flipped.push_back(reversed(f));
+    std::vector<std::vector<int>> out = ldlt_solve_columns(g, reversed(M), flipped, false);
+    for (std::vector<int>& x : out) x = reversed(x);
+    return out;
+  }
+  const LdltFactors F = ldlt_factor(g, M, nullptr);
+  std::vector<int> inverse;
+  for (int d : F.d) inverse.push_back(g.binary(Op::div, g.constant(1), d));
+  std::vector<std::vector<int>> out;
+  for (const std::vector<int>& f : columns) out.push_back(ldlt_substitute(g, F, f, &inverse));
+  return out;
 }
 
 namespace {

@@ -199,4 +199,10 @@ OpCounts run_time_operations(const ExpressionGraph& g, const std::vector<int>& o
 std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
                             bool last_first = false, std::vector<int>* pivots = nullptr);
 
+/// M Y = F for the columns of F with one factorization (as ldlt_solve): the substitutions multiply by the
+/// reciprocal pivots, one division per pivot instead of one per pivot and column. For the Jacobian's
+/// columns and the connection A = L⁻¹K.
+std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::vector<std::vector<int>>& M,
+                                                 const std::vector<std::vector<int>>& columns, bool last_first = false);
+
 }  // namespace hamel

@@ -2,6 +2,7 @@
 
 #include "algebra/simplify.hpp"
 #include "derive/riemann.hpp"
+#include "derive/tree_derivatives.hpp"
 #include "emit/kernel_registry.hpp"
 #include "emit/polynomial_form.hpp"
 #include "model/input_error.hpp"
@@ -23,7 +24,8 @@ namespace {
 // Prepared parameters are built by default when rhs_prepared has at most this share of rhs's operations.
 constexpr double kPreparedShare = 0.9;
 
-// Operations of rhs above which a model that is not a kinematic tree gets its Jacobian by forward mode only.
+// Operations of rhs above which a model that is not a kinematic tree gets its Jacobian by forward mode only
+// (trees differentiate their inverse dynamics analytically at any size).
 constexpr int kSymbolicJacobianLimit = 8000;
 
 // u_I' = M⁻¹ f formed exactly at generation time when M is a matrix of numbers (parameters folded and M
@@ -152,8 +154,8 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
                  : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
   };
   const bool build_jacobian = want("jacobian") || only.count("jacobian_prepared") > 0;  // its variant needs it
-  const bool forward_only =
-      build_jacobian && !articulated && g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
+  const bool forward_only = build_jacobian && !articulated && !eq.tree &&
+                            g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
   if (forward_only) {
     const int nx = static_cast<int>(rhs.outputs.size());
     const std::vector<std::vector<int>> columns = forward_columns(Argument::state, nx);
@@ -170,6 +172,11 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     for (int I : eq.independent) state_symbols.push_back(sys.velocities[static_cast<std::size_t>(I)]);
     const std::size_t nx = state_symbols.size();
     std::vector<std::vector<int>> column(nx);  // column[k][row]
+    // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Without
+    // eq.tree (tests clear it to compare) the chain rule through the body-frame program M a below.
+    const std::vector<std::vector<GiNaC::ex>> id_columns =
+        eq.tree && !exact_accel ? inverse_dynamics_jacobian(*eq.tree, tape) : std::vector<std::vector<GiNaC::ex>>{};
+    std::vector<std::vector<int>> right_sides;  // M d(u')/dx_k = b_k, all solved with one factorization
     for (std::size_t k = 0; k < nx; ++k) {
       const GiNaC::ex& x_k = state_symbols[k];
       for (int a = 0; a < n; ++a)
@@ -180,10 +187,13 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       }
       std::vector<int> b(d);
       for (std::size_t i = 0; i < d; ++i) {
+        if (!id_columns.empty()) {
+          b[i] = node_of(-id_columns[k][i]);
+          continue;
+        }
         int r = node_of(diff(eq.forcing[i], x_k));
         if (!eq.mass_times_acceleration.empty()) {  // (dM/dx_k) u' as the derivative of the program M a
-          r = g.binary(Op::sub, r, node_of(diff(eq.mass_times_acceleration[i], x_k)));
-          b[i] = r;
+          b[i] = g.binary(Op::sub, r, node_of(diff(eq.mass_times_acceleration[i], x_k)));
           continue;
         }
         for (std::size_t j = 0; j < d; ++j) {
@@ -192,8 +202,11 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         }
         b[i] = r;
       }
-      const std::vector<int> du = ldlt_solve(g, M, b, eq.factor_last_first);
-      column[k].insert(column[k].end(), du.begin(), du.end());
+      right_sides.push_back(b);
+    }
+    if (!exact_accel) {
+      const std::vector<std::vector<int>> solved = ldlt_solve_columns(g, M, right_sides, eq.factor_last_first);
+      for (std::size_t k = 0; k < nx; ++k) column[k].insert(column[k].end(), solved[k].begin(), solved[k].end());
     }
     // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
     // tangent pass per state component (size ~ program × state dimension, no M, no solve per column); the
@@ -270,12 +283,14 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       std::vector<std::vector<int>> L(m, std::vector<int>(m));
       for (std::size_t a = 0; a < m; ++a)
         for (std::size_t c = 0; c < m; ++c) L[a][c] = node_of(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(c)));
-      for (int I = 0; I < n; ++I) {
-        std::vector<int> k(m);
-        for (std::size_t a = 0; a < m; ++a) k[a] = node_of(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I)));
-        const std::vector<int> column = ldlt_solve(g, L, k);
-        for (std::size_t a = 0; a < m; ++a) solved_connection[a][static_cast<std::size_t>(I)] = column[a];
-      }
+      std::vector<std::vector<int>> K(static_cast<std::size_t>(n), std::vector<int>(m));
+      for (int I = 0; I < n; ++I)
+        for (std::size_t a = 0; a < m; ++a)
+          K[static_cast<std::size_t>(I)][a] = node_of(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I)));
+      const std::vector<std::vector<int>> columns = ldlt_solve_columns(g, L, K);
+      for (int I = 0; I < n; ++I)
+        for (std::size_t a = 0; a < m; ++a)
+          solved_connection[a][static_cast<std::size_t>(I)] = columns[static_cast<std::size_t>(I)][a];
     }
     const auto connection_node = [&](std::size_t a, int I) {
       return geo.connection_derived ? node_of(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I)))

@@ -6,8 +6,10 @@
 // on random trees: SE(3) bases with n = 1..8, a 12-joint chain and 20 bodies, SE(2), SO(3) and R3 bases,
 // prismatic joints, joint forces from inputs, springs and dampers, and a potential; relative error of
 // (ξ̇, q̈) ≤ 1e-12 against both. The forward-mode Jacobian (hamel::tangent through the ABA rhs program) is
-// checked against central differences of the ldlt rhs and against the symbolic Jacobian of the ldlt path, and
-// so is the `jacobian` kernel of the aba build (the smaller of the two programs). Trees on a fixed base
+// checked against central differences of the ldlt rhs and against the `jacobian` kernel of the ldlt path
+// (analytical derivatives of the inverse dynamics, derive/tree_derivatives.hpp), and so is the aba build's
+// kernel (the smaller of the two programs); the analytical kernel also against the chain rule through the
+// body-frame program (the ldlt derivation without its TreeRecursion). Trees on a fixed base
 // (`base: world`) under gravity and joints with armature, damping and stiffness (the properties robot files
 // give, docs/import.md) go through both paths too, on fixed and floating bases.
 #include "tree_from_model.hpp"
@@ -95,12 +97,18 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   const Built aba = build(model, "aba", kernels), ldlt = build(model, "ldlt", kernels);
   ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
   ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
+  // The ldlt build's Jacobian takes ∂ID/∂x analytically (derive/tree_derivatives.hpp); without the recursion
+  // it falls back to the chain rule through the body-frame program M a − f.
+  hamel::Derivation without_recursion = ldlt.derivation;
+  without_recursion.equations.tree.reset();
+  const hamel::KernelSet chain_rule =
+      jacobian ? hamel::build_kernels(model, without_recursion, kernels) : hamel::KernelSet{};
   const std::size_t nx = static_cast<std::size_t>(2 * n + m);
   hamel::GraphEvaluator fa(aba.kernels.graph, aba.kernels.get("rhs").outputs);
   hamel::GraphEvaluator fl(ldlt.kernels.graph, ldlt.kernels.get("rhs").outputs);
   const std::vector<double> p = tree_ref::default_parameters(model);
   std::uniform_real_distribution<double> u(-1, 1);
-  double worst_ldlt = 0, worst_ref = 0, worst_fd = 0, worst_sym = 0, worst_kernel = 0;
+  double worst_ldlt = 0, worst_ref = 0, worst_fd = 0, worst_sym = 0, worst_kernel = 0, worst_chain = 0;
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<double> x(nx), in(forced ? static_cast<std::size_t>(n) : 0), a(nx), l(nx);
     for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = t.bodies[static_cast<std::size_t>(i)].prismatic ? 0.5 * u(rng) : M_PI * u(rng);
@@ -131,6 +139,9 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     std::vector<double> Jk(nx * nx);
     jk.evaluate(0, x.data(), p.data(), in.data(), Jk.data());
     hamel::GraphEvaluator jl(ldlt.kernels.graph, ldlt.kernels.get("jacobian").outputs);
+    hamel::GraphEvaluator jc(chain_rule.graph, chain_rule.get("jacobian").outputs);
+    std::vector<double> Jc(nx * nx);
+    jc.evaluate(0, x.data(), p.data(), in.data(), Jc.data());
     std::vector<double> J(nx * nx), Js(nx * nx), fp(nx), fm(nx), fd(nx * nx);
     ja.evaluate(0, x.data(), p.data(), in.data(), J.data());
     jl.evaluate(0, x.data(), p.data(), in.data(), Js.data());
@@ -146,11 +157,13 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     worst_fd = std::max(worst_fd, relative(J, fd, 0));
     worst_sym = std::max(worst_sym, relative(J, Js, 0));
     worst_kernel = std::max(worst_kernel, relative(Jk, Js, 0));
+    worst_chain = std::max(worst_chain, relative(Js, Jc, 0));
   }
   std::printf("%-22s n = %2d: aba vs ldlt %.1e, vs Newton-Euler %.1e", name.c_str(), n, worst_ldlt, worst_ref);
   if (jacobian)
-    std::printf("; forward-mode jacobian vs central differences %.1e, vs symbolic %.1e; kernel %.1e", worst_fd,
-                worst_sym, worst_kernel);
+    std::printf("; forward-mode jacobian vs central differences %.1e, vs analytical %.1e; kernel %.1e; "
+                "analytical vs chain rule %.1e",
+                worst_fd, worst_sym, worst_kernel, worst_chain);
   std::printf("\n");
   EXPECT_LE(worst_ldlt, kTolerance) << name;
   EXPECT_LE(worst_ref, kTolerance) << name;
@@ -158,6 +171,7 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     EXPECT_LE(worst_fd, 1e-7) << name;  // central differences: O(h²) plus rounding/h
     EXPECT_LE(worst_sym, 1e-11) << name;
     EXPECT_LE(worst_kernel, 1e-11) << name;
+    EXPECT_LE(worst_chain, 1e-11) << name;
   }
 }
 
@@ -199,7 +213,7 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
   const hamel::Model model = hamel::load_model_from_text(text, name + ".yaml");
   ASSERT_EQ(static_cast<bool>(model.tree), fixed) << text;
   const int m = fixed ? 0 : 6;
-  const std::set<std::string> kernels = {"rhs", "energy"};
+  const std::set<std::string> kernels = {"rhs", "energy", "jacobian"};
   const Built aba = build(model, "aba", kernels), ldlt = build(model, "ldlt", kernels);
   ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
   ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
@@ -214,10 +228,10 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
                        {{graph.input(hamel::Argument::state, static_cast<int>(c)), graph.constant(1)}});
     for (std::size_t r = 0; r < nx; ++r) forward[r * nx + c] = column[r];
   }
-  hamel::GraphEvaluator ja(graph, forward);
+  hamel::GraphEvaluator ja(graph, forward), jk(ldlt.kernels.graph, ldlt.kernels.get("jacobian").outputs);
   const std::vector<double> p = tree_ref::default_parameters(model);
   std::uniform_real_distribution<double> u(-1, 1);
-  double worst_ldlt = 0, worst_fd = 0;
+  double worst_ldlt = 0, worst_fd = 0, worst_analytical = 0;
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<double> x(nx), a(nx), l(nx), J(nx * nx), fp(nx), fm(nx), fd(nx * nx);
     for (std::size_t i = 0; i < nx; ++i) x[i] = (i < static_cast<std::size_t>(n) ? 2.0 : 1.5) * u(rng);
@@ -235,11 +249,16 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
       for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
     }
     worst_fd = std::max(worst_fd, relative(J, fd, 0));
+    std::vector<double> Jk(nx * nx);  // the kernel: analytical ∂ID/∂x (gravity, armature, springs, dampers)
+    jk.evaluate(0, x.data(), p.data(), nullptr, Jk.data());
+    worst_analytical = std::max(worst_analytical, relative(Jk, J, 0));
   }
-  std::printf("%-22s n = %2d: aba vs ldlt %.1e; forward-mode jacobian vs central differences %.1e\n", name.c_str(), n,
-              worst_ldlt, worst_fd);
+  std::printf("%-22s n = %2d: aba vs ldlt %.1e; forward-mode jacobian vs central differences %.1e, vs analytical "
+              "kernel %.1e\n",
+              name.c_str(), n, worst_ldlt, worst_fd, worst_analytical);
   EXPECT_LE(worst_ldlt, kTolerance) << name;
   EXPECT_LE(worst_fd, 1e-7) << name;
+  EXPECT_LE(worst_analytical, 1e-11) << name;
 }
 
 TEST(ArticulatedBodyAlgorithm, FixedBaseUnderGravityWithArmatureDampingStiffness) {
@@ -303,6 +322,25 @@ TEST(ArticulatedBodyAlgorithm, ForwardModeJacobian) {
   planar.group = "SE2";
   planar.n = 4;
   check(740, planar, false, true, true);
+}
+
+// The analytical ∂ID/∂x on every kind of base and joint: rotating-only and translating-only bases (their
+// directions are not all of se(3)), prismatic joints, and a chain deep enough that most pairs of joints are
+// ancestor and descendant.
+TEST(ArticulatedBodyAlgorithm, AnalyticalJacobianOnEveryBaseAndJointKind) {
+  for (const char* group : {"SO3", "R3"}) {
+    tree_ref::RandomSettings rs;
+    rs.group = group;
+    rs.n = 3;
+    check(810, rs, true, false, true);
+  }
+  tree_ref::RandomSettings prismatic;
+  prismatic.n = 4;
+  check(820, prismatic, true, true, true, true);
+  tree_ref::RandomSettings chain;
+  chain.n = 9;
+  chain.chain = true;
+  check(830, chain, true, true, true);
 }
 
 }  // namespace

@@ -1,0 +1,212 @@
+#include "derive/tree_derivatives.hpp"
+
+namespace hamel {
+
+using GiNaC::ex;
+using namespace spatial;
+
+namespace {
+
+// A spatial inertia about the common frame's origin: mass m, first moment h = m c, rotational inertia J
+// about the origin (symmetric). 𝕀 (ω, v) = (J ω + h × v, m v − h × ω). Composites are plain sums.
+struct Inertia {
+  ex m = 0;
+  Vec3 h{0, 0, 0};
+  Mat3 J{{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+  Vec6 operator()(const Vec6& x) const {
+    const Vec3 w = angular(x), v = linear(x);
+    const Vec3 hv = cross(h, v), hw = cross(h, w);
+    return join(J * w + hv, {m * v[0] - hw[0], m * v[1] - hw[1], m * v[2] - hw[2]});
+  }
+  void add(const Inertia& o) {
+    m += o.m;
+    for (std::size_t r = 0; r < 3; ++r) {
+      h[r] += o.h[r];
+      for (std::size_t c = 0; c < 3; ++c) J[r][c] += o.J[r][c];
+    }
+  }
+};
+
+class Namer {
+ public:
+  explicit Namer(Intermediates& tape) : tape_(tape) {}
+  ex operator()(const ex& e) { return tape_.define(e); }
+  Vec3 operator()(const Vec3& v) { return {(*this)(v[0]), (*this)(v[1]), (*this)(v[2])}; }
+  Vec6 operator()(const Vec6& v) {
+    Vec6 out;
+    for (std::size_t k = 0; k < 6; ++k) out[k] = (*this)(v[k]);
+    return out;
+  }
+  Mat3 operator()(const Mat3& m) {
+    return {(*this)(m[0]), (*this)(m[1]), (*this)(m[2])};
+  }
+  Mat6 operator()(const Mat6& m) {
+    Mat6 out;
+    for (std::size_t r = 0; r < 6; ++r) out[r] = (*this)(m[r]);
+    return out;
+  }
+  Inertia operator()(const Inertia& I) {
+    Inertia out;
+    out.m = (*this)(I.m);
+    out.h = (*this)(I.h);
+    for (std::size_t r = 0; r < 3; ++r)
+      for (std::size_t c = r; c < 3; ++c) out.J[r][c] = out.J[c][r] = (*this)(I.J[r][c]);
+    return out;
+  }
+
+ private:
+  Intermediates& tape_;
+};
+
+// The body's inertia in the common frame, the body at pose (R, p): centre of mass c = p + R c_b, rotational
+// inertia about it R Θ Rᵀ, about the origin J = R Θ Rᵀ − m [c]×².
+Inertia common_frame_inertia(const RigidBody& b, const Mat3& R, const Vec3& p, Namer& name) {
+  const Vec3 c = name(p + R * Vec3{b.com[0], b.com[1], b.com[2]});
+  Mat3 RT;  // R Θ
+  for (std::size_t r = 0; r < 3; ++r)
+    for (std::size_t k = 0; k < 3; ++k) RT[r][k] = R[r][0] * b.inertia[0][k] + R[r][1] * b.inertia[1][k] + R[r][2] * b.inertia[2][k];
+  Inertia I;
+  I.m = b.mass;
+  for (std::size_t r = 0; r < 3; ++r) I.h[r] = b.mass * c[r];
+  const ex cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
+  for (std::size_t r = 0; r < 3; ++r)
+    for (std::size_t k = r; k < 3; ++k) {
+      const ex rotational = RT[r][0] * R[k][0] + RT[r][1] * R[k][1] + RT[r][2] * R[k][2];
+      I.J[r][k] = I.J[k][r] = rotational + b.mass * ((r == k ? cc : ex(0)) - c[r] * c[k]);
+    }
+  return name(I);
+}
+
+// Q = [v ×*] 𝕀 as a matrix: column k is v ×* (𝕀 e_k).
+Mat6 velocity_times_inertia(const Vec6& v, const Inertia& I) {
+  Mat6 Q;
+  for (int k = 0; k < 6; ++k) {
+    const Vec6 column = coadjoint_term(v, I(unit6(k)));
+    for (std::size_t r = 0; r < 6; ++r) Q[r][static_cast<std::size_t>(k)] = column[r];
+  }
+  return Q;
+}
+
+}  // namespace
+
+std::vector<std::vector<ex>> inverse_dynamics_jacobian(const TreeRecursion& t, Intermediates& tape) {
+  Namer name(tape);
+  const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1, d = m + n;
+
+  // Forward: poses in the common frame, joint axes s_i, twists v_i, accelerations a_i at u̇ = accelerations,
+  // ψ_i = v_λ × s_i (= v_i × s_i, the rate of s_i), c_i = a_λ × s_i + v_λ × ψ_i, momenta and wrenches.
+  std::vector<Mat3> R(N);
+  std::vector<Vec3> p(N);
+  std::vector<Vec6> s(N), v(N), a(N), psi(N), c(N), h(N), f(N);
+  std::vector<Inertia> I(N);
+  std::vector<Mat6> Q(N);
+  R[0] = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  p[0] = {0, 0, 0};
+  v[0] = zero6();
+  a[0] = t.base_acceleration;
+  for (std::size_t alpha = 0; alpha < m; ++alpha) {
+    v[0] = v[0] + t.base[alpha] * t.base_velocity[alpha];
+    a[0] = a[0] + t.base[alpha] * t.accelerations[alpha];
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i > 0) {
+      const std::size_t l = static_cast<std::size_t>(t.parent[i]);
+      const Link& link = t.link[i];
+      Mat3 Ri;
+      for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t k = 0; k < 3; ++k) Ri[r][k] = R[l][r][0] * link.R[0][k] + R[l][r][1] * link.R[1][k] + R[l][r][2] * link.R[2][k];
+      R[i] = name(Ri);
+      p[i] = name(p[l] + R[l] * link.p);
+      s[i] = name(Link{R[i], p[i]}.motion_to_parent(t.axis[i]));
+      psi[i] = name(ad(v[l], s[i]));
+      c[i] = name(ad(a[l], s[i]) + ad(v[l], psi[i]));
+      v[i] = name(v[l] + s[i] * t.rates[i - 1]);
+      a[i] = name(a[l] + s[i] * t.accelerations[m + i - 1] + psi[i] * t.rates[i - 1]);
+    }
+    I[i] = common_frame_inertia(t.bodies[i], R[i], p[i], name);
+    h[i] = name(I[i](v[i]));
+    f[i] = I[i](a[i]) + coadjoint_term(v[i], h[i]);
+    Q[i] = velocity_times_inertia(v[i], I[i]);
+  }
+
+  // Backward: composites over each subtree (plain sums in the common frame), named once per body.
+  std::vector<Inertia> Ic = I;
+  std::vector<Vec6> Fc = f, Hc = h;
+  std::vector<Mat6> Qc = Q;
+  for (std::size_t i = N; i-- > 0;) {
+    if (i == 0 && m == 0) break;  // a fixed base's composites are not used
+    Ic[i] = name(Ic[i]);
+    Fc[i] = name(Fc[i]);
+    Hc[i] = name(Hc[i]);
+    Qc[i] = name(Qc[i]);
+    if (i == 0) break;
+    const std::size_t l = static_cast<std::size_t>(t.parent[i]);
+    Ic[l].add(Ic[i]);
+    Fc[l] = Fc[l] + Fc[i];
+    Hc[l] = Hc[l] + Hc[i];
+    Qc[l] = Qc[l] + Qc[i];
+  }
+  // Bᶜ_i x = Qᶜ x + Qᶜᵀ x + x ×* hᶜ.
+  const auto B = [&](std::size_t i, const Vec6& x) { return times(Qc[i], x) + times_transposed(Qc[i], x) + coadjoint_term(x, Hc[i]); };
+
+  // Per joint: u = 𝕀ᶜ s, b = Bᶜᵀ s = Qᶜ s + Qᶜᵀ s − s ×* hᶜ, and what an ancestor's row sees of the subtree:
+  // Δ (for r_i) and Δ' (for ṙ_i).
+  std::vector<Vec6> u(N), b(N), delta(N), delta_rate(N);
+  for (std::size_t i = 1; i < N; ++i) {
+    u[i] = name(Ic[i](s[i]));
+    const Vec6 Qs = name(times(Qc[i], s[i]) + times_transposed(Qc[i], s[i]));
+    const Vec6 sh = name(coadjoint_term(s[i], Hc[i]));
+    b[i] = name(Qs - sh);
+    delta[i] = name(coadjoint_term(s[i], Fc[i]) + Ic[i](c[i]) + B(i, psi[i]));
+    delta_rate[i] = name(Ic[i](psi[i]) * 2 + Qs + sh);
+  }
+
+  const auto in_subtree = [&](std::size_t i, std::size_t k) {  // i = k or a descendant of k
+    for (int j = static_cast<int>(i); j >= 0; j = t.parent[static_cast<std::size_t>(j)])
+      if (static_cast<std::size_t>(j) == k) return true;
+    return false;
+  };
+  // Column of a joint K (body index): its rows I in K's subtree by `inside`, ancestors by ⟨s_I, Δ⟩, the base's
+  // rows by ⟨e_β, Δ⟩.
+  const auto joint_column = [&](std::size_t K, const Vec6& Delta, const auto& inside) {
+    std::vector<ex> column(d, ex(0));
+    for (std::size_t beta = 0; beta < m; ++beta) column[beta] = dot(t.base[beta], Delta);
+    for (std::size_t i = 1; i < N; ++i) {
+      if (in_subtree(i, K)) column[m + i - 1] = inside(i);
+      else if (in_subtree(K, i)) column[m + i - 1] = dot(s[i], Delta);
+    }
+    return column;
+  };
+
+  std::vector<std::vector<ex>> columns;
+  std::vector<ex> state;
+  for (std::size_t K = 1; K < N; ++K) {
+    columns.push_back(joint_column(K, delta[K], [&](std::size_t i) { return dot(u[i], c[K]) + dot(b[i], psi[K]); }));
+    state.push_back(t.coordinates[K - 1]);
+  }
+  for (std::size_t alpha = 0; alpha < m; ++alpha) {
+    // Every body moves with the base: rows I see 𝕀ᶜ_I ψ + Bᶜ_I e with ψ = v_0 × e (no bias on the base itself).
+    const Vec6& e = t.base[alpha];
+    const Vec6 psi0 = name(ad(v[0], e));
+    std::vector<ex> column(d);
+    const Vec6 base_rows = Ic[0](psi0) + B(0, e);
+    for (std::size_t beta = 0; beta < m; ++beta) column[beta] = dot(t.base[beta], base_rows);
+    for (std::size_t i = 1; i < N; ++i) column[m + i - 1] = dot(u[i], psi0) + dot(b[i], e);
+    columns.push_back(column);
+    state.push_back(t.base_velocity[alpha]);
+  }
+  for (std::size_t K = 1; K < N; ++K) {
+    columns.push_back(
+        joint_column(K, delta_rate[K], [&](std::size_t i) { return 2 * dot(u[i], psi[K]) + dot(b[i], s[K]); }));
+    state.push_back(t.rates[K - 1]);
+  }
+
+  // The joint forces: ID_I = ⟨s_I, Fᶜ_I⟩ + armature_I u̇_I − τ_I.
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    const GiNaC::symbol& x = GiNaC::ex_to<GiNaC::symbol>(state[k]);
+    for (std::size_t i = 0; i < n; ++i) columns[k][m + i] -= tape.diff(t.joint_force[i], x);
+  }
+  return columns;
+}
+
+}  // namespace hamel

@@ -1,0 +1,48 @@
+// Analytical derivatives of the inverse dynamics of a kinematic tree (after Carpentier & Mansard, RSS 2018,
+// "Analytical derivatives of rigid body dynamics algorithms"), for the `jacobian` kernel:
+// ∂u̇/∂x = −M⁻¹ ∂ID/∂x with ID(r, u, u̇) = M(r) u̇ − f(r, u) evaluated at the solved u̇.
+//
+// The recursion runs in one frame for all bodies: the base's frame at the current instant (on a floating
+// base; the equations are invariant under the base's pose) or the world (fixed base). There, turning joint k
+// moves the whole subtree of k rigidly about its axis s_k, so every derivative with respect to r_k is a
+// Lie bracket with s_k and a few per-body composite quantities; nothing is propagated per pair of bodies but
+// dot products of 6-vectors. Per column and row pair (I, K), with I in the subtree of K:
+//   ∂τ_I/∂r_K = ⟨𝕀ᶜ_I s_I, c_K⟩ + ⟨Bᶜ_Iᵀ s_I, ψ_K⟩,   ∂τ_I/∂ṙ_K = 2⟨𝕀ᶜ_I s_I, ψ_K⟩ + ⟨Bᶜ_Iᵀ s_I, s_K⟩,
+// with I an ancestor of K: ⟨s_I, Δ_K⟩ and ⟨s_I, Δ'_K⟩. ψ_K = v_λ × s_K, c_K = a_λ × s_K + v_λ × ψ_K
+// (λ the parent of K), B_j x = 𝕀_j (x × v_j) + x ×* 𝕀_j v_j + v_j ×* 𝕀_j x summed over the subtree as
+// Bᶜ = Qᶜ + Qᶜᵀ + (x ↦ x ×* hᶜ) with Qᶜ = Σ v_j ×* 𝕀_j, Δ_K = s_K ×* Fᶜ_K + 𝕀ᶜ_K c_K + Bᶜ_K ψ_K and
+// Δ'_K = 2 𝕀ᶜ_K ψ_K + Bᶜ_K s_K. The derivation is in docs/derivations.md ("Derivatives of the tree's inverse
+// dynamics"). O(n) per-body work and O(n·depth) dot products, against O(n·depth) tangent propagation
+// through whole bodies for the chain rule through the body-frame program.
+#pragma once
+
+#include "algebra/intermediates.hpp"
+#include "derive/spatial_algebra.hpp"
+#include "model/model.hpp"
+
+#include <vector>
+
+namespace hamel {
+
+/// The inverse dynamics of a kinematic tree as derive_tree built it, in the bodies' frames. Body 0 is the
+/// base, body i ≥ 1 moves with joint i − 1 (shape coordinate r^{i−1}); parents come before children.
+struct TreeRecursion {
+  std::vector<int> parent;                ///< parent of body i; −1 for the base
+  std::vector<spatial::Link> link;        ///< pose of body i in its parent's frame (i ≥ 1)
+  std::vector<spatial::Vec6> axis;        ///< S_i: body i's joint axis in its own frame (i ≥ 1)
+  std::vector<RigidBody> bodies;          ///< mass, centre of mass, inertia about it, body frame
+  std::vector<spatial::Vec6> base;        ///< the m directions the group moves the base (empty: fixed base)
+  spatial::Vec6 base_acceleration;        ///< the base's acceleration at u̇ = 0: (0, −g) on a fixed base
+  std::vector<GiNaC::ex> base_velocity;   ///< ξ^α (m)
+  std::vector<GiNaC::ex> coordinates;     ///< r^I (n)
+  std::vector<GiNaC::ex> rates;           ///< ṙ^I (n)
+  std::vector<GiNaC::ex> accelerations;   ///< the m + n symbols standing for u̇
+  std::vector<GiNaC::ex> joint_force;     ///< τ_I(r, u, t, inputs): joint forces, springs, dampers (n)
+};
+
+/// ∂ID/∂x for the state x = (r, ξ, ṙ): column k holds the m + n rows (base directions, then joints) of the
+/// derivative with respect to x_k, in the intermediates of `tape` (new definitions are added to it), at u̇ =
+/// tree.accelerations.
+std::vector<std::vector<GiNaC::ex>> inverse_dynamics_jacobian(const TreeRecursion& tree, Intermediates& tape);
+
+}  // namespace hamel

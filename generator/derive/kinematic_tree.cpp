@@ -188,6 +188,22 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     inertia[i] = spatial_inertia(body.body);
   }
 
+  // The recursion for the Jacobian (derive/tree_derivatives.hpp), and every body's pose, axis and inertia in
+  // the common frame (base frame, or the world on a fixed base), from which M is formed below.
+  auto recursion = std::make_shared<TreeRecursion>();
+  recursion->parent = parent;
+  recursion->link = link;
+  recursion->axis = axis;
+  recursion->bodies.push_back(tree.base);
+  for (const TreeBody& body : tree.bodies) recursion->bodies.push_back(body.body);
+  recursion->base = base;
+  recursion->base_acceleration = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
+  recursion->base_velocity.assign(group_velocity.begin(), group_velocity.end());
+  recursion->coordinates.assign(model.coordinates.begin(), model.coordinates.end());
+  recursion->rates.assign(model.rates.begin(), model.rates.end());
+  recursion->frame = common_frame(*recursion, eq.intermediates);
+  const CommonFrame& frame = recursion->frame;
+
   // The base's twist (or acceleration) from the group components, and wrenches summed from the leaves to
   // the base (children come after their parents), each body's total named once.
   const auto base_twist = [&](const auto& components) {
@@ -225,18 +241,9 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   }
   sum_inward(F);
 
-  // Composite inertias 𝕀ᶜ_i = 𝕀_i + Σ_children Xᵀ 𝕀ᶜ_c X, column by column through the twist and
-  // wrench maps, and the mass matrix from them (composite-rigid-body projection).
-  std::vector<Mat6> composite = inertia;
-  for (std::size_t i = N; i-- > 0;) {
-    composite[i] = prog.name_symmetric(composite[i]);
-    if (i == 0) break;
-    const std::size_t p = static_cast<std::size_t>(parent[i]);
-    for (int c = 0; c < 6; ++c) {
-      const Vec6 col = link[i].to_parent(times(composite[i], link[i].to_child(unit6(c))));
-      for (std::size_t r = 0; r < 6; ++r) composite[p][r][static_cast<std::size_t>(c)] += col[r];
-    }
-  }
+  // The mass matrix by composite rigid bodies in the common frame: M_αβ = ⟨e_α, 𝕀ᶜ_0 e_β⟩, and with
+  // U_I = 𝕀ᶜ_I s_I, M_JI = ⟨s_J, U_I⟩ for J = I (plus the armature) and every ancestor J, M_αI = ⟨e_α, U_I⟩.
+  // One dot product per pair; nothing is carried between frames.
   const std::size_t d = m + n;
   eq.mass_matrix = GiNaC::matrix(static_cast<unsigned>(d), static_cast<unsigned>(d));
   auto set = [&](std::size_t r, std::size_t c, const ex& v) {
@@ -244,18 +251,13 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     eq.mass_matrix(static_cast<unsigned>(c), static_cast<unsigned>(r)) = v;
   };
   for (std::size_t alpha = 0; alpha < m; ++alpha)
-    for (std::size_t beta = alpha; beta < m; ++beta) set(alpha, beta, dot(base[alpha], times(composite[0], base[beta])));
+    for (std::size_t beta = alpha; beta < m; ++beta) set(alpha, beta, dot(base[alpha], frame.composite[0](base[beta])));
   for (std::size_t i = 1; i < N; ++i) {
-    Vec6 f = prog.name(times(composite[i], axis[i]));
-    set(m + i - 1, m + i - 1, dot(axis[i], f) + tree.bodies[i - 1].armature);
-    std::size_t j = i;
-    while (parent[j] != 0) {
-      f = prog.name(link[j].to_parent(f));
-      j = static_cast<std::size_t>(parent[j]);
-      set(m + j - 1, m + i - 1, dot(axis[j], f));
-    }
-    f = prog.name(link[j].to_parent(f));
-    for (std::size_t alpha = 0; alpha < m; ++alpha) set(alpha, m + i - 1, dot(base[alpha], f));
+    const Vec6 U = prog.name(frame.composite[i](frame.axis[i]));
+    set(m + i - 1, m + i - 1, dot(frame.axis[i], U) + tree.bodies[i - 1].armature);
+    for (std::size_t j = static_cast<std::size_t>(parent[i]); j != 0; j = static_cast<std::size_t>(parent[j]))
+      set(m + j - 1, m + i - 1, dot(frame.axis[j], U));
+    for (std::size_t alpha = 0; alpha < m; ++alpha) set(alpha, m + i - 1, dot(base[alpha], U));
   }
 
   // M a by the same recursion with the velocities at zero (accelerations δ_i = Ad δ_p + S_i a_i, wrenches
@@ -290,22 +292,9 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
                      body.damping * model.rates[i - 1];
     eq.forcing[m + i - 1] = joint_force[i] - dot(axis[i], F[i]);
   }
-  {
-    auto recursion = std::make_shared<TreeRecursion>();
-    recursion->parent = parent;
-    recursion->link = link;
-    recursion->axis = axis;
-    recursion->bodies.push_back(tree.base);
-    for (const TreeBody& body : tree.bodies) recursion->bodies.push_back(body.body);
-    recursion->base = base;
-    recursion->base_acceleration = a[0];
-    recursion->base_velocity.assign(group_velocity.begin(), group_velocity.end());
-    recursion->coordinates.assign(model.coordinates.begin(), model.coordinates.end());
-    recursion->rates.assign(model.rates.begin(), model.rates.end());
-    recursion->accelerations.assign(eq.acceleration_symbols.begin(), eq.acceleration_symbols.end());
-    recursion->joint_force.assign(joint_force.begin() + 1, joint_force.end());
-    eq.tree = recursion;
-  }
+  recursion->accelerations.assign(eq.acceleration_symbols.begin(), eq.acceleration_symbols.end());
+  recursion->joint_force.assign(joint_force.begin() + 1, joint_force.end());
+  eq.tree = recursion;
 
   // The articulated-body algorithm (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1) in the bodies'
   // frames: u̇ without forming M, O(n). Bias accelerations c_i = ad_{V_i} S_i ṙ_i and bias wrenches
@@ -373,38 +362,11 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
   const ex T = prog.name(kinetic);
-  // The weight's potential −Σ m_i g·(p_i + R_i c_i), with each body's pose in the world composed outward.
+  // The weight's potential −Σ m_i g·c_i, c_i the centres of mass in the world (common frame).
   ex weight = 0;
   if (!(tree.gravity[0].is_zero() && tree.gravity[1].is_zero() && tree.gravity[2].is_zero())) {
-    std::vector<Mat3> R(N);
-    std::vector<Vec3> p(N);
-    R[0] = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-    p[0] = {0, 0, 0};
-    const std::vector<RigidBody> mass = [&] {
-      std::vector<RigidBody> all{tree.base};
-      for (const TreeBody& body : tree.bodies) all.push_back(body.body);
-      return all;
-    }();
-    for (std::size_t i = 0; i < N; ++i) {
-      if (i > 0) {
-        const std::size_t q = static_cast<std::size_t>(parent[i]);
-        for (std::size_t r = 0; r < 3; ++r) {
-          ex s = p[q][r];
-          for (std::size_t k = 0; k < 3; ++k) s += R[q][r][k] * link[i].p[k];
-          p[i][r] = prog.name(s);
-          for (std::size_t c = 0; c < 3; ++c) {
-            ex e = 0;
-            for (std::size_t k = 0; k < 3; ++k) e += R[q][r][k] * link[i].R[k][c];
-            R[i][r][c] = prog.name(e);
-          }
-        }
-      }
-      for (std::size_t r = 0; r < 3; ++r) {
-        ex c = p[i][r];
-        for (std::size_t k = 0; k < 3; ++k) c += R[i][r][k] * mass[i].com[k];
-        weight -= mass[i].mass * tree.gravity[r] * c;
-      }
-    }
+    for (std::size_t i = 0; i < N; ++i)
+      for (std::size_t r = 0; r < 3; ++r) weight -= tree.gravity[r] * frame.inertia[i].h[r];  // h = m c in the world
     weight = prog.name(weight);
   }
   eq.reduced_lagrangian = T - base_potential - springs - weight;

@@ -128,4 +128,24 @@ struct Link {
   }
 };
 
+// A spatial inertia about a frame's origin: mass m, first moment h = m c, rotational inertia J about the
+// origin (symmetric). 𝕀 (ω, v) = (J ω + h × v, m v − h × ω). Inertias of bodies in one frame add.
+struct Inertia {
+  ex m = 0;
+  Vec3 h{0, 0, 0};
+  Mat3 J{{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
+  Vec6 operator()(const Vec6& x) const {
+    const Vec3 w = angular(x), v = linear(x);
+    const Vec3 hv = cross(h, v), hw = cross(h, w);
+    return join(J * w + hv, {m * v[0] - hw[0], m * v[1] - hw[1], m * v[2] - hw[2]});
+  }
+  void add(const Inertia& o) {
+    m += o.m;
+    for (std::size_t r = 0; r < 3; ++r) {
+      h[r] += o.h[r];
+      for (std::size_t c = 0; c < 3; ++c) J[r][c] += o.J[r][c];
+    }
+  }
+};
+
 }  // namespace hamel::spatial

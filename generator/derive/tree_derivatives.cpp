@@ -7,26 +7,6 @@ using namespace spatial;
 
 namespace {
 
-// A spatial inertia about the common frame's origin: mass m, first moment h = m c, rotational inertia J
-// about the origin (symmetric). 𝕀 (ω, v) = (J ω + h × v, m v − h × ω). Composites are plain sums.
-struct Inertia {
-  ex m = 0;
-  Vec3 h{0, 0, 0};
-  Mat3 J{{{0, 0, 0}, {0, 0, 0}, {0, 0, 0}}};
-  Vec6 operator()(const Vec6& x) const {
-    const Vec3 w = angular(x), v = linear(x);
-    const Vec3 hv = cross(h, v), hw = cross(h, w);
-    return join(J * w + hv, {m * v[0] - hw[0], m * v[1] - hw[1], m * v[2] - hw[2]});
-  }
-  void add(const Inertia& o) {
-    m += o.m;
-    for (std::size_t r = 0; r < 3; ++r) {
-      h[r] += o.h[r];
-      for (std::size_t c = 0; c < 3; ++c) J[r][c] += o.J[r][c];
-    }
-  }
-};
-
 class Namer {
  public:
   explicit Namer(Intermediates& tape) : tape_(tape) {}
@@ -89,19 +69,52 @@ Mat6 velocity_times_inertia(const Vec6& v, const Inertia& I) {
 
 }  // namespace
 
+CommonFrame common_frame(const TreeRecursion& t, Intermediates& tape) {
+  Namer name(tape);
+  const std::size_t N = t.parent.size();
+  CommonFrame cf;
+  cf.R.resize(N);
+  cf.p.resize(N);
+  cf.axis.assign(N, zero6());
+  cf.inertia.resize(N);
+  cf.R[0] = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
+  cf.p[0] = {0, 0, 0};
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i > 0) {
+      const std::size_t l = static_cast<std::size_t>(t.parent[i]);
+      const Link& link = t.link[i];
+      Mat3 R;
+      for (std::size_t r = 0; r < 3; ++r)
+        for (std::size_t k = 0; k < 3; ++k)
+          R[r][k] = cf.R[l][r][0] * link.R[0][k] + cf.R[l][r][1] * link.R[1][k] + cf.R[l][r][2] * link.R[2][k];
+      cf.R[i] = name(R);
+      cf.p[i] = name(cf.p[l] + cf.R[l] * link.p);
+      cf.axis[i] = name(Link{cf.R[i], cf.p[i]}.motion_to_parent(t.axis[i]));
+    }
+    cf.inertia[i] = common_frame_inertia(t.bodies[i], cf.R[i], cf.p[i], name);
+  }
+  // Composites from the leaves in (children come after their parents); a fixed base's is not needed.
+  cf.composite = cf.inertia;
+  for (std::size_t i = N; i-- > 0;) {
+    if (i == 0 && t.base.empty()) break;
+    cf.composite[i] = name(cf.composite[i]);
+    if (i > 0) cf.composite[static_cast<std::size_t>(t.parent[i])].add(cf.composite[i]);
+  }
+  return cf;
+}
+
 std::vector<std::vector<ex>> inverse_dynamics_jacobian(const TreeRecursion& t, Intermediates& tape) {
   Namer name(tape);
   const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1, d = m + n;
 
-  // Forward: poses in the common frame, joint axes s_i, twists v_i, accelerations a_i at u̇ = accelerations,
-  // ψ_i = v_λ × s_i (= v_i × s_i, the rate of s_i), c_i = a_λ × s_i + v_λ × ψ_i, momenta and wrenches.
-  std::vector<Mat3> R(N);
-  std::vector<Vec3> p(N);
-  std::vector<Vec6> s(N), v(N), a(N), psi(N), c(N), h(N), f(N);
-  std::vector<Inertia> I(N);
+  // Forward, in the common frame (t.frame: poses, axes s_i, inertias): twists v_i, accelerations a_i at u̇ =
+  // accelerations, ψ_i = v_λ × s_i (= v_i × s_i, the rate of s_i), c_i = a_λ × s_i + v_λ × ψ_i, momenta and
+  // wrenches.
+  const std::vector<Vec6>& s = t.frame.axis;
+  const std::vector<Inertia>& I = t.frame.inertia;
+  const std::vector<Inertia>& Ic = t.frame.composite;
+  std::vector<Vec6> v(N), a(N), psi(N), c(N), h(N), f(N);
   std::vector<Mat6> Q(N);
-  R[0] = {{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}};
-  p[0] = {0, 0, 0};
   v[0] = zero6();
   a[0] = t.base_acceleration;
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
@@ -111,37 +124,26 @@ std::vector<std::vector<ex>> inverse_dynamics_jacobian(const TreeRecursion& t, I
   for (std::size_t i = 0; i < N; ++i) {
     if (i > 0) {
       const std::size_t l = static_cast<std::size_t>(t.parent[i]);
-      const Link& link = t.link[i];
-      Mat3 Ri;
-      for (std::size_t r = 0; r < 3; ++r)
-        for (std::size_t k = 0; k < 3; ++k) Ri[r][k] = R[l][r][0] * link.R[0][k] + R[l][r][1] * link.R[1][k] + R[l][r][2] * link.R[2][k];
-      R[i] = name(Ri);
-      p[i] = name(p[l] + R[l] * link.p);
-      s[i] = name(Link{R[i], p[i]}.motion_to_parent(t.axis[i]));
       psi[i] = name(ad(v[l], s[i]));
       c[i] = name(ad(a[l], s[i]) + ad(v[l], psi[i]));
       v[i] = name(v[l] + s[i] * t.rates[i - 1]);
       a[i] = name(a[l] + s[i] * t.accelerations[m + i - 1] + psi[i] * t.rates[i - 1]);
     }
-    I[i] = common_frame_inertia(t.bodies[i], R[i], p[i], name);
     h[i] = name(I[i](v[i]));
     f[i] = I[i](a[i]) + coadjoint_term(v[i], h[i]);
     Q[i] = velocity_times_inertia(v[i], I[i]);
   }
 
-  // Backward: composites over each subtree (plain sums in the common frame), named once per body.
-  std::vector<Inertia> Ic = I;
+  // Backward: composite wrenches, momenta and Q over each subtree (plain sums), named once per body.
   std::vector<Vec6> Fc = f, Hc = h;
   std::vector<Mat6> Qc = Q;
   for (std::size_t i = N; i-- > 0;) {
     if (i == 0 && m == 0) break;  // a fixed base's composites are not used
-    Ic[i] = name(Ic[i]);
     Fc[i] = name(Fc[i]);
     Hc[i] = name(Hc[i]);
     Qc[i] = name(Qc[i]);
     if (i == 0) break;
     const std::size_t l = static_cast<std::size_t>(t.parent[i]);
-    Ic[l].add(Ic[i]);
     Fc[l] = Fc[l] + Fc[i];
     Hc[l] = Hc[l] + Hc[i];
     Qc[l] = Qc[l] + Qc[i];

@@ -11,9 +11,9 @@
 // with I an ancestor of K: ⟨s_I, Δ_K⟩ and ⟨s_I, Δ'_K⟩. ψ_K = v_λ × s_K, c_K = a_λ × s_K + v_λ × ψ_K
 // (λ the parent of K), B_j x = 𝕀_j (x × v_j) + x ×* 𝕀_j v_j + v_j ×* 𝕀_j x summed over the subtree as
 // Bᶜ = Qᶜ + Qᶜᵀ + (x ↦ x ×* hᶜ) with Qᶜ = Σ v_j ×* 𝕀_j, Δ_K = s_K ×* Fᶜ_K + 𝕀ᶜ_K c_K + Bᶜ_K ψ_K and
-// Δ'_K = 2 𝕀ᶜ_K ψ_K + Bᶜ_K s_K. The derivation is in docs/derivations.md ("Derivatives of the tree's inverse
-// dynamics"). O(n) per-body work and O(n·depth) dot products, against O(n·depth) tangent propagation
-// through whole bodies for the chain rule through the body-frame program.
+// Δ'_K = 2 𝕀ᶜ_K ψ_K + Bᶜ_K s_K (derivation: docs/tree-derivatives.md). O(n) per-body work and O(n·depth)
+// dot products, against O(n·depth) tangent steps through whole bodies for the chain rule through the
+// body-frame program.
 #pragma once
 
 #include "algebra/intermediates.hpp"
@@ -23,6 +23,15 @@
 #include <vector>
 
 namespace hamel {
+
+/// Every body's pose (R, p), joint axis s_i and inertia in the common frame (the base's frame, or the world
+/// on a fixed base), and the composite inertias 𝕀ᶜ_i of the subtrees, named in a program.
+struct CommonFrame {
+  std::vector<spatial::Mat3> R;
+  std::vector<spatial::Vec3> p;
+  std::vector<spatial::Vec6> axis;  ///< s_i (i ≥ 1; zero for the base)
+  std::vector<spatial::Inertia> inertia, composite;
+};
 
 /// The inverse dynamics of a kinematic tree as derive_tree built it, in the bodies' frames. Body 0 is the
 /// base, body i ≥ 1 moves with joint i − 1 (shape coordinate r^{i−1}); parents come before children.
@@ -38,7 +47,12 @@ struct TreeRecursion {
   std::vector<GiNaC::ex> rates;           ///< ṙ^I (n)
   std::vector<GiNaC::ex> accelerations;   ///< the m + n symbols standing for u̇
   std::vector<GiNaC::ex> joint_force;     ///< τ_I(r, u, t, inputs): joint forces, springs, dampers (n)
+  CommonFrame frame;                      ///< of the above, in the derivation's intermediates
 };
+
+/// The common-frame quantities of `tree` (everything above but `frame`), new definitions added to `tape`.
+/// derive_tree forms the mass matrix from them: M_JI = ⟨s_J, 𝕀ᶜ_I s_I⟩ for J = I or an ancestor of I.
+CommonFrame common_frame(const TreeRecursion& tree, Intermediates& tape);
 
 /// ∂ID/∂x for the state x = (r, ξ, ṙ): column k holds the m + n rows (base directions, then joints) of the
 /// derivative with respect to x_k, in the intermediates of `tape` (new definitions are added to it), at u̇ =

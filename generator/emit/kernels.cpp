@@ -154,24 +154,21 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
                  : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
   };
   const bool build_jacobian = want("jacobian") || only.count("jacobian_prepared") > 0;  // its variant needs it
-  const bool forward_only = build_jacobian && !articulated && !eq.tree &&
+  // The linearization's A is the Jacobian: a tree's analytical columns are shared with it.
+  const bool build_columns = build_jacobian || (want("linearization") && eq.tree);
+  const bool forward_only = build_columns && !articulated && !eq.tree &&
                             g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
+  std::vector<std::vector<int>> column;  // column[k][row] = d(x'_row)/dx_k
   if (forward_only) {
-    const int nx = static_cast<int>(rhs.outputs.size());
-    const std::vector<std::vector<int>> columns = forward_columns(Argument::state, nx);
+    column = forward_columns(Argument::state, static_cast<int>(rhs.outputs.size()));
     jacobian.summary += "; forward mode through the rhs program";
-    for (int row = 0; row < nx; ++row)
-      for (int k = 0; k < nx; ++k) {
-        jacobian.outputs.push_back(columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
-        jacobian.output_names.push_back("d" + rhs.output_names[static_cast<std::size_t>(row)] + "/d" + state_name(k));
-      }
-  } else if (build_jacobian) {
+  } else if (build_columns) {
     // The accelerations a of mass_times_acceleration (M a as a program) are the solved u'.
     for (std::size_t j = 0; j < eq.acceleration_symbols.size(); ++j) leaves[eq.acceleration_symbols[j]] = accel[j];
     std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
     for (int I : eq.independent) state_symbols.push_back(sys.velocities[static_cast<std::size_t>(I)]);
     const std::size_t nx = state_symbols.size();
-    std::vector<std::vector<int>> column(nx);  // column[k][row]
+    column.resize(nx);
     // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Without
     // eq.tree (tests clear it to compare) the chain rule through the body-frame program M a below.
     const std::vector<std::vector<GiNaC::ex>> id_columns =
@@ -224,21 +221,24 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         jacobian.summary += "; forward mode through the rhs program";
       }
     }
+  }
+  if (build_jacobian) {
+    const std::size_t nx = column.size();
     for (std::size_t row = 0; row < nx; ++row)
       for (std::size_t k = 0; k < nx; ++k) {
         jacobian.outputs.push_back(column[k][row]);
-        jacobian.output_names.push_back("d" + rhs.output_names[row] + "/d" +
-                                        GiNaC::ex_to<GiNaC::symbol>(state_symbols[k]).get_name());
+        jacobian.output_names.push_back("d" + rhs.output_names[row] + "/d" + state_name(static_cast<int>(k)));
       }
   }
 
-  // A = d(x')/dx and B = d(x')/d(in) along any state: forward mode through the rhs program (one tangent pass
-  // per state and input component; no symbolic derivative is formed). Built only when asked for by name.
+  // A = d(x')/dx and B = d(x')/d(in) along any state: A is the Jacobian's columns when they are built (for
+  // trees always: analytical), otherwise forward mode through the rhs program like B (one tangent pass per
+  // state or input component). Built only when asked for by name.
   Kernel linearization = registered("linearization");
   if (want("linearization")) {
     const int nx = static_cast<int>(rhs.outputs.size());
     const int ni = static_cast<int>(model.inputs.size());
-    const std::vector<std::vector<int>> a_columns = forward_columns(Argument::state, nx);
+    const std::vector<std::vector<int>> a_columns = column.empty() ? forward_columns(Argument::state, nx) : column;
     const std::vector<std::vector<int>> b_columns = forward_columns(Argument::input, ni);
     for (int row = 0; row < nx; ++row)
       for (int k = 0; k < nx; ++k) {

@@ -93,7 +93,7 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   const std::string name = "aba_" + rs.group + "_" + std::to_string(n) + "_" + std::to_string(seed);
   const hamel::Model model = hamel::load_model_from_text(tree_ref::yaml(t, name, extra, false), name + ".yaml");
   std::set<std::string> kernels = {"rhs"};
-  if (jacobian) kernels.insert("jacobian");
+  if (jacobian) kernels.insert({"jacobian", "linearization"});
   const Built aba = build(model, "aba", kernels), ldlt = build(model, "ldlt", kernels);
   ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
   ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
@@ -108,7 +108,8 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   hamel::GraphEvaluator fl(ldlt.kernels.graph, ldlt.kernels.get("rhs").outputs);
   const std::vector<double> p = tree_ref::default_parameters(model);
   std::uniform_real_distribution<double> u(-1, 1);
-  double worst_ldlt = 0, worst_ref = 0, worst_fd = 0, worst_sym = 0, worst_kernel = 0, worst_chain = 0;
+  double worst_ldlt = 0, worst_ref = 0, worst_fd = 0, worst_sym = 0, worst_kernel = 0, worst_chain = 0,
+         worst_linearization = 0, worst_inputs = 0;
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<double> x(nx), in(forced ? static_cast<std::size_t>(n) : 0), a(nx), l(nx);
     for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = t.bodies[static_cast<std::size_t>(i)].prismatic ? 0.5 * u(rng) : M_PI * u(rng);
@@ -158,12 +159,31 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     worst_sym = std::max(worst_sym, relative(J, Js, 0));
     worst_kernel = std::max(worst_kernel, relative(Jk, Js, 0));
     worst_chain = std::max(worst_chain, relative(Js, Jc, 0));
+    // linearization = (A, B): A shares the analytical columns; B (forward mode over the inputs) against
+    // central differences of the ldlt rhs in the inputs.
+    const std::size_t ni = in.size();
+    hamel::GraphEvaluator lin(ldlt.kernels.graph, ldlt.kernels.get("linearization").outputs);
+    std::vector<double> AB(nx * nx + nx * ni);
+    lin.evaluate(0, x.data(), p.data(), in.data(), AB.data());
+    const std::vector<double> A(AB.begin(), AB.begin() + static_cast<std::ptrdiff_t>(nx * nx));
+    worst_linearization = std::max(worst_linearization, relative(A, J, 0));
+    std::vector<double> B(AB.begin() + static_cast<std::ptrdiff_t>(nx * nx), AB.end()), fdB(nx * ni);
+    for (std::size_t c = 0; c < ni; ++c) {
+      const double h = 1e-6;
+      std::vector<double> ip = in, im = in;
+      ip[c] += h;
+      im[c] -= h;
+      fl.evaluate(0, x.data(), p.data(), ip.data(), fp.data());
+      fl.evaluate(0, x.data(), p.data(), im.data(), fm.data());
+      for (std::size_t r = 0; r < nx; ++r) fdB[r * ni + c] = (fp[r] - fm[r]) / (2 * h);
+    }
+    if (ni > 0) worst_inputs = std::max(worst_inputs, relative(B, fdB, 0));
   }
   std::printf("%-22s n = %2d: aba vs ldlt %.1e, vs Newton-Euler %.1e", name.c_str(), n, worst_ldlt, worst_ref);
   if (jacobian)
     std::printf("; forward-mode jacobian vs central differences %.1e, vs analytical %.1e; kernel %.1e; "
-                "analytical vs chain rule %.1e",
-                worst_fd, worst_sym, worst_kernel, worst_chain);
+                "analytical vs chain rule %.1e; linearization A %.1e, B vs central differences %.1e",
+                worst_fd, worst_sym, worst_kernel, worst_chain, worst_linearization, worst_inputs);
   std::printf("\n");
   EXPECT_LE(worst_ldlt, kTolerance) << name;
   EXPECT_LE(worst_ref, kTolerance) << name;
@@ -172,6 +192,8 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     EXPECT_LE(worst_sym, 1e-11) << name;
     EXPECT_LE(worst_kernel, 1e-11) << name;
     EXPECT_LE(worst_chain, 1e-11) << name;
+    EXPECT_LE(worst_linearization, 1e-11) << name;
+    EXPECT_LE(worst_inputs, 1e-7) << name;
   }
 }
 

@@ -3517,7 +3517,7 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[8] = real(4.8);  // L[vy][vy]
 }
 
-/* shape_inertia: (t, x[9], p[12], in[3]) -> out[9]  ops: 100 add, 115 mul, 6 div, 6 call */
+/* shape_inertia: (t, x[9], p[12], in[3]) -> out[9]  ops: 91 add, 106 mul, 6 div, 6 call */
 void shape_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)p;
@@ -3701,63 +3701,45 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   const real w176 = w174 - w175;
   const real w177 = w166 * w67;
   const real w178 = w176 - w177;
-  const real w179 = w108 * w119;
-  const real w180 = w123 - w179;
-  const real w181 = w104 * w126;
-  const real w182 = w180 - w181;
-  const real w183 = w102 * w121;
+  const real w179 = w126 * w44;
+  const real w180 = w115 * w121;
+  const real w181 = w179 + w180;
+  const real w182 = w181 + w119;
+  const real w183 = w140 * w119;
   const real w184 = w182 - w183;
-  const real w185 = w126 * w44;
-  const real w186 = w115 * w121;
-  const real w187 = w185 + w186;
-  const real w188 = w187 + w119;
-  const real w189 = w140 * w119;
-  const real w190 = w188 - w189;
-  const real w191 = w136 * w126;
-  const real w192 = w190 - w191;
-  const real w193 = w121 * w134;
+  const real w185 = w136 * w126;
+  const real w186 = w184 - w185;
+  const real w187 = w121 * w134;
+  const real w188 = w186 - w187;
+  const real w189 = w153 * w115;
+  const real w190 = w158 * w44;
+  const real w191 = w189 + w190;
+  const real w192 = w191 + w151;
+  const real w193 = w172 * w119;
   const real w194 = w192 - w193;
-  const real w195 = w153 * w115;
-  const real w196 = w158 * w44;
-  const real w197 = w195 + w196;
-  const real w198 = w197 + w151;
-  const real w199 = w172 * w119;
-  const real w200 = w198 - w199;
-  const real w201 = w126 * w168;
-  const real w202 = w200 - w201;
-  const real w203 = w166 * w121;
+  const real w195 = w126 * w168;
+  const real w196 = w194 - w195;
+  const real w197 = w166 * w121;
+  const real w198 = w196 - w197;
+  const real w199 = w158 * w45;
+  const real w200 = w153 * w147;
+  const real w201 = w199 + w200;
+  const real w202 = w201 + w151;
+  const real w203 = w172 * w151;
   const real w204 = w202 - w203;
-  const real w205 = w108 * w151;
-  const real w206 = w155 - w205;
-  const real w207 = w104 * w158;
+  const real w205 = w158 * w168;
+  const real w206 = w204 - w205;
+  const real w207 = w166 * w153;
   const real w208 = w206 - w207;
-  const real w209 = w102 * w153;
-  const real w210 = w208 - w209;
-  const real w211 = w140 * w151;
-  const real w212 = w198 - w211;
-  const real w213 = w136 * w158;
-  const real w214 = w212 - w213;
-  const real w215 = w153 * w134;
-  const real w216 = w214 - w215;
-  const real w217 = w158 * w45;
-  const real w218 = w153 * w147;
-  const real w219 = w217 + w218;
-  const real w220 = w219 + w151;
-  const real w221 = w172 * w151;
-  const real w222 = w220 - w221;
-  const real w223 = w158 * w168;
-  const real w224 = w222 - w223;
-  const real w225 = w166 * w153;
-  const real w226 = w224 - w225;
   out[0] = w114;  // M_shape[q1][q1]
   out[1] = w146;  // M_shape[q1][q2]
   out[2] = w178;  // M_shape[q1][q3]
-  out[3] = w184;  // M_shape[q2][q1]
-  out[4] = w194;  // M_shape[q2][q2]
-  out[5] = w204;  // M_shape[q2][q3]
-  out[6] = w210;  // M_shape[q3][q1]
-  out[7] = w216;  // M_shape[q3][q2]
-  out[8] = w226;  // M_shape[q3][q3]
+  out[3] = w146;  // M_shape[q2][q1]
+  out[4] = w188;  // M_shape[q2][q2]
+  out[5] = w198;  // M_shape[q2][q3]
+  out[6] = w178;  // M_shape[q3][q1]
+  out[7] = w198;  // M_shape[q3][q2]
+  out[8] = w208;  // M_shape[q3][q3]
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {

@@ -68,7 +68,7 @@ constexpr int n_temporaries_connection = 155;
 constexpr int n_out_locked_inertia = 9;
 constexpr int n_temporaries_locked_inertia = 71;
 constexpr int n_out_shape_inertia = 9;
-constexpr int n_temporaries_shape_inertia = 227;
+constexpr int n_temporaries_shape_inertia = 209;
 constexpr int n_out_max = 81;  // the largest out[] of any kernel
 
 /// q_dot = B_I(q) u_I, eq. (qadot); out[3]

@@ -68,7 +68,7 @@ constexpr int n_temporaries_connection = 1556;
 constexpr int n_out_locked_inertia = 36;
 constexpr int n_temporaries_locked_inertia = 708;
 constexpr int n_out_shape_inertia = 49;
-constexpr int n_temporaries_shape_inertia = 2543;
+constexpr int n_temporaries_shape_inertia = 2263;
 constexpr int n_out_max = 400;  // the largest out[] of any kernel
 
 /// q_dot = B_I(q) u_I, eq. (qadot); out[7]

@@ -58,6 +58,20 @@ Kernel registered(const char* name, const std::string& how = "") {
 
 }  // namespace
 
+std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo, ProgramConverter& node_of) {
+  const unsigned m = geo.L.rows(), n = geo.K.cols();
+  std::vector<std::vector<int>> L(m, std::vector<int>(m)), K(n, std::vector<int>(m));
+  for (unsigned a = 0; a < m; ++a)
+    for (unsigned c = 0; c < m; ++c) L[a][c] = node_of(geo.L(a, c));
+  for (unsigned I = 0; I < n; ++I)
+    for (unsigned a = 0; a < m; ++a) K[I][a] = node_of(geo.K(a, I));
+  const std::vector<std::vector<int>> columns = ldlt_solve_columns(g, L, K);
+  std::vector<std::vector<int>> A(m, std::vector<int>(n));
+  for (unsigned a = 0; a < m; ++a)
+    for (unsigned I = 0; I < n; ++I) A[a][I] = columns[I][a];
+  return A;
+}
+
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only) {
   // A kernel is built when named, or, when none is named, if the registry builds it by default.
   const auto want = [&](const char* name) { return only.empty() ? kernel_spec(name).by_default : only.count(name) > 0; };
@@ -277,24 +291,15 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       xi.output_names.push_back(b.group_velocity[a].get_name());
     }
     set.kernels.push_back(xi);
-    // Kinematic trees: A = L⁻¹K solved in the kernel (unrolled LDLᵀ of the locked inertia), not symbolically.
-    std::vector<std::vector<int>> solved_connection(m, std::vector<int>(static_cast<std::size_t>(n)));
-    if (!geo.connection_derived && n > 0 && (want("connection") || want("shape_inertia"))) {
-      std::vector<std::vector<int>> L(m, std::vector<int>(m));
-      for (std::size_t a = 0; a < m; ++a)
-        for (std::size_t c = 0; c < m; ++c) L[a][c] = node_of(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(c)));
-      std::vector<std::vector<int>> K(static_cast<std::size_t>(n), std::vector<int>(m));
-      for (int I = 0; I < n; ++I)
-        for (std::size_t a = 0; a < m; ++a)
-          K[static_cast<std::size_t>(I)][a] = node_of(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I)));
-      const std::vector<std::vector<int>> columns = ldlt_solve_columns(g, L, K);
-      for (int I = 0; I < n; ++I)
-        for (std::size_t a = 0; a < m; ++a)
-          solved_connection[a][static_cast<std::size_t>(I)] = columns[static_cast<std::size_t>(I)][a];
-    }
+    // Kinematic trees: A = L⁻¹K solved in the kernel (unrolled LDLᵀ of the locked inertia), not symbolically;
+    // placeholders (node 0) when neither kernel that uses it is built.
+    const std::vector<std::vector<int>> solved =
+        !geo.connection_derived && n > 0 && (want("connection") || want("shape_inertia"))
+            ? solved_connection(g, geo, node_of)
+            : std::vector<std::vector<int>>(m, std::vector<int>(static_cast<std::size_t>(n)));
     const auto connection_node = [&](std::size_t a, int I) {
       return geo.connection_derived ? node_of(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I)))
-                                    : solved_connection[a][static_cast<std::size_t>(I)];
+                                    : solved[a][static_cast<std::size_t>(I)];
     };
     if (n > 0) {
       Kernel conn = registered("connection");
@@ -323,12 +328,14 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
         for (int J = 0; J < n; ++J) {
           if (geo.connection_derived) {
             shape.outputs.push_back(node_of(geo.shape_inertia(static_cast<unsigned>(I), static_cast<unsigned>(J))));
+          } else if (J < I) {  // symmetric: the entry above the diagonal
+            shape.outputs.push_back(shape.outputs[static_cast<std::size_t>(J * n + I)]);
           } else {  // S − KᵀA with A = L⁻¹K (= S − AᵀLA)
             int v = node_of(geo.S(static_cast<unsigned>(I), static_cast<unsigned>(J)));
             for (std::size_t a = 0; a < m; ++a)
               v = g.binary(Op::sub, v,
                            g.binary(Op::mul, node_of(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I))),
-                                    solved_connection[a][static_cast<std::size_t>(J)]));
+                                    solved[a][static_cast<std::size_t>(J)]));
             shape.outputs.push_back(v);
           }
           shape.output_names.push_back("M_shape[" + sys.coordinates[static_cast<std::size_t>(I)].get_name() + "][" +

@@ -51,6 +51,11 @@ struct KernelSet {
 /// coordinates with L = ½ g q̇q̇ − V).
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {});
 
+/// The connection A = L⁻¹K of a bundle whose connection is not formed symbolically (kinematic trees): L and K
+/// (blocks of the mass matrix) converted through `node_of`, every column solved with one LDLᵀ of L.
+/// A[α][I] as graph nodes.
+std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo, ProgramConverter& node_of);
+
 /// Kernels that would compute with a constant whose exact value is not a finite double (beyond ±1.8e308, or
 /// nonzero and below the smallest double, so it would be printed as HUGE_VAL or 0.0: the mass matrix of
 /// A = diag(1e200, 1e-200) has 1e400 and 1e-400), counting rhs's pivots with rhs and the prepared kernels with

@@ -1,6 +1,7 @@
 #include "numeric/phase.hpp"
 
 #include "emit/expression_graph.hpp"
+#include "emit/kernels.hpp"
 #include "model/input_error.hpp"
 
 #include <hamel/runtime/ldlt.hpp>
@@ -41,15 +42,8 @@ class BundleFunctions {
       for (unsigned a = 0; a < m_; ++a)
         for (unsigned I = 0; I < n_; ++I) geometry.push_back(node_of(geo.connection(a, I)));
     } else {
-      std::vector<std::vector<int>> rows(m_);
-      for (unsigned a = 0; a < m_; ++a) rows[a].assign(L.begin() + a * m_, L.begin() + (a + 1) * m_);
-      geometry.resize(m_ * n_);
-      for (unsigned I = 0; I < n_; ++I) {
-        std::vector<int> k;
-        for (unsigned a = 0; a < m_; ++a) k.push_back(node_of(geo.K(a, I)));
-        const std::vector<int> column = ldlt_solve(graph_, rows, k);
-        for (unsigned a = 0; a < m_; ++a) geometry[a * n_ + I] = column[a];
-      }
+      for (const std::vector<int>& row : solved_connection(graph_, geo, node_of))
+        geometry.insert(geometry.end(), row.begin(), row.end());
     }
     has_L_ = geo.quadratic;
     geometry.insert(geometry.end(), L.begin(), L.end());

@@ -14,7 +14,8 @@ const std::vector<KernelSpec>& kernel_registry() {
       {"jacobian", "d(x')/dx, row-major n_state x n_state, for implicit integrators", true},
       {"energy", "E = dL/du^I u^I - L (invariant when the model is conservative)", true},
       {"linearization",
-       "A = d(x')/dx (n_state x n_state) then B = d(x')/d(in) (n_state x n_in), row-major, forward mode through rhs",
+       "A = d(x')/dx (n_state x n_state) then B = d(x')/d(in) (n_state x n_in), row-major; A as jacobian for trees, "
+       "otherwise forward mode through rhs",
        false},
       {"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", true},
       {"group_velocity", "xi^alpha = u^alpha - A^alpha_I r_dot^I for the reconstruction, eq. (KinRec)", true},

@@ -22,10 +22,8 @@ struct HamelEquations {
   std::vector<GiNaC::ex> energy_terms;         ///< {E}: E = ∂ℒ/∂u^I u^I − ℒ (Jacobi integral)
   bool conservative = false;                   ///< no forces and no explicit time: E is an invariant
   std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0), if Pfaffian
-  std::vector<GiNaC::realsymbol> acceleration_symbols;  ///< a_I, when mass_times_acceleration is given
-  std::vector<GiNaC::ex> mass_times_acceleration;       ///< (M a)_I as a program in the intermediates (trees:
-                                                        ///< O(n) by recursion), so that the Jacobian's (∂M/∂x) u̇
-                                                        ///< is one derivative of it, not of every M_IJ
+  std::vector<GiNaC::realsymbol> acceleration_symbols;  ///< trees: symbols for u̇ in TreeRecursion (the Jacobian
+                                                        ///< maps them to the solved accelerations)
   std::vector<GiNaC::ex> recursive_accelerations;  ///< u̇ by the articulated-body algorithm (trees with
                                                    ///< --dynamics aba), in the intermediates; empty otherwise
   std::vector<GiNaC::ex> recursive_pivots;  ///< its pivots (articulated inertias D_i, the base's LDLᵀ d_k)

@@ -145,6 +145,85 @@ ex joint_springs(const Model& model, const KinematicTree& tree) {
   return v;
 }
 
+// The body-frame recursion of derive_tree: parents, joint poses, axes and inertias in each body's frame,
+// and the twists V_i and momenta h_i = 𝕀_i V_i.
+struct BodyFrames {
+  const std::vector<int>& parent;
+  const std::vector<Link>& link;
+  const std::vector<Vec6>& axis;
+  const std::vector<Mat6>& inertia;
+  const std::vector<Vec6>& V;
+  const std::vector<Vec6>& h;
+};
+
+// The articulated-body algorithm (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1) in the bodies'
+// frames: u̇ without forming M, O(n). Bias accelerations c_i = ad_{V_i} S_i ṙ_i and bias wrenches
+// p_i = −ad*_{V_i} 𝕀_i V_i as in derive_tree's f; the floating base is the root "joint" with the directions
+// `base` (its acceleration S_0 ξ̇, no bias term: left trivialization). On a fixed base (m = 0) the root
+// does not move; gravity enters as its upward acceleration a_0 = −g (as in f), carried outward in the last
+// pass. A joint's armature adds to D_i, its springs and damper to τ_i (joint_force).
+// `b` is the body-frame recursion at u̇ = 0; the accelerations and pivots go to eq.recursive_accelerations and
+// eq.recursive_pivots.
+void articulated_body(TreeProgram& prog, const BodyFrames& b, const std::vector<Vec6>& base,
+                      const Vec6& root_acceleration, const std::vector<GiNaC::realsymbol>& rates,
+                      const std::vector<ex>& joint_force, const std::vector<ex>& armature, HamelEquations& eq) {
+  const std::size_t N = b.parent.size(), m = base.size();
+  std::vector<Mat6> IA = b.inertia;  // articulated inertias, summed inward
+  std::vector<Vec6> pA(N), c(N), U(N);
+  std::vector<ex> inverse_D(N), u(N);
+  for (std::size_t i = 0; i < N; ++i) {
+    pA[i] = coadjoint_term(b.V[i], b.h[i]);
+    if (i > 0) c[i] = prog.name(ad(b.V[i], b.axis[i] * rates[i - 1]));
+  }
+  for (std::size_t i = N; i-- > 1;) {
+    IA[i] = prog.name_symmetric(IA[i]);
+    pA[i] = prog.name(pA[i]);
+    U[i] = prog.name(times(IA[i], b.axis[i]));
+    // D_i = S_iᵀ 𝕀ᴬ_i S_i + armature_i (the rotor's inertia about the joint axis, as in M's diagonal).
+    const ex D = prog.name(dot(b.axis[i], U[i]) + armature[i]);
+    eq.recursive_pivots.push_back(D);
+    inverse_D[i] = prog.name(1 / D);
+    u[i] = prog.name(joint_force[i] - dot(b.axis[i], pA[i]));
+    const std::size_t p = static_cast<std::size_t>(b.parent[i]);
+    if (p == 0 && m == 0) continue;  // a fixed base takes no articulated inertia: nothing solves for it
+    // 𝕀ᵃ = 𝕀ᴬ − U Uᵀ / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + U u / D, moved to the parent's frame.
+    Mat6 Ia;
+    for (std::size_t r = 0; r < 6; ++r)
+      for (std::size_t k = r; k < 6; ++k) Ia[r][k] = Ia[k][r] = IA[i][r][k] - U[i][r] * U[i][k] * inverse_D[i];
+    Ia = prog.name_symmetric(Ia);
+    const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + U[i] * prog.name(u[i] * inverse_D[i]));
+    for (int k = 0; k < 6; ++k) {
+      const Vec6 col = b.link[i].to_parent(times(Ia, b.link[i].to_child(unit6(k))));
+      for (std::size_t r = static_cast<std::size_t>(k); r < 6; ++r) {
+        IA[p][r][static_cast<std::size_t>(k)] += col[r];
+        if (r != static_cast<std::size_t>(k)) IA[p][static_cast<std::size_t>(k)][r] += col[r];
+      }
+    }
+    pA[p] = pA[p] + b.link[i].to_parent(pa);
+  }
+  if (m > 0) {
+    IA[0] = prog.name_symmetric(IA[0]);
+    pA[0] = prog.name(pA[0]);
+  }
+  std::vector<std::vector<ex>> A(m, std::vector<ex>(m));
+  std::vector<ex> rhs(m);
+  for (std::size_t alpha = 0; alpha < m; ++alpha) {
+    rhs[alpha] = -dot(base[alpha], pA[0]);
+    for (std::size_t beta = 0; beta < m; ++beta) A[alpha][beta] = dot(base[alpha], times(IA[0], base[beta]));
+  }
+  const std::vector<ex> base_rate = prog.solve_symmetric(A, rhs, eq.recursive_pivots);
+  std::vector<Vec6> acc(N);
+  acc[0] = root_acceleration;  // −g on a fixed base; zero on a floating one (the loader refuses gravity)
+  for (std::size_t alpha = 0; alpha < m; ++alpha) acc[0] = acc[0] + base[alpha] * base_rate[alpha];
+  eq.recursive_accelerations = base_rate;
+  for (std::size_t i = 1; i < N; ++i) {
+    const Vec6 ap = prog.name(b.link[i].to_child(acc[static_cast<std::size_t>(b.parent[i])]) + c[i]);
+    const ex rate = prog.name((u[i] - dot(U[i], ap)) * inverse_D[i]);
+    eq.recursive_accelerations.push_back(rate);
+    acc[i] = prog.name(ap + b.axis[i] * rate);
+  }
+}
+
 }  // namespace
 
 TreeDerivation derive_tree(const Model& model, bool articulated) {
@@ -260,25 +339,9 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     for (std::size_t alpha = 0; alpha < m; ++alpha) set(alpha, m + i - 1, dot(base[alpha], U));
   }
 
-  // M a by the same recursion with the velocities at zero (accelerations δ_i = Ad δ_p + S_i a_i, wrenches
-  // 𝕀_i δ_i summed inward): O(n), for the Jacobian (derivative of M u̇ without differentiating every M_IJ).
-  {
-    std::vector<Vec6> delta(N), W(N);
-    for (std::size_t k = 0; k < m + n; ++k)
-      eq.acceleration_symbols.emplace_back(GiNaC::realsymbol("a_" + std::to_string(k)));
-    delta[0] = base_twist(eq.acceleration_symbols);
-    for (std::size_t i = 0; i < N; ++i) {
-      if (i > 0)
-        delta[i] = prog.name(link[i].to_child(delta[static_cast<std::size_t>(parent[i])]) +
-                             axis[i] * eq.acceleration_symbols[m + i - 1]);
-      W[i] = times(inertia[i], delta[i]);
-    }
-    sum_inward(W);
-    for (std::size_t alpha = 0; alpha < m; ++alpha) eq.mass_times_acceleration.push_back(dot(base[alpha], W[0]));
-    for (std::size_t i = 1; i < N; ++i)
-      eq.mass_times_acceleration.push_back(dot(axis[i], W[i]) +
-                                           tree.bodies[i - 1].armature * eq.acceleration_symbols[m + i - 1]);
-  }
+  // Symbols for u̇ at which the Jacobian differentiates the inverse dynamics (TreeRecursion::accelerations).
+  for (std::size_t k = 0; k < m + n; ++k)
+    eq.acceleration_symbols.emplace_back(GiNaC::realsymbol("a_" + std::to_string(k)));
 
   // f = Q − (velocity-product part of the projected wrenches); Q_I = forces_I − ∂V/∂r^I, none on the base.
   // The joint forces τ_I = Q_I − ∂(V + springs)/∂r^I − d_I ṙ_I, shared by f and the articulated-body algorithm.
@@ -296,66 +359,10 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   recursion->joint_force.assign(joint_force.begin() + 1, joint_force.end());
   eq.tree = recursion;
 
-  // The articulated-body algorithm (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1) in the bodies'
-  // frames: u̇ without forming M, O(n). Bias accelerations c_i = ad_{V_i} S_i ṙ_i and bias wrenches
-  // p_i = −ad*_{V_i} 𝕀_i V_i as in f above; the floating base is the root "joint" with the directions
-  // `base` (its acceleration S_0 ξ̇, no bias term: left trivialization). On a fixed base (m = 0) the root
-  // does not move; gravity enters as its upward acceleration a_0 = −g (as in f), carried outward in the last
-  // pass. A joint's armature adds to D_i, its springs and damper to τ_i (joint_force).
   if (articulated) {
-    std::vector<Mat6> IA = inertia;  // articulated inertias, summed inward
-    std::vector<Vec6> pA(N), c(N), U(N);
-    std::vector<ex> inverse_D(N), u(N);
-    for (std::size_t i = 0; i < N; ++i) {
-      pA[i] = coadjoint_term(V[i], h[i]);
-      if (i > 0) c[i] = prog.name(ad(V[i], axis[i] * model.rates[i - 1]));
-    }
-    for (std::size_t i = N; i-- > 1;) {
-      IA[i] = prog.name_symmetric(IA[i]);
-      pA[i] = prog.name(pA[i]);
-      U[i] = prog.name(times(IA[i], axis[i]));
-      // D_i = S_iᵀ 𝕀ᴬ_i S_i + armature_i (the rotor's inertia about the joint axis, as in M's diagonal).
-      const ex D = prog.name(dot(axis[i], U[i]) + tree.bodies[i - 1].armature);
-      eq.recursive_pivots.push_back(D);
-      inverse_D[i] = prog.name(1 / D);
-      u[i] = prog.name(joint_force[i] - dot(axis[i], pA[i]));
-      const std::size_t p = static_cast<std::size_t>(parent[i]);
-      if (p == 0 && m == 0) continue;  // a fixed base takes no articulated inertia: nothing solves for it
-      // 𝕀ᵃ = 𝕀ᴬ − U Uᵀ / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + U u / D, moved to the parent's frame.
-      Mat6 Ia;
-      for (std::size_t r = 0; r < 6; ++r)
-        for (std::size_t k = r; k < 6; ++k) Ia[r][k] = Ia[k][r] = IA[i][r][k] - U[i][r] * U[i][k] * inverse_D[i];
-      Ia = prog.name_symmetric(Ia);
-      const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + U[i] * prog.name(u[i] * inverse_D[i]));
-      for (int k = 0; k < 6; ++k) {
-        const Vec6 col = link[i].to_parent(times(Ia, link[i].to_child(unit6(k))));
-        for (std::size_t r = static_cast<std::size_t>(k); r < 6; ++r) {
-          IA[p][r][static_cast<std::size_t>(k)] += col[r];
-          if (r != static_cast<std::size_t>(k)) IA[p][static_cast<std::size_t>(k)][r] += col[r];
-        }
-      }
-      pA[p] = pA[p] + link[i].to_parent(pa);
-    }
-    if (m > 0) {
-      IA[0] = prog.name_symmetric(IA[0]);
-      pA[0] = prog.name(pA[0]);
-    }
-    std::vector<std::vector<ex>> A(m, std::vector<ex>(m));
-    std::vector<ex> rhs(m);
-    for (std::size_t alpha = 0; alpha < m; ++alpha) {
-      rhs[alpha] = -dot(base[alpha], pA[0]);
-      for (std::size_t beta = 0; beta < m; ++beta) A[alpha][beta] = dot(base[alpha], times(IA[0], base[beta]));
-    }
-    const std::vector<ex> base_rate = prog.solve_symmetric(A, rhs, eq.recursive_pivots);
-    std::vector<Vec6> acc(N);
-    acc[0] = base_twist(base_rate) + a[0];  // a[0] = −g: zero on a floating base (the loader refuses gravity)
-    eq.recursive_accelerations = base_rate;
-    for (std::size_t i = 1; i < N; ++i) {
-      const Vec6 ap = prog.name(link[i].to_child(acc[static_cast<std::size_t>(parent[i])]) + c[i]);
-      const ex rate = prog.name((u[i] - dot(U[i], ap)) * inverse_D[i]);
-      eq.recursive_accelerations.push_back(rate);
-      acc[i] = prog.name(ap + axis[i] * rate);
-    }
+    std::vector<ex> armature(N, ex(0));
+    for (std::size_t i = 1; i < N; ++i) armature[i] = tree.bodies[i - 1].armature;
+    articulated_body(prog, {parent, link, axis, inertia, V, h}, base, a[0], model.rates, joint_force, armature, eq);
   }
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));

@@ -44,15 +44,6 @@ inline ex dot(const Vec6& a, const Vec6& b) {
   for (std::size_t k = 0; k < 6; ++k) s += a[k] * b[k];
   return s;
 }
-inline Vec6 times_transposed(const Mat6& m, const Vec6& v) {  // mᵀ v
-  Vec6 out;
-  for (std::size_t r = 0; r < 6; ++r) {
-    ex s = 0;
-    for (std::size_t c = 0; c < 6; ++c) s += m[c][r] * v[c];
-    out[r] = s;
-  }
-  return out;
-}
 inline Vec6 times(const Mat6& m, const Vec6& v) {
   Vec6 out;
   for (std::size_t r = 0; r < 6; ++r) {
@@ -61,6 +52,12 @@ inline Vec6 times(const Mat6& m, const Vec6& v) {
     out[r] = s;
   }
   return out;
+}
+inline Vec6 times_transposed(const Mat6& m, const Vec6& v) {  // mᵀ v
+  Mat6 t;
+  for (std::size_t r = 0; r < 6; ++r)
+    for (std::size_t c = 0; c < 6; ++c) t[r][c] = m[c][r];
+  return times(t, v);
 }
 inline Mat3 skew(const Vec3& c) { return {{{0, -c[2], c[1]}, {c[2], 0, -c[0]}, {-c[1], c[0], 0}}}; }
 

@@ -145,7 +145,7 @@ class GraphEvaluator {
 /// Converts expressions that may use intermediate symbols (algebra/intermediates.hpp) into `graph`: each
 /// definition becomes a node when an expression first needs it, after the definitions it uses. `tape` may
 /// grow between calls (differentiation adds definitions); symbols that only some definitions use (the
-/// accelerations of HamelEquations::mass_times_acceleration) may get their leaves late.
+/// acceleration symbols of a tree's TreeRecursion) may get their leaves late.
 class ProgramConverter {
  public:
   using Leaves = std::map<GiNaC::ex, int, GiNaC::ex_is_less>;

@@ -95,7 +95,7 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
 
   // Intermediate symbols become the nodes of their definitions when an expression first needs them
   // (definitions before their users); differentiation (the Jacobian) may add definitions to this copy.
-  // Some definitions use symbols that get their nodes late (the accelerations of mass_times_acceleration).
+  // Some definitions use symbols that get their nodes late (the acceleration symbols of a tree's recursion).
   Intermediates tape = eq.intermediates;
   ProgramConverter node_of(g, leaves, tape);
   const auto diff = [&](const GiNaC::ex& e, const GiNaC::ex& x) { return tape.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); };
@@ -177,14 +177,14 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     column = forward_columns(Argument::state, static_cast<int>(rhs.outputs.size()));
     jacobian.summary += "; forward mode through the rhs program";
   } else if (build_columns) {
-    // The accelerations a of mass_times_acceleration (M a as a program) are the solved u'.
+    // The acceleration symbols of a tree's recursion stand for the solved u'.
     for (std::size_t j = 0; j < eq.acceleration_symbols.size(); ++j) leaves[eq.acceleration_symbols[j]] = accel[j];
     std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
     for (int I : eq.independent) state_symbols.push_back(sys.velocities[static_cast<std::size_t>(I)]);
     const std::size_t nx = state_symbols.size();
     column.resize(nx);
-    // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Without
-    // eq.tree (tests clear it to compare) the chain rule through the body-frame program M a below.
+    // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
+    // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
     const std::vector<std::vector<GiNaC::ex>> id_columns =
         eq.tree && !exact_accel ? inverse_dynamics_jacobian(*eq.tree, tape) : std::vector<std::vector<GiNaC::ex>>{};
     std::vector<std::vector<int>> right_sides;  // M d(u')/dx_k = b_k, all solved with one factorization
@@ -203,10 +203,6 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
           continue;
         }
         int r = node_of(diff(eq.forcing[i], x_k));
-        if (!eq.mass_times_acceleration.empty()) {  // (dM/dx_k) u' as the derivative of the program M a
-          b[i] = g.binary(Op::sub, r, node_of(diff(eq.mass_times_acceleration[i], x_k)));
-          continue;
-        }
         for (std::size_t j = 0; j < d; ++j) {
           const GiNaC::ex dM = diff(eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)), x_k);
           if (!dM.is_zero()) r = g.binary(Op::sub, r, g.binary(Op::mul, node_of(dM), accel[j]));

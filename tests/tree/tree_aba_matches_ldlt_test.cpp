@@ -9,7 +9,7 @@
 // checked against central differences of the ldlt rhs and against the `jacobian` kernel of the ldlt path
 // (analytical derivatives of the inverse dynamics, derive/tree_derivatives.hpp), and so is the aba build's
 // kernel (the smaller of the two programs); the analytical kernel also against the chain rule through the
-// body-frame program (the ldlt derivation without its TreeRecursion). Trees on a fixed base
+// programs of M and f (the ldlt derivation without its TreeRecursion). Trees on a fixed base
 // (`base: world`) under gravity and joints with armature, damping and stiffness (the properties robot files
 // give, docs/import.md) go through both paths too, on fixed and floating bases.
 #include "tree_from_model.hpp"
@@ -98,7 +98,7 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
   ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
   // The ldlt build's Jacobian takes ∂ID/∂x analytically (derive/tree_derivatives.hpp); without the recursion
-  // it falls back to the chain rule through the body-frame program M a − f.
+  // it falls back to the chain rule through the programs of M and f (every M_IJ differentiated).
   hamel::Derivation without_recursion = ldlt.derivation;
   without_recursion.equations.tree.reset();
   const hamel::KernelSet chain_rule =

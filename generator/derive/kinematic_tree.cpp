@@ -50,21 +50,11 @@ std::vector<Vec6> base_directions(const std::string& group) {
 
 class TreeProgram {
  public:
-  explicit TreeProgram(Intermediates& tape) : tape_(tape) {}
-  ex name(const ex& e) { return tape_.define(e); }
-  Vec3 name(const Vec3& v) { return {name(v[0]), name(v[1]), name(v[2])}; }
-  Vec6 name(const Vec6& v) {
-    Vec6 out;
-    for (std::size_t k = 0; k < 6; ++k) out[k] = name(v[k]);
-    return out;
-  }
-  // A symmetric 6×6, each distinct entry named once.
-  Mat6 name_symmetric(const Mat6& m) {
-    Mat6 out;
-    for (std::size_t r = 0; r < 6; ++r)
-      for (std::size_t c = r; c < 6; ++c) out[r][c] = out[c][r] = name(m[r][c]);
-    return out;
-  }
+  explicit TreeProgram(Intermediates& tape) : name_(tape) {}
+  ex name(const ex& e) { return name_(e); }
+  Vec3 name(const Vec3& v) { return name_(v); }
+  Vec6 name(const Vec6& v) { return name_(v); }
+  Mat6 name_symmetric(const Mat6& m) { return name_.symmetric(m); }
 
   // A x = b for a small symmetric positive definite A (the floating base's articulated inertia on its
   // directions) by LDLᵀ without pivoting, every factor named; the pivots d_k go to `pivots`.
@@ -132,7 +122,7 @@ class TreeProgram {
   }
 
  private:
-  Intermediates& tape_;
+  Namer name_;
 };
 
 // Σ ½ k_i (r_i − reference_i)²: the joint springs, a potential on the shape.

@@ -4,6 +4,8 @@
 // Motion cross product ad_V W = V × W; force cross product V ×* F = −ad*_V F; ⟨V × W, F⟩ + ⟨W, V ×* F⟩ = 0.
 #pragma once
 
+#include "algebra/intermediates.hpp"
+
 #include <ginac/ginac.h>
 
 #include <array>
@@ -143,6 +145,46 @@ struct Inertia {
       for (std::size_t c = 0; c < 3; ++c) J[r][c] += o.J[r][c];
     }
   }
+};
+
+// Names spatial quantities in a program (Intermediates::define, entry by entry): what the recursions over a
+// tree keep as intermediate symbols.
+class Namer {
+ public:
+  explicit Namer(Intermediates& tape) : tape_(tape) {}
+  ex operator()(const ex& e) { return tape_.define(e); }
+  Vec3 operator()(const Vec3& v) { return {(*this)(v[0]), (*this)(v[1]), (*this)(v[2])}; }
+  Vec6 operator()(const Vec6& v) {
+    Vec6 out;
+    for (std::size_t k = 0; k < 6; ++k) out[k] = (*this)(v[k]);
+    return out;
+  }
+  Mat3 operator()(const Mat3& m) {
+    return {(*this)(m[0]), (*this)(m[1]), (*this)(m[2])};
+  }
+  Mat6 operator()(const Mat6& m) {
+    Mat6 out;
+    for (std::size_t r = 0; r < 6; ++r) out[r] = (*this)(m[r]);
+    return out;
+  }
+  // A symmetric 6×6, each distinct entry named once.
+  Mat6 symmetric(const Mat6& m) {
+    Mat6 out;
+    for (std::size_t r = 0; r < 6; ++r)
+      for (std::size_t c = r; c < 6; ++c) out[r][c] = out[c][r] = (*this)(m[r][c]);
+    return out;
+  }
+  Inertia operator()(const Inertia& I) {
+    Inertia out;
+    out.m = (*this)(I.m);
+    out.h = (*this)(I.h);
+    for (std::size_t r = 0; r < 3; ++r)
+      for (std::size_t c = r; c < 3; ++c) out.J[r][c] = out.J[c][r] = (*this)(I.J[r][c]);
+    return out;
+  }
+
+ private:
+  Intermediates& tape_;
 };
 
 }  // namespace hamel::spatial

@@ -7,37 +7,6 @@ using namespace spatial;
 
 namespace {
 
-class Namer {
- public:
-  explicit Namer(Intermediates& tape) : tape_(tape) {}
-  ex operator()(const ex& e) { return tape_.define(e); }
-  Vec3 operator()(const Vec3& v) { return {(*this)(v[0]), (*this)(v[1]), (*this)(v[2])}; }
-  Vec6 operator()(const Vec6& v) {
-    Vec6 out;
-    for (std::size_t k = 0; k < 6; ++k) out[k] = (*this)(v[k]);
-    return out;
-  }
-  Mat3 operator()(const Mat3& m) {
-    return {(*this)(m[0]), (*this)(m[1]), (*this)(m[2])};
-  }
-  Mat6 operator()(const Mat6& m) {
-    Mat6 out;
-    for (std::size_t r = 0; r < 6; ++r) out[r] = (*this)(m[r]);
-    return out;
-  }
-  Inertia operator()(const Inertia& I) {
-    Inertia out;
-    out.m = (*this)(I.m);
-    out.h = (*this)(I.h);
-    for (std::size_t r = 0; r < 3; ++r)
-      for (std::size_t c = r; c < 3; ++c) out.J[r][c] = out.J[c][r] = (*this)(I.J[r][c]);
-    return out;
-  }
-
- private:
-  Intermediates& tape_;
-};
-
 // The body's inertia in the common frame, the body at pose (R, p): centre of mass c = p + R c_b, rotational
 // inertia about it R Θ Rᵀ, about the origin J = R Θ Rᵀ − m [c]×².
 Inertia common_frame_inertia(const RigidBody& b, const Mat3& R, const Vec3& p, Namer& name) {

@@ -270,6 +270,7 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   recursion->base_velocity.assign(group_velocity.begin(), group_velocity.end());
   recursion->coordinates.assign(model.coordinates.begin(), model.coordinates.end());
   recursion->rates.assign(model.rates.begin(), model.rates.end());
+  for (const TreeBody& body : tree.bodies) recursion->armature.push_back(body.armature);
   recursion->frame = common_frame(*recursion, eq.intermediates);
   const CommonFrame& frame = recursion->frame;
 

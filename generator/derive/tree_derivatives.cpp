@@ -72,6 +72,44 @@ CommonFrame common_frame(const TreeRecursion& t, Intermediates& tape) {
   return cf;
 }
 
+ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape) {
+  Namer name(tape);
+  const std::size_t N = t.parent.size(), m = t.base.size();
+  const std::vector<Vec6>& s = t.frame.axis;
+  std::vector<Mat6> IA(N);
+  std::vector<bool> inner(N, false);  // has children: its 𝕀ᴬ is a sum, named
+  for (std::size_t i = 0; i < N; ++i) {
+    for (std::size_t k = 0; k < 6; ++k) {
+      const Vec6 column = t.frame.inertia[i](unit6(static_cast<int>(k)));
+      for (std::size_t r = 0; r < 6; ++r) IA[i][r][k] = column[r];
+    }
+    if (i > 0) inner[static_cast<std::size_t>(t.parent[i])] = true;
+  }
+  ArticulatedFactor f;
+  f.U.assign(N, zero6());
+  f.inverse_pivot.assign(N, ex(0));
+  for (std::size_t i = N; i-- > 1;) {
+    if (inner[i]) IA[i] = name.symmetric(IA[i]);
+    const Vec6 U = f.U[i] = name(times(IA[i], s[i]));
+    const ex inverse_D = f.inverse_pivot[i] = name(1 / name(dot(s[i], U) + t.armature[i - 1]));
+    const std::size_t l = static_cast<std::size_t>(t.parent[i]);
+    if (l == 0 && m == 0) continue;  // a fixed base takes nothing
+    for (std::size_t r = 0; r < 6; ++r)
+      for (std::size_t k = r; k < 6; ++k) {
+        IA[l][r][k] += IA[i][r][k] - U[r] * U[k] * inverse_D;
+        if (k != r) IA[l][k][r] = IA[l][r][k];
+      }
+  }
+  if (m > 0) {
+    IA[0] = name.symmetric(IA[0]);
+    f.base_inertia.assign(m, std::vector<ex>(m));
+    for (std::size_t alpha = 0; alpha < m; ++alpha)
+      for (std::size_t beta = 0; beta < m; ++beta)
+        f.base_inertia[alpha][beta] = dot(t.base[alpha], times(IA[0], t.base[beta]));
+  }
+  return f;
+}
+
 std::vector<std::vector<ex>> inverse_dynamics_jacobian(const TreeRecursion& t, Intermediates& tape) {
   Namer name(tape);
   const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1, d = m + n;

@@ -47,12 +47,27 @@ struct TreeRecursion {
   std::vector<GiNaC::ex> rates;           ///< ṙ^I (n)
   std::vector<GiNaC::ex> accelerations;   ///< the m + n symbols standing for u̇
   std::vector<GiNaC::ex> joint_force;     ///< τ_I(r, u, t, inputs): joint forces, springs, dampers (n)
+  std::vector<GiNaC::ex> armature;        ///< a_I: added to M's diagonal (n)
   CommonFrame frame;                      ///< of the above, in the derivation's intermediates
 };
 
 /// The common-frame quantities of `tree` (everything above but `frame`), new definitions added to `tape`.
 /// derive_tree forms the mass matrix from them: M_JI = ⟨s_J, 𝕀ᶜ_I s_I⟩ for J = I or an ancestor of I.
 CommonFrame common_frame(const TreeRecursion& tree, Intermediates& tape);
+
+/// The mass matrix derive_tree forms from `tree.frame`, factored by the articulated-body recursion in that one
+/// frame (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1, with every transform the identity), to
+/// solve M y = b for many right-hand sides at O(n) each (emit/kernels.hpp: articulated_solve_columns). From the
+/// leaves in: 𝕀ᴬ_i = 𝕀_i + Σ_children (𝕀ᴬ_c − U_c U_cᵀ / D_c), U_i = 𝕀ᴬ_i s_i, D_i = ⟨s_i, U_i⟩ + a_i, and the
+/// base's block ⟨e_α, 𝕀ᴬ_0 e_β⟩ (no rows on a fixed base). Index 0 of U and inverse_pivot is unused.
+struct ArticulatedFactor {
+  std::vector<spatial::Vec6> U;
+  std::vector<GiNaC::ex> inverse_pivot;             ///< 1 / D_i
+  std::vector<std::vector<GiNaC::ex>> base_inertia;  ///< m × m
+};
+
+/// The factor of `tree`'s mass matrix, new definitions added to `tape`.
+ArticulatedFactor articulated_factor(const TreeRecursion& tree, Intermediates& tape);
 
 /// ∂ID/∂x for the state x = (r, ξ, ṙ): column k holds the m + n rows (base directions, then joints) of the
 /// derivative with respect to x_k, in the intermediates of `tape` (new definitions are added to it), at u̇ =

@@ -72,7 +72,78 @@ std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const Bundle
   return A;
 }
 
-KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only) {
+std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const TreeRecursion& tree,
+                                                        const ArticulatedFactor& factor, ProgramConverter& node_of,
+                                                        const std::vector<std::vector<int>>& columns) {
+  using Vec = std::array<int, 6>;
+  const std::size_t N = tree.parent.size(), m = tree.base.size();
+  const int zero = g.constant(0);
+  const auto nodes = [&](const spatial::Vec6& v) {
+    Vec out;
+    for (std::size_t k = 0; k < 6; ++k) out[k] = node_of(v[k]);
+    return out;
+  };
+  const auto dot = [&](const Vec& a, const Vec& b) {
+    int sum = zero;
+    for (std::size_t k = 0; k < 6; ++k) sum = g.binary(Op::add, sum, g.binary(Op::mul, a[k], b[k]));
+    return sum;
+  };
+  const auto axpy = [&](const Vec& y, const Vec& a, int x) {  // y + a x
+    Vec out;
+    for (std::size_t k = 0; k < 6; ++k) out[k] = g.binary(Op::add, y[k], g.binary(Op::mul, a[k], x));
+    return out;
+  };
+  std::vector<Vec> s(N), U(N), W(N), e(m);  // W_i = U_i / D_i
+  std::vector<int> inverse_D(N, zero);
+  for (std::size_t i = 1; i < N; ++i) {
+    s[i] = nodes(tree.frame.axis[i]);
+    U[i] = nodes(factor.U[i]);
+    inverse_D[i] = node_of(factor.inverse_pivot[i]);
+    for (std::size_t k = 0; k < 6; ++k) W[i][k] = g.binary(Op::mul, U[i][k], inverse_D[i]);
+  }
+  for (std::size_t alpha = 0; alpha < m; ++alpha) e[alpha] = nodes(tree.base[alpha]);
+  const Vec none = {zero, zero, zero, zero, zero, zero};
+
+  // Inward, per column: μ_i and the base's right-hand side.
+  std::vector<std::vector<int>> mu(columns.size(), std::vector<int>(N, zero)), base_rhs(columns.size());
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const std::vector<int>& b = columns[c];
+    std::vector<Vec> p(N, none);
+    for (std::size_t i = N; i-- > 1;) {
+      mu[c][i] = g.binary(Op::mul, g.binary(Op::sub, b[m + i - 1], dot(s[i], p[i])), inverse_D[i]);
+      const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+      if (l == 0 && m == 0) continue;
+      const Vec pi = axpy(p[i], U[i], mu[c][i]);
+      for (std::size_t k = 0; k < 6; ++k) p[l][k] = g.binary(Op::add, p[l][k], pi[k]);
+    }
+    for (std::size_t alpha = 0; alpha < m; ++alpha) base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
+  }
+  std::vector<std::vector<int>> base_rate(columns.size());
+  if (m > 0) {
+    std::vector<std::vector<int>> A(m, std::vector<int>(m));
+    for (std::size_t alpha = 0; alpha < m; ++alpha)
+      for (std::size_t beta = 0; beta < m; ++beta) A[alpha][beta] = node_of(factor.base_inertia[alpha][beta]);
+    base_rate = ldlt_solve_columns(g, A, base_rhs);
+  }
+
+  // Outward: the base's acceleration (zero on a fixed base: M carries no gravity), then the joints'.
+  std::vector<std::vector<int>> out(columns.size());
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    std::vector<Vec> a(N, none);
+    for (std::size_t alpha = 0; alpha < m; ++alpha) a[0] = axpy(a[0], e[alpha], base_rate[c][alpha]);
+    out[c] = base_rate[c];
+    for (std::size_t i = 1; i < N; ++i) {
+      const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+      const int rate = g.binary(Op::sub, mu[c][i], dot(W[i], a[l]));
+      out[c].push_back(rate);
+      a[i] = axpy(a[l], s[i], rate);
+    }
+  }
+  return out;
+}
+
+KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only,
+                        ColumnSolve column_solve) {
   // A kernel is built when named, or, when none is named, if the registry builds it by default.
   const auto want = [&](const char* name) { return only.empty() ? kernel_spec(name).by_default : only.count(name) > 0; };
   KernelSet set;
@@ -173,10 +244,16 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
   const bool forward_only = build_columns && !articulated && !eq.tree &&
                             g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
   std::vector<std::vector<int>> column;  // column[k][row] = d(x'_row)/dx_k
+  const auto operations = [&](const std::vector<std::vector<int>>& columns) {  // of the program computing them
+    std::vector<int> all;
+    for (const std::vector<int>& c : columns) all.insert(all.end(), c.begin(), c.end());
+    return g.count(g.schedule(all)).total();
+  };
   if (forward_only) {
     column = forward_columns(Argument::state, static_cast<int>(rhs.outputs.size()));
     jacobian.summary += "; forward mode through the rhs program";
   } else if (build_columns) {
+    std::string route;  // how the columns were formed, for the summary
     // The acceleration symbols of a tree's recursion stand for the solved u'.
     for (std::size_t j = 0; j < eq.acceleration_symbols.size(); ++j) leaves[eq.acceleration_symbols[j]] = accel[j];
     std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
@@ -212,7 +289,18 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       right_sides.push_back(b);
     }
     if (!exact_accel) {
-      const std::vector<std::vector<int>> solved = ldlt_solve_columns(g, M, right_sides, eq.factor_last_first);
+      // The LDLᵀ of M or (trees) the articulated-body recursion, whichever is asked for or has fewer operations.
+      std::vector<std::vector<int>> solved;
+      if (id_columns.empty() || column_solve != ColumnSolve::articulated)
+        solved = ldlt_solve_columns(g, M, right_sides, eq.factor_last_first);
+      if (!id_columns.empty() && column_solve != ColumnSolve::ldlt) {
+        std::vector<std::vector<int>> recursive =
+            articulated_solve_columns(g, *eq.tree, articulated_factor(*eq.tree, tape), node_of, right_sides);
+        if (solved.empty() || operations(recursive) < operations(solved)) {
+          solved = std::move(recursive);
+          route = "; M^-1 b by the articulated-body recursion";
+        }
+      }
       for (std::size_t k = 0; k < nx; ++k) column[k].insert(column[k].end(), solved[k].begin(), solved[k].end());
     }
     // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
@@ -221,16 +309,12 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     // measured so far, because the articulated inertias depend on every joint angle outboard of a body).
     if (articulated) {
       const std::vector<std::vector<int>> forward = forward_columns(Argument::state, static_cast<int>(nx));
-      const auto operations = [&](const std::vector<std::vector<int>>& columns) {
-        std::vector<int> all;
-        for (const std::vector<int>& c : columns) all.insert(all.end(), c.begin(), c.end());
-        return g.count(g.schedule(all)).total();
-      };
       if (operations(forward) < operations(column)) {
         column = forward;
-        jacobian.summary += "; forward mode through the rhs program";
+        route = "; forward mode through the rhs program";
       }
     }
+    jacobian.summary += route;
   }
   if (build_jacobian) {
     const std::size_t nx = column.size();

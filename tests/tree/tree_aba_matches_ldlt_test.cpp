@@ -103,13 +103,18 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   without_recursion.equations.tree.reset();
   const hamel::KernelSet chain_rule =
       jacobian ? hamel::build_kernels(model, without_recursion, kernels) : hamel::KernelSet{};
+  // The analytical columns solved with the articulated-body recursion instead of the LDLᵀ of M (the default
+  // keeps whichever is smaller; small trees keep the LDLᵀ).
+  const hamel::KernelSet recursive =
+      jacobian ? hamel::build_kernels(model, ldlt.derivation, kernels, hamel::ColumnSolve::articulated)
+               : hamel::KernelSet{};
   const std::size_t nx = static_cast<std::size_t>(2 * n + m);
   hamel::GraphEvaluator fa(aba.kernels.graph, aba.kernels.get("rhs").outputs);
   hamel::GraphEvaluator fl(ldlt.kernels.graph, ldlt.kernels.get("rhs").outputs);
   const std::vector<double> p = tree_ref::default_parameters(model);
   std::uniform_real_distribution<double> u(-1, 1);
   double worst_ldlt = 0, worst_ref = 0, worst_fd = 0, worst_sym = 0, worst_kernel = 0, worst_chain = 0,
-         worst_linearization = 0, worst_inputs = 0;
+         worst_recursive = 0, worst_linearization = 0, worst_inputs = 0;
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<double> x(nx), in(forced ? static_cast<std::size_t>(n) : 0), a(nx), l(nx);
     for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = t.bodies[static_cast<std::size_t>(i)].prismatic ? 0.5 * u(rng) : M_PI * u(rng);
@@ -141,8 +146,9 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     jk.evaluate(0, x.data(), p.data(), in.data(), Jk.data());
     hamel::GraphEvaluator jl(ldlt.kernels.graph, ldlt.kernels.get("jacobian").outputs);
     hamel::GraphEvaluator jc(chain_rule.graph, chain_rule.get("jacobian").outputs);
-    std::vector<double> Jc(nx * nx);
+    std::vector<double> Jc(nx * nx), Jr(nx * nx);
     jc.evaluate(0, x.data(), p.data(), in.data(), Jc.data());
+    hamel::GraphEvaluator(recursive.graph, recursive.get("jacobian").outputs).evaluate(0, x.data(), p.data(), in.data(), Jr.data());
     std::vector<double> J(nx * nx), Js(nx * nx), fp(nx), fm(nx), fd(nx * nx);
     ja.evaluate(0, x.data(), p.data(), in.data(), J.data());
     jl.evaluate(0, x.data(), p.data(), in.data(), Js.data());
@@ -159,6 +165,7 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     worst_sym = std::max(worst_sym, relative(J, Js, 0));
     worst_kernel = std::max(worst_kernel, relative(Jk, Js, 0));
     worst_chain = std::max(worst_chain, relative(Js, Jc, 0));
+    worst_recursive = std::max(worst_recursive, relative(Jr, J, 0));
     // linearization = (A, B): A shares the analytical columns; B (forward mode over the inputs) against
     // central differences of the ldlt rhs in the inputs.
     const std::size_t ni = in.size();
@@ -182,8 +189,9 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   std::printf("%-22s n = %2d: aba vs ldlt %.1e, vs Newton-Euler %.1e", name.c_str(), n, worst_ldlt, worst_ref);
   if (jacobian)
     std::printf("; forward-mode jacobian vs central differences %.1e, vs analytical %.1e; kernel %.1e; "
-                "analytical vs chain rule %.1e; linearization A %.1e, B vs central differences %.1e",
-                worst_fd, worst_sym, worst_kernel, worst_chain, worst_linearization, worst_inputs);
+                "analytical vs chain rule %.1e; solved by the recursion %.1e; linearization A %.1e, B vs central "
+                "differences %.1e",
+                worst_fd, worst_sym, worst_kernel, worst_chain, worst_recursive, worst_linearization, worst_inputs);
   std::printf("\n");
   EXPECT_LE(worst_ldlt, kTolerance) << name;
   EXPECT_LE(worst_ref, kTolerance) << name;
@@ -192,6 +200,7 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     EXPECT_LE(worst_sym, 1e-11) << name;
     EXPECT_LE(worst_kernel, 1e-11) << name;
     EXPECT_LE(worst_chain, 1e-11) << name;
+    EXPECT_LE(worst_recursive, 1e-11) << name;
     EXPECT_LE(worst_linearization, 1e-11) << name;
     EXPECT_LE(worst_inputs, 1e-7) << name;
   }
@@ -251,9 +260,11 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
     for (std::size_t r = 0; r < nx; ++r) forward[r * nx + c] = column[r];
   }
   hamel::GraphEvaluator ja(graph, forward), jk(ldlt.kernels.graph, ldlt.kernels.get("jacobian").outputs);
+  const hamel::KernelSet recursive = hamel::build_kernels(model, aba.derivation, kernels, hamel::ColumnSolve::articulated);
+  hamel::GraphEvaluator jr(recursive.graph, recursive.get("jacobian").outputs);
   const std::vector<double> p = tree_ref::default_parameters(model);
   std::uniform_real_distribution<double> u(-1, 1);
-  double worst_ldlt = 0, worst_fd = 0, worst_analytical = 0;
+  double worst_ldlt = 0, worst_fd = 0, worst_analytical = 0, worst_recursive = 0;
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<double> x(nx), a(nx), l(nx), J(nx * nx), fp(nx), fm(nx), fd(nx * nx);
     for (std::size_t i = 0; i < nx; ++i) x[i] = (i < static_cast<std::size_t>(n) ? 2.0 : 1.5) * u(rng);
@@ -274,13 +285,16 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
     std::vector<double> Jk(nx * nx);  // the kernel: analytical ∂ID/∂x (gravity, armature, springs, dampers)
     jk.evaluate(0, x.data(), p.data(), nullptr, Jk.data());
     worst_analytical = std::max(worst_analytical, relative(Jk, J, 0));
+    jr.evaluate(0, x.data(), p.data(), nullptr, Jk.data());  // columns solved by the articulated recursion
+    worst_recursive = std::max(worst_recursive, relative(Jk, J, 0));
   }
   std::printf("%-22s n = %2d: aba vs ldlt %.1e; forward-mode jacobian vs central differences %.1e, vs analytical "
-              "kernel %.1e\n",
-              name.c_str(), n, worst_ldlt, worst_fd, worst_analytical);
+              "kernel %.1e, solved by the recursion %.1e\n",
+              name.c_str(), n, worst_ldlt, worst_fd, worst_analytical, worst_recursive);
   EXPECT_LE(worst_ldlt, kTolerance) << name;
   EXPECT_LE(worst_fd, 1e-7) << name;
   EXPECT_LE(worst_analytical, 1e-11) << name;
+  EXPECT_LE(worst_recursive, 1e-11) << name;
 }
 
 TEST(ArticulatedBodyAlgorithm, FixedBaseUnderGravityWithArmatureDampingStiffness) {
@@ -363,6 +377,51 @@ TEST(ArticulatedBodyAlgorithm, AnalyticalJacobianOnEveryBaseAndJointKind) {
   chain.n = 9;
   chain.chain = true;
   check(830, chain, true, true, true);
+}
+
+// A chain long enough that the default solves the Jacobian's columns by the articulated-body recursion (its
+// L is dense, so the LDLᵀ substitutions cost more): the kernel against central differences of rhs and against
+// the same columns solved with the LDLᵀ of M.
+TEST(ArticulatedBodyAlgorithm, LongChainJacobianSolvedByTheRecursion) {
+  std::mt19937_64 rng(1616);
+  tree_ref::RandomSettings rs;
+  rs.n = 16;
+  rs.chain = true;
+  const Tree t = tree_ref::random_tree(rng, rs);
+  const hamel::Model model = hamel::load_model_from_text(tree_ref::yaml(t, "long_chain", "", false), "long_chain.yaml");
+  const std::set<std::string> kernels = {"rhs", "jacobian"};
+  const Built built = build(model, "aba", kernels);
+  const hamel::Kernel& kernel = built.kernels.get("jacobian");
+  EXPECT_NE(kernel.summary.find("articulated-body recursion"), std::string::npos) << kernel.summary;
+  const hamel::KernelSet by_ldlt = hamel::build_kernels(model, built.derivation, kernels, hamel::ColumnSolve::ldlt);
+  EXPECT_EQ(by_ldlt.get("jacobian").summary.find("articulated-body recursion"), std::string::npos);
+  const std::size_t nx = 2 * 16 + 6;
+  hamel::GraphEvaluator f(built.kernels.graph, built.kernels.get("rhs").outputs), jk(built.kernels.graph, kernel.outputs),
+      jl(by_ldlt.graph, by_ldlt.get("jacobian").outputs);
+  const std::vector<double> p = tree_ref::default_parameters(model);
+  std::uniform_real_distribution<double> u(-1, 1);
+  double worst_fd = 0, worst_ldlt = 0;
+  for (int trial = 0; trial < 3; ++trial) {
+    std::vector<double> x(nx), J(nx * nx), Jl(nx * nx), fp(nx), fm(nx), fd(nx * nx);
+    for (std::size_t i = 0; i < nx; ++i) x[i] = (i < 16 ? M_PI : 2.0) * u(rng);
+    jk.evaluate(0, x.data(), p.data(), nullptr, J.data());
+    jl.evaluate(0, x.data(), p.data(), nullptr, Jl.data());
+    for (std::size_t c = 0; c < nx; ++c) {
+      const double h = 1e-6;
+      std::vector<double> xp = x, xm = x;
+      xp[c] += h;
+      xm[c] -= h;
+      f.evaluate(0, xp.data(), p.data(), nullptr, fp.data());
+      f.evaluate(0, xm.data(), p.data(), nullptr, fm.data());
+      for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
+    }
+    worst_fd = std::max(worst_fd, relative(J, fd, 0));
+    worst_ldlt = std::max(worst_ldlt, relative(J, Jl, 0));
+  }
+  std::printf("16-joint chain: jacobian (columns by the recursion) vs central differences %.1e, vs LDL^T columns %.1e\n",
+              worst_fd, worst_ldlt);
+  EXPECT_LE(worst_fd, 1e-7);
+  EXPECT_LE(worst_ldlt, 1e-11);
 }
 
 }  // namespace

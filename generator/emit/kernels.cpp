@@ -28,6 +28,12 @@ constexpr double kPreparedShare = 0.9;
 // (trees differentiate their inverse dynamics analytically at any size).
 constexpr int kSymbolicJacobianLimit = 8000;
 
+// A tree's Jacobian columns are solved by the articulated-body recursion when its program has at most this share
+// of the operations of the LDLᵀ route: per operation it ran 5–13 % slower (docs/benchmarks.md, ab-bench:
+// 0.95 of the operations took 1.03× the time for chain 12, 0.98 took 1.11× for the 30-body tree; 0.88 took
+// 0.89× for chain 16, 0.67 took 0.73× for chain 30).
+constexpr double kRecursiveSolveShare = 0.9;
+
 // u_I' = M⁻¹ f formed exactly at generation time when M is a matrix of numbers (parameters folded and M
 // independent of q: the free rigid body, the satellites in the Lagrange–Poincaré form, the sleigh), with its
 // monomials in the velocities collected: an LDLᵀ at run time would leave its rounding and the cancellation
@@ -83,10 +89,11 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     for (std::size_t k = 0; k < 6; ++k) out[k] = node_of(v[k]);
     return out;
   };
-  const auto dot = [&](const Vec& a, const Vec& b) {
-    int sum = zero;
-    for (std::size_t k = 0; k < 6; ++k) sum = g.binary(Op::add, sum, g.binary(Op::mul, a[k], b[k]));
-    return sum;
+  const auto dot = [&](const Vec& a, const Vec& b) {  // summed in pairs: shorter chains of dependent additions
+    int pair[3];
+    for (std::size_t k = 0; k < 3; ++k)
+      pair[k] = g.binary(Op::add, g.binary(Op::mul, a[2 * k], b[2 * k]), g.binary(Op::mul, a[2 * k + 1], b[2 * k + 1]));
+    return g.binary(Op::add, g.binary(Op::add, pair[0], pair[1]), pair[2]);
   };
   const auto axpy = [&](const Vec& y, const Vec& a, int x) {  // y + a x
     Vec out;
@@ -289,14 +296,15 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       right_sides.push_back(b);
     }
     if (!exact_accel) {
-      // The LDLᵀ of M or (trees) the articulated-body recursion, whichever is asked for or has fewer operations.
+      // The LDLᵀ of M or (trees) the articulated-body recursion: as asked, or the recursion when it is clearly
+      // the smaller program.
       std::vector<std::vector<int>> solved;
       if (id_columns.empty() || column_solve != ColumnSolve::articulated)
         solved = ldlt_solve_columns(g, M, right_sides, eq.factor_last_first);
       if (!id_columns.empty() && column_solve != ColumnSolve::ldlt) {
         std::vector<std::vector<int>> recursive =
             articulated_solve_columns(g, *eq.tree, articulated_factor(*eq.tree, tape), node_of, right_sides);
-        if (solved.empty() || operations(recursive) < operations(solved)) {
+        if (solved.empty() || operations(recursive) <= kRecursiveSolveShare * operations(solved)) {
           solved = std::move(recursive);
           route = "; M^-1 b by the articulated-body recursion";
         }

@@ -190,19 +190,4 @@ std::vector<int> group_invariants(ExpressionGraph& g, const std::vector<int>& ou
 /// parameter-only work is prepared (parameter_frontier) still does per call.
 OpCounts run_time_operations(const ExpressionGraph& g, const std::vector<int>& outputs);
 
-/// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without
-/// pivoting or square roots): no loops or branches in the emitted kernel. M by rows of node indices.
-/// `last_first` eliminates from the last index down (M = LᵀDL): for the mass matrix of a kinematic tree,
-/// whose bodies come after their parents, that creates no fill-in, so structural zeros (bodies on
-/// different branches) stay zero and cost nothing.
-/// `pivots` (if given) receives the d_k, all positive iff M is positive definite.
-std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
-                            bool last_first = false, std::vector<int>* pivots = nullptr);
-
-/// M Y = F for the columns of F with one factorization (as ldlt_solve): the substitutions multiply by the
-/// reciprocal pivots, one division per pivot instead of one per pivot and column. For the Jacobian's
-/// columns and the connection A = L⁻¹K.
-std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::vector<std::vector<int>>& M,
-                                                 const std::vector<std::vector<int>>& columns, bool last_first = false);
-
 }  // namespace hamel

@@ -5,7 +5,6 @@
 #pragma once
 
 #include "derive/derivation.hpp"
-#include "derive/tree_derivatives.hpp"
 #include "emit/expression_graph.hpp"
 #include "model/model.hpp"
 
@@ -58,21 +57,6 @@ enum class ColumnSolve { smaller, ldlt, articulated };
 
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {},
                         ColumnSolve column_solve = ColumnSolve::smaller);
-
-/// The connection A = L⁻¹K of a bundle whose connection is not formed symbolically (kinematic trees): L and K
-/// (blocks of the mass matrix) converted through `node_of`, every column solved with one LDLᵀ of L.
-/// A[α][I] as graph nodes.
-std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo, ProgramConverter& node_of);
-
-/// M y = b for each column b (m + n rows: base directions, then joints) of a kinematic tree's mass matrix, with
-/// the articulated-body recursion in the common frame (derive/tree_derivatives.hpp, ArticulatedFactor
-/// converted through `node_of`). Per column, from the leaves in: μ_i = (b_i − ⟨s_i, p_i⟩) / D_i and
-/// p_λ += p_i + U_i μ_i; the base's m × m block solved for all columns with one LDLᵀ; then outward:
-/// ÿ_i = μ_i − ⟨U_i / D_i, a_λ⟩, a_i = a_λ + s_i ÿ_i. About 50 operations per body and column against about
-/// 2·nnz(L) for the substitutions of an LDLᵀ of M: fewer for long chains, where L is dense.
-std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const TreeRecursion& tree,
-                                                        const ArticulatedFactor& factor, ProgramConverter& node_of,
-                                                        const std::vector<std::vector<int>>& columns);
 
 /// Kernels that would compute with a constant whose exact value is not a finite double (beyond ±1.8e308, or
 /// nonzero and below the smallest double, so it would be printed as HUGE_VAL or 0.0: the mass matrix of

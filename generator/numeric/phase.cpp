@@ -2,6 +2,7 @@
 
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
+#include "emit/linear_solve.hpp"
 #include "model/input_error.hpp"
 
 #include <hamel/runtime/ldlt.hpp>

@@ -1,0 +1,180 @@
+#include "emit/linear_solve.hpp"
+
+#include <array>
+
+namespace hamel {
+
+namespace {
+
+// M = L D Lᵀ (unit lower L) as graph nodes, M in natural order.
+struct LdltFactors {
+  std::vector<std::vector<int>> L;
+  std::vector<int> d;
+};
+
+LdltFactors ldlt_factor(ExpressionGraph& g, const std::vector<std::vector<int>>& M, std::vector<int>* pivots) {
+  const std::size_t n = M.size();
+  LdltFactors F{std::vector<std::vector<int>>(n, std::vector<int>(n, g.constant(0))), std::vector<int>(n)};
+  for (std::size_t j = 0; j < n; ++j) {
+    int dj = M[j][j];
+    for (std::size_t k = 0; k < j; ++k)
+      dj = g.binary(Op::sub, dj, g.binary(Op::mul, g.binary(Op::mul, F.L[j][k], F.L[j][k]), F.d[k]));
+    F.d[j] = dj;
+    if (pivots) pivots->push_back(dj);
+    for (std::size_t i = j + 1; i < n; ++i) {
+      int s = M[i][j];
+      for (std::size_t k = 0; k < j; ++k)
+        s = g.binary(Op::sub, s, g.binary(Op::mul, g.binary(Op::mul, F.L[i][k], F.L[j][k]), F.d[k]));
+      F.L[i][j] = g.binary(Op::div, s, dj);
+    }
+  }
+  return F;
+}
+
+// y = L⁻¹ f, then x = D⁻¹ y − Lᵀ x from the last row up: dividing by d, or multiplying by `inverse` (1/d)
+// when given.
+std::vector<int> ldlt_substitute(ExpressionGraph& g, const LdltFactors& F, const std::vector<int>& f,
+                                 const std::vector<int>* inverse) {
+  const std::size_t n = f.size();
+  std::vector<int> y(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    int s = f[i];
+    for (std::size_t k = 0; k < i; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, F.L[i][k], y[k]));
+    y[i] = s;
+  }
+  std::vector<int> x(n);
+  for (std::size_t i = n; i-- > 0;) {
+    int s = inverse ? g.binary(Op::mul, y[i], (*inverse)[i]) : g.binary(Op::div, y[i], F.d[i]);
+    for (std::size_t k = i + 1; k < n; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, F.L[k][i], x[k]));
+    x[i] = s;
+  }
+  return x;
+}
+
+// P v: v reversed (P the exchange matrix), and P M Pᵀ.
+std::vector<int> reversed(std::vector<int> v) {
+  std::reverse(v.begin(), v.end());
+  return v;
+}
+std::vector<std::vector<int>> reversed(const std::vector<std::vector<int>>& M) {
+  const std::size_t n = M.size();
+  std::vector<std::vector<int>> R(n, std::vector<int>(n));
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = 0; j < n; ++j) R[i][j] = M[n - 1 - i][n - 1 - j];
+  return R;
+}
+
+}  // namespace
+
+// Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
+// square roots): no loops or branches are left in the emitted kernel. With `last_first`, the same
+// factorization of the reversed system, P M Pᵀ (P y) = P f.
+std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
+                            bool last_first, std::vector<int>* pivots) {
+  if (last_first) return reversed(ldlt_solve(g, reversed(M), reversed(f), false, pivots));
+  return ldlt_substitute(g, ldlt_factor(g, M, pivots), f, nullptr);
+}
+
+std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::vector<std::vector<int>>& M,
+                                                 const std::vector<std::vector<int>>& columns, bool last_first) {
+  if (last_first) {
+    std::vector<std::vector<int>> flipped;
+    for (const std::vector<int>& f : columns) flipped.push_back(reversed(f));
+    std::vector<std::vector<int>> out = ldlt_solve_columns(g, reversed(M), flipped, false);
+    for (std::vector<int>& x : out) x = reversed(x);
+    return out;
+  }
+  const LdltFactors F = ldlt_factor(g, M, nullptr);
+  std::vector<int> inverse;
+  for (int d : F.d) inverse.push_back(g.binary(Op::div, g.constant(1), d));
+  std::vector<std::vector<int>> out;
+  for (const std::vector<int>& f : columns) out.push_back(ldlt_substitute(g, F, f, &inverse));
+  return out;
+}
+
+std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo, ProgramConverter& node_of) {
+  const unsigned m = geo.L.rows(), n = geo.K.cols();
+  std::vector<std::vector<int>> L(m, std::vector<int>(m)), K(n, std::vector<int>(m));
+  for (unsigned a = 0; a < m; ++a)
+    for (unsigned c = 0; c < m; ++c) L[a][c] = node_of(geo.L(a, c));
+  for (unsigned I = 0; I < n; ++I)
+    for (unsigned a = 0; a < m; ++a) K[I][a] = node_of(geo.K(a, I));
+  const std::vector<std::vector<int>> columns = ldlt_solve_columns(g, L, K);
+  std::vector<std::vector<int>> A(m, std::vector<int>(n));
+  for (unsigned a = 0; a < m; ++a)
+    for (unsigned I = 0; I < n; ++I) A[a][I] = columns[I][a];
+  return A;
+}
+
+std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const TreeRecursion& tree,
+                                                        const ArticulatedFactor& factor, ProgramConverter& node_of,
+                                                        const std::vector<std::vector<int>>& columns) {
+  using Vec = std::array<int, 6>;
+  const std::size_t N = tree.parent.size(), m = tree.base.size();
+  const int zero = g.constant(0);
+  const auto nodes = [&](const spatial::Vec6& v) {
+    Vec out;
+    for (std::size_t k = 0; k < 6; ++k) out[k] = node_of(v[k]);
+    return out;
+  };
+  const auto dot = [&](const Vec& a, const Vec& b) {  // summed in pairs: shorter chains of dependent additions
+    int pair[3];
+    for (std::size_t k = 0; k < 3; ++k)
+      pair[k] = g.binary(Op::add, g.binary(Op::mul, a[2 * k], b[2 * k]), g.binary(Op::mul, a[2 * k + 1], b[2 * k + 1]));
+    return g.binary(Op::add, g.binary(Op::add, pair[0], pair[1]), pair[2]);
+  };
+  const auto axpy = [&](const Vec& y, const Vec& a, int x) {  // y + a x
+    Vec out;
+    for (std::size_t k = 0; k < 6; ++k) out[k] = g.binary(Op::add, y[k], g.binary(Op::mul, a[k], x));
+    return out;
+  };
+  std::vector<Vec> s(N), U(N), W(N), e(m);  // W_i = U_i / D_i
+  std::vector<int> inverse_D(N, zero);
+  for (std::size_t i = 1; i < N; ++i) {
+    s[i] = nodes(tree.frame.axis[i]);
+    U[i] = nodes(factor.U[i]);
+    inverse_D[i] = node_of(factor.inverse_pivot[i]);
+    for (std::size_t k = 0; k < 6; ++k) W[i][k] = g.binary(Op::mul, U[i][k], inverse_D[i]);
+  }
+  for (std::size_t alpha = 0; alpha < m; ++alpha) e[alpha] = nodes(tree.base[alpha]);
+  const Vec none = {zero, zero, zero, zero, zero, zero};
+
+  // Inward, per column: μ_i and the base's right-hand side.
+  std::vector<std::vector<int>> mu(columns.size(), std::vector<int>(N, zero)), base_rhs(columns.size());
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    const std::vector<int>& b = columns[c];
+    std::vector<Vec> p(N, none);
+    for (std::size_t i = N; i-- > 1;) {
+      mu[c][i] = g.binary(Op::mul, g.binary(Op::sub, b[m + i - 1], dot(s[i], p[i])), inverse_D[i]);
+      const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+      if (l == 0 && m == 0) continue;
+      const Vec pi = axpy(p[i], U[i], mu[c][i]);
+      for (std::size_t k = 0; k < 6; ++k) p[l][k] = g.binary(Op::add, p[l][k], pi[k]);
+    }
+    for (std::size_t alpha = 0; alpha < m; ++alpha) base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
+  }
+  std::vector<std::vector<int>> base_rate(columns.size());
+  if (m > 0) {
+    std::vector<std::vector<int>> A(m, std::vector<int>(m));
+    for (std::size_t alpha = 0; alpha < m; ++alpha)
+      for (std::size_t beta = 0; beta < m; ++beta) A[alpha][beta] = node_of(factor.base_inertia[alpha][beta]);
+    base_rate = ldlt_solve_columns(g, A, base_rhs);
+  }
+
+  // Outward: the base's acceleration (zero on a fixed base: M carries no gravity), then the joints'.
+  std::vector<std::vector<int>> out(columns.size());
+  for (std::size_t c = 0; c < columns.size(); ++c) {
+    std::vector<Vec> a(N, none);
+    for (std::size_t alpha = 0; alpha < m; ++alpha) a[0] = axpy(a[0], e[alpha], base_rate[c][alpha]);
+    out[c] = base_rate[c];
+    for (std::size_t i = 1; i < N; ++i) {
+      const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+      const int rate = g.binary(Op::sub, mu[c][i], dot(W[i], a[l]));
+      out[c].push_back(rate);
+      a[i] = axpy(a[l], s[i], rate);
+    }
+  }
+  return out;
+}
+
+}  // namespace hamel

@@ -110,7 +110,20 @@ ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape
   return f;
 }
 
-std::vector<std::vector<ex>> inverse_dynamics_jacobian(const TreeRecursion& t, Intermediates& tape) {
+std::vector<std::vector<ex>> InverseDynamicsJacobian::dense(const TreeRecursion& t) const {
+  const std::size_t m = t.base.size();
+  std::vector<std::vector<ex>> columns = rows;
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    const std::size_t K = inward_body[k];
+    if (K == 0) continue;
+    for (std::size_t beta = 0; beta < m; ++beta) columns[k][beta] += dot(t.base[beta], inward[k]);
+    for (int i = t.parent[K]; i > 0; i = t.parent[static_cast<std::size_t>(i)])
+      columns[k][m + static_cast<std::size_t>(i) - 1] += dot(t.frame.axis[static_cast<std::size_t>(i)], inward[k]);
+  }
+  return columns;
+}
+
+InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Intermediates& tape) {
   Namer name(tape);
   const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1, d = m + n;
 
@@ -175,22 +188,21 @@ std::vector<std::vector<ex>> inverse_dynamics_jacobian(const TreeRecursion& t, I
       if (static_cast<std::size_t>(j) == k) return true;
     return false;
   };
-  // Column of a joint K (body index): its rows I in K's subtree by `inside`, ancestors by ⟨s_I, Δ⟩, the base's
-  // rows by ⟨e_β, Δ⟩.
+  // Column of a joint K (body index): its rows I in K's subtree by `inside`; its ancestors' and the base's rows
+  // see the force Δ K's subtree passes inward.
+  InverseDynamicsJacobian out;
   const auto joint_column = [&](std::size_t K, const Vec6& Delta, const auto& inside) {
     std::vector<ex> column(d, ex(0));
-    for (std::size_t beta = 0; beta < m; ++beta) column[beta] = dot(t.base[beta], Delta);
-    for (std::size_t i = 1; i < N; ++i) {
+    for (std::size_t i = 1; i < N; ++i)
       if (in_subtree(i, K)) column[m + i - 1] = inside(i);
-      else if (in_subtree(K, i)) column[m + i - 1] = dot(s[i], Delta);
-    }
-    return column;
+    out.rows.push_back(column);
+    out.inward_body.push_back(K);
+    out.inward.push_back(Delta);
   };
 
-  std::vector<std::vector<ex>> columns;
   std::vector<ex> state;
   for (std::size_t K = 1; K < N; ++K) {
-    columns.push_back(joint_column(K, delta[K], [&](std::size_t i) { return dot(u[i], c[K]) + dot(b[i], psi[K]); }));
+    joint_column(K, delta[K], [&](std::size_t i) { return dot(u[i], c[K]) + dot(b[i], psi[K]); });
     state.push_back(t.coordinates[K - 1]);
   }
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
@@ -201,21 +213,22 @@ std::vector<std::vector<ex>> inverse_dynamics_jacobian(const TreeRecursion& t, I
     const Vec6 base_rows = Ic[0](psi0) + B(0, e);
     for (std::size_t beta = 0; beta < m; ++beta) column[beta] = dot(t.base[beta], base_rows);
     for (std::size_t i = 1; i < N; ++i) column[m + i - 1] = dot(u[i], psi0) + dot(b[i], e);
-    columns.push_back(column);
+    out.rows.push_back(column);
+    out.inward_body.push_back(0);
+    out.inward.push_back(zero6());
     state.push_back(t.base_velocity[alpha]);
   }
   for (std::size_t K = 1; K < N; ++K) {
-    columns.push_back(
-        joint_column(K, delta_rate[K], [&](std::size_t i) { return 2 * dot(u[i], psi[K]) + dot(b[i], s[K]); }));
+    joint_column(K, delta_rate[K], [&](std::size_t i) { return 2 * dot(u[i], psi[K]) + dot(b[i], s[K]); });
     state.push_back(t.rates[K - 1]);
   }
 
   // The joint forces: ID_I = ⟨s_I, Fᶜ_I⟩ + armature_I u̇_I − τ_I.
-  for (std::size_t k = 0; k < columns.size(); ++k) {
+  for (std::size_t k = 0; k < out.rows.size(); ++k) {
     const GiNaC::symbol& x = GiNaC::ex_to<GiNaC::symbol>(state[k]);
-    for (std::size_t i = 0; i < n; ++i) columns[k][m + i] -= tape.diff(t.joint_force[i], x);
+    for (std::size_t i = 0; i < n; ++i) out.rows[k][m + i] -= tape.diff(t.joint_force[i], x);
   }
-  return columns;
+  return out;
 }
 
 }  // namespace hamel

@@ -69,9 +69,19 @@ struct ArticulatedFactor {
 /// The factor of `tree`'s mass matrix, new definitions added to `tape`.
 ArticulatedFactor articulated_factor(const TreeRecursion& tree, Intermediates& tape);
 
-/// ∂ID/∂x for the state x = (r, ξ, ṙ): column k holds the m + n rows (base directions, then joints) of the
-/// derivative with respect to x_k, in the intermediates of `tape` (new definitions are added to it), at u̇ =
-/// tree.accelerations.
-std::vector<std::vector<GiNaC::ex>> inverse_dynamics_jacobian(const TreeRecursion& tree, Intermediates& tape);
+/// ∂ID/∂x for the state x = (r, ξ, ṙ), one column per x_k, in the intermediates of `tape` (new definitions are
+/// added to it), at u̇ = tree.accelerations. The m + n rows (base directions, then joints) of column k are
+/// `rows[k]` plus, when inward_body[k] = K > 0 (the columns of K's joint angle and rate), ⟨s_I, inward[k]⟩ on
+/// the rows of K's strict ancestors I and ⟨e_α, inward[k]⟩ on the base's: the force K's subtree passes inward
+/// (Δ_K or Δ'_K). A recursive solve takes that force as it is (emit/linear_solve.hpp); dense() adds its rows.
+struct InverseDynamicsJacobian {
+  std::vector<std::vector<GiNaC::ex>> rows;
+  std::vector<std::size_t> inward_body;
+  std::vector<spatial::Vec6> inward;
+  /// The full columns: `rows` with the inward forces' rows added.
+  std::vector<std::vector<GiNaC::ex>> dense(const TreeRecursion& tree) const;
+};
+
+InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& tree, Intermediates& tape);
 
 }  // namespace hamel

@@ -185,8 +185,9 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
     column.resize(nx);
     // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
     // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
-    const std::vector<std::vector<GiNaC::ex>> id_columns =
-        eq.tree && !exact_accel ? inverse_dynamics_jacobian(*eq.tree, tape) : std::vector<std::vector<GiNaC::ex>>{};
+    std::optional<InverseDynamicsJacobian> id;
+    if (eq.tree && !exact_accel) id = inverse_dynamics_jacobian(*eq.tree, tape);
+    const std::vector<std::vector<GiNaC::ex>> id_columns = id ? id->dense(*eq.tree) : std::vector<std::vector<GiNaC::ex>>{};
     std::vector<std::vector<int>> right_sides;  // M d(u')/dx_k = b_k, all solved with one factorization
     for (std::size_t k = 0; k < nx; ++k) {
       const GiNaC::ex& x_k = state_symbols[k];
@@ -218,8 +219,18 @@ KernelSet build_kernels(const Model& model, const Derivation& derivation, const 
       if (id_columns.empty() || column_solve != ColumnSolve::articulated)
         solved = ldlt_solve_columns(g, M, right_sides, eq.factor_last_first);
       if (!id_columns.empty() && column_solve != ColumnSolve::ldlt) {
+        // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force.
+        std::vector<std::vector<int>> own_rows;
+        std::vector<InwardForce> inward;
+        for (std::size_t k = 0; k < nx; ++k) {
+          own_rows.emplace_back();
+          for (const GiNaC::ex& r : id->rows[k]) own_rows.back().push_back(node_of(-r));
+          InwardForce f{id->inward_body[k], {}};
+          for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of(id->inward[k][c]);
+          inward.push_back(f);
+        }
         std::vector<std::vector<int>> recursive =
-            articulated_solve_columns(g, *eq.tree, articulated_factor(*eq.tree, tape), node_of, right_sides);
+            articulated_solve_columns(g, *eq.tree, articulated_factor(*eq.tree, tape), node_of, own_rows, inward);
         if (solved.empty() || operations(recursive) <= kRecursiveSolveShare * operations(solved)) {
           solved = std::move(recursive);
           route = "; M^-1 b by the articulated-body recursion";

@@ -108,7 +108,8 @@ std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const Bundle
 
 std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const TreeRecursion& tree,
                                                         const ArticulatedFactor& factor, ProgramConverter& node_of,
-                                                        const std::vector<std::vector<int>>& columns) {
+                                                        const std::vector<std::vector<int>>& columns,
+                                                        const std::vector<InwardForce>& inward) {
   using Vec = std::array<int, 6>;
   const std::size_t N = tree.parent.size(), m = tree.base.size();
   const int zero = g.constant(0);
@@ -144,6 +145,9 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
   for (std::size_t c = 0; c < columns.size(); ++c) {
     const std::vector<int>& b = columns[c];
     std::vector<Vec> p(N, none);
+    // b_I = −⟨s_I, F⟩ on the ancestors of the force's body: μ_I = (b_I − ⟨s_I, p_I⟩) / D_I with p_I + F in place
+    // of p_I, and F passes inward with p unchanged.
+    if (!inward.empty() && inward[c].body > 0) p[static_cast<std::size_t>(tree.parent[inward[c].body])] = inward[c].force;
     for (std::size_t i = N; i-- > 1;) {
       mu[c][i] = g.binary(Op::mul, g.binary(Op::sub, b[m + i - 1], dot(s[i], p[i])), inverse_D[i]);
       const std::size_t l = static_cast<std::size_t>(tree.parent[i]);

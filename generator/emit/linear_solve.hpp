@@ -7,6 +7,7 @@
 #include "derive/tree_derivatives.hpp"
 #include "emit/expression_graph.hpp"
 
+#include <array>
 #include <vector>
 
 namespace hamel {
@@ -31,14 +32,24 @@ std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::
 /// A[α][I] as graph nodes.
 std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo, ProgramConverter& node_of);
 
+/// A force a right-hand side passes inward from a body (InverseDynamicsJacobian::inward): beyond its listed
+/// rows, b holds −⟨s_I, force⟩ on the rows of the body's strict ancestors I and −⟨e_α, force⟩ on the base's.
+/// body 0: none.
+struct InwardForce {
+  std::size_t body = 0;
+  std::array<int, 6> force{};
+};
+
 /// M y = b for each column b (m + n rows: base directions, then joints) of a kinematic tree's mass matrix, with
 /// the articulated-body recursion in the common frame (derive/tree_derivatives.hpp, ArticulatedFactor
 /// converted through `node_of`). Per column, from the leaves in: μ_i = (b_i − ⟨s_i, p_i⟩) / D_i and
 /// p_λ += p_i + U_i μ_i; the base's m × m block solved for all columns with one LDLᵀ; then outward:
 /// ÿ_i = μ_i − ⟨U_i / D_i, a_λ⟩, a_i = a_λ + s_i ÿ_i. About 50 operations per body and column against about
-/// 2·nnz(L) for the substitutions of an LDLᵀ of M: fewer for long chains, where L is dense.
+/// 2·nnz(L) for the substitutions of an LDLᵀ of M: fewer for long chains, where L is dense. A column's
+/// `inward` force (if given, one per column) starts p at the body's parent: its ancestors' rows cost nothing.
 std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const TreeRecursion& tree,
                                                         const ArticulatedFactor& factor, ProgramConverter& node_of,
-                                                        const std::vector<std::vector<int>>& columns);
+                                                        const std::vector<std::vector<int>>& columns,
+                                                        const std::vector<InwardForce>& inward = {});
 
 }  // namespace hamel

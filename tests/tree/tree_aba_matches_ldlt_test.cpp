@@ -58,6 +58,25 @@ double relative(const std::vector<double>& a, const std::vector<double>& b, std:
   return std::sqrt(diff / std::max(norm, 1e-300));
 }
 
+// Central differences (step 1e-6) of the rhs `f` in the state (`in_inputs` false) or in the inputs at (x, in):
+// fd[r · columns + c] = ∂out_r/∂(x or in)_c.
+std::vector<double> central_differences(hamel::GraphEvaluator& f, std::size_t rows, const std::vector<double>& x,
+                                        const std::vector<double>& p, const std::vector<double>& in,
+                                        bool in_inputs = false) {
+  const std::size_t columns = in_inputs ? in.size() : x.size();
+  const double h = 1e-6;
+  std::vector<double> fd(rows * columns), fp(rows), fm(rows);
+  for (std::size_t c = 0; c < columns; ++c) {
+    std::vector<double> xp = x, xm = x, ip = in, im = in;
+    (in_inputs ? ip : xp)[c] += h;
+    (in_inputs ? im : xm)[c] -= h;
+    f.evaluate(0, xp.data(), p.data(), ip.data(), fp.data());
+    f.evaluate(0, xm.data(), p.data(), im.data(), fm.data());
+    for (std::size_t r = 0; r < rows; ++r) fd[r * columns + c] = (fp[r] - fm[r]) / (2 * h);
+  }
+  return fd;
+}
+
 // Joint forces of `extra` (see the TEST below) as the reference computes them.
 VX joint_forces(int n, bool forced, bool potential, const VX& q, const VX& qd, const std::vector<double>& in) {
   VX f = VX::Zero(n);
@@ -149,18 +168,10 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     std::vector<double> Jc(nx * nx), Jr(nx * nx);
     jc.evaluate(0, x.data(), p.data(), in.data(), Jc.data());
     hamel::GraphEvaluator(recursive.graph, recursive.get("jacobian").outputs).evaluate(0, x.data(), p.data(), in.data(), Jr.data());
-    std::vector<double> J(nx * nx), Js(nx * nx), fp(nx), fm(nx), fd(nx * nx);
+    std::vector<double> J(nx * nx), Js(nx * nx);
     ja.evaluate(0, x.data(), p.data(), in.data(), J.data());
     jl.evaluate(0, x.data(), p.data(), in.data(), Js.data());
-    for (std::size_t c = 0; c < nx; ++c) {
-      const double h = 1e-6;
-      std::vector<double> xp = x, xm = x;
-      xp[c] += h;
-      xm[c] -= h;
-      fl.evaluate(0, xp.data(), p.data(), in.data(), fp.data());  // differences of the other path's rhs
-      fl.evaluate(0, xm.data(), p.data(), in.data(), fm.data());
-      for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
-    }
+    const std::vector<double> fd = central_differences(fl, nx, x, p, in);  // of the other path's rhs
     worst_fd = std::max(worst_fd, relative(J, fd, 0));
     worst_sym = std::max(worst_sym, relative(J, Js, 0));
     worst_kernel = std::max(worst_kernel, relative(Jk, Js, 0));
@@ -174,16 +185,8 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     lin.evaluate(0, x.data(), p.data(), in.data(), AB.data());
     const std::vector<double> A(AB.begin(), AB.begin() + static_cast<std::ptrdiff_t>(nx * nx));
     worst_linearization = std::max(worst_linearization, relative(A, J, 0));
-    std::vector<double> B(AB.begin() + static_cast<std::ptrdiff_t>(nx * nx), AB.end()), fdB(nx * ni);
-    for (std::size_t c = 0; c < ni; ++c) {
-      const double h = 1e-6;
-      std::vector<double> ip = in, im = in;
-      ip[c] += h;
-      im[c] -= h;
-      fl.evaluate(0, x.data(), p.data(), ip.data(), fp.data());
-      fl.evaluate(0, x.data(), p.data(), im.data(), fm.data());
-      for (std::size_t r = 0; r < nx; ++r) fdB[r * ni + c] = (fp[r] - fm[r]) / (2 * h);
-    }
+    const std::vector<double> B(AB.begin() + static_cast<std::ptrdiff_t>(nx * nx), AB.end());
+    const std::vector<double> fdB = central_differences(fl, nx, x, p, in, true);
     if (ni > 0) worst_inputs = std::max(worst_inputs, relative(B, fdB, 0));
   }
   std::printf("%-22s n = %2d: aba vs ldlt %.1e, vs Newton-Euler %.1e", name.c_str(), n, worst_ldlt, worst_ref);
@@ -266,21 +269,13 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
   std::uniform_real_distribution<double> u(-1, 1);
   double worst_ldlt = 0, worst_fd = 0, worst_analytical = 0, worst_recursive = 0;
   for (int trial = 0; trial < 5; ++trial) {
-    std::vector<double> x(nx), a(nx), l(nx), J(nx * nx), fp(nx), fm(nx), fd(nx * nx);
+    std::vector<double> x(nx), a(nx), l(nx), J(nx * nx);
     for (std::size_t i = 0; i < nx; ++i) x[i] = (i < static_cast<std::size_t>(n) ? 2.0 : 1.5) * u(rng);
     fa.evaluate(0, x.data(), p.data(), nullptr, a.data());
     fl.evaluate(0, x.data(), p.data(), nullptr, l.data());
     worst_ldlt = std::max(worst_ldlt, relative(a, l, static_cast<std::size_t>(n)));
     ja.evaluate(0, x.data(), p.data(), nullptr, J.data());
-    for (std::size_t c = 0; c < nx; ++c) {
-      const double h = 1e-6;
-      std::vector<double> xp = x, xm = x;
-      xp[c] += h;
-      xm[c] -= h;
-      fl.evaluate(0, xp.data(), p.data(), nullptr, fp.data());
-      fl.evaluate(0, xm.data(), p.data(), nullptr, fm.data());
-      for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
-    }
+    const std::vector<double> fd = central_differences(fl, nx, x, p, {});
     worst_fd = std::max(worst_fd, relative(J, fd, 0));
     std::vector<double> Jk(nx * nx);  // the kernel: analytical ∂ID/∂x (gravity, armature, springs, dampers)
     jk.evaluate(0, x.data(), p.data(), nullptr, Jk.data());
@@ -402,19 +397,11 @@ TEST(ArticulatedBodyAlgorithm, LongChainJacobianSolvedByTheRecursion) {
   std::uniform_real_distribution<double> u(-1, 1);
   double worst_fd = 0, worst_ldlt = 0;
   for (int trial = 0; trial < 3; ++trial) {
-    std::vector<double> x(nx), J(nx * nx), Jl(nx * nx), fp(nx), fm(nx), fd(nx * nx);
+    std::vector<double> x(nx), J(nx * nx), Jl(nx * nx);
     for (std::size_t i = 0; i < nx; ++i) x[i] = (i < 16 ? M_PI : 2.0) * u(rng);
     jk.evaluate(0, x.data(), p.data(), nullptr, J.data());
     jl.evaluate(0, x.data(), p.data(), nullptr, Jl.data());
-    for (std::size_t c = 0; c < nx; ++c) {
-      const double h = 1e-6;
-      std::vector<double> xp = x, xm = x;
-      xp[c] += h;
-      xm[c] -= h;
-      f.evaluate(0, xp.data(), p.data(), nullptr, fp.data());
-      f.evaluate(0, xm.data(), p.data(), nullptr, fm.data());
-      for (std::size_t r = 0; r < nx; ++r) fd[r * nx + c] = (fp[r] - fm[r]) / (2 * h);
-    }
+    const std::vector<double> fd = central_differences(f, nx, x, p, {});
     worst_fd = std::max(worst_fd, relative(J, fd, 0));
     worst_ldlt = std::max(worst_ldlt, relative(J, Jl, 0));
   }

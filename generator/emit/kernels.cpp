@@ -32,7 +32,7 @@ constexpr int kSymbolicJacobianLimit = 8000;
 // A tree's Jacobian columns are solved by the articulated-body recursion when its program has at most this share
 // of the operations of the LDLᵀ route: per operation it ran 5–13 % slower (docs/benchmarks.md, ab-bench:
 // 0.95 of the operations took 1.03× the time for chain 12, 0.98 took 1.11× for the 30-body tree; 0.88 took
-// 0.89× for chain 16, 0.67 took 0.73× for chain 30).
+// 0.89× for chain 16, 0.67 took 0.73× for chain 30; measured before the inward forces).
 constexpr double kRecursiveSolveShare = 0.9;
 
 // u_I' = M⁻¹ f formed exactly at generation time when M is a matrix of numbers (parameters folded and M

@@ -40,6 +40,12 @@ struct KernelSet {
   const Kernel& get(const std::string& name) const;
 };
 
+/// How a kinematic tree's Jacobian solves M y = b for its columns: with the LDLᵀ of M (about 2·nnz(L) operations
+/// per column, few for bushy trees), with the articulated-body recursion (articulated_solve_columns, about 50
+/// per body and column, fewer for long chains), or (the default) the recursion when its program has at most 0.9
+/// of the other's operations (per operation it runs slower). Other models always use the LDLᵀ.
+enum class ColumnSolve { smaller, ldlt, articulated };
+
 /// Kernel ABI: every kernel is `void name(real t, const real* x, const real* p, const real* in, real* out)`
 /// with the state x = (q^1..q^n, u^I...), parameters p in file order and inputs in file order.
 /// `only` (if not empty) selects kernels by name (emit/kernel_registry.hpp); the others are left out of the
@@ -48,13 +54,7 @@ struct KernelSet {
 /// derivatives, the linearizations, the tree connection's solves, the prepared kernels). Built only when
 /// `only` names them (the registry's on-request kernels): `linearization` (A and B of the linearized state
 /// equations, forward mode through rhs) and `riemann_linearization` (only for unconstrained models in general
-/// coordinates with L = ½ g q̇q̇ − V).
-/// How a kinematic tree's Jacobian solves M y = b for its columns: with the LDLᵀ of M (about 2·nnz(L) operations
-/// per column, few for bushy trees), with the articulated-body recursion (articulated_solve_columns, about 50
-/// per body and column, fewer for long chains), or (the default) the recursion when its program has at most 0.9
-/// of the other's operations (per operation it runs slower). Other models always use the LDLᵀ.
-enum class ColumnSolve { smaller, ldlt, articulated };
-
+/// coordinates with L = ½ g q̇q̇ − V). `column_solve`: how a tree's Jacobian columns are solved.
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {},
                         ColumnSolve column_solve = ColumnSolve::smaller);
 

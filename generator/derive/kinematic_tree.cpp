@@ -177,10 +177,7 @@ void articulated_body(TreeProgram& prog, const BodyFrames& b, const std::vector<
     const std::size_t p = static_cast<std::size_t>(b.parent[i]);
     if (p == 0 && m == 0) continue;  // a fixed base takes no articulated inertia: nothing solves for it
     // 𝕀ᵃ = 𝕀ᴬ − U Uᵀ / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + U u / D, moved to the parent's frame.
-    Mat6 Ia;
-    for (std::size_t r = 0; r < 6; ++r)
-      for (std::size_t k = r; k < 6; ++k) Ia[r][k] = Ia[k][r] = IA[i][r][k] - U[i][r] * U[i][k] * inverse_D[i];
-    Ia = prog.name_symmetric(Ia);
+    const Mat6 Ia = prog.name_symmetric(articulated_remainder(IA[i], U[i], inverse_D[i]));
     const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + U[i] * prog.name(u[i] * inverse_D[i]));
     for (int k = 0; k < 6; ++k) {
       const Vec6 col = b.link[i].to_parent(times(Ia, b.link[i].to_child(unit6(k))));

@@ -89,6 +89,14 @@ inline Mat6 operator+(const Mat6& a, const Mat6& b) {
   for (std::size_t r = 0; r < 6; ++r) c[r] = a[r] + b[r];
   return c;
 }
+// What an articulated inertia 𝕀ᴬ (symmetric) passes to its body's parent: 𝕀ᴬ − U Uᵀ / D, with U = 𝕀ᴬ s and
+// inverse_D = 1 / D (Featherstone's 𝕀ᵃ).
+inline Mat6 articulated_remainder(const Mat6& IA, const Vec6& U, const ex& inverse_D) {
+  Mat6 out;
+  for (std::size_t r = 0; r < 6; ++r)
+    for (std::size_t k = r; k < 6; ++k) out[r][k] = out[k][r] = IA[r][k] - U[r] * U[k] * inverse_D;
+  return out;
+}
 inline Vec3 operator+(const Vec3& a, const Vec3& b) { return {a[0] + b[0], a[1] + b[1], a[2] + b[2]}; }
 inline Vec3 operator-(const Vec3& a, const Vec3& b) { return {a[0] - b[0], a[1] - b[1], a[2] - b[2]}; }
 inline Vec3 operator*(const Mat3& m, const Vec3& v) {
@@ -137,6 +145,14 @@ struct Inertia {
     const Vec3 w = angular(x), v = linear(x);
     const Vec3 hv = cross(h, v), hw = cross(h, w);
     return join(J * w + hv, {m * v[0] - hw[0], m * v[1] - hw[1], m * v[2] - hw[2]});
+  }
+  Mat6 matrix() const {  // column k: 𝕀 e_k
+    Mat6 out;
+    for (std::size_t k = 0; k < 6; ++k) {
+      const Vec6 column = (*this)(unit6(static_cast<int>(k)));
+      for (std::size_t r = 0; r < 6; ++r) out[r][k] = column[r];
+    }
+    return out;
   }
   void add(const Inertia& o) {
     m += o.m;

@@ -79,10 +79,7 @@ ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape
   std::vector<Mat6> IA(N);
   std::vector<bool> inner(N, false);  // has children: its 𝕀ᴬ is a sum, named
   for (std::size_t i = 0; i < N; ++i) {
-    for (std::size_t k = 0; k < 6; ++k) {
-      const Vec6 column = t.frame.inertia[i](unit6(static_cast<int>(k)));
-      for (std::size_t r = 0; r < 6; ++r) IA[i][r][k] = column[r];
-    }
+    IA[i] = t.frame.inertia[i].matrix();
     if (i > 0) inner[static_cast<std::size_t>(t.parent[i])] = true;
   }
   ArticulatedFactor f;
@@ -94,11 +91,7 @@ ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape
     const ex inverse_D = f.inverse_pivot[i] = name(1 / name(dot(s[i], U) + t.armature[i - 1]));
     const std::size_t l = static_cast<std::size_t>(t.parent[i]);
     if (l == 0 && m == 0) continue;  // a fixed base takes nothing
-    for (std::size_t r = 0; r < 6; ++r)
-      for (std::size_t k = r; k < 6; ++k) {
-        IA[l][r][k] += IA[i][r][k] - U[r] * U[k] * inverse_D;
-        if (k != r) IA[l][k][r] = IA[l][r][k];
-      }
+    IA[l] = IA[l] + articulated_remainder(IA[i], U, inverse_D);
   }
   if (m > 0) {
     IA[0] = name.symmetric(IA[0]);

@@ -10,7 +10,7 @@ namespace double_pendulum {
 
 namespace {
 
-/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[4], pivots[2]  ops: 10 add, 30 mul, 3 div, 4 call */
+/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[4], pivots[2]  ops: 10 add, 29 mul, 3 div, 4 call */
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
   (void)in;
@@ -41,32 +41,31 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
   const real w24 = w22 * p[0];
   const real w25 = w23 + w24;
   const real w26 = w21 / w25;
-  const real w27 = x[2] * x[2];
-  const real w28 = w12 * w27;
-  const real w29 = p[1] * p[3];
-  const real w30 = p[4] * w29;
-  const real w31 = w30 * w6;
-  const real w32 = w28 - w31;
-  const real w33 = w3 * w6;
-  const real w34 = w4 * w10;
-  const real w35 = w33 + w34;
-  const real w36 = w35 / w25;
-  const real w37 = w21 * w36;
-  const real w38 = w32 - w37;
+  const real w27 = w3 * w6;
+  const real w28 = w4 * w10;
+  const real w29 = w27 + w28;
+  const real w30 = w29 / w25;
+  const real w31 = x[2] * x[2];
+  const real w32 = w12 * w31;
+  const real w33 = p[1] * p[3];
+  const real w34 = p[4] * w33;
+  const real w35 = w34 * w6;
+  const real w36 = w32 - w35;
+  const real w37 = w21 * w30;
+  const real w38 = w36 - w37;
   const real w39 = p[3] * p[3];
   const real w40 = p[1] * w39;
-  const real w41 = w36 * w36;
-  const real w42 = w41 * w25;
-  const real w43 = w40 - w42;
-  const real w44 = w38 / w43;
-  const real w45 = w44 * w36;
-  const real w46 = w26 - w45;
+  const real w41 = w29 * w30;
+  const real w42 = w40 - w41;
+  const real w43 = w38 / w42;
+  const real w44 = w30 * w43;
+  const real w45 = w26 - w44;
   out[0] = x[2];  // theta1_dot
   out[1] = x[3];  // theta2_dot
-  out[2] = w46;  // omega1_rate
-  out[3] = w44;  // omega2_rate
+  out[2] = w45;  // omega1_rate
+  out[3] = w43;  // omega2_rate
   pivots[0] = w25;  // pivot 0
-  pivots[1] = w43;  // pivot 1
+  pivots[1] = w42;  // pivot 1
 }
 
 }  // namespace
@@ -154,7 +153,7 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   (void)out;
 }
 
-/* rhs: (t, x[4], p[5], in[0]) -> out[4]  ops: 10 add, 30 mul, 3 div, 4 call */
+/* rhs: (t, x[4], p[5], in[0]) -> out[4]  ops: 10 add, 29 mul, 3 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -185,33 +184,32 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   const real w24 = w22 * p[0];
   const real w25 = w23 + w24;
   const real w26 = w21 / w25;
-  const real w27 = x[2] * x[2];
-  const real w28 = w12 * w27;
-  const real w29 = p[1] * p[3];
-  const real w30 = p[4] * w29;
-  const real w31 = w30 * w6;
-  const real w32 = w28 - w31;
-  const real w33 = w3 * w6;
-  const real w34 = w4 * w10;
-  const real w35 = w33 + w34;
-  const real w36 = w35 / w25;
-  const real w37 = w21 * w36;
-  const real w38 = w32 - w37;
+  const real w27 = w3 * w6;
+  const real w28 = w4 * w10;
+  const real w29 = w27 + w28;
+  const real w30 = w29 / w25;
+  const real w31 = x[2] * x[2];
+  const real w32 = w12 * w31;
+  const real w33 = p[1] * p[3];
+  const real w34 = p[4] * w33;
+  const real w35 = w34 * w6;
+  const real w36 = w32 - w35;
+  const real w37 = w21 * w30;
+  const real w38 = w36 - w37;
   const real w39 = p[3] * p[3];
   const real w40 = p[1] * w39;
-  const real w41 = w36 * w36;
-  const real w42 = w41 * w25;
-  const real w43 = w40 - w42;
-  const real w44 = w38 / w43;
-  const real w45 = w44 * w36;
-  const real w46 = w26 - w45;
+  const real w41 = w29 * w30;
+  const real w42 = w40 - w41;
+  const real w43 = w38 / w42;
+  const real w44 = w30 * w43;
+  const real w45 = w26 - w44;
   out[0] = x[2];  // theta1_dot
   out[1] = x[3];  // theta2_dot
-  out[2] = w46;  // omega1_rate
-  out[3] = w44;  // omega2_rate
+  out[2] = w45;  // omega1_rate
+  out[3] = w43;  // omega2_rate
 }
 
-/* jacobian: (t, x[4], p[5], in[0]) -> out[16]  ops: 28 add, 60 mul, 5 div, 4 call */
+/* jacobian: (t, x[4], p[5], in[0]) -> out[16]  ops: 28 add, 59 mul, 5 div, 4 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -264,54 +262,53 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   const real w46 = w35 - w45;
   const real w47 = p[3] * p[3];
   const real w48 = p[1] * w47;
-  const real w49 = w44 * w44;
-  const real w50 = w49 * w3;
-  const real w51 = w48 - w50;
-  const real w52 = w46 / w51;
-  const real w53 = w28 - w27;
-  const real w54 = w52 * w53;
-  const real w55 = w26 - w54;
-  const real w56 = w4 * w55;
-  const real w57 = real(1.0) / w51;
-  const real w58 = w21 * w30;
-  const real w59 = w43 / w3;
-  const real w60 = w52 * w44;
-  const real w61 = w59 - w60;
-  const real w62 = w61 * w53;
-  const real w63 = w58 - w62;
-  const real w64 = w44 * w55;
-  const real w65 = w63 - w64;
-  const real w66 = w57 * w65;
-  const real w67 = w66 * w44;
-  const real w68 = w56 - w67;
-  const real w69 = w52 * w29;
-  const real w70 = w23 - w69;
-  const real w71 = w4 * w70;
-  const real w72 = w18 * w32;
-  const real w73 = p[4] * w72;
-  const real w74 = w73 + w58;
-  const real w75 = -w74;
-  const real w76 = w29 * w61;
-  const real w77 = w75 - w76;
-  const real w78 = w44 * w70;
-  const real w79 = w77 - w78;
-  const real w80 = w57 * w79;
-  const real w81 = w80 * w44;
-  const real w82 = w71 - w81;
-  const real w83 = w29 * x[2];
-  const real w84 = w83 * real(2.0);
-  const real w85 = w57 * w84;
-  const real w86 = w85 * w44;
-  const real w87 = -w86;
-  const real w88 = x[3] * w29;
-  const real w89 = w88 * real(2.0);
-  const real w90 = -w89;
-  const real w91 = w4 * w90;
-  const real w92 = w44 * w90;
-  const real w93 = -w92;
-  const real w94 = w57 * w93;
-  const real w95 = w94 * w44;
-  const real w96 = w91 - w95;
+  const real w49 = w21 * w44;
+  const real w50 = w48 - w49;
+  const real w51 = w46 / w50;
+  const real w52 = w28 - w27;
+  const real w53 = w51 * w52;
+  const real w54 = w26 - w53;
+  const real w55 = w4 * w54;
+  const real w56 = w21 * w30;
+  const real w57 = w43 / w3;
+  const real w58 = w44 * w51;
+  const real w59 = w57 - w58;
+  const real w60 = w59 * w52;
+  const real w61 = w56 - w60;
+  const real w62 = w44 * w54;
+  const real w63 = w61 - w62;
+  const real w64 = real(1.0) / w50;
+  const real w65 = w63 * w64;
+  const real w66 = w44 * w65;
+  const real w67 = w55 - w66;
+  const real w68 = w29 * w51;
+  const real w69 = w23 - w68;
+  const real w70 = w4 * w69;
+  const real w71 = w18 * w32;
+  const real w72 = p[4] * w71;
+  const real w73 = w72 + w56;
+  const real w74 = -w73;
+  const real w75 = w29 * w59;
+  const real w76 = w74 - w75;
+  const real w77 = w44 * w69;
+  const real w78 = w76 - w77;
+  const real w79 = w78 * w64;
+  const real w80 = w79 * w44;
+  const real w81 = w70 - w80;
+  const real w82 = w29 * x[2];
+  const real w83 = w82 * real(2.0);
+  const real w84 = w64 * w83;
+  const real w85 = w84 * w44;
+  const real w86 = -w85;
+  const real w87 = x[3] * w29;
+  const real w88 = w87 * real(2.0);
+  const real w89 = -w88;
+  const real w90 = w4 * w89;
+  const real w91 = w44 * w89;
+  const real w92 = -w91;
+  const real w93 = w92 * w64;
+  const real w94 = w44 * w93;
+  const real w95 = w90 - w94;
   out[0] = real(0.0);  // dtheta1_dot/dtheta1
   out[1] = real(0.0);  // dtheta1_dot/dtheta2
   out[2] = real(1.0);  // dtheta1_dot/domega1
@@ -320,14 +317,14 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[5] = real(0.0);  // dtheta2_dot/dtheta2
   out[6] = real(0.0);  // dtheta2_dot/domega1
   out[7] = real(1.0);  // dtheta2_dot/domega2
-  out[8] = w68;  // domega1_rate/dtheta1
-  out[9] = w82;  // domega1_rate/dtheta2
-  out[10] = w87;  // domega1_rate/domega1
-  out[11] = w96;  // domega1_rate/domega2
-  out[12] = w66;  // domega2_rate/dtheta1
-  out[13] = w80;  // domega2_rate/dtheta2
-  out[14] = w85;  // domega2_rate/domega1
-  out[15] = w94;  // domega2_rate/domega2
+  out[8] = w67;  // domega1_rate/dtheta1
+  out[9] = w81;  // domega1_rate/dtheta2
+  out[10] = w86;  // domega1_rate/domega1
+  out[11] = w95;  // domega1_rate/domega2
+  out[12] = w65;  // domega2_rate/dtheta1
+  out[13] = w79;  // domega2_rate/dtheta2
+  out[14] = w84;  // domega2_rate/domega1
+  out[15] = w93;  // domega2_rate/domega2
 }
 
 /* energy: (t, x[4], p[5], in[0]) -> out[1]  ops: 7 add, 34 mul, 0 div, 4 call */
@@ -422,7 +419,7 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 
 namespace {
 
-/* prepare_parameters_kernel: (t, x[4], p[5], in[0]) -> out[15]  ops: 1 add, 14 mul, 1 div, 0 call */
+/* prepare_parameters_kernel: (t, x[4], p[5], in[0]) -> out[14]  ops: 1 add, 12 mul, 1 div, 0 call */
 void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)x;
@@ -441,8 +438,6 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   const real w11 = p[4] * w10;
   const real w12 = p[3] * p[3];
   const real w13 = p[1] * w12;
-  const real w14 = w4 * w4;
-  const real w15 = w14 * w3;
   out[0] = p[0];  // m1
   out[1] = p[1];  // m2
   out[2] = p[2];  // l1
@@ -457,7 +452,6 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   out[11] = w10;  // prepared 6
   out[12] = w11;  // prepared 7
   out[13] = w13;  // prepared 8
-  out[14] = w15;  // prepared 9
 }
 
 }  // namespace
@@ -466,7 +460,7 @@ void prepare_parameters(const real* p, real* prepared) {
   prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
 }
 
-/* rhs_prepared: (t, x[4], p[15], in[0]) -> out[4]  ops: 9 add, 22 mul, 1 div, 4 call */
+/* rhs_prepared: (t, x[4], p[14], in[0]) -> out[4]  ops: 9 add, 22 mul, 1 div, 4 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -487,24 +481,24 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   const real w14 = w3 + w13;
   const real w15 = -w14;
   const real w16 = p[6] * w15;
-  const real w17 = w8 * w5;
-  const real w18 = w17 * p[8];
-  const real w19 = w0 * w9;
-  const real w20 = w19 * p[8];
-  const real w21 = w18 + w20;
-  const real w22 = x[2] * x[2];
-  const real w23 = w22 * w12;
-  const real w24 = p[12] * w9;
-  const real w25 = w23 - w24;
-  const real w26 = w21 * w15;
+  const real w17 = x[2] * x[2];
+  const real w18 = w17 * w12;
+  const real w19 = p[12] * w9;
+  const real w20 = w18 - w19;
+  const real w21 = w8 * w5;
+  const real w22 = w21 * p[8];
+  const real w23 = w0 * w9;
+  const real w24 = w23 * p[8];
+  const real w25 = w22 + w24;
+  const real w26 = w25 * w15;
   const real w27 = p[6] * w26;
-  const real w28 = w25 - w27;
-  const real w29 = w21 * w21;
-  const real w30 = p[14] * w29;
+  const real w28 = w20 - w27;
+  const real w29 = w25 * w25;
+  const real w30 = p[6] * w29;
   const real w31 = p[13] - w30;
   const real w32 = w28 / w31;
-  const real w33 = w21 * w32;
-  const real w34 = p[6] * w33;
+  const real w33 = w32 * w25;
+  const real w34 = w33 * p[6];
   const real w35 = w16 - w34;
   out[0] = x[2];  // theta1_dot
   out[1] = x[3];  // theta2_dot
@@ -512,7 +506,7 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[3] = w32;  // omega2_rate
 }
 
-/* jacobian_prepared: (t, x[4], p[15], in[0]) -> out[16]  ops: 27 add, 52 mul, 4 div, 4 call */
+/* jacobian_prepared: (t, x[4], p[14], in[0]) -> out[16]  ops: 27 add, 51 mul, 4 div, 4 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -537,72 +531,71 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   const real w18 = w5 + w17;
   const real w19 = w2 + w18;
   const real w20 = -w19;
-  const real w21 = x[2] * x[2];
+  const real w21 = w12 * w10;
   const real w22 = w9 * w13;
-  const real w23 = w12 * w10;
-  const real w24 = w22 - w23;
-  const real w25 = w21 * w24;
-  const real w26 = p[12] * w10;
-  const real w27 = w25 - w26;
-  const real w28 = w15 / p[5];
-  const real w29 = p[4] * w8;
-  const real w30 = w6 * p[2];
-  const real w31 = w30 * p[0];
-  const real w32 = p[4] * w31;
-  const real w33 = w29 + w32;
-  const real w34 = w16 * w24;
-  const real w35 = w33 + w34;
-  const real w36 = -w35;
-  const real w37 = w28 * w36;
-  const real w38 = w27 - w37;
-  const real w39 = w28 * w28;
-  const real w40 = w39 * p[5];
+  const real w23 = w21 - w22;
+  const real w24 = x[2] * x[2];
+  const real w25 = w22 - w21;
+  const real w26 = w24 * w25;
+  const real w27 = p[12] * w10;
+  const real w28 = w26 - w27;
+  const real w29 = w15 / p[5];
+  const real w30 = p[4] * w8;
+  const real w31 = w6 * p[2];
+  const real w32 = w31 * p[0];
+  const real w33 = p[4] * w32;
+  const real w34 = w30 + w33;
+  const real w35 = w16 * w25;
+  const real w36 = w34 + w35;
+  const real w37 = -w36;
+  const real w38 = w29 * w37;
+  const real w39 = w28 - w38;
+  const real w40 = w29 * w15;
   const real w41 = p[13] - w40;
-  const real w42 = w38 / w41;
-  const real w43 = w23 - w22;
-  const real w44 = w42 * w43;
-  const real w45 = w20 - w44;
-  const real w46 = p[6] * w45;
-  const real w47 = real(1.0) / w41;
-  const real w48 = w15 * w21;
-  const real w49 = w36 / p[5];
-  const real w50 = w42 * w28;
-  const real w51 = w49 - w50;
-  const real w52 = w43 * w51;
-  const real w53 = w48 - w52;
-  const real w54 = w28 * w45;
-  const real w55 = w53 - w54;
-  const real w56 = w47 * w55;
-  const real w57 = w28 * w56;
-  const real w58 = w46 - w57;
-  const real w59 = w42 * w24;
-  const real w60 = w17 - w59;
-  const real w61 = p[6] * w60;
-  const real w62 = p[11] * w13;
-  const real w63 = w62 * p[4];
-  const real w64 = w63 + w48;
-  const real w65 = -w64;
-  const real w66 = w51 * w24;
-  const real w67 = w65 - w66;
-  const real w68 = w28 * w60;
-  const real w69 = w67 - w68;
-  const real w70 = w69 * w47;
-  const real w71 = w28 * w70;
-  const real w72 = w61 - w71;
-  const real w73 = x[2] * w24;
-  const real w74 = w73 * real(2.0);
-  const real w75 = w47 * w74;
-  const real w76 = w28 * w75;
-  const real w77 = -w76;
-  const real w78 = x[3] * w24;
-  const real w79 = w78 * real(2.0);
-  const real w80 = -w79;
-  const real w81 = p[6] * w80;
-  const real w82 = w28 * w80;
-  const real w83 = -w82;
-  const real w84 = w83 * w47;
-  const real w85 = w84 * w28;
-  const real w86 = w81 - w85;
+  const real w42 = w39 / w41;
+  const real w43 = w23 * w42;
+  const real w44 = w20 - w43;
+  const real w45 = w44 * p[6];
+  const real w46 = real(1.0) / w41;
+  const real w47 = w15 * w24;
+  const real w48 = w37 / p[5];
+  const real w49 = w29 * w42;
+  const real w50 = w48 - w49;
+  const real w51 = w23 * w50;
+  const real w52 = w47 - w51;
+  const real w53 = w44 * w29;
+  const real w54 = w52 - w53;
+  const real w55 = w46 * w54;
+  const real w56 = w55 * w29;
+  const real w57 = w45 - w56;
+  const real w58 = w25 * w42;
+  const real w59 = w17 - w58;
+  const real w60 = w59 * p[6];
+  const real w61 = p[11] * w13;
+  const real w62 = w61 * p[4];
+  const real w63 = w62 + w47;
+  const real w64 = -w63;
+  const real w65 = w25 * w50;
+  const real w66 = w64 - w65;
+  const real w67 = w59 * w29;
+  const real w68 = w66 - w67;
+  const real w69 = w46 * w68;
+  const real w70 = w69 * w29;
+  const real w71 = w60 - w70;
+  const real w72 = x[2] * w25;
+  const real w73 = w72 * real(2.0);
+  const real w74 = w46 * w73;
+  const real w75 = w29 * w74;
+  const real w76 = -w75;
+  const real w77 = x[3] * w25;
+  const real w78 = w77 * real(2.0);
+  const real w79 = -w78;
+  const real w80 = p[6] * w79;
+  const real w81 = w29 * w79;
+  const real w82 = -w81;
+  const real w83 = w46 * w82;
+  const real w84 = w29 * w83;
+  const real w85 = w80 - w84;
   out[0] = real(0.0);  // dtheta1_dot/dtheta1
   out[1] = real(0.0);  // dtheta1_dot/dtheta2
   out[2] = real(1.0);  // dtheta1_dot/domega1
@@ -611,14 +604,14 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[5] = real(0.0);  // dtheta2_dot/dtheta2
   out[6] = real(0.0);  // dtheta2_dot/domega1
   out[7] = real(1.0);  // dtheta2_dot/domega2
-  out[8] = w58;  // domega1_rate/dtheta1
-  out[9] = w72;  // domega1_rate/dtheta2
-  out[10] = w77;  // domega1_rate/domega1
-  out[11] = w86;  // domega1_rate/domega2
-  out[12] = w56;  // domega2_rate/dtheta1
-  out[13] = w70;  // domega2_rate/dtheta2
-  out[14] = w75;  // domega2_rate/domega1
-  out[15] = w84;  // domega2_rate/domega2
+  out[8] = w57;  // domega1_rate/dtheta1
+  out[9] = w71;  // domega1_rate/dtheta2
+  out[10] = w76;  // domega1_rate/domega1
+  out[11] = w85;  // domega1_rate/domega2
+  out[12] = w55;  // domega2_rate/dtheta1
+  out[13] = w69;  // domega2_rate/dtheta2
+  out[14] = w74;  // domega2_rate/domega1
+  out[15] = w83;  // domega2_rate/domega2
 }
 
 }  // namespace double_pendulum

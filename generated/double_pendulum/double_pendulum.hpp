@@ -56,9 +56,9 @@ constexpr int n_temporaries_forcing = 28;
 constexpr int n_out_hamel_coefficients = 0;
 constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 4;
-constexpr int n_temporaries_rhs = 47;
+constexpr int n_temporaries_rhs = 46;
 constexpr int n_out_jacobian = 16;
-constexpr int n_temporaries_jacobian = 97;
+constexpr int n_temporaries_jacobian = 96;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 45;
 constexpr int n_out_max = 16;  // the largest out[] of any kernel
@@ -108,16 +108,16 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
 
-// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 47 operations per call, rhs_prepared: 36, prepare_parameters: 16).
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 46 operations per call, rhs_prepared: 36, prepare_parameters: 14).
 // prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
 // <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
 // again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
-constexpr int n_prepared_parameters = 15;
+constexpr int n_prepared_parameters = 14;
 void prepare_parameters(const real* p, real* prepared);
 constexpr int n_temporaries_rhs_prepared = 36;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[4]
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
-constexpr int n_temporaries_jacobian_prepared = 87;
+constexpr int n_temporaries_jacobian_prepared = 86;
 /// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[16]
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
 

@@ -10,7 +10,7 @@ namespace double_pendulum_mass_ratio {
 
 namespace {
 
-/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[4], pivots[2]  ops: 10 add, 36 mul, 3 div, 4 call */
+/* rhs_with_pivots: (t, x[4], p[5], in[0]) -> out[4], pivots[2]  ops: 10 add, 35 mul, 3 div, 4 call */
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
   (void)in;
@@ -61,18 +61,17 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
   const real w44 = p[3] * p[3];
   const real w45 = p[1] * w44;
   const real w46 = w45 * p[0];
-  const real w47 = w33 * w33;
-  const real w48 = w28 * w47;
-  const real w49 = w46 - w48;
-  const real w50 = w43 / w49;
-  const real w51 = w33 * w50;
-  const real w52 = w29 - w51;
+  const real w47 = w33 * w32;
+  const real w48 = w46 - w47;
+  const real w49 = w43 / w48;
+  const real w50 = w33 * w49;
+  const real w51 = w29 - w50;
   out[0] = x[2];  // theta1_dot
   out[1] = x[3];  // theta2_dot
-  out[2] = w52;  // omega1_rate
-  out[3] = w50;  // omega2_rate
+  out[2] = w51;  // omega1_rate
+  out[3] = w49;  // omega2_rate
   pivots[0] = w28;  // pivot 0
-  pivots[1] = w49;  // pivot 1
+  pivots[1] = w48;  // pivot 1
 }
 
 }  // namespace
@@ -168,7 +167,7 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   (void)out;
 }
 
-/* rhs: (t, x[4], p[5], in[0]) -> out[4]  ops: 10 add, 36 mul, 3 div, 4 call */
+/* rhs: (t, x[4], p[5], in[0]) -> out[4]  ops: 10 add, 35 mul, 3 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -219,126 +218,124 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   const real w44 = p[3] * p[3];
   const real w45 = p[1] * w44;
   const real w46 = w45 * p[0];
-  const real w47 = w33 * w33;
-  const real w48 = w28 * w47;
-  const real w49 = w46 - w48;
-  const real w50 = w43 / w49;
-  const real w51 = w33 * w50;
-  const real w52 = w29 - w51;
+  const real w47 = w33 * w32;
+  const real w48 = w46 - w47;
+  const real w49 = w43 / w48;
+  const real w50 = w33 * w49;
+  const real w51 = w29 - w50;
   out[0] = x[2];  // theta1_dot
   out[1] = x[3];  // theta2_dot
-  out[2] = w52;  // omega1_rate
-  out[3] = w50;  // omega2_rate
+  out[2] = w51;  // omega1_rate
+  out[3] = w49;  // omega2_rate
 }
 
-/* jacobian: (t, x[4], p[5], in[0]) -> out[16]  ops: 28 add, 67 mul, 5 div, 4 call */
+/* jacobian: (t, x[4], p[5], in[0]) -> out[16]  ops: 28 add, 66 mul, 5 div, 4 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = p[2] * p[2];
-  const real w1 = p[1] * w0;
+  const real w0 = std::cos(x[0]);
+  const real w1 = p[2] * w0;
   const real w2 = p[0] * w1;
-  const real w3 = w0 * p[0];
-  const real w4 = w2 + w3;
-  const real w5 = real(1.0) / w4;
-  const real w6 = std::cos(x[0]);
+  const real w3 = w2 * p[4];
+  const real w4 = std::sin(x[1]);
+  const real w5 = std::sin(x[0]);
+  const real w6 = w5 * p[1];
   const real w7 = p[2] * w6;
-  const real w8 = p[0] * w7;
-  const real w9 = w8 * p[4];
-  const real w10 = std::sin(x[1]);
-  const real w11 = std::sin(x[0]);
-  const real w12 = w11 * p[1];
-  const real w13 = p[2] * w12;
-  const real w14 = p[3] * w13;
-  const real w15 = p[0] * w14;
-  const real w16 = w10 * w15;
-  const real w17 = p[1] * p[2];
-  const real w18 = w17 * w6;
-  const real w19 = p[3] * w18;
-  const real w20 = p[0] * w19;
-  const real w21 = std::cos(x[1]);
-  const real w22 = w20 * w21;
-  const real w23 = w16 + w22;
-  const real w24 = x[3] * x[3];
-  const real w25 = w23 * w24;
-  const real w26 = w9 + w25;
-  const real w27 = p[0] * w18;
-  const real w28 = w27 * p[4];
-  const real w29 = w26 + w28;
-  const real w30 = -w29;
-  const real w31 = p[1] * p[3];
-  const real w32 = p[0] * w31;
-  const real w33 = p[4] * w32;
-  const real w34 = w10 * w33;
-  const real w35 = w20 * w10;
-  const real w36 = w21 * w15;
-  const real w37 = w35 - w36;
-  const real w38 = x[2] * x[2];
-  const real w39 = w37 * w38;
-  const real w40 = w34 + w39;
-  const real w41 = -w40;
-  const real w42 = w23 / w4;
-  const real w43 = w37 * w24;
-  const real w44 = p[0] * w13;
-  const real w45 = p[4] * w44;
-  const real w46 = w11 * p[2];
-  const real w47 = w46 * p[0];
-  const real w48 = p[4] * w47;
-  const real w49 = w45 + w48;
-  const real w50 = w43 - w49;
-  const real w51 = w42 * w50;
-  const real w52 = w41 - w51;
-  const real w53 = p[3] * p[3];
-  const real w54 = p[1] * w53;
-  const real w55 = w54 * p[0];
-  const real w56 = w42 * w42;
-  const real w57 = w4 * w56;
-  const real w58 = w55 - w57;
-  const real w59 = w52 / w58;
-  const real w60 = w59 * w37;
-  const real w61 = w30 - w60;
-  const real w62 = w5 * w61;
-  const real w63 = w23 * w38;
-  const real w64 = w50 / w4;
-  const real w65 = w42 * w59;
-  const real w66 = w64 - w65;
-  const real w67 = w37 * w66;
-  const real w68 = w63 - w67;
-  const real w69 = w42 * w61;
-  const real w70 = w68 - w69;
-  const real w71 = real(1.0) / w58;
-  const real w72 = w70 * w71;
-  const real w73 = w42 * w72;
-  const real w74 = w62 - w73;
-  const real w75 = w36 - w35;
-  const real w76 = w59 * w75;
-  const real w77 = w25 - w76;
-  const real w78 = w5 * w77;
-  const real w79 = w21 * w32;
-  const real w80 = w79 * p[4];
-  const real w81 = w63 + w80;
-  const real w82 = -w81;
-  const real w83 = w75 * w66;
-  const real w84 = w82 - w83;
-  const real w85 = w42 * w77;
-  const real w86 = w84 - w85;
-  const real w87 = w71 * w86;
-  const real w88 = w42 * w87;
-  const real w89 = w78 - w88;
-  const real w90 = w37 * x[2];
-  const real w91 = w90 * real(2.0);
-  const real w92 = -w91;
-  const real w93 = w71 * w92;
-  const real w94 = w42 * w93;
-  const real w95 = -w94;
-  const real w96 = x[3] * w37;
-  const real w97 = w96 * real(2.0);
-  const real w98 = w5 * w97;
-  const real w99 = w42 * w97;
-  const real w100 = -w99;
-  const real w101 = w100 * w71;
-  const real w102 = w42 * w101;
-  const real w103 = w98 - w102;
+  const real w8 = p[3] * w7;
+  const real w9 = p[0] * w8;
+  const real w10 = w4 * w9;
+  const real w11 = p[1] * p[2];
+  const real w12 = w11 * w0;
+  const real w13 = p[3] * w12;
+  const real w14 = p[0] * w13;
+  const real w15 = std::cos(x[1]);
+  const real w16 = w14 * w15;
+  const real w17 = w10 + w16;
+  const real w18 = x[3] * x[3];
+  const real w19 = w17 * w18;
+  const real w20 = w3 + w19;
+  const real w21 = p[0] * w12;
+  const real w22 = w21 * p[4];
+  const real w23 = w20 + w22;
+  const real w24 = -w23;
+  const real w25 = w14 * w4;
+  const real w26 = w15 * w9;
+  const real w27 = w25 - w26;
+  const real w28 = p[1] * p[3];
+  const real w29 = p[0] * w28;
+  const real w30 = p[4] * w29;
+  const real w31 = w4 * w30;
+  const real w32 = x[2] * x[2];
+  const real w33 = w27 * w32;
+  const real w34 = w31 + w33;
+  const real w35 = -w34;
+  const real w36 = p[2] * p[2];
+  const real w37 = p[1] * w36;
+  const real w38 = p[0] * w37;
+  const real w39 = w36 * p[0];
+  const real w40 = w38 + w39;
+  const real w41 = w17 / w40;
+  const real w42 = w27 * w18;
+  const real w43 = p[0] * w7;
+  const real w44 = p[4] * w43;
+  const real w45 = w5 * p[2];
+  const real w46 = w45 * p[0];
+  const real w47 = p[4] * w46;
+  const real w48 = w44 + w47;
+  const real w49 = w42 - w48;
+  const real w50 = w41 * w49;
+  const real w51 = w35 - w50;
+  const real w52 = p[3] * p[3];
+  const real w53 = p[1] * w52;
+  const real w54 = w53 * p[0];
+  const real w55 = w41 * w17;
+  const real w56 = w54 - w55;
+  const real w57 = w51 / w56;
+  const real w58 = w27 * w57;
+  const real w59 = w24 - w58;
+  const real w60 = real(1.0) / w40;
+  const real w61 = w59 * w60;
+  const real w62 = w17 * w32;
+  const real w63 = w49 / w40;
+  const real w64 = w41 * w57;
+  const real w65 = w63 - w64;
+  const real w66 = w65 * w27;
+  const real w67 = w62 - w66;
+  const real w68 = w59 * w41;
+  const real w69 = w67 - w68;
+  const real w70 = real(1.0) / w56;
+  const real w71 = w69 * w70;
+  const real w72 = w41 * w71;
+  const real w73 = w61 - w72;
+  const real w74 = w26 - w25;
+  const real w75 = w74 * w57;
+  const real w76 = w19 - w75;
+  const real w77 = w60 * w76;
+  const real w78 = w15 * w29;
+  const real w79 = w78 * p[4];
+  const real w80 = w62 + w79;
+  const real w81 = -w80;
+  const real w82 = w65 * w74;
+  const real w83 = w81 - w82;
+  const real w84 = w41 * w76;
+  const real w85 = w83 - w84;
+  const real w86 = w70 * w85;
+  const real w87 = w41 * w86;
+  const real w88 = w77 - w87;
+  const real w89 = w27 * x[2];
+  const real w90 = w89 * real(2.0);
+  const real w91 = -w90;
+  const real w92 = w70 * w91;
+  const real w93 = w41 * w92;
+  const real w94 = -w93;
+  const real w95 = x[3] * w27;
+  const real w96 = w95 * real(2.0);
+  const real w97 = w60 * w96;
+  const real w98 = w41 * w96;
+  const real w99 = -w98;
+  const real w100 = w70 * w99;
+  const real w101 = w41 * w100;
+  const real w102 = w97 - w101;
   out[0] = real(0.0);  // dtheta1_dot/dtheta1
   out[1] = real(0.0);  // dtheta1_dot/dtheta2
   out[2] = real(1.0);  // dtheta1_dot/domega1
@@ -347,14 +344,14 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[5] = real(0.0);  // dtheta2_dot/dtheta2
   out[6] = real(0.0);  // dtheta2_dot/domega1
   out[7] = real(1.0);  // dtheta2_dot/domega2
-  out[8] = w74;  // domega1_rate/dtheta1
-  out[9] = w89;  // domega1_rate/dtheta2
-  out[10] = w95;  // domega1_rate/domega1
-  out[11] = w103;  // domega1_rate/domega2
-  out[12] = w72;  // domega2_rate/dtheta1
-  out[13] = w87;  // domega2_rate/dtheta2
-  out[14] = w93;  // domega2_rate/domega1
-  out[15] = w101;  // domega2_rate/domega2
+  out[8] = w73;  // domega1_rate/dtheta1
+  out[9] = w88;  // domega1_rate/dtheta2
+  out[10] = w94;  // domega1_rate/domega1
+  out[11] = w102;  // domega1_rate/domega2
+  out[12] = w71;  // domega2_rate/dtheta1
+  out[13] = w86;  // domega2_rate/dtheta2
+  out[14] = w92;  // domega2_rate/domega1
+  out[15] = w100;  // domega2_rate/domega2
 }
 
 /* energy: (t, x[4], p[5], in[0]) -> out[1]  ops: 7 add, 40 mul, 0 div, 4 call */
@@ -455,7 +452,7 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
 
 namespace {
 
-/* prepare_parameters_kernel: (t, x[4], p[5], in[0]) -> out[13]  ops: 1 add, 20 mul, 1 div, 0 call */
+/* prepare_parameters_kernel: (t, x[4], p[5], in[0]) -> out[12]  ops: 1 add, 18 mul, 1 div, 0 call */
 void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)x;
@@ -479,9 +476,7 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   const real w16 = p[3] * p[3];
   const real w17 = p[1] * w16;
   const real w18 = w17 * p[0];
-  const real w19 = w5 * w5;
-  const real w20 = w4 * w19;
-  const real w21 = w5 * real(2.0);
+  const real w19 = w5 * real(2.0);
   out[0] = p[0];  // m1
   out[1] = p[1];  // mu
   out[2] = p[2];  // l1
@@ -493,8 +488,7 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   out[8] = w12;  // prepared 3
   out[9] = w15;  // prepared 4
   out[10] = w18;  // prepared 5
-  out[11] = w20;  // prepared 6
-  out[12] = w21;  // prepared 7
+  out[11] = w19;  // prepared 6
 }
 
 }  // namespace
@@ -503,7 +497,7 @@ void prepare_parameters(const real* p, real* prepared) {
   prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
 }
 
-/* rhs_prepared: (t, x[4], p[13], in[0]) -> out[4]  ops: 9 add, 22 mul, 1 div, 4 call */
+/* rhs_prepared: (t, x[4], p[12], in[0]) -> out[4]  ops: 9 add, 22 mul, 1 div, 4 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -537,7 +531,7 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   const real w27 = w26 * p[5];
   const real w28 = w20 - w27;
   const real w29 = w25 * w25;
-  const real w30 = p[11] * w29;
+  const real w30 = w29 * p[5];
   const real w31 = p[10] - w30;
   const real w32 = w28 / w31;
   const real w33 = w32 * w25;
@@ -549,7 +543,7 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[3] = w32;  // omega2_rate
 }
 
-/* jacobian_prepared: (t, x[4], p[13], in[0]) -> out[16]  ops: 27 add, 55 mul, 2 div, 4 call */
+/* jacobian_prepared: (t, x[4], p[12], in[0]) -> out[16]  ops: 27 add, 55 mul, 2 div, 4 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
@@ -588,7 +582,7 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   const real w32 = w31 * p[5];
   const real w33 = w25 - w32;
   const real w34 = w8 * w8;
-  const real w35 = p[11] * w34;
+  const real w35 = w34 * p[5];
   const real w36 = p[10] - w35;
   const real w37 = w33 / w36;
   const real w38 = w37 * w21;
@@ -606,7 +600,7 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   const real w50 = w47 - w49;
   const real w51 = real(1.0) / w36;
   const real w52 = w50 * w51;
-  const real w53 = w52 * w8;
+  const real w53 = w8 * w52;
   const real w54 = w53 * p[5];
   const real w55 = w40 - w54;
   const real w56 = w20 - w18;
@@ -622,23 +616,23 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   const real w66 = w65 * p[5];
   const real w67 = w64 - w66;
   const real w68 = w67 * w51;
-  const real w69 = w8 * w68;
+  const real w69 = w68 * w8;
   const real w70 = w69 * p[5];
   const real w71 = w59 - w70;
   const real w72 = w21 * x[2];
   const real w73 = w72 * real(2.0);
   const real w74 = -w73;
   const real w75 = w74 * w51;
-  const real w76 = w8 * w75;
-  const real w77 = p[5] * w76;
+  const real w76 = w75 * w8;
+  const real w77 = w76 * p[5];
   const real w78 = -w77;
   const real w79 = x[3] * w21;
-  const real w80 = p[12] * w79;
+  const real w80 = p[11] * w79;
   const real w81 = w8 * w79;
-  const real w82 = p[12] * w81;
+  const real w82 = p[11] * w81;
   const real w83 = -w82;
-  const real w84 = w83 * w51;
-  const real w85 = w84 * w8;
+  const real w84 = w51 * w83;
+  const real w85 = w8 * w84;
   const real w86 = w85 * p[5];
   const real w87 = w80 - w86;
   out[0] = real(0.0);  // dtheta1_dot/dtheta1

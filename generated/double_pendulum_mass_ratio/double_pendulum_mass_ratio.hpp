@@ -56,9 +56,9 @@ constexpr int n_temporaries_forcing = 32;
 constexpr int n_out_hamel_coefficients = 0;
 constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 4;
-constexpr int n_temporaries_rhs = 53;
+constexpr int n_temporaries_rhs = 52;
 constexpr int n_out_jacobian = 16;
-constexpr int n_temporaries_jacobian = 104;
+constexpr int n_temporaries_jacobian = 103;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 51;
 constexpr int n_out_max = 16;  // the largest out[] of any kernel
@@ -108,11 +108,11 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
 
-// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 53 operations per call, rhs_prepared: 36, prepare_parameters: 22).
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 52 operations per call, rhs_prepared: 36, prepare_parameters: 20).
 // prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
 // <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
 // again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
-constexpr int n_prepared_parameters = 13;
+constexpr int n_prepared_parameters = 12;
 void prepare_parameters(const real* p, real* prepared);
 constexpr int n_temporaries_rhs_prepared = 36;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[4]

@@ -6,7 +6,9 @@ namespace hamel {
 
 namespace {
 
-// M = L D Lᵀ (unit lower L) as graph nodes, M in natural order.
+// M = L D Lᵀ (unit lower L) as graph nodes, M in natural order. The entries before their division by the pivot,
+// S = L D, are kept as well, so that every term of the elimination, S_ik L_jk = L_ik d_k L_jk, costs one
+// multiplication (Golub & Van Loan, Algorithm 4.1.2).
 struct LdltFactors {
   std::vector<std::vector<int>> L;
   std::vector<int> d;
@@ -14,17 +16,18 @@ struct LdltFactors {
 
 LdltFactors ldlt_factor(ExpressionGraph& g, const std::vector<std::vector<int>>& M, std::vector<int>* pivots) {
   const std::size_t n = M.size();
-  LdltFactors F{std::vector<std::vector<int>>(n, std::vector<int>(n, g.constant(0))), std::vector<int>(n)};
+  const int zero = g.constant(0);
+  LdltFactors F{std::vector<std::vector<int>>(n, std::vector<int>(n, zero)), std::vector<int>(n)};
+  std::vector<std::vector<int>> S(n, std::vector<int>(n, zero));  // S_ik = L_ik d_k
   for (std::size_t j = 0; j < n; ++j) {
     int dj = M[j][j];
-    for (std::size_t k = 0; k < j; ++k)
-      dj = g.binary(Op::sub, dj, g.binary(Op::mul, g.binary(Op::mul, F.L[j][k], F.L[j][k]), F.d[k]));
+    for (std::size_t k = 0; k < j; ++k) dj = g.binary(Op::sub, dj, g.binary(Op::mul, S[j][k], F.L[j][k]));
     F.d[j] = dj;
     if (pivots) pivots->push_back(dj);
     for (std::size_t i = j + 1; i < n; ++i) {
       int s = M[i][j];
-      for (std::size_t k = 0; k < j; ++k)
-        s = g.binary(Op::sub, s, g.binary(Op::mul, g.binary(Op::mul, F.L[i][k], F.L[j][k]), F.d[k]));
+      for (std::size_t k = 0; k < j; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, S[i][k], F.L[j][k]));
+      S[i][j] = s;
       F.L[i][j] = g.binary(Op::div, s, dj);
     }
   }

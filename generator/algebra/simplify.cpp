@@ -1,5 +1,6 @@
 #include "algebra/simplify.hpp"
 
+#include "algebra/digits_guard.hpp"
 #include "algebra/identity_test.hpp"
 
 #include <algorithm>
@@ -249,8 +250,7 @@ std::size_t node_count(const ex& e, std::size_t limit) {
 bool numerically_nonzero(const ex& e) {
   std::set<ex, GiNaC::ex_is_less> symbols;
   collect_symbols(e, symbols);
-  const long saved = GiNaC::Digits;
-  GiNaC::Digits = 50;
+  const DigitsGuard digits(50);
   bool nonzero = false;
   // Two fixed pseudo-random points in [0.31, 1.3]: deterministic, and away from the integers and zero.
   for (int point = 0; point < 2 && !nonzero; ++point) {
@@ -263,7 +263,6 @@ bool numerically_nonzero(const ex& e) {
     const ex v = e.subs(values).evalf();
     if (is_a<GiNaC::numeric>(v)) nonzero = GiNaC::abs(ex_to<GiNaC::numeric>(v)) > GiNaC::pow(GiNaC::numeric(10), -25);
   }
-  GiNaC::Digits = saved;
   return nonzero;
 }
 

@@ -1,6 +1,7 @@
 // Eq. (u2): q̇ = B(q) u with B = A⁻¹; A must be regular (valid local coordinates).
 #include "derive/quasi_velocities.hpp"
 
+#include "algebra/digits_guard.hpp"
 #include "algebra/expression_text.hpp"
 #include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
@@ -80,12 +81,7 @@ constexpr double singular_tolerance_50_digits = 1e-30;
 
 std::optional<Regularity> regularity_at(const GiNaC::matrix& A, const SamplePoint& p) {
   const unsigned n = A.rows();
-  const long saved_digits = GiNaC::Digits;
-  GiNaC::Digits = 50;
-  struct Restore {
-    long digits;
-    ~Restore() { GiNaC::Digits = digits; }
-  } restore{saved_digits};
+  const DigitsGuard digits(50);
   std::vector<std::vector<GiNaC::numeric>> m(n, std::vector<GiNaC::numeric>(n));
   bool exact = true;
   for (unsigned i = 0; i < n; ++i)

@@ -21,6 +21,7 @@
 // terms larger than S still shows as more.
 #pragma once
 
+#include "algebra/digits_guard.hpp"
 #include "algebra/intermediates.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
@@ -35,18 +36,6 @@
 #include <vector>
 
 namespace hamel {
-
-/// Sets GiNaC::Digits for its lifetime and restores the previous value.
-class DigitsGuard {
- public:
-  explicit DigitsGuard(long digits) : saved_(GiNaC::Digits) { GiNaC::Digits = digits; }
-  ~DigitsGuard() { GiNaC::Digits = saved_; }
-  DigitsGuard(const DigitsGuard&) = delete;
-  DigitsGuard& operator=(const DigitsGuard&) = delete;
-
- private:
-  long saved_;
-};
 
 /// The value of a finite double as an exact GiNaC rational.
 GiNaC::numeric exact_rational(double v);

@@ -8,6 +8,7 @@
 #include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
 #include "model/input_error.hpp"
+#include "model/model.hpp"
 
 #include <algorithm>
 #include <optional>
@@ -16,12 +17,7 @@ namespace hamel {
 
 using GiNaC::ex;
 
-std::vector<int> HamelSystem::independent() const {
-  std::vector<int> idx;
-  for (int a = 0; a < static_cast<int>(velocities.size()); ++a)
-    if (std::find(constrained.begin(), constrained.end(), a) == constrained.end()) idx.push_back(a);
-  return idx;
-}
+std::vector<int> HamelSystem::independent() const { return unconstrained_indices(velocities.size(), constrained); }
 
 HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& time) {
   const unsigned n = static_cast<unsigned>(sys.coordinates.size());

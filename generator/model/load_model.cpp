@@ -44,12 +44,14 @@ std::vector<std::string> tree_body_names(const KinematicTree& tree) {
   return names;
 }
 
-std::vector<int> Model::independent() const {
+std::vector<int> unconstrained_indices(std::size_t n, const std::vector<int>& constrained) {
   std::vector<int> idx;
-  for (int a = 0; a < static_cast<int>(quasi_velocities.size()); ++a)
+  for (int a = 0; a < static_cast<int>(n); ++a)
     if (std::find(constrained.begin(), constrained.end(), a) == constrained.end()) idx.push_back(a);
   return idx;
 }
+
+std::vector<int> Model::independent() const { return unconstrained_indices(quasi_velocities.size(), constrained); }
 
 GiNaC::symtab Model::symbols() const {
   GiNaC::symtab table;

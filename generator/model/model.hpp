@@ -111,4 +111,7 @@ struct Model {
   GiNaC::symtab symbols() const;
 };
 
+/// 0, …, n − 1 without the indices in `constrained`, in order: the independent quasi-velocities, eq. (PfaffForm).
+std::vector<int> unconstrained_indices(std::size_t n, const std::vector<int>& constrained);
+
 }  // namespace hamel

@@ -60,7 +60,7 @@ Vec3 axis(int k) {
   return {a[0] / n, a[1] / n, a[2] / n};
 }
 
-// The angles of the issue: 10^-k and pi - 10^-k, k = 1..12.
+// Angles 10^-k and pi - 10^-k, k = 1..12: where closed forms in sin and cos cancel.
 double angle(bool near_pi, int k) { return near_pi ? kPi - std::pow(10.0, -k) : std::pow(10.0, -k); }
 
 // Worst errors per (quantity, region, k), printed as a table at the end.
@@ -273,6 +273,35 @@ TEST(RuntimeLieReference, Se3MapsAreAccurateNearZeroAndNearPi) {
     }
   }
   table.print("SE(3)");
+}
+
+// The diagonal of dexp's lower-left block (and dexp^-1's), q (W V + V W)_ii + s (W^2)_ii, is small when w and v
+// lie close to one coordinate axis: (W^2)_ii = -(w_j^2 + w_k^2) and (W V + V W)_ii = -2 (w_j v_j + w_k v_k).
+// Formed as w_i^2 - |w|^2 and 2 w_i v_i - 2 w . v, it loses about log10(|w|^2 / (w_j^2 + w_k^2)) digits, which a
+// Frobenius-norm error does not see. Entry by entry, relative to the 50-digit value:
+TEST(RuntimeLieReference, Se3DexpBlockDiagonalKeepsItsDigitsNearAnAxis) {
+  lie_ref::set_digits(50);
+  for (std::size_t i = 0; i < 3; ++i) {
+    for (double theta : {0.5, 2.0}) {
+      Vec6 x{};
+      x[i] = theta;
+      x[(i + 1) % 3] = 3e-7;
+      x[(i + 2) % 3] = -2e-7;
+      x[3 + i] = 0.8;
+      x[3 + (i + 1) % 3] = 4e-7;
+      x[3 + (i + 2) % 3] = 1e-7;
+      const Mat D = lie_ref::dexp(ad_from_commutators(se3_algebra(), lie_ref::vec(std::vector<double>(x.begin(), x.end()))));
+      const Mat Di = lie_ref::inverse(D);
+      const Mat6 D_c = SE3::dexp(x), Di_c = SE3::dexpinv(x);
+      for (std::size_t k = 0; k < 3; ++k) {
+        const std::size_t row = 3 + k, col = k;
+        const double ref = lie_ref::to_double(D(row, col)), ref_inv = lie_ref::to_double(Di(row, col));
+        EXPECT_LE(std::abs(D_c[row * 6 + col] - ref), 1e-13 * std::abs(ref)) << "dexp(" << row << ", " << col << "), axis " << i << ", theta " << theta;
+        EXPECT_LE(std::abs(Di_c[row * 6 + col] - ref_inv), 1e-13 * std::abs(ref_inv))
+            << "dexp^-1(" << row << ", " << col << "), axis " << i << ", theta " << theta;
+      }
+    }
+  }
 }
 
 // ---------------------------------------------------------------- SE(2)

@@ -127,16 +127,19 @@ struct SE3 {
   static Vec6 join(const Vec3& w, const Vec3& v) { return {w[0], w[1], w[2], v[0], v[1], v[2]}; }
 
   /// [[D, 0], [L, D]] with D = I + p W + q W^2 and
-  /// L = p V + q (W V + V W) + r W + s W^2, using W V = v w^T - (w . v) I.
+  /// L = p V + q (W V + V W) + r W + s W^2, using W V = v w^T - (w . v) I. As in
+  /// SO3::quadratic_in_hat, the diagonals of W V + V W and W^2 are formed from the two
+  /// other components, -2 (w_j v_j + w_k v_k) and -(w_j^2 + w_k^2), without subtracting
+  /// 2 w_i v_i from 2 w . v or w_i^2 from |w|^2.
   static Mat6 lower_block_form(const Vec3& w, const Vec3& v, double p, double q, double r, double s) {
     const Mat3 D = SO3::quadratic_in_hat(w, p, q);
-    const double wv = dot(w, v);
     const Mat3 W = SO3::hat(w), V = SO3::hat(v);
     Mat3 L;
     for (std::size_t i = 0; i < 3; ++i) {
+      const std::size_t j1 = (i + 1) % 3, j2 = (i + 2) % 3;
       for (std::size_t j = 0; j < 3; ++j) {
-        const double sym = v[i] * w[j] + w[i] * v[j] - (i == j ? 2.0 * wv : 0.0);  // W V + V W
-        const double w2 = w[i] * w[j] - (i == j ? dot(w, w) : 0.0);                // W^2
+        const double sym = i == j ? -2.0 * (w[j1] * v[j1] + w[j2] * v[j2]) : v[i] * w[j] + w[i] * v[j];  // W V + V W
+        const double w2 = i == j ? -(w[j1] * w[j1] + w[j2] * w[j2]) : w[i] * w[j];                        // W^2
         L[i * 3 + j] = p * V[i * 3 + j] + q * sym + r * W[i * 3 + j] + s * w2;
       }
     }

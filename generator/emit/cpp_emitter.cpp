@@ -960,10 +960,7 @@ bool write_and_sync(const fs::path& path, const std::string& text) {
     out.close();
     if (!out) return false;
   }
-  const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
-  if (fd < 0) return false;
-  const bool synced = ::fsync(fd) == 0;
-  return ::close(fd) == 0 && synced;
+  return sync_file(path.string());
 }
 
 }  // namespace

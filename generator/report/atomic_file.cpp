@@ -20,6 +20,8 @@ namespace {
 
 std::string prefix(const std::string& option) { return option.empty() ? std::string() : option + ": "; }
 
+}  // namespace
+
 // fsync through a second descriptor: std::ofstream does not expose its own.
 bool sync_file(const std::string& path) {
   const int fd = ::open(path.c_str(), O_RDONLY | O_CLOEXEC);
@@ -27,8 +29,6 @@ bool sync_file(const std::string& path) {
   const bool ok = ::fsync(fd) == 0;
   return ::close(fd) == 0 && ok;
 }
-
-}  // namespace
 
 OutputFile::OutputFile(const std::string& path, const std::string& option) : path_(path), option_(option) {
   if (path == "-") {

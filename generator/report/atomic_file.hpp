@@ -43,6 +43,9 @@ class OutputFile {
 /// Writes `content` to `path` atomically (see OutputFile); `option` names the path in messages.
 void write_file_atomically(const std::string& path, const std::string& content, const std::string& option = "");
 
+/// Forces the written contents of the closed file `path` to disk (fsync); false, with errno set, on failure.
+bool sync_file(const std::string& path);
+
 /// Flushes standard output and reports whether everything written to it arrived (exit 1 if not).
 void flush_stdout_or_throw();
 

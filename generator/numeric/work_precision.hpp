@@ -1,4 +1,4 @@
-// Work–precision study (issue "error against run time"): every applicable integrator over a sweep of
+// Work–precision study (error against run time): every applicable integrator over a sweep of
 // tolerances or steps on one model and initial state; error against a reference run far below the sweep
 // (DOP853 at rtol = atol = 1e-14), CPU time, work counters and invariant drift per run. The right-hand side
 // is the interpreter of the kernels' expression graph (GraphEvaluator), the same graph `emit` prints.

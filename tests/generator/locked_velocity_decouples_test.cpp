@@ -7,7 +7,7 @@
 //    Lagrangian at exact rational points of the shape torus (their full lp derivation is too slow here);
 //  - a connection on an abelian group that is a gradient, A^α_I = ∂φ^α/∂r^I, has zero curvature, one that
 //    is not has curvature ∂A_I/∂r^J − ∂A_J/∂r^I; the same for a mechanical connection, whose curvature
-//    vanishes iff the momentum relation is integrable (NOTES item 4);
+//    vanishes iff the momentum relation is integrable (the end of the paper's Sec. 5b says "non-integrable");
 //  - curvature_in(gauge) is the negative of the paper's curvature (Rem. remSign).
 #include "algebra/simplify.hpp"
 #include "derive/bundle_forms.hpp"
@@ -254,7 +254,7 @@ TEST(FlatConnection, NonGradientKinematicConnectionIsCurved) {
   EXPECT_EQ(B.at({1, 1, 0}), ex(-1));
 }
 
-// Mechanical connection on G = R1 (NOTES item 4): the momentum Π = L(ξ + A ṙ) relates ξ and ṙ
+// Mechanical connection on G = R1: the momentum Π = L(ξ + A ṙ) relates ξ and ṙ
 // integrably iff A dr is closed, and then the curvature vanishes.
 TEST(FlatConnection, MechanicalConnectionIsFlatIffMomentumIsIntegrable) {
   auto model = [](const std::string& shift) {

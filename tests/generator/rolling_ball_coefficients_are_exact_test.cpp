@@ -1,6 +1,7 @@
 // The rolling ball of paper Sec. 4 (uaBall) in Euler angles plus contact point: the Hamel coefficients
 // are exact symbolic values (γ^u3_{vy vx} = 1/R², γ^u3_{vx vy} = −1/R², γ^α_βλ = −ε_αβλ for the
-// spatial angular velocity), and the mass matrix is (7/5) m I (NOTES item 2, not m − ΘAA).
+// spatial angular velocity), and the mass matrix is (7/5) m I (m δ_IJ + Θ A A: the paper's
+// (HEBall) prints m − ΘAA).
 #include "derive/derivation.hpp"
 #include "model/load_model.hpp"
 

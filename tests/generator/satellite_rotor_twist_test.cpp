@@ -1,4 +1,4 @@
-// NOTES item 3: a reaction wheel spinning about its own axis e_i through its own centre of mass d_i has the
+// The paper's rotor twist is corrected here: a reaction wheel spinning about its own axis e_i through its own centre of mass d_i has the
 // twist (e_i, d_i × e_i) φ̇_i relative to the base (angular, then linear at the base frame's origin); the
 // paper writes (e_i φ̇_i, 0), which is the same only when d_i ∥ e_i. The satellite_se3 model is rebuilt here
 // with its rotor twists generated from d_i and e_i in either convention:

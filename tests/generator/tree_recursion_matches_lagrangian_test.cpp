@@ -2,7 +2,9 @@
 // outward/inward recursion of twists and wrenches, through intermediate symbols) against the generator's
 // other formulation of the same equations: the tree's kinetic energy inlined into one expression and
 // differentiated as a Lagrangian by the one Hamel-equation builder (hamel_equations, eq. HEorig1/2).
-// The two share only the model loader. Compared numerically (GraphEvaluator of the mass_matrix, forcing,
+// The two derivations share the model loader and the tree's kinetic energy (tree_kinetic_energy, which walks the
+// same tree to write ½⟨V, 𝕀V⟩ per body), not the recursion; the kernels of both are built by build_kernels and
+// evaluated by the same GraphEvaluator. Compared numerically (GraphEvaluator of the mass_matrix, forcing,
 // rhs, jacobian and energy kernels) at random states of random small trees: revolute and prismatic
 // joints, rotated joint frames, every base group a tree may have, joint forces and a potential.
 #include "derive/derivation.hpp"

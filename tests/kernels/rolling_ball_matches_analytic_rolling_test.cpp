@@ -1,4 +1,5 @@
-// Analytic solution of the rolling ball (paper Sec. 4, with the rolling sign of NOTES item 1): the
+// Analytic solution of the rolling ball (paper Sec. 4, with the sign of the rolling condition corrected: the
+// paper's 0 = ρ̃ṗ + R²ω − ρρᵀω has its ω-terms reversed, so ω = +(1/R²)ρ̃ṗ): the
 // contact point moves on a straight line at constant velocity v and the ball turns about the fixed
 // horizontal axis e_z × v/|v| at the rate |v|/R, so R(t) = exp(t |v|/R [e_z × v̂]^) R(0). The emitted
 // rhs, integrated in Euler angles, must reproduce that rotation — which checks the model file's A and

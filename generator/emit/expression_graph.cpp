@@ -414,34 +414,22 @@ GraphEvaluator::GraphEvaluator(const ExpressionGraph& graph, std::vector<int> ou
       values_(static_cast<std::size_t>(graph.size()), 0.0) {}
 
 void GraphEvaluator::evaluate(double t, const double* x, const double* p, const double* in, double* out) {
-  for (int i : schedule_) {
-    const Node& n = graph_.node(i);
-    double& v = values_[static_cast<std::size_t>(i)];
-    switch (n.op) {
-      case Op::constant:
-        v = n.value;
-        break;
-      case Op::input:
-        switch (n.argument) {
+  interpret(
+      graph_, schedule_, values_, [](const Node& n) { return n.value; },
+      [&](Argument argument, int index) {
+        switch (argument) {
           case Argument::time:
-            v = t;
-            break;
+            return t;
           case Argument::state:
-            v = x[n.index];
-            break;
+            return x[index];
           case Argument::parameter:
-            v = p[n.index];
-            break;
+            return p[index];
           case Argument::input:
-            v = in[n.index];
             break;
         }
-        break;
-      default:
-        v = apply(n.op, values_[static_cast<std::size_t>(n.a)],
-                  n.b >= 0 ? values_[static_cast<std::size_t>(n.b)] : 0.0);
-    }
-  }
+        return in[index];
+      },
+      [](const Node& n, double a, double b) { return apply(n.op, a, b); });
   for (std::size_t k = 0; k < outputs_.size(); ++k) out[k] = values_[static_cast<std::size_t>(outputs_[k])];
 }
 

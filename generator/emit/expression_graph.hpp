@@ -129,6 +129,25 @@ struct Kernel {
   std::vector<std::string> output_names;  ///< for comments, same length as outputs
 };
 
+/// The interpreter of the IR, one pass over `schedule` (operands before users) writing values[i] for every node
+/// in it: a constant is constant(node), an input argument(node.argument, node.index), and any other node
+/// operation(node, value of a, value of b), b being a's value for a one-operand node. GraphEvaluator (double) and
+/// the 50-digit evaluator of numeric/kernel_accuracy are this loop with their own arithmetic.
+template <class Value, class ConstantRule, class ArgumentRule, class OperationRule>
+void interpret(const ExpressionGraph& g, const std::vector<int>& schedule, std::vector<Value>& values,
+               ConstantRule constant, ArgumentRule argument, OperationRule operation) {
+  for (int i : schedule) {
+    const Node& n = g.node(i);
+    Value& v = values[static_cast<std::size_t>(i)];
+    if (n.op == Op::constant)
+      v = constant(n);
+    else if (n.op == Op::input)
+      v = argument(n.argument, n.index);
+    else
+      v = operation(n, values[static_cast<std::size_t>(n.a)], values[static_cast<std::size_t>(n.b >= 0 ? n.b : n.a)]);
+  }
+}
+
 /// Evaluates `outputs` numerically in double (the interpreter behind `hamel simulate`).
 class GraphEvaluator {
  public:

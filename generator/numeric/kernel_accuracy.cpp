@@ -112,57 +112,43 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric&
                                                                   const std::vector<numeric>& p,
                                                                   const std::vector<numeric>& in) {
   const DigitsGuard digits(digits_);
-  for (int i : schedule_) {
-    const Node& n = graph_.node(i);
-    numeric& v = values_[static_cast<std::size_t>(i)];
-    const auto a = [&]() -> const numeric& { return values_[static_cast<std::size_t>(n.a)]; };
-    const auto b = [&]() -> const numeric& { return values_[static_cast<std::size_t>(n.b)]; };
-    switch (n.op) {
-      case Op::constant:
-        v = high_precision(n.value);
-        break;
-      case Op::input:
-        switch (n.argument) {
+  interpret(
+      graph_, schedule_, values_, [](const Node& n) { return high_precision(n.value); },
+      [&](Argument argument, int index) -> const numeric& {
+        const std::size_t k = static_cast<std::size_t>(index);
+        switch (argument) {
           case Argument::time:
-            v = t;
-            break;
+            return t;
           case Argument::state:
-            v = x.at(static_cast<std::size_t>(n.index));
-            break;
+            return x.at(k);
           case Argument::parameter:
-            v = p.at(static_cast<std::size_t>(n.index));
-            break;
+            return p.at(k);
           case Argument::input:
-            v = in.at(static_cast<std::size_t>(n.index));
             break;
         }
-        break;
-      case Op::add:
-        v = a() + b();
-        break;
-      case Op::sub:
-        v = a() - b();
-        break;
-      case Op::mul:
-        v = a() * b();
-        break;
-      case Op::div:
-        v = divide(a(), b());
-        break;
-      case Op::neg:
-        v = -a();
-        break;
-      case Op::pow: {
-        // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
-        const Node& exponent = graph_.node(n.b);
-        v = power(a(), exponent.op == Op::constant ? exact_rational(exponent.value) : b());
-        break;
-      }
-      default:  // an elementary function
-        v = apply_function(*function_of(n.op), a());
-        break;
-    }
-  }
+        return in.at(k);
+      },
+      [&](const Node& n, const numeric& a, const numeric& b) -> numeric {
+        switch (n.op) {
+          case Op::add:
+            return a + b;
+          case Op::sub:
+            return a - b;
+          case Op::mul:
+            return a * b;
+          case Op::div:
+            return divide(a, b);
+          case Op::neg:
+            return -a;
+          case Op::pow: {
+            // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
+            const Node& exponent = graph_.node(n.b);
+            return power(a, exponent.op == Op::constant ? exact_rational(exponent.value) : b);
+          }
+          default:  // an elementary function
+            return apply_function(*function_of(n.op), a);
+        }
+      });
   std::vector<numeric> out;
   out.reserve(outputs_.size());
   for (int o : outputs_) out.push_back(values_[static_cast<std::size_t>(o)]);

@@ -122,7 +122,7 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
   j["curvature"] = nlohmann::json::array();
   for (const BundleCoefficient& c : g.curvature_in(sign)) {
     nlohmann::json e = entry(c.value, values);
-    e["alpha"] = xi[static_cast<std::size_t>(c.alpha)];
+    e["alpha"] = xi[static_cast<std::size_t>(c.upper)];
     e["I"] = r[static_cast<std::size_t>(c.lower_a)];
     e["J"] = r[static_cast<std::size_t>(c.lower_b)];
     j["curvature"].push_back(e);
@@ -130,7 +130,7 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
   j["E"] = nlohmann::json::array();
   for (const BundleCoefficient& c : g.E) {
     nlohmann::json e = entry(c.value, values);
-    e["alpha"] = xi[static_cast<std::size_t>(c.alpha)];
+    e["alpha"] = xi[static_cast<std::size_t>(c.upper)];
     e["beta"] = xi[static_cast<std::size_t>(c.lower_a)];
     e["I"] = r[static_cast<std::size_t>(c.lower_b)];
     j["E"].push_back(e);
@@ -329,7 +329,7 @@ void print_latex(std::ostream& out, const Model& model, const Derivation& d, Cur
       rows.clear();
       for (const BundleCoefficient& c : g.curvature_in(sign))
         if (c.lower_a < c.lower_b)
-          rows.emplace_back("\\mathcal{B}^{" + xi[static_cast<std::size_t>(c.alpha)] + "}_{" +
+          rows.emplace_back("\\mathcal{B}^{" + xi[static_cast<std::size_t>(c.upper)] + "}_{" +
                                 q(static_cast<std::size_t>(c.lower_a)) + "," + q(static_cast<std::size_t>(c.lower_b)) +
                                 "}",
                             math(c.value));

@@ -38,9 +38,7 @@ std::vector<BundleCoefficient> curvature_of(const matrix& A, const std::vector<G
         out.push_back({static_cast<int>(alpha), static_cast<int>(I), static_cast<int>(J), b});
         out.push_back({static_cast<int>(alpha), static_cast<int>(J), static_cast<int>(I), -b});
       }
-  std::sort(out.begin(), out.end(), [](const BundleCoefficient& x, const BundleCoefficient& y) {
-    return std::tie(x.alpha, x.lower_a, x.lower_b) < std::tie(y.alpha, y.lower_a, y.lower_b);
-  });
+  sort_by_indices(out);
   return out;
 }
 

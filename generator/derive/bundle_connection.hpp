@@ -4,6 +4,7 @@
 // gamma43), the coefficients E^α_βI (gamma42) and the block-diagonal mass matrix M^Ω (MOmega).
 #pragma once
 
+#include "algebra/indexed_coefficient.hpp"
 #include "algebra/intermediates.hpp"
 #include "lie/lie_algebra.hpp"
 #include "model/model.hpp"
@@ -15,12 +16,7 @@ namespace hamel {
 /// One non-zero coefficient with one upper group index and two lower indices (curvature B^α_IJ: both
 /// shape; E^α_βI: a group and a shape index). Indices count within their own range (α, β from 0 in
 /// the group, I, J from 0 in the shape).
-struct BundleCoefficient {
-  int alpha;
-  int lower_a;
-  int lower_b;
-  GiNaC::ex value;
-};
+using BundleCoefficient = IndexedCoefficient;
 
 /// Rem. remSign: the paper's B^α_IJ = γ^α_IJ (default) or the gauge-theory convention B = −γ.
 enum class CurvatureSign { paper, gauge };

@@ -115,15 +115,13 @@ BundleSystem bundle_system(const Model& model, const BundleGeometry& geometry, B
     add(s.upper, s.lower_a, s.lower_b, sign * s.value);  // gamma41
   if (shifted) {
     for (const BundleCoefficient& e : geometry.E) {  // gamma42: γ^α_Iβ = E^α_βI, γ^α_βI = −E^α_βI
-      add(e.alpha, static_cast<int>(m) + e.lower_b, e.lower_a, e.value);
-      add(e.alpha, e.lower_a, static_cast<int>(m) + e.lower_b, -e.value);
+      add(e.upper, static_cast<int>(m) + e.lower_b, e.lower_a, e.value);
+      add(e.upper, e.lower_a, static_cast<int>(m) + e.lower_b, -e.value);
     }
     for (const BundleCoefficient& c : geometry.curvature)  // gamma3 / gamma43
-      add(c.alpha, static_cast<int>(m) + c.lower_a, static_cast<int>(m) + c.lower_b, c.value);
+      add(c.upper, static_cast<int>(m) + c.lower_a, static_cast<int>(m) + c.lower_b, c.value);
   }
-  std::sort(sys.gamma.begin(), sys.gamma.end(), [](const HamelCoefficient& x, const HamelCoefficient& y) {
-    return std::tie(x.upper, x.lower_a, x.lower_b) < std::tie(y.upper, y.lower_a, y.lower_b);
-  });
+  sort_by_indices(sys.gamma);
   return out;
 }
 

@@ -47,9 +47,7 @@ std::vector<HamelCoefficient> hamel_coefficients(const Model& model, const Quasi
         out.push_back({static_cast<int>(c), static_cast<int>(b), static_cast<int>(a), -g});
       }
   }
-  std::sort(out.begin(), out.end(), [](const HamelCoefficient& x, const HamelCoefficient& y) {
-    return std::tie(x.upper, x.lower_a, x.lower_b) < std::tie(y.upper, y.lower_a, y.lower_b);
-  });
+  sort_by_indices(out);
   return out;
 }
 

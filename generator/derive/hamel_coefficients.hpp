@@ -2,6 +2,7 @@
 // the entries whose lower indices are both independent.
 #pragma once
 
+#include "algebra/indexed_coefficient.hpp"
 #include "derive/quasi_velocities.hpp"
 #include "model/model.hpp"
 
@@ -10,12 +11,7 @@
 namespace hamel {
 
 /// One non-zero coefficient γ^upper_{lower_a lower_b} (indices into the quasi-velocities).
-struct HamelCoefficient {
-  int upper;
-  int lower_a;
-  int lower_b;
-  GiNaC::ex value;
-};
+using HamelCoefficient = IndexedCoefficient;
 
 /// All non-zero γ^c_ab = (∂A^c_r/∂q^s − ∂A^c_s/∂q^r) B^r_a B^s_b, ordered by (c, a, b); zero is decided
 /// exactly (see simplify.hpp). Antisymmetry in (a, b) is used: each pair is computed once.

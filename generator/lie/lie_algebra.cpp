@@ -137,9 +137,7 @@ std::vector<StructureConstant> structure_constants(const LieAlgebra& algebra) {
       for (unsigned a = 0; a < m; ++a)
         if (!c(a, 0).is_zero()) out.push_back({static_cast<int>(a), static_cast<int>(b), static_cast<int>(l), c(a, 0)});
     }
-  std::sort(out.begin(), out.end(), [](const StructureConstant& x, const StructureConstant& y) {
-    return std::tie(x.upper, x.lower_a, x.lower_b) < std::tie(y.upper, y.lower_a, y.lower_b);
-  });
+  sort_by_indices(out);
   return out;
 }
 

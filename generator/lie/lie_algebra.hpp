@@ -4,6 +4,8 @@
 // [E_β, E_λ] = c^α_βλ E_α, the adjoint — is computed from that basis, never typed in.
 #pragma once
 
+#include "algebra/indexed_coefficient.hpp"
+
 #include <ginac/ginac.h>
 
 #include <string>
@@ -27,12 +29,7 @@ std::vector<std::string> known_groups();
 LieAlgebra lie_algebra(const std::string& group);
 
 /// One non-zero structure constant c^upper_{lower_a lower_b}.
-struct StructureConstant {
-  int upper;
-  int lower_a;
-  int lower_b;
-  GiNaC::ex value;
-};
+using StructureConstant = IndexedCoefficient;
 
 /// All non-zero c^α_βλ with [E_β, E_λ] = c^α_βλ E_α, ordered by (α, β, λ). The bracket is expanded in the
 /// basis exactly (Gram system of the Frobenius inner product); a basis whose span is not closed under the

@@ -91,10 +91,10 @@ Coefficients bundle_gamma(const hamel::BundleGeometry& geo) {
   for (const auto& c : geo.structure_constants)
     out[{c.upper, c.lower_a, c.lower_b}] = geo.trivialization_sign * c.value;
   for (const auto& e : geo.E) {
-    out[{e.alpha, m + e.lower_b, e.lower_a}] = e.value;   // γ^α_Iβ = E^α_βI
-    out[{e.alpha, e.lower_a, m + e.lower_b}] = -e.value;  // γ^α_βI = −E^α_βI
+    out[{e.upper, m + e.lower_b, e.lower_a}] = e.value;   // γ^α_Iβ = E^α_βI
+    out[{e.upper, e.lower_a, m + e.lower_b}] = -e.value;  // γ^α_βI = −E^α_βI
   }
-  for (const auto& b : geo.curvature) out[{b.alpha, m + b.lower_a, m + b.lower_b}] = b.value;
+  for (const auto& b : geo.curvature) out[{b.upper, m + b.lower_a, m + b.lower_b}] = b.value;
   return out;
 }
 
@@ -188,7 +188,7 @@ TEST(CurvatureIsHamelCoefficient, RollingBallCoreModelMatchesBundleModel) {
   ASSERT_TRUE(got.count({u3, vx, vy}));
   GiNaC::ex B_z_xy;
   for (const auto& b : geo.curvature)
-    if (b.alpha == 2 && b.lower_a == 0 && b.lower_b == 1) B_z_xy = b.value.subs(rename);
+    if (b.upper == 2 && b.lower_a == 0 && b.lower_b == 1) B_z_xy = b.value.subs(rename);
   EXPECT_TRUE(hamel::is_zero_almost_surely(got.at({u3, vx, vy}) - B_z_xy)) << got.at({u3, vx, vy}) << " vs " << B_z_xy;
   EXPECT_TRUE(hamel::is_zero_almost_surely(B_z_xy + 1 / (R * R))) << B_z_xy;
 }

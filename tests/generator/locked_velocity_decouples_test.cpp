@@ -246,7 +246,7 @@ TEST(FlatConnection, NonGradientKinematicConnectionIsCurved) {
       abelian_model("connection:\n  kinematic:\n    - [0, \"r1\"]\n    - [\"r2\", 0]\n" + kinetic_plain);
   const hamel::BundleGeometry g = hamel::inlined(hamel::derive_bundle_geometry(curved));
   std::map<std::tuple<int, int, int>, ex> B;
-  for (const auto& b : g.curvature) B[{b.alpha, b.lower_a, b.lower_b}] = b.value;
+  for (const auto& b : g.curvature) B[{b.upper, b.lower_a, b.lower_b}] = b.value;
   ASSERT_EQ(B.size(), 4u);
   EXPECT_EQ(B.at({0, 0, 1}), ex(-1));
   EXPECT_EQ(B.at({0, 1, 0}), ex(1));
@@ -284,9 +284,9 @@ TEST(CurvatureSign, GaugeIsTheNegativeOfPaper) {
   ASSERT_EQ(paper.size(), g.curvature.size());
   ASSERT_EQ(gauge.size(), paper.size());
   for (std::size_t k = 0; k < paper.size(); ++k) {
-    EXPECT_EQ(paper[k].alpha, g.curvature[k].alpha);
+    EXPECT_EQ(paper[k].upper, g.curvature[k].upper);
     EXPECT_TRUE((paper[k].value - g.curvature[k].value).is_zero());
-    EXPECT_EQ(gauge[k].alpha, paper[k].alpha);
+    EXPECT_EQ(gauge[k].upper, paper[k].upper);
     EXPECT_EQ(gauge[k].lower_a, paper[k].lower_a);
     EXPECT_EQ(gauge[k].lower_b, paper[k].lower_b);
     EXPECT_FALSE(paper[k].value.is_zero());

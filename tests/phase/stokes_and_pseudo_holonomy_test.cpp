@@ -108,7 +108,7 @@ struct Robot {
       leaves[model.coordinates[static_cast<std::size_t>(I)]] = graph.input(hamel::Argument::state, I);
     ex b12;
     for (const auto& b : geo.curvature)
-      if (b.alpha == 0 && b.lower_a == 0 && b.lower_b == 1) b12 = hamel::simplify(b.value);  // one fraction
+      if (b.upper == 0 && b.lower_a == 0 && b.lower_b == 1) b12 = hamel::simplify(b.value);  // one fraction
     curvature = std::make_unique<hamel::GraphEvaluator>(graph, std::vector<int>{graph.from_expression(b12, leaves)});
     connection = std::make_unique<hamel::GraphEvaluator>(
         graph, std::vector<int>{graph.from_expression(geo.connection(0, 0), leaves),

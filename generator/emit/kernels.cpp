@@ -63,394 +63,448 @@ Kernel registered(const char* name, const std::string& how = "") {
   return {spec.name, spec.summary + how, {}, {}};
 }
 
+// build_kernels' work in steps that share the graph, the leaves and the converter: the equations' kernels
+// (kinematics, M, f, γ, rhs), the Jacobian's columns, the linearization, a bundle's kernels, the Riemannian
+// linearization and prepared parameters, each built when wanted.
+class KernelBuilder {
+ public:
+  KernelBuilder(const Model& model, const Derivation& derivation, const std::set<std::string>& only,
+                ColumnSolve column_solve)
+      : model_(model),
+        derivation_(derivation),
+        eq_(derivation.equations),
+        sys_(derivation.system),
+        only_(only),
+        column_solve_(column_solve),
+        n_(static_cast<int>(sys_.coordinates.size())),
+        d_(eq_.independent.size()),
+        tape_(eq_.intermediates),
+        node_of_(g_, leaves_, tape_) {
+    leaves_[model.time] = g_.input(Argument::time, 0);
+    for (int a = 0; a < n_; ++a) leaves_[sys_.coordinates[static_cast<std::size_t>(a)]] = g_.input(Argument::state, a);
+    for (std::size_t i = 0; i < d_; ++i)
+      leaves_[sys_.velocities[static_cast<std::size_t>(eq_.independent[i])]] =
+          g_.input(Argument::state, n_ + static_cast<int>(i));
+    for (int alpha : sys_.constrained) leaves_[sys_.velocities[static_cast<std::size_t>(alpha)]] = g_.constant(0);
+    for (std::size_t k = 0; k < model.parameters.size(); ++k)
+      leaves_[model.parameters[k].symbol] = g_.input(Argument::parameter, static_cast<int>(k));
+    for (std::size_t k = 0; k < model.inputs.size(); ++k)
+      leaves_[model.inputs[k]] = g_.input(Argument::input, static_cast<int>(k));
+  }
+
+  KernelSet build() {
+    equation_kernels();
+    build_jacobian_ = want("jacobian") || only_.count("jacobian_prepared") > 0;  // its variant needs it
+    // The linearization's A is the Jacobian: a tree's analytical columns are shared with it.
+    if (build_jacobian_ || (want("linearization") && eq_.tree)) jacobian_columns();
+    if (build_jacobian_) {
+      const std::size_t nx = column_.size();
+      for (std::size_t row = 0; row < nx; ++row)
+        for (std::size_t k = 0; k < nx; ++k) {
+          jacobian_.outputs.push_back(column_[k][row]);
+          jacobian_.output_names.push_back("d" + rhs_.output_names[row] + "/d" + state_name(static_cast<int>(k)));
+        }
+    }
+    Kernel energy = registered("energy");
+    energy.outputs.push_back(node_of_(eq_.energy_terms.at(0)));
+    energy.output_names.push_back("E");
+
+    set_.kernels = {kinematics_, mass_, forcing_, gamma_, rhs_, jacobian_, energy};
+    if (want("linearization")) set_.kernels.push_back(linearization());
+    if (!eq_.constraint_residual.empty()) {
+      Kernel residual = registered("constraint_residual");
+      for (std::size_t k = 0; k < eq_.constraint_residual.size(); ++k) {
+        residual.outputs.push_back(node_of_(eq_.constraint_residual[k]));
+        residual.output_names.push_back(name_of(sys_.constrained[k]));
+      }
+      set_.kernels.push_back(residual);
+    }
+    if (derivation_.bundle) bundle_kernels();
+    if (want("riemann_linearization")) set_.kernels.push_back(riemann_linearization());
+    const bool prepared_named = only_.count("rhs_prepared") > 0 || only_.count("jacobian_prepared") > 0;
+    if (only_.empty() || prepared_named) prepared_kernels(prepared_named);
+    if (!want("rhs")) set_.rhs_pivots.clear();
+    if (!only_.empty()) {
+      std::vector<Kernel> kept;
+      for (const Kernel& k : set_.kernels)
+        if (only_.count(k.name)) kept.push_back(k);
+      set_.kernels = kept;
+    }
+    return std::move(set_);
+  }
+
+ private:
+  // A kernel is built when named, or, when none is named, if the registry builds it by default.
+  bool want(const char* name) const { return only_.empty() ? kernel_spec(name).by_default : only_.count(name) > 0; }
+  std::string name_of(int a) const { return sys_.velocities[static_cast<std::size_t>(a)].get_name(); }
+  std::string state_name(int k) const {
+    return k < n_ ? sys_.coordinates[static_cast<std::size_t>(k)].get_name()
+                  : name_of(eq_.independent[static_cast<std::size_t>(k - n_)]);
+  }
+  GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::ex& x) { return tape_.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); }
+  // Forward mode through the rhs program: d(rhs)/d(argument k) for k < count, one tangent pass each.
+  std::vector<std::vector<int>> forward_columns(Argument argument, int count) {
+    std::vector<std::vector<int>> columns;
+    for (int k = 0; k < count; ++k) columns.push_back(tangent(g_, rhs_.outputs, {{g_.input(argument, k), g_.constant(1)}}));
+    return columns;
+  }
+  // Operations of the program computing `columns`.
+  int operations(const std::vector<std::vector<int>>& columns) const {
+    std::vector<int> all;
+    for (const std::vector<int>& c : columns) all.insert(all.end(), c.begin(), c.end());
+    return g_.count(g_.schedule(all)).total();
+  }
+
+  void equation_kernels();
+  void jacobian_columns();
+  std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
+                                              const std::optional<InverseDynamicsJacobian>& id, std::string& route);
+  Kernel linearization();
+  void bundle_kernels();
+  Kernel riemann_linearization();
+  void prepared_kernels(bool named);
+
+  const Model& model_;
+  const Derivation& derivation_;
+  const HamelEquations& eq_;
+  const HamelSystem& sys_;
+  const std::set<std::string>& only_;
+  const ColumnSolve column_solve_;
+  const int n_;        ///< coordinates
+  const std::size_t d_;  ///< independent quasi-velocities
+
+  KernelSet set_;
+  ExpressionGraph& g_ = set_.graph;
+  std::map<GiNaC::ex, int, GiNaC::ex_is_less> leaves_;
+  // Intermediate symbols become the nodes of their definitions when an expression first needs them
+  // (definitions before their users); differentiation (the Jacobian) may add definitions to this copy.
+  // Some definitions use symbols that get their nodes late (the acceleration symbols of a tree's recursion).
+  Intermediates tape_;
+  ProgramConverter node_of_;
+
+  Kernel kinematics_ = registered("kinematics"), mass_ = registered("mass_matrix"), forcing_ = registered("forcing"),
+         gamma_ = registered("hamel_coefficients"), rhs_, jacobian_ = registered("jacobian");
+  std::vector<std::vector<int>> M_;  ///< the mass matrix's nodes
+  std::optional<std::vector<GiNaC::ex>> exact_accel_;
+  bool articulated_ = false;  ///< rhs by the articulated-body algorithm
+  std::vector<int> accel_;    ///< u_I' as rhs computes it
+  bool build_jacobian_ = false;
+  std::vector<std::vector<int>> column_;  ///< column_[k][row] = d(x'_row)/dx_k
+};
+
+void KernelBuilder::equation_kernels() {
+  for (int a = 0; a < n_; ++a) {
+    kinematics_.outputs.push_back(node_of_(eq_.kinematics[static_cast<std::size_t>(a)]));
+    kinematics_.output_names.push_back(sys_.coordinates[static_cast<std::size_t>(a)].get_name() + "_dot");
+  }
+  M_.assign(d_, std::vector<int>(d_));
+  for (std::size_t i = 0; i < d_; ++i)
+    for (std::size_t j = 0; j < d_; ++j) {
+      M_[i][j] = node_of_(eq_.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)));
+      mass_.outputs.push_back(M_[i][j]);
+      mass_.output_names.push_back("M[" + name_of(eq_.independent[i]) + "][" + name_of(eq_.independent[j]) + "]");
+    }
+  for (std::size_t i = 0; i < d_; ++i) {
+    forcing_.outputs.push_back(node_of_(eq_.forcing[i]));
+    forcing_.output_names.push_back("f[" + name_of(eq_.independent[i]) + "]");
+  }
+  for (const HamelCoefficient& h : sys_.gamma) {
+    gamma_.outputs.push_back(node_of_(h.value));
+    gamma_.output_names.push_back("gamma^" + name_of(h.upper) + "_" + name_of(h.lower_a) + "," + name_of(h.lower_b));
+  }
+
+  exact_accel_ = exact_accelerations(eq_, sys_);
+  articulated_ = !eq_.recursive_accelerations.empty();
+  rhs_ = registered("rhs", articulated_   ? " with u_I' by the articulated-body algorithm (O(n), no M)"
+                           : exact_accel_ ? " with u_I' = M^-1 f, M constant, inverted at generation time"
+                                          : " with M u_I' = f solved by unrolled LDL^T");
+  rhs_.outputs = kinematics_.outputs;
+  rhs_.output_names = kinematics_.output_names;
+  if (articulated_) {
+    for (const GiNaC::ex& a : eq_.recursive_accelerations) accel_.push_back(node_of_(a));
+    for (const GiNaC::ex& p : eq_.recursive_pivots) set_.rhs_pivots.push_back(node_of_(p));
+  } else if (exact_accel_) {
+    for (const GiNaC::ex& a : *exact_accel_) accel_.push_back(node_of_(a));
+  } else {
+    accel_ = ldlt_solve(g_, M_, forcing_.outputs, eq_.factor_last_first, &set_.rhs_pivots);
+  }
+  for (std::size_t i = 0; i < d_; ++i) {
+    rhs_.outputs.push_back(accel_[i]);
+    rhs_.output_names.push_back(name_of(eq_.independent[i]) + "_rate");
+  }
+}
+
+// d(x')/dx for implicit integrators: the kinematics rows by differentiation; the acceleration rows from
+// M u' = f as M d(u')/dx_k = df/dx_k − (dM/dx_k) u', solved with the same LDLᵀ (value numbering shares
+// the factorization between the columns), or by differentiating u' = M⁻¹ f when M is constant.
+void KernelBuilder::jacobian_columns() {
+  // A large rhs program (the Whipple bicycle: 1.5e4 operations) is differentiated in forward mode only: the
+  // symbolic route below differentiates M and f through the derivation's program per state component, which
+  // costs seconds of GiNaC work there, for a kernel of about the same size (1.25e5 against 1.32e5 operations).
+  if (!articulated_ && !eq_.tree && g_.count(g_.schedule(rhs_.outputs)).total() > kSymbolicJacobianLimit) {
+    column_ = forward_columns(Argument::state, static_cast<int>(rhs_.outputs.size()));
+    jacobian_.summary += "; forward mode through the rhs program";
+    return;
+  }
+  std::string route;  // how the columns were formed, for the summary
+  // The acceleration symbols of a tree's recursion stand for the solved u'.
+  for (std::size_t j = 0; j < eq_.acceleration_symbols.size(); ++j) leaves_[eq_.acceleration_symbols[j]] = accel_[j];
+  std::vector<GiNaC::ex> state_symbols(sys_.coordinates.begin(), sys_.coordinates.end());
+  for (int I : eq_.independent) state_symbols.push_back(sys_.velocities[static_cast<std::size_t>(I)]);
+  const std::size_t nx = state_symbols.size();
+  column_.assign(nx, {});
+  // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
+  // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
+  std::optional<InverseDynamicsJacobian> id;
+  if (eq_.tree && !exact_accel_) id = inverse_dynamics_jacobian(*eq_.tree, tape_);
+  const std::vector<std::vector<GiNaC::ex>> id_columns = id ? id->dense(*eq_.tree) : std::vector<std::vector<GiNaC::ex>>{};
+  std::vector<std::vector<int>> right_sides;  // M d(u')/dx_k = b_k, all solved with one factorization
+  for (std::size_t k = 0; k < nx; ++k) {
+    const GiNaC::ex& x_k = state_symbols[k];
+    for (int a = 0; a < n_; ++a) column_[k].push_back(node_of_(diff(eq_.kinematics[static_cast<std::size_t>(a)], x_k)));
+    if (exact_accel_) {
+      for (const GiNaC::ex& a : *exact_accel_) column_[k].push_back(node_of_(diff(a, x_k)));
+      continue;
+    }
+    std::vector<int> b(d_);
+    for (std::size_t i = 0; i < d_; ++i) {
+      if (!id_columns.empty()) {
+        b[i] = node_of_(-id_columns[k][i]);
+        continue;
+      }
+      int r = node_of_(diff(eq_.forcing[i], x_k));
+      for (std::size_t j = 0; j < d_; ++j) {
+        const GiNaC::ex dM = diff(eq_.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)), x_k);
+        if (!dM.is_zero()) r = g_.binary(Op::sub, r, g_.binary(Op::mul, node_of_(dM), accel_[j]));
+      }
+      b[i] = r;
+    }
+    right_sides.push_back(b);
+  }
+  if (!exact_accel_) {
+    const std::vector<std::vector<int>> solved = solve_columns(right_sides, id, route);
+    for (std::size_t k = 0; k < nx; ++k) column_[k].insert(column_[k].end(), solved[k].begin(), solved[k].end());
+  }
+  // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
+  // tangent pass per state component (size ~ program × state dimension, no M, no solve per column); the
+  // smaller of the two programs is kept (docs/benchmarks.md: the tangent one is larger for the trees
+  // measured so far, because the articulated inertias depend on every joint angle outboard of a body).
+  if (articulated_) {
+    const std::vector<std::vector<int>> forward = forward_columns(Argument::state, static_cast<int>(nx));
+    if (operations(forward) < operations(column_)) {
+      column_ = forward;
+      route = "; forward mode through the rhs program";
+    }
+  }
+  jacobian_.summary += route;
+}
+
+// M y = b_k for every right side: the LDLᵀ of M or (trees) the articulated-body recursion, as asked, or the
+// recursion when it is clearly the smaller program.
+std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std::vector<int>>& right_sides,
+                                                           const std::optional<InverseDynamicsJacobian>& id,
+                                                           std::string& route) {
+  std::vector<std::vector<int>> solved;
+  if (!id || column_solve_ != ColumnSolve::articulated)
+    solved = ldlt_solve_columns(g_, M_, right_sides, eq_.factor_last_first);
+  if (!id || column_solve_ == ColumnSolve::ldlt) return solved;
+  // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force.
+  std::vector<std::vector<int>> own_rows;
+  std::vector<InwardForce> inward;
+  for (std::size_t k = 0; k < right_sides.size(); ++k) {
+    own_rows.emplace_back();
+    for (const GiNaC::ex& r : id->rows[k]) own_rows.back().push_back(node_of_(-r));
+    InwardForce f{id->inward_body[k], {}};
+    for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of_(id->inward[k][c]);
+    inward.push_back(f);
+  }
+  std::vector<std::vector<int>> recursive =
+      articulated_solve_columns(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_, own_rows, inward);
+  if (solved.empty() || operations(recursive) <= kRecursiveSolveShare * operations(solved)) {
+    route = "; M^-1 b by the articulated-body recursion";
+    return recursive;
+  }
+  return solved;
+}
+
+// A = d(x')/dx and B = d(x')/d(in) along any state: A is the Jacobian's columns when they are built (for
+// trees always: analytical), otherwise forward mode through the rhs program like B (one tangent pass per
+// state or input component). Built only when asked for by name.
+Kernel KernelBuilder::linearization() {
+  Kernel linearization = registered("linearization");
+  const int nx = static_cast<int>(rhs_.outputs.size());
+  const int ni = static_cast<int>(model_.inputs.size());
+  const std::vector<std::vector<int>> a_columns = column_.empty() ? forward_columns(Argument::state, nx) : column_;
+  const std::vector<std::vector<int>> b_columns = forward_columns(Argument::input, ni);
+  for (int row = 0; row < nx; ++row)
+    for (int k = 0; k < nx; ++k) {
+      linearization.outputs.push_back(a_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
+      linearization.output_names.push_back("A[" + rhs_.output_names[static_cast<std::size_t>(row)] + "][" + state_name(k) + "]");
+    }
+  for (int row = 0; row < nx; ++row)
+    for (int k = 0; k < ni; ++k) {
+      linearization.outputs.push_back(b_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
+      linearization.output_names.push_back("B[" + rhs_.output_names[static_cast<std::size_t>(row)] + "][" +
+                                           model_.inputs[static_cast<std::size_t>(k)].get_name() + "]");
+    }
+  return linearization;
+}
+
+void KernelBuilder::bundle_kernels() {
+  const BundleGeometry& geo = *derivation_.bundle;
+  const Bundle& b = *model_.bundle;
+  const std::size_t m = b.group_velocity.size();
+  const int n = n_;
+  Kernel xi = registered("group_velocity");
+  for (std::size_t a = 0; a < m; ++a) {
+    xi.outputs.push_back(node_of_(derivation_.group_velocity[a]));
+    xi.output_names.push_back(b.group_velocity[a].get_name());
+  }
+  set_.kernels.push_back(xi);
+  // Kinematic trees: A = L⁻¹K solved in the kernel (unrolled LDLᵀ of the locked inertia), not symbolically;
+  // placeholders (node 0) when neither kernel that uses it is built.
+  const std::vector<std::vector<int>> solved =
+      !geo.connection_derived && n > 0 && (want("connection") || want("shape_inertia"))
+          ? solved_connection(g_, geo, node_of_)
+          : std::vector<std::vector<int>>(m, std::vector<int>(static_cast<std::size_t>(n)));
+  const auto connection_node = [&](std::size_t a, int I) {
+    return geo.connection_derived ? node_of_(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I)))
+                                  : solved[a][static_cast<std::size_t>(I)];
+  };
+  if (n > 0) {
+    Kernel conn = registered("connection");
+    for (std::size_t a = 0; a < m; ++a)
+      for (int I = 0; I < n; ++I) {
+        conn.outputs.push_back(connection_node(a, I));
+        conn.output_names.push_back("A[" + b.group_velocity[a].get_name() + "][" +
+                                    sys_.coordinates[static_cast<std::size_t>(I)].get_name() + "]");
+      }
+    set_.kernels.push_back(conn);
+  }
+  if (geo.quadratic) {
+    Kernel locked = registered("locked_inertia");
+    for (std::size_t a = 0; a < m; ++a)
+      for (std::size_t c = 0; c < m; ++c) {
+        locked.outputs.push_back(node_of_(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(c))));
+        locked.output_names.push_back("L[" + b.group_velocity[a].get_name() + "][" + b.group_velocity[c].get_name() +
+                                      "]");
+      }
+    set_.kernels.push_back(locked);
+  }
+  if (b.mechanical && n > 0 && want("shape_inertia")) {
+    // The lower block of M^Ω = diag(L, S − AᵀLA) (MOmega); the upper block is locked_inertia.
+    Kernel shape = registered("shape_inertia");
+    for (int I = 0; I < n; ++I)
+      for (int J = 0; J < n; ++J) {
+        if (geo.connection_derived) {
+          shape.outputs.push_back(node_of_(geo.shape_inertia(static_cast<unsigned>(I), static_cast<unsigned>(J))));
+        } else if (J < I) {  // symmetric: the entry above the diagonal
+          shape.outputs.push_back(shape.outputs[static_cast<std::size_t>(J * n + I)]);
+        } else {  // S − KᵀA with A = L⁻¹K (= S − AᵀLA)
+          int v = node_of_(geo.S(static_cast<unsigned>(I), static_cast<unsigned>(J)));
+          for (std::size_t a = 0; a < m; ++a)
+            v = g_.binary(Op::sub, v,
+                          g_.binary(Op::mul, node_of_(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I))),
+                                    solved[a][static_cast<std::size_t>(J)]));
+          shape.outputs.push_back(v);
+        }
+        shape.output_names.push_back("M_shape[" + sys_.coordinates[static_cast<std::size_t>(I)].get_name() + "][" +
+                                     sys_.coordinates[static_cast<std::size_t>(J)].get_name() + "]");
+      }
+    set_.kernels.push_back(shape);
+  }
+}
+
+// The Riemannian view (derive/riemann.hpp), built only when asked for by name: it is defined only for
+// unconstrained models in general coordinates with L = ½ g_ab q̇ᵃq̇ᵇ − V. Matrices in the coordinate basis
+// ∂/∂qᵃ at the state's velocity q̇ = B(q) u_I (qadot); for A = I that is q̇ = u.
+Kernel KernelBuilder::riemann_linearization() {
+  const int n = n_;
+  const RiemannGeometry riemann = derive_riemann(model_, tape_);
+  for (int a = 0; a < n; ++a)
+    leaves_[model_.rates[static_cast<std::size_t>(a)]] = node_of_(eq_.kinematics[static_cast<std::size_t>(a)]);
+  Kernel linearization = registered("riemann_linearization");
+  const auto name = [&](const char* label, int a, int b) {
+    return std::string(label) + "[" + sys_.coordinates[static_cast<std::size_t>(a)].get_name() + "][" +
+           sys_.coordinates[static_cast<std::size_t>(b)].get_name() + "]";
+  };
+  const std::pair<const char*, const GiNaC::matrix*> blocks[] = {
+      {"g", &riemann.metric}, {"G", &riemann.connection_rate}, {"K", &riemann.stiffness}};
+  std::vector<int> connection_rate;
+  for (const auto& [label, m] : blocks)
+    for (int a = 0; a < n; ++a)
+      for (int b = 0; b < n; ++b) {
+        linearization.outputs.push_back(node_of_((*m)(static_cast<unsigned>(a), static_cast<unsigned>(b))));
+        linearization.output_names.push_back(name(label, a, b));
+        if (m == &riemann.connection_rate) connection_rate.push_back(linearization.outputs.back());
+      }
+  // Ġ along the motion, by forward mode through G's program with the state's tangent x' = (q̇, u̇_I) (the
+  // rhs kernel's outputs): what the first-order form of the covariant equations needs
+  // (docs/linearization.md).
+  std::map<int, int> along_motion;
+  for (std::size_t k = 0; k < rhs_.outputs.size(); ++k)
+    along_motion[g_.input(Argument::state, static_cast<int>(k))] = rhs_.outputs[k];
+  const std::vector<int> connection_rate_dot = tangent(g_, connection_rate, along_motion);
+  for (int a = 0; a < n; ++a)
+    for (int b = 0; b < n; ++b) {
+      linearization.outputs.push_back(connection_rate_dot[static_cast<std::size_t>(a * n + b)]);
+      linearization.output_names.push_back(name("G_dot", a, b));
+    }
+  return linearization;
+}
+
+// Prepared parameters: the parameter-only work of rhs and jacobian hoisted into prepare (KernelSet::Prepared).
+void KernelBuilder::prepared_kernels(bool named) {
+  std::vector<const Kernel*> originals;
+  if (want("rhs") || only_.count("rhs_prepared")) originals.push_back(&rhs_);
+  if (build_jacobian_ && !jacobian_.outputs.empty()) originals.push_back(&jacobian_);
+  // Parameter-only factors and divisors gathered, so that their products and reciprocals are prepared too;
+  // or, where it leaves fewer operations per call, polynomial outputs as Σ coefficient · monomial.
+  std::vector<std::vector<int>> rewritten;
+  std::vector<int> all;
+  for (const Kernel* k : originals) {
+    std::vector<int> grouped = group_invariants(g_, k->outputs);
+    std::vector<int> polynomial = polynomial_form(g_, k->outputs);
+    const bool fewer = run_time_operations(g_, polynomial).total() < run_time_operations(g_, grouped).total();
+    rewritten.push_back(fewer ? std::move(polynomial) : std::move(grouped));
+    all.insert(all.end(), rewritten.back().begin(), rewritten.back().end());
+  }
+  const std::vector<int> frontier = parameter_frontier(g_, all);
+  KernelSet::Prepared prepared;
+  prepared.rhs = g_.count(g_.schedule(rhs_.outputs));
+  prepared.once = g_.count(g_.schedule(frontier));
+  if (!rewritten.empty() && originals.front() == &rhs_) prepared.rhs_prepared = run_time_operations(g_, rewritten.front());
+  if (!named && (rewritten.empty() || originals.front() != &rhs_ ||
+                 prepared.rhs_prepared.total() > kPreparedShare * prepared.rhs.total()))
+    return;
+  const int n_p = static_cast<int>(model_.parameters.size());
+  prepared.prepare = {"prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}};
+  for (int k = 0; k < n_p; ++k) {
+    prepared.prepare.outputs.push_back(g_.input(Argument::parameter, k));
+    prepared.prepare.output_names.push_back(model_.parameters[static_cast<std::size_t>(k)].symbol.get_name());
+  }
+  std::map<int, int> replace;
+  for (std::size_t j = 0; j < frontier.size(); ++j) {
+    prepared.prepare.outputs.push_back(frontier[j]);
+    prepared.prepare.output_names.push_back("prepared " + std::to_string(j));
+    replace[frontier[j]] = g_.input(Argument::parameter, n_p + static_cast<int>(j));
+  }
+  for (std::size_t i = 0; i < originals.size(); ++i) {
+    Kernel variant = *originals[i];
+    const KernelSpec& spec = kernel_spec(originals[i]->name + "_prepared");
+    variant.name = spec.name;
+    variant.summary = spec.summary;
+    variant.outputs = substitute(g_, rewritten[i], replace);
+    prepared.kernels.push_back(variant);
+  }
+  set_.prepared = prepared;
+}
+
 }  // namespace
 
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only,
                         ColumnSolve column_solve) {
-  // A kernel is built when named, or, when none is named, if the registry builds it by default.
-  const auto want = [&](const char* name) { return only.empty() ? kernel_spec(name).by_default : only.count(name) > 0; };
-  KernelSet set;
-  ExpressionGraph& g = set.graph;
-  const HamelEquations& eq = derivation.equations;
-  const HamelSystem& sys = derivation.system;
-  const int n = static_cast<int>(sys.coordinates.size());
-
-  std::map<GiNaC::ex, int, GiNaC::ex_is_less> leaves;
-  leaves[model.time] = g.input(Argument::time, 0);
-  for (int a = 0; a < n; ++a) leaves[sys.coordinates[static_cast<std::size_t>(a)]] = g.input(Argument::state, a);
-  for (std::size_t i = 0; i < eq.independent.size(); ++i)
-    leaves[sys.velocities[static_cast<std::size_t>(eq.independent[i])]] =
-        g.input(Argument::state, n + static_cast<int>(i));
-  for (int alpha : sys.constrained) leaves[sys.velocities[static_cast<std::size_t>(alpha)]] = g.constant(0);
-  for (std::size_t k = 0; k < model.parameters.size(); ++k)
-    leaves[model.parameters[k].symbol] = g.input(Argument::parameter, static_cast<int>(k));
-  for (std::size_t k = 0; k < model.inputs.size(); ++k)
-    leaves[model.inputs[k]] = g.input(Argument::input, static_cast<int>(k));
-
-  // Intermediate symbols become the nodes of their definitions when an expression first needs them
-  // (definitions before their users); differentiation (the Jacobian) may add definitions to this copy.
-  // Some definitions use symbols that get their nodes late (the acceleration symbols of a tree's recursion).
-  Intermediates tape = eq.intermediates;
-  ProgramConverter node_of(g, leaves, tape);
-  const auto diff = [&](const GiNaC::ex& e, const GiNaC::ex& x) { return tape.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); };
-  const auto name_of = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
-
-  Kernel kinematics = registered("kinematics");
-  for (int a = 0; a < n; ++a) {
-    kinematics.outputs.push_back(node_of(eq.kinematics[static_cast<std::size_t>(a)]));
-    kinematics.output_names.push_back(sys.coordinates[static_cast<std::size_t>(a)].get_name() + "_dot");
-  }
-
-  const std::size_t d = eq.independent.size();
-  Kernel mass = registered("mass_matrix");
-  std::vector<std::vector<int>> M(d, std::vector<int>(d));
-  for (std::size_t i = 0; i < d; ++i)
-    for (std::size_t j = 0; j < d; ++j) {
-      M[i][j] = node_of(eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)));
-      mass.outputs.push_back(M[i][j]);
-      mass.output_names.push_back("M[" + name_of(eq.independent[i]) + "][" + name_of(eq.independent[j]) + "]");
-    }
-
-  Kernel forcing = registered("forcing");
-  for (std::size_t i = 0; i < d; ++i) {
-    forcing.outputs.push_back(node_of(eq.forcing[i]));
-    forcing.output_names.push_back("f[" + name_of(eq.independent[i]) + "]");
-  }
-
-  Kernel gamma = registered("hamel_coefficients");
-  for (const HamelCoefficient& h : sys.gamma) {
-    gamma.outputs.push_back(node_of(h.value));
-    gamma.output_names.push_back("gamma^" + name_of(h.upper) + "_" + name_of(h.lower_a) + "," + name_of(h.lower_b));
-  }
-
-  const std::optional<std::vector<GiNaC::ex>> exact_accel = exact_accelerations(eq, sys);
-  const bool articulated = !eq.recursive_accelerations.empty();
-  Kernel rhs = registered("rhs", articulated   ? " with u_I' by the articulated-body algorithm (O(n), no M)"
-                                 : exact_accel ? " with u_I' = M^-1 f, M constant, inverted at generation time"
-                                               : " with M u_I' = f solved by unrolled LDL^T");
-  rhs.outputs = kinematics.outputs;
-  rhs.output_names = kinematics.output_names;
-  std::vector<int> accel;
-  if (articulated) {
-    for (const GiNaC::ex& a : eq.recursive_accelerations) accel.push_back(node_of(a));
-    for (const GiNaC::ex& d : eq.recursive_pivots) set.rhs_pivots.push_back(node_of(d));
-  } else if (exact_accel) {
-    for (const GiNaC::ex& a : *exact_accel) accel.push_back(node_of(a));
-  } else {
-    accel = ldlt_solve(g, M, forcing.outputs, eq.factor_last_first, &set.rhs_pivots);
-  }
-  for (std::size_t i = 0; i < d; ++i) {
-    rhs.outputs.push_back(accel[i]);
-    rhs.output_names.push_back(name_of(eq.independent[i]) + "_rate");
-  }
-
-  // d(x')/dx for implicit integrators: the kinematics rows by differentiation; the acceleration rows from
-  // M u' = f as M d(u')/dx_k = df/dx_k − (dM/dx_k) u', solved with the same LDLᵀ (value numbering shares
-  // the factorization between the columns), or by differentiating u' = M⁻¹ f when M is constant.
-  Kernel jacobian = registered("jacobian");
-  // A large rhs program (the Whipple bicycle: 1.5e4 operations) is differentiated in forward mode only: the
-  // symbolic route below differentiates M and f through the derivation's program per state component, which
-  // costs seconds of GiNaC work there, for a kernel of about the same size (1.25e5 against 1.32e5 operations).
-  // Forward mode through the rhs program: d(rhs)/d(argument k) for k < count, one tangent pass each.
-  const auto forward_columns = [&](Argument argument, int count) {
-    std::vector<std::vector<int>> columns;
-    for (int k = 0; k < count; ++k) columns.push_back(tangent(g, rhs.outputs, {{g.input(argument, k), g.constant(1)}}));
-    return columns;
-  };
-  const auto state_name = [&](int k) {
-    return k < n ? sys.coordinates[static_cast<std::size_t>(k)].get_name()
-                 : name_of(eq.independent[static_cast<std::size_t>(k - n)]);
-  };
-  const bool build_jacobian = want("jacobian") || only.count("jacobian_prepared") > 0;  // its variant needs it
-  // The linearization's A is the Jacobian: a tree's analytical columns are shared with it.
-  const bool build_columns = build_jacobian || (want("linearization") && eq.tree);
-  const bool forward_only = build_columns && !articulated && !eq.tree &&
-                            g.count(g.schedule(rhs.outputs)).total() > kSymbolicJacobianLimit;
-  std::vector<std::vector<int>> column;  // column[k][row] = d(x'_row)/dx_k
-  const auto operations = [&](const std::vector<std::vector<int>>& columns) {  // of the program computing them
-    std::vector<int> all;
-    for (const std::vector<int>& c : columns) all.insert(all.end(), c.begin(), c.end());
-    return g.count(g.schedule(all)).total();
-  };
-  if (forward_only) {
-    column = forward_columns(Argument::state, static_cast<int>(rhs.outputs.size()));
-    jacobian.summary += "; forward mode through the rhs program";
-  } else if (build_columns) {
-    std::string route;  // how the columns were formed, for the summary
-    // The acceleration symbols of a tree's recursion stand for the solved u'.
-    for (std::size_t j = 0; j < eq.acceleration_symbols.size(); ++j) leaves[eq.acceleration_symbols[j]] = accel[j];
-    std::vector<GiNaC::ex> state_symbols(sys.coordinates.begin(), sys.coordinates.end());
-    for (int I : eq.independent) state_symbols.push_back(sys.velocities[static_cast<std::size_t>(I)]);
-    const std::size_t nx = state_symbols.size();
-    column.resize(nx);
-    // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
-    // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
-    std::optional<InverseDynamicsJacobian> id;
-    if (eq.tree && !exact_accel) id = inverse_dynamics_jacobian(*eq.tree, tape);
-    const std::vector<std::vector<GiNaC::ex>> id_columns = id ? id->dense(*eq.tree) : std::vector<std::vector<GiNaC::ex>>{};
-    std::vector<std::vector<int>> right_sides;  // M d(u')/dx_k = b_k, all solved with one factorization
-    for (std::size_t k = 0; k < nx; ++k) {
-      const GiNaC::ex& x_k = state_symbols[k];
-      for (int a = 0; a < n; ++a)
-        column[k].push_back(node_of(diff(eq.kinematics[static_cast<std::size_t>(a)], x_k)));
-      if (exact_accel) {
-        for (const GiNaC::ex& a : *exact_accel) column[k].push_back(node_of(diff(a, x_k)));
-        continue;
-      }
-      std::vector<int> b(d);
-      for (std::size_t i = 0; i < d; ++i) {
-        if (!id_columns.empty()) {
-          b[i] = node_of(-id_columns[k][i]);
-          continue;
-        }
-        int r = node_of(diff(eq.forcing[i], x_k));
-        for (std::size_t j = 0; j < d; ++j) {
-          const GiNaC::ex dM = diff(eq.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)), x_k);
-          if (!dM.is_zero()) r = g.binary(Op::sub, r, g.binary(Op::mul, node_of(dM), accel[j]));
-        }
-        b[i] = r;
-      }
-      right_sides.push_back(b);
-    }
-    if (!exact_accel) {
-      // The LDLᵀ of M or (trees) the articulated-body recursion: as asked, or the recursion when it is clearly
-      // the smaller program.
-      std::vector<std::vector<int>> solved;
-      if (id_columns.empty() || column_solve != ColumnSolve::articulated)
-        solved = ldlt_solve_columns(g, M, right_sides, eq.factor_last_first);
-      if (!id_columns.empty() && column_solve != ColumnSolve::ldlt) {
-        // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force.
-        std::vector<std::vector<int>> own_rows;
-        std::vector<InwardForce> inward;
-        for (std::size_t k = 0; k < nx; ++k) {
-          own_rows.emplace_back();
-          for (const GiNaC::ex& r : id->rows[k]) own_rows.back().push_back(node_of(-r));
-          InwardForce f{id->inward_body[k], {}};
-          for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of(id->inward[k][c]);
-          inward.push_back(f);
-        }
-        std::vector<std::vector<int>> recursive =
-            articulated_solve_columns(g, *eq.tree, articulated_factor(*eq.tree, tape), node_of, own_rows, inward);
-        if (solved.empty() || operations(recursive) <= kRecursiveSolveShare * operations(solved)) {
-          solved = std::move(recursive);
-          route = "; M^-1 b by the articulated-body recursion";
-        }
-      }
-      for (std::size_t k = 0; k < nx; ++k) column[k].insert(column[k].end(), solved[k].begin(), solved[k].end());
-    }
-    // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
-    // tangent pass per state component (size ~ program × state dimension, no M, no solve per column); the
-    // smaller of the two programs is kept (docs/benchmarks.md: the tangent one is larger for the trees
-    // measured so far, because the articulated inertias depend on every joint angle outboard of a body).
-    if (articulated) {
-      const std::vector<std::vector<int>> forward = forward_columns(Argument::state, static_cast<int>(nx));
-      if (operations(forward) < operations(column)) {
-        column = forward;
-        route = "; forward mode through the rhs program";
-      }
-    }
-    jacobian.summary += route;
-  }
-  if (build_jacobian) {
-    const std::size_t nx = column.size();
-    for (std::size_t row = 0; row < nx; ++row)
-      for (std::size_t k = 0; k < nx; ++k) {
-        jacobian.outputs.push_back(column[k][row]);
-        jacobian.output_names.push_back("d" + rhs.output_names[row] + "/d" + state_name(static_cast<int>(k)));
-      }
-  }
-
-  // A = d(x')/dx and B = d(x')/d(in) along any state: A is the Jacobian's columns when they are built (for
-  // trees always: analytical), otherwise forward mode through the rhs program like B (one tangent pass per
-  // state or input component). Built only when asked for by name.
-  Kernel linearization = registered("linearization");
-  if (want("linearization")) {
-    const int nx = static_cast<int>(rhs.outputs.size());
-    const int ni = static_cast<int>(model.inputs.size());
-    const std::vector<std::vector<int>> a_columns = column.empty() ? forward_columns(Argument::state, nx) : column;
-    const std::vector<std::vector<int>> b_columns = forward_columns(Argument::input, ni);
-    for (int row = 0; row < nx; ++row)
-      for (int k = 0; k < nx; ++k) {
-        linearization.outputs.push_back(a_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
-        linearization.output_names.push_back("A[" + rhs.output_names[static_cast<std::size_t>(row)] + "][" + state_name(k) + "]");
-      }
-    for (int row = 0; row < nx; ++row)
-      for (int k = 0; k < ni; ++k) {
-        linearization.outputs.push_back(b_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
-        linearization.output_names.push_back("B[" + rhs.output_names[static_cast<std::size_t>(row)] + "][" +
-                                             model.inputs[static_cast<std::size_t>(k)].get_name() + "]");
-      }
-  }
-
-  Kernel energy = registered("energy");
-  energy.outputs.push_back(node_of(eq.energy_terms.at(0)));
-  energy.output_names.push_back("E");
-
-  set.kernels = {kinematics, mass, forcing, gamma, rhs, jacobian, energy};
-  if (want("linearization")) set.kernels.push_back(linearization);
-  if (!eq.constraint_residual.empty()) {
-    Kernel residual = registered("constraint_residual");
-    for (std::size_t k = 0; k < eq.constraint_residual.size(); ++k) {
-      residual.outputs.push_back(node_of(eq.constraint_residual[k]));
-      residual.output_names.push_back(name_of(sys.constrained[k]));
-    }
-    set.kernels.push_back(residual);
-  }
-  if (derivation.bundle) {
-    const BundleGeometry& geo = *derivation.bundle;
-    const Bundle& b = *model.bundle;
-    const std::size_t m = b.group_velocity.size();
-    Kernel xi = registered("group_velocity");
-    for (std::size_t a = 0; a < m; ++a) {
-      xi.outputs.push_back(node_of(derivation.group_velocity[a]));
-      xi.output_names.push_back(b.group_velocity[a].get_name());
-    }
-    set.kernels.push_back(xi);
-    // Kinematic trees: A = L⁻¹K solved in the kernel (unrolled LDLᵀ of the locked inertia), not symbolically;
-    // placeholders (node 0) when neither kernel that uses it is built.
-    const std::vector<std::vector<int>> solved =
-        !geo.connection_derived && n > 0 && (want("connection") || want("shape_inertia"))
-            ? solved_connection(g, geo, node_of)
-            : std::vector<std::vector<int>>(m, std::vector<int>(static_cast<std::size_t>(n)));
-    const auto connection_node = [&](std::size_t a, int I) {
-      return geo.connection_derived ? node_of(geo.connection(static_cast<unsigned>(a), static_cast<unsigned>(I)))
-                                    : solved[a][static_cast<std::size_t>(I)];
-    };
-    if (n > 0) {
-      Kernel conn = registered("connection");
-      for (std::size_t a = 0; a < m; ++a)
-        for (int I = 0; I < n; ++I) {
-          conn.outputs.push_back(connection_node(a, I));
-          conn.output_names.push_back("A[" + b.group_velocity[a].get_name() + "][" +
-                                      sys.coordinates[static_cast<std::size_t>(I)].get_name() + "]");
-        }
-      set.kernels.push_back(conn);
-    }
-    if (geo.quadratic) {
-      Kernel locked = registered("locked_inertia");
-      for (std::size_t a = 0; a < m; ++a)
-        for (std::size_t c = 0; c < m; ++c) {
-          locked.outputs.push_back(node_of(geo.L(static_cast<unsigned>(a), static_cast<unsigned>(c))));
-          locked.output_names.push_back("L[" + b.group_velocity[a].get_name() + "][" + b.group_velocity[c].get_name() +
-                                        "]");
-        }
-      set.kernels.push_back(locked);
-    }
-    if (b.mechanical && n > 0 && want("shape_inertia")) {
-      // The lower block of M^Ω = diag(L, S − AᵀLA) (MOmega); the upper block is locked_inertia.
-      Kernel shape = registered("shape_inertia");
-      for (int I = 0; I < n; ++I)
-        for (int J = 0; J < n; ++J) {
-          if (geo.connection_derived) {
-            shape.outputs.push_back(node_of(geo.shape_inertia(static_cast<unsigned>(I), static_cast<unsigned>(J))));
-          } else if (J < I) {  // symmetric: the entry above the diagonal
-            shape.outputs.push_back(shape.outputs[static_cast<std::size_t>(J * n + I)]);
-          } else {  // S − KᵀA with A = L⁻¹K (= S − AᵀLA)
-            int v = node_of(geo.S(static_cast<unsigned>(I), static_cast<unsigned>(J)));
-            for (std::size_t a = 0; a < m; ++a)
-              v = g.binary(Op::sub, v,
-                           g.binary(Op::mul, node_of(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I))),
-                                    solved[a][static_cast<std::size_t>(J)]));
-            shape.outputs.push_back(v);
-          }
-          shape.output_names.push_back("M_shape[" + sys.coordinates[static_cast<std::size_t>(I)].get_name() + "][" +
-                                       sys.coordinates[static_cast<std::size_t>(J)].get_name() + "]");
-        }
-      set.kernels.push_back(shape);
-    }
-  }
-  // The Riemannian view (derive/riemann.hpp), built only when asked for by name: it is defined only for
-  // unconstrained models in general coordinates with L = ½ g_ab q̇ᵃq̇ᵇ − V. Matrices in the coordinate basis
-  // ∂/∂qᵃ at the state's velocity q̇ = B(q) u_I (qadot); for A = I that is q̇ = u.
-  if (want("riemann_linearization")) {
-    const RiemannGeometry riemann = derive_riemann(model, tape);
-    for (int a = 0; a < n; ++a)
-      leaves[model.rates[static_cast<std::size_t>(a)]] = node_of(eq.kinematics[static_cast<std::size_t>(a)]);
-    Kernel linearization = registered("riemann_linearization");
-    const auto name = [&](const char* label, int a, int b) {
-      return std::string(label) + "[" + sys.coordinates[static_cast<std::size_t>(a)].get_name() + "][" +
-             sys.coordinates[static_cast<std::size_t>(b)].get_name() + "]";
-    };
-    const std::pair<const char*, const GiNaC::matrix*> blocks[] = {
-        {"g", &riemann.metric}, {"G", &riemann.connection_rate}, {"K", &riemann.stiffness}};
-    std::vector<int> connection_rate;
-    for (const auto& [label, m] : blocks)
-      for (int a = 0; a < n; ++a)
-        for (int b = 0; b < n; ++b) {
-          linearization.outputs.push_back(node_of((*m)(static_cast<unsigned>(a), static_cast<unsigned>(b))));
-          linearization.output_names.push_back(name(label, a, b));
-          if (m == &riemann.connection_rate) connection_rate.push_back(linearization.outputs.back());
-        }
-    // Ġ along the motion, by forward mode through G's program with the state's tangent x' = (q̇, u̇_I) (the
-    // rhs kernel's outputs): what the first-order form of the covariant equations needs
-    // (docs/linearization.md).
-    std::map<int, int> along_motion;
-    for (std::size_t k = 0; k < rhs.outputs.size(); ++k)
-      along_motion[g.input(Argument::state, static_cast<int>(k))] = rhs.outputs[k];
-    const std::vector<int> connection_rate_dot = tangent(g, connection_rate, along_motion);
-    for (int a = 0; a < n; ++a)
-      for (int b = 0; b < n; ++b) {
-        linearization.outputs.push_back(connection_rate_dot[static_cast<std::size_t>(a * n + b)]);
-        linearization.output_names.push_back(name("G_dot", a, b));
-      }
-    set.kernels.push_back(linearization);
-  }
-  // Prepared parameters: the parameter-only work of rhs and jacobian hoisted into prepare (KernelSet::Prepared).
-  const bool prepared_named = only.count("rhs_prepared") > 0 || only.count("jacobian_prepared") > 0;
-  if (only.empty() || prepared_named) {
-    std::vector<const Kernel*> originals;
-    if (want("rhs") || only.count("rhs_prepared")) originals.push_back(&rhs);
-    if (build_jacobian && !jacobian.outputs.empty())
-      originals.push_back(&jacobian);
-    // Parameter-only factors and divisors gathered, so that their products and reciprocals are prepared too;
-    // or, where it leaves fewer operations per call, polynomial outputs as Σ coefficient · monomial.
-    std::vector<std::vector<int>> rewritten;
-    std::vector<int> all;
-    for (const Kernel* k : originals) {
-      std::vector<int> grouped = group_invariants(g, k->outputs);
-      std::vector<int> polynomial = polynomial_form(g, k->outputs);
-      const bool fewer = run_time_operations(g, polynomial).total() < run_time_operations(g, grouped).total();
-      rewritten.push_back(fewer ? std::move(polynomial) : std::move(grouped));
-      all.insert(all.end(), rewritten.back().begin(), rewritten.back().end());
-    }
-    const std::vector<int> frontier = parameter_frontier(g, all);
-    KernelSet::Prepared prepared;
-    prepared.rhs = g.count(g.schedule(rhs.outputs));
-    prepared.once = g.count(g.schedule(frontier));
-    if (!rewritten.empty() && originals.front() == &rhs) prepared.rhs_prepared = run_time_operations(g, rewritten.front());
-    if (prepared_named || (!rewritten.empty() && originals.front() == &rhs &&
-                           prepared.rhs_prepared.total() <= kPreparedShare * prepared.rhs.total())) {
-      const int n_p = static_cast<int>(model.parameters.size());
-      prepared.prepare = {"prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}};
-      for (int k = 0; k < n_p; ++k) {
-        prepared.prepare.outputs.push_back(g.input(Argument::parameter, k));
-        prepared.prepare.output_names.push_back(model.parameters[static_cast<std::size_t>(k)].symbol.get_name());
-      }
-      std::map<int, int> replace;
-      for (std::size_t j = 0; j < frontier.size(); ++j) {
-        prepared.prepare.outputs.push_back(frontier[j]);
-        prepared.prepare.output_names.push_back("prepared " + std::to_string(j));
-        replace[frontier[j]] = g.input(Argument::parameter, n_p + static_cast<int>(j));
-      }
-      for (std::size_t i = 0; i < originals.size(); ++i) {
-        Kernel variant = *originals[i];
-        const KernelSpec& spec = kernel_spec(originals[i]->name + "_prepared");
-        variant.name = spec.name;
-        variant.summary = spec.summary;
-        variant.outputs = substitute(g, rewritten[i], replace);
-        prepared.kernels.push_back(variant);
-      }
-      set.prepared = prepared;
-    }
-  }
-  if (!want("rhs")) set.rhs_pivots.clear();
-  if (!only.empty()) {
-    std::vector<Kernel> kept;
-    for (const Kernel& k : set.kernels)
-      if (only.count(k.name)) kept.push_back(k);
-    set.kernels = kept;
-  }
-  return set;
+  return KernelBuilder(model, derivation, only, column_solve).build();
 }
 
 std::vector<std::string> drop_unrepresentable(KernelSet& set, bool named, const std::string& model_path) {

@@ -57,4 +57,8 @@ const Function* function_named(const std::string& name);
 /// The function of operation `op`, or nullptr for an operation that is not one (add, pow, …).
 const Function* function_of(Op op);
 
+/// op(a, b) in double: an arithmetic operation, pow, or an elementary function of a (b unused); throws
+/// std::logic_error for constant and input, which are not operations.
+double evaluate(Op op, double a, double b);
+
 }  // namespace hamel

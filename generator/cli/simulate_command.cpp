@@ -11,6 +11,7 @@
 #include "numeric/input_sources.hpp"
 #include "numeric/integrators.hpp"
 #include "report/atomic_file.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/csv.hpp>
 #include <hamel/runtime/lie/rkmk_coupled.hpp>

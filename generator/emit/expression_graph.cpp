@@ -19,26 +19,6 @@ namespace {
 
 bool commutative(Op op) { return op == Op::add || op == Op::mul; }
 
-double apply(Op op, double a, double b) {
-  switch (op) {
-    case Op::add:
-      return a + b;
-    case Op::sub:
-      return a - b;
-    case Op::mul:
-      return a * b;
-    case Op::div:
-      return a / b;
-    case Op::neg:
-      return -a;
-    case Op::pow:
-      return std::pow(a, b);
-    default:
-      if (const Function* f = function_of(op)) return f->evaluate(a);
-      break;
-  }
-  throw std::logic_error("expression graph: not an operation");
-}
 
 Op function_op(const std::string& name) {
   const Function* f = function_named(name);
@@ -169,7 +149,7 @@ int ExpressionGraph::input(Argument argument, int index) {
 
 int ExpressionGraph::unary(Op op, int a) {
   const Node& x = node(a);
-  if (x.op == Op::constant && x.index == 0) return folded(op, x.value, 0.0, apply(op, x.value, 0.0));
+  if (x.op == Op::constant && x.index == 0) return folded(op, x.value, 0.0, evaluate(op, x.value, 0.0));
   if (op == Op::neg && x.op == Op::neg) return x.a;
   if (op == Op::neg && x.op == Op::sub) return binary(Op::sub, x.b, x.a);
   Node n;
@@ -185,7 +165,7 @@ int ExpressionGraph::binary(Op op, int a, int b) {
   const Node& x = node(a);
   const Node& y = node(b);
   if (x.op == Op::constant && y.op == Op::constant && x.index == 0 && y.index == 0)
-    return folded(op, x.value, y.value, apply(op, x.value, y.value));
+    return folded(op, x.value, y.value, evaluate(op, x.value, y.value));
   switch (op) {
     case Op::add:
       if (is_constant(a, 0)) return b;
@@ -405,32 +385,6 @@ OpCounts ExpressionGraph::count(const std::vector<int>& schedule) const {
     }
   }
   return c;
-}
-
-GraphEvaluator::GraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs)
-    : graph_(graph),
-      outputs_(std::move(outputs)),
-      schedule_(graph.schedule(outputs_)),
-      values_(static_cast<std::size_t>(graph.size()), 0.0) {}
-
-void GraphEvaluator::evaluate(double t, const double* x, const double* p, const double* in, double* out) {
-  interpret(
-      graph_, schedule_, values_, [](const Node& n) { return n.value; },
-      [&](Argument argument, int index) {
-        switch (argument) {
-          case Argument::time:
-            return t;
-          case Argument::state:
-            return x[index];
-          case Argument::parameter:
-            return p[index];
-          case Argument::input:
-            break;
-        }
-        return in[index];
-      },
-      [](const Node& n, double a, double b) { return apply(n.op, a, b); });
-  for (std::size_t k = 0; k < outputs_.size(); ++k) out[k] = values_[static_cast<std::size_t>(outputs_[k])];
 }
 
 namespace {

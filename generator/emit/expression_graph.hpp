@@ -148,19 +148,6 @@ void interpret(const ExpressionGraph& g, const std::vector<int>& schedule, std::
   }
 }
 
-/// Evaluates `outputs` numerically in double (the interpreter behind `hamel simulate`).
-class GraphEvaluator {
- public:
-  GraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs);
-  void evaluate(double t, const double* x, const double* p, const double* in, double* out);
-
- private:
-  const ExpressionGraph& graph_;
-  std::vector<int> outputs_;
-  std::vector<int> schedule_;
-  std::vector<double> values_;
-};
-
 /// Converts expressions that may use intermediate symbols (algebra/intermediates.hpp) into `graph`: each
 /// definition becomes a node when an expression first needs it, after the definitions it uses. `tape` may
 /// grow between calls (differentiation adds definitions); symbols that only some definitions use (the

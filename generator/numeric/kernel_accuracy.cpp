@@ -1,6 +1,7 @@
 #include "numeric/kernel_accuracy.hpp"
 
 #include "algebra/operations.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <algorithm>
 #include <cmath>

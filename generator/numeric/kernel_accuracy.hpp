@@ -26,6 +26,7 @@
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <ginac/ginac.h>
 

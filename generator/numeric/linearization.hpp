@@ -7,6 +7,7 @@
 #pragma once
 
 #include "emit/kernels.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <functional>
 #include <string>

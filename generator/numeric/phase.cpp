@@ -4,6 +4,7 @@
 #include "emit/kernels.hpp"
 #include "emit/linear_solve.hpp"
 #include "model/input_error.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/ldlt.hpp>
 #include <hamel/runtime/lie/rkmk.hpp>

@@ -3,6 +3,7 @@
 #include "model/input_error.hpp"
 #include "numeric/integrators.hpp"
 #include "report/svg_plot.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/monitor.hpp>
 

@@ -7,6 +7,7 @@
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <string>
 #include <vector>

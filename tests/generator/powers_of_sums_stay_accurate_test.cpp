@@ -10,6 +10,7 @@
 #include "emit/kernels.hpp"
 #include "model/expression_parser.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

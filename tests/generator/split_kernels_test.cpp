@@ -5,6 +5,7 @@
 // generator's own evaluation of the graph (GraphEvaluator), for random programs and every part size from 1.
 #include "emit/cpp_emitter.hpp"
 #include "emit/expression_graph.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

@@ -12,6 +12,7 @@
 #include "emit/kernels.hpp"
 #include "lie/lie_algebra.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

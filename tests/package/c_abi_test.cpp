@@ -10,6 +10,7 @@
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

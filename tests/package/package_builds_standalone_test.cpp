@@ -12,6 +12,7 @@
 #include "emit/kernels.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/rk4.hpp>
 

@@ -18,6 +18,7 @@
 #include "emit/polynomial_form.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

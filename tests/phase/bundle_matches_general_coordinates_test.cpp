@@ -14,6 +14,7 @@
 #include "model/load_model.hpp"
 
 #include "numeric/phase.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/dopri5.hpp>
 

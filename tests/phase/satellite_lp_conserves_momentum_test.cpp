@@ -15,6 +15,7 @@
 #include "emit/kernels.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/lie/rkmk_coupled.hpp>
 #include <hamel/runtime/lie/se3.hpp>

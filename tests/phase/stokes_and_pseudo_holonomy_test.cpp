@@ -33,6 +33,7 @@
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/phase.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

@@ -8,6 +8,7 @@
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/integrators.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <cmath>
 #include <cstdlib>

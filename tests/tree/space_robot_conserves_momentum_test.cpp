@@ -16,6 +16,7 @@
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/dop853.hpp>
 

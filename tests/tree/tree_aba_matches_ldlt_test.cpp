@@ -18,6 +18,7 @@
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

@@ -22,6 +22,7 @@
 #include "emit/kernels.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,10 +2,10 @@
 
 #include "algebra/identity_test.hpp"
 #include "algebra/quadratic_form.hpp"
-#include "derive/kinematic_tree.hpp"
 #include "model/input_error.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 #include <tuple>
 
 namespace hamel {
@@ -57,7 +57,8 @@ BundleGeometry inlined(const BundleGeometry& geometry) {
 }
 
 BundleGeometry derive_bundle_geometry(const Model& model) {
-  if (model.bundle->tree) return derive_bundle_geometry(with_inlined_tree(model));  // symbolic: small trees only
+  if (model.bundle->tree)  // derive/kinematic_tree derives trees, or inlines them first (with_inlined_tree)
+    throw std::logic_error("derive_bundle_geometry: a tree model must be inlined first");
   const Bundle& b = *model.bundle;
   BundleGeometry g;
   g.program = model.definitions;

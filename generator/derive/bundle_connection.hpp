@@ -39,8 +39,9 @@ struct BundleGeometry {
   std::vector<BundleCoefficient> curvature_in(CurvatureSign sign) const;
 };
 
-/// Derives everything above for a bundle model. Throws InputError (at the kinetic energy) when the
-/// connection is mechanical and T is not a quadratic form in the velocities, or L is singular.
+/// Derives everything above for a bundle model that is not a kinematic tree (a tree is derived recursively by
+/// derive/kinematic_tree, or inlined first by with_inlined_tree). Throws InputError (at the kinetic energy)
+/// when the connection is mechanical and T is not a quadratic form in the velocities, or L is singular.
 BundleGeometry derive_bundle_geometry(const Model& model);
 
 /// The geometry with every intermediate symbol expanded (and an empty program): one expression per entry, in

@@ -61,24 +61,12 @@ const Function* function_of(Op op) {
 }
 
 double evaluate(Op op, double a, double b) {
-  switch (op) {
-    case Op::add:
-      return a + b;
-    case Op::sub:
-      return a - b;
-    case Op::mul:
-      return a * b;
-    case Op::div:
-      return a / b;
-    case Op::neg:
-      return -a;
-    case Op::pow:
-      return std::pow(a, b);
-    default:
-      if (const Function* f = function_of(op)) return f->evaluate(a);
-      break;
-  }
-  throw std::logic_error("evaluate: not an operation");
+  return evaluate_in<double>(
+      op, a, b, [](double x, double y) { return x / y; }, [](double x, double y) { return std::pow(x, y); },
+      [](Op f, double x) {
+        if (const Function* function = function_of(f)) return function->evaluate(x);
+        throw std::logic_error("evaluate: not an operation");
+      });
 }
 
 }  // namespace hamel

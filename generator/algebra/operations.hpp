@@ -57,6 +57,29 @@ const Function* function_named(const std::string& name);
 /// The function of operation `op`, or nullptr for an operation that is not one (add, pow, …).
 const Function* function_of(Op op);
 
+/// op(a, b) in the number type T: +, − and × (and negation) as T's operators, a / b as divide(a, b), a^b as
+/// power(a, b) and any other operation (an elementary function of a; b unused) as function(op, a). The double
+/// interpreter and the 50-digit one (numeric/kernel_accuracy) differ only in these three rules.
+template <class T, class Divide, class Power, class ElementaryFunction>
+T evaluate_in(Op op, const T& a, const T& b, Divide divide, Power power, ElementaryFunction function) {
+  switch (op) {
+    case Op::add:
+      return a + b;
+    case Op::sub:
+      return a - b;
+    case Op::mul:
+      return a * b;
+    case Op::neg:
+      return -a;
+    case Op::div:
+      return divide(a, b);
+    case Op::pow:
+      return power(a, b);
+    default:
+      return function(op, a);
+  }
+}
+
 /// op(a, b) in double: an arithmetic operation, pow, or an elementary function of a (b unused); throws
 /// std::logic_error for constant and input, which are not operations.
 double evaluate(Op op, double a, double b);

@@ -129,26 +129,15 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric&
         }
         return in.at(k);
       },
-      [&](const Node& n, const numeric& a, const numeric& b) -> numeric {
-        switch (n.op) {
-          case Op::add:
-            return a + b;
-          case Op::sub:
-            return a - b;
-          case Op::mul:
-            return a * b;
-          case Op::div:
-            return divide(a, b);
-          case Op::neg:
-            return -a;
-          case Op::pow: {
-            // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
-            const Node& exponent = graph_.node(n.b);
-            return power(a, exponent.op == Op::constant ? exact_rational(exponent.value) : b);
-          }
-          default:  // an elementary function
-            return apply_function(*function_of(n.op), a);
-        }
+      [&](const Node& n, const numeric& a, const numeric& b) {
+        return evaluate_in<numeric>(
+            n.op, a, b, [](const numeric& x, const numeric& y) { return divide(x, y); },
+            [&](const numeric& x, const numeric& y) {
+              // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
+              const Node& exponent = graph_.node(n.b);
+              return power(x, exponent.op == Op::constant ? exact_rational(exponent.value) : y);
+            },
+            [](Op f, const numeric& x) { return apply_function(*function_of(f), x); });
       });
   std::vector<numeric> out;
   out.reserve(outputs_.size());

@@ -37,14 +37,7 @@ Mat6 spatial_inertia(const RigidBody& b) {
 // The columns of the map ξ ↦ base twist (ω, v): which se(3) directions the group moves.
 std::vector<Vec6> base_directions(const std::string& group) {
   std::vector<Vec6> s;
-  if (group == "SE3")
-    for (int k = 0; k < 6; ++k) s.push_back(unit6(k));
-  else if (group == "SO3")
-    for (int k = 0; k < 3; ++k) s.push_back(unit6(k));
-  else if (group == "SE2")
-    for (int k : {2, 3, 4}) s.push_back(unit6(k));
-  else  // R1..R3, checked by the loader
-    for (int k = 0; k < group[1] - '0'; ++k) s.push_back(unit6(3 + k));
+  for (int k : tree_base_directions(group)) s.push_back(unit6(k));
   return s;
 }
 

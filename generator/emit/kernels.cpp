@@ -92,6 +92,9 @@ class KernelBuilder {
       leaves_[model.inputs[k]] = g_.input(Argument::input, static_cast<int>(k));
   }
 
+  KernelBuilder(const KernelBuilder&) = delete;  // holds references into its own members
+  KernelBuilder& operator=(const KernelBuilder&) = delete;
+
   KernelSet build() {
     equation_kernels();
     build_jacobian_ = want("jacobian") || only_.count("jacobian_prepared") > 0;  // its variant needs it
@@ -170,7 +173,7 @@ class KernelBuilder {
   const HamelSystem& sys_;
   const std::set<std::string>& only_;
   const ColumnSolve column_solve_;
-  const int n_;        ///< coordinates
+  const int n_;          ///< coordinates
   const std::size_t d_;  ///< independent quasi-velocities
 
   KernelSet set_;

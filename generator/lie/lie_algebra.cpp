@@ -89,6 +89,16 @@ GiNaC::ex frobenius(const matrix& a, const matrix& b) {
 
 }  // namespace
 
+std::vector<int> tree_base_directions(const std::string& group) {
+  if (group == "SE3") return {0, 1, 2, 3, 4, 5};
+  if (group == "SO3") return {0, 1, 2};
+  if (group == "SE2") return {2, 3, 4};
+  if (group == "R1") return {3};
+  if (group == "R2") return {3, 4};
+  if (group == "R3") return {3, 4, 5};
+  return {};
+}
+
 std::vector<std::string> known_groups() {
   return {"SO3", "SE3", "SE2", "R1", "R2", "R3", "R4", "R5", "R6", "products such as SO3xR3"};
 }

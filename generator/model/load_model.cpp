@@ -583,8 +583,7 @@ void Loader::load_bundle(Model& model) {
     if (b.right)
       fail(root_["trivialization"], "trivialization",
            "a kinematic tree needs 'left' (the base frame's body twist); 'right' is not supported for trees");
-    if (b.group != "SE3" && b.group != "SO3" && b.group != "SE2" && b.group != "R1" && b.group != "R2" &&
-        b.group != "R3")
+    if (tree_base_directions(b.group).empty())
       fail(group, "group",
            "a kinematic tree's floating base must be SE3, SO3, SE2, R1, R2 or R3 (the group frame carries the "
            "base body), got '" + b.group + "'");

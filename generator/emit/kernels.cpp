@@ -322,7 +322,8 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
     inward.push_back(f);
   }
   std::vector<std::vector<int>> recursive =
-      articulated_solve_columns(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_, own_rows, inward);
+      articulated_solve_columns(g_, articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_),
+                                own_rows, inward);
   if (solved.empty() || operations(recursive) <= kRecursiveSolveShare * operations(solved)) {
     route = "; M^-1 b by the articulated-body recursion";
     return recursive;

@@ -109,11 +109,9 @@ std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const Bundle
   return A;
 }
 
-std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const TreeRecursion& tree,
-                                                        const ArticulatedFactor& factor, ProgramConverter& node_of,
-                                                        const std::vector<std::vector<int>>& columns,
-                                                        const std::vector<InwardForce>& inward) {
-  using Vec = std::array<int, 6>;
+ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree, const ArticulatedFactor& factor,
+                                   ProgramConverter& node_of) {
+  using Vec = ArticulatedNodes::Vec;
   const std::size_t N = tree.parent.size(), m = tree.base.size();
   const int zero = g.constant(0);
   const auto nodes = [&](const spatial::Vec6& v) {
@@ -121,6 +119,28 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     for (std::size_t k = 0; k < 6; ++k) out[k] = node_of(v[k]);
     return out;
   };
+  const Vec none = {zero, zero, zero, zero, zero, zero};
+  ArticulatedNodes f{tree.parent, std::vector<Vec>(N, none), std::vector<Vec>(N, none), std::vector<Vec>(N, none),
+                     {}, std::vector<int>(N, zero), std::vector<std::vector<int>>(m, std::vector<int>(m))};
+  for (std::size_t i = 1; i < N; ++i) {
+    f.s[i] = nodes(tree.frame.axis[i]);
+    f.U[i] = nodes(factor.U[i]);
+    f.inverse_D[i] = node_of(factor.inverse_pivot[i]);
+    for (std::size_t k = 0; k < 6; ++k) f.W[i][k] = g.binary(Op::mul, f.U[i][k], f.inverse_D[i]);
+  }
+  for (std::size_t alpha = 0; alpha < m; ++alpha) {
+    f.e.push_back(nodes(tree.base[alpha]));
+    for (std::size_t beta = 0; beta < m; ++beta) f.base_inertia[alpha][beta] = node_of(factor.base_inertia[alpha][beta]);
+  }
+  return f;
+}
+
+std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const ArticulatedNodes& factor,
+                                                        const std::vector<std::vector<int>>& columns,
+                                                        const std::vector<InwardForce>& inward) {
+  using Vec = ArticulatedNodes::Vec;
+  const std::size_t N = factor.parent.size(), m = factor.e.size();
+  const int zero = g.constant(0);
   const auto dot = [&](const Vec& a, const Vec& b) {  // summed in pairs: shorter chains of dependent additions
     int pair[3];
     for (std::size_t k = 0; k < 3; ++k)
@@ -132,15 +152,9 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     for (std::size_t k = 0; k < 6; ++k) out[k] = g.binary(Op::add, y[k], g.binary(Op::mul, a[k], x));
     return out;
   };
-  std::vector<Vec> s(N), U(N), W(N), e(m);  // W_i = U_i / D_i
-  std::vector<int> inverse_D(N, zero);
-  for (std::size_t i = 1; i < N; ++i) {
-    s[i] = nodes(tree.frame.axis[i]);
-    U[i] = nodes(factor.U[i]);
-    inverse_D[i] = node_of(factor.inverse_pivot[i]);
-    for (std::size_t k = 0; k < 6; ++k) W[i][k] = g.binary(Op::mul, U[i][k], inverse_D[i]);
-  }
-  for (std::size_t alpha = 0; alpha < m; ++alpha) e[alpha] = nodes(tree.base[alpha]);
+  const std::vector<Vec>&s = factor.s, &U = factor.U, &W = factor.W, &e = factor.e;
+  const std::vector<int>& inverse_D = factor.inverse_D;
+  const std::vector<int>& parent = factor.parent;
   const Vec none = {zero, zero, zero, zero, zero, zero};
 
   // Inward, per column: μ_i and the base's right-hand side.
@@ -150,10 +164,10 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     std::vector<Vec> p(N, none);
     // b_I = −⟨s_I, F⟩ on the ancestors of the force's body: μ_I = (b_I − ⟨s_I, p_I⟩) / D_I with p_I + F in place
     // of p_I, and F passes inward with p unchanged.
-    if (!inward.empty() && inward[c].body > 0) p[static_cast<std::size_t>(tree.parent[inward[c].body])] = inward[c].force;
+    if (!inward.empty() && inward[c].body > 0) p[static_cast<std::size_t>(parent[inward[c].body])] = inward[c].force;
     for (std::size_t i = N; i-- > 1;) {
       mu[c][i] = g.binary(Op::mul, g.binary(Op::sub, b[m + i - 1], dot(s[i], p[i])), inverse_D[i]);
-      const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+      const std::size_t l = static_cast<std::size_t>(parent[i]);
       if (l == 0 && m == 0) continue;
       const Vec pi = axpy(p[i], U[i], mu[c][i]);
       for (std::size_t k = 0; k < 6; ++k) p[l][k] = g.binary(Op::add, p[l][k], pi[k]);
@@ -161,12 +175,7 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     for (std::size_t alpha = 0; alpha < m; ++alpha) base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
   }
   std::vector<std::vector<int>> base_rate(columns.size());
-  if (m > 0) {
-    std::vector<std::vector<int>> A(m, std::vector<int>(m));
-    for (std::size_t alpha = 0; alpha < m; ++alpha)
-      for (std::size_t beta = 0; beta < m; ++beta) A[alpha][beta] = node_of(factor.base_inertia[alpha][beta]);
-    base_rate = ldlt_solve_columns(g, A, base_rhs);
-  }
+  if (m > 0) base_rate = ldlt_solve_columns(g, factor.base_inertia, base_rhs);
 
   // Outward: the base's acceleration (zero on a fixed base: M carries no gravity), then the joints'.
   std::vector<std::vector<int>> out(columns.size());
@@ -175,7 +184,7 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     for (std::size_t alpha = 0; alpha < m; ++alpha) a[0] = axpy(a[0], e[alpha], base_rate[c][alpha]);
     out[c] = base_rate[c];
     for (std::size_t i = 1; i < N; ++i) {
-      const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+      const std::size_t l = static_cast<std::size_t>(parent[i]);
       const int rate = g.binary(Op::sub, mu[c][i], dot(W[i], a[l]));
       out[c].push_back(rate);
       a[i] = axpy(a[l], s[i], rate);

@@ -71,6 +71,7 @@ std::string upper(std::string s) {
 struct Sizes {
   int n_q, n_u, n_x, n_p, n_in;
   int split = 0;  ///< the most statements a part of a split kernel has; 0: never split
+  bool calls = true;  ///< a kernel with a subroutine (Kernel::calls) printed with its calls; false: flat
 };
 
 std::string signature(const Kernel& k) {
@@ -114,16 +115,32 @@ std::string argument_voids(const bool uses[4]) {
   return s;
 }
 
-// With n_main >= 0, outputs from n_main on are written to a second array, `pivots`, an extra argument.
-PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, int n_main = -1) {
+// Where a printed kernel's outputs go: its signature (`head`), the shape in its comment, and output o's target.
+struct Destination {
+  std::string head;
+  std::string shape;
+  std::function<std::string(std::size_t)> target;
+};
+
+// The kernel ABI: out[o].
+Destination to_out(const Kernel& k) {
+  return {signature(k), "out[" + std::to_string(k.outputs.size()) + "]",
+          [](std::size_t o) { return "out[" + std::to_string(o) + "]"; }};
+}
+
+// Outputs before `first` to out[], the others to a second array `second`, an extra argument.
+Destination to_two_arrays(const Kernel& k, std::size_t first, const std::string& second) {
+  return {"void " + k.name + "(real t, const real* x, const real* p, const real* in, real* out, real* " + second + ")",
+          "out[" + std::to_string(first) + "], " + second + "[" + std::to_string(k.outputs.size() - first) + "]",
+          [first, second](std::size_t o) {
+            return o < first ? "out[" + std::to_string(o) + "]" : second + "[" + std::to_string(o - first) + "]";
+          }};
+}
+
+PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d) {
   const std::vector<int> order = g.schedule(k.outputs);
-  const std::string head =
-      n_main < 0 ? signature(k)
-                 : "void " + k.name + "(real t, const real* x, const real* p, const real* in, real* out, real* pivots)";
-  const auto target = [&](std::size_t o) {
-    return n_main < 0 || o < static_cast<std::size_t>(n_main) ? "out[" + std::to_string(o) + "]"
-                                                               : "pivots[" + std::to_string(o - static_cast<std::size_t>(n_main)) + "]";
-  };
+  const std::string& head = d.head;
+  const auto& target = d.target;
   const OpCounts c = g.count(order);
   // Leaves (constants and arguments) are written in place; every other node is a statement.
   std::map<int, std::string> leaf;
@@ -149,8 +166,7 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
 
   std::ostringstream os;
   os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> "
-     << (n_main < 0 ? "out[" + std::to_string(k.outputs.size()) + "]"
-                    : "out[" + std::to_string(n_main) + "], pivots[" + std::to_string(static_cast<int>(k.outputs.size()) - n_main) + "]")
+     << d.shape
      << "  ops: " << c.add << " add, " << c.mul << " mul, " << c.div << " div, " << c.call
      << " call */\n";
   const int part_size = s.split;
@@ -264,6 +280,116 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   }
   os << "}\n";
   return {k.name, os.str(), work + n_slots, c, parts};
+}
+
+// A kernel whose repeated solve is a subroutine (Kernel::calls): the subroutine printed once as <name>_column; the
+// kernel as a stage, <name>_stage, that writes the outputs no call gives and, into the stack array scratch[], the
+// values the calls share and each call's arguments; then one call per column, its results copied to out[].
+PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
+  const Subroutine& sub = *k.calls;
+  const std::size_t n_shared = sub.shared.size(), n_results = sub.outputs.size();
+  const std::size_t n_arguments = sub.calls.empty() ? 0 : sub.calls.front().arguments.size();
+  // The subroutine writes its results into out[] itself, at offsets from the pointer it is given: the offsets of
+  // the first call's results from its first result (a Jacobian's column: out[0], out[nx], out[2 nx], ...). A call
+  // whose results lie in the same pattern passes out + its first result; any other call passes result[], copied.
+  std::vector<int> offset;
+  const auto pattern_of = [&](const Subroutine::Call& call) {
+    std::vector<int> d;
+    for (int r : call.results) d.push_back(r - call.results.front());
+    return d;
+  };
+  if (n_results > 0 && !sub.calls.empty()) {
+    offset = pattern_of(sub.calls.front());
+    std::vector<int> sorted = offset;
+    std::sort(sorted.begin(), sorted.end());
+    const bool distinct = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+    if (sub.calls.front().results.front() < 0 || sorted.front() < 0 || !distinct) offset.clear();
+  }
+  const auto direct_call = [&](const Subroutine::Call& call) {
+    return !offset.empty() && call.results.front() >= 0 && pattern_of(call) == offset;
+  };
+  bool any_copied = false;
+  for (const Subroutine::Call& call : sub.calls) any_copied = any_copied || !direct_call(call);
+  Kernel column{k.name + "_column", "", sub.outputs, {}, nullptr};
+  for (std::size_t r = 0; r < n_results; ++r)
+    column.output_names.push_back(offset.empty() ? "result " + std::to_string(r)
+                                                 : k.output_names[static_cast<std::size_t>(sub.calls.front().results[r])] +
+                                                       " (first call)");
+  Destination strided = to_out(column);
+  if (!offset.empty()) {
+    strided.target = [&offset](std::size_t r) { return "out[" + std::to_string(offset[r]) + "]"; };
+    strided.shape = "out[" + std::to_string(*std::max_element(offset.begin(), offset.end()) + 1) + "], " +
+                    std::to_string(n_results) + " of them";
+  }
+  const PrintedKernel called = print_kernel(
+      sub.graph, column, Sizes{0, 0, static_cast<int>(n_arguments), static_cast<int>(n_shared), 0, s.split}, strided);
+
+  std::vector<bool> by_call(k.outputs.size(), false);
+  for (const Subroutine::Call& call : sub.calls)
+    for (int r : call.results)
+      if (r >= 0) by_call[static_cast<std::size_t>(r)] = true;
+  Kernel stage{k.name + "_stage", "", {}, {}, nullptr};
+  std::vector<std::size_t> direct;  // the kernel's outputs the stage writes
+  for (std::size_t o = 0; o < k.outputs.size(); ++o) {
+    if (by_call[o]) continue;
+    stage.outputs.push_back(k.outputs[o]);
+    stage.output_names.push_back(k.output_names[o]);
+    direct.push_back(o);
+  }
+  const std::size_t first = stage.outputs.size();
+  for (std::size_t j = 0; j < n_shared; ++j) {
+    stage.outputs.push_back(sub.shared[j]);
+    stage.output_names.push_back("shared " + std::to_string(j));
+  }
+  for (std::size_t c = 0; c < sub.calls.size(); ++c)
+    for (std::size_t a = 0; a < n_arguments; ++a) {
+      stage.outputs.push_back(sub.calls[c].arguments[a]);
+      stage.output_names.push_back("call " + std::to_string(c) + ", argument " + std::to_string(a));
+    }
+  Destination into = to_two_arrays(stage, first, "scratch");
+  into.target = [&](std::size_t o) {
+    return o < first ? "out[" + std::to_string(direct[o]) + "]" : "scratch[" + std::to_string(o - first) + "]";
+  };
+  const PrintedKernel staged = print_kernel(g, stage, s, into);
+
+  OpCounts total = staged.ops;
+  const int n_calls = static_cast<int>(sub.calls.size());
+  total.add += n_calls * called.ops.add;
+  total.mul += n_calls * called.ops.mul;
+  total.div += n_calls * called.ops.div;
+  total.call += n_calls * called.ops.call;
+  const std::size_t n_scratch = stage.outputs.size() - first;
+  std::ostringstream os;
+  os << "namespace {\n\n" << called.text << "\n" << staged.text << "\n}  // namespace\n\n";
+  os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> out["
+     << k.outputs.size() << "]: " << k.name << "_stage, then " << n_calls << " calls of " << k.name
+     << "_column  ops: " << total.add << " add, " << total.mul << " mul, " << total.div << " div, " << total.call
+     << " call */\n"
+     << signature(k) << " {\n  real scratch[" << std::max<std::size_t>(n_scratch, 1) << "];\n  " << k.name
+     << "_stage(t, x, p, in, out, scratch);\n";
+  // result[] holds what the subroutine writes: out[offset[r]] when it has an offset pattern.
+  const std::size_t n_result = offset.empty() ? n_results : static_cast<std::size_t>(*std::max_element(offset.begin(), offset.end())) + 1;
+  if (any_copied) os << "  real result[" << std::max<std::size_t>(n_result, 1) << "];\n";
+  for (std::size_t c = 0; c < sub.calls.size(); ++c) {
+    const bool direct = direct_call(sub.calls[c]);
+    os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, "
+       << (direct ? "out + " + std::to_string(sub.calls[c].results[0]) : std::string("result")) << ");\n";
+    if (direct) continue;
+    for (std::size_t r = 0; r < sub.calls[c].results.size(); ++r) {
+      const int o = sub.calls[c].results[r];
+      if (o >= 0)
+        os << "  out[" << o << "] = result[" << (offset.empty() ? static_cast<int>(r) : offset[r]) << "];  // " << k.output_names[static_cast<std::size_t>(o)] << "\n";
+    }
+  }
+  os << "}\n";
+  return {k.name, os.str(),
+          staged.temporaries + called.temporaries + static_cast<int>(n_scratch + (any_copied ? n_result : 0)), total,
+          staged.parts};
+}
+
+// A kernel with the kernel ABI, printed with its calls when it has them.
+PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
+  return k.calls && s.calls ? print_with_calls(g, k, s) : print_kernel(g, k, s, to_out(k));
 }
 
 template <class T, class F>
@@ -427,6 +553,7 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   s = Sizes{n_q, static_cast<int>(eq.independent.size()), n_q + static_cast<int>(eq.independent.size()),
             static_cast<int>(model.parameters.size()), static_cast<int>(model.inputs.size())};
   s.split = settings.split_statements;
+  s.calls = !settings.inline_calls;
   file = comment_safe(std::filesystem::path(model.source_path).filename().string());
   origin = "Generated by hamel " + std::string(generator_version()) + " from " + file + " (FNV-1a 64: " +
            model.source_hash + (settings.options.empty() ? "" : "; emit " + comment_safe(settings.options)) +
@@ -469,7 +596,7 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
       checked.outputs.push_back(kernels.rhs_pivots[k]);
       checked.output_names.push_back("pivot " + std::to_string(k));
     }
-    rhs_with_pivots = print_kernel(kernels.graph, checked, s, static_cast<int>(kernels.kernels[i].outputs.size())).text;
+    rhs_with_pivots = print_kernel(kernels.graph, checked, s, to_two_arrays(checked, kernels.kernels[i].outputs.size(), "pivots")).text;
     if (!shared) continue;
     std::string& text = printed[i].text;
     text = text.substr(0, text.find('\n') + 1) + signature(kernels.kernels[i]) +

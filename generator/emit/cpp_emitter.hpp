@@ -32,6 +32,8 @@ struct EmitSettings {
   /// turn and passing values through a stack array: g++ -O2 compiles the 30-joint chain's rhs and mass_matrix
   /// in 8.8 s instead of 66 s (docs/benchmarks.md, "Long kernels split into parts"). 0: never split.
   int split_statements = 2000;
+  /// Print every kernel flat, also one whose repeated solve is a subroutine (Kernel::calls): each call inline.
+  bool inline_calls = false;
   /// The options emit was given (without the model and -o), recorded in every file's first line: with the
   /// generator version and the model file's hash they say how to emit the package again.
   std::string options;

@@ -507,6 +507,41 @@ std::vector<int> parameter_frontier(const ExpressionGraph& g, const std::vector<
   return frontier;
 }
 
+bool hoist_shared_work(ExpressionGraph& g, Subroutine& sub) {
+  ExpressionGraph& s = sub.graph;
+  const std::vector<int> frontier = parameter_frontier(s, sub.outputs);
+  const std::vector<int> order = s.schedule(frontier);
+  for (int i : order)
+    if (s.is_unrepresentable(i)) return false;
+  // The frontier's program rebuilt in g, reading the shared values where s reads p[k].
+  std::vector<int> in_g(static_cast<std::size_t>(s.size()), -1);
+  interpret(
+      s, order, in_g, [&](const Node& n) { return g.constant(n.value); },
+      [&](Argument, int k) { return sub.shared.at(static_cast<std::size_t>(k)); },
+      [&](const Node& n, int a, int b) { return n.b >= 0 ? g.binary(n.op, a, b) : g.unary(n.op, a); });
+  // The frontier read as p[P + j] (P: the shared values so far), then every p[k] still read renumbered from 0.
+  const int P = static_cast<int>(sub.shared.size());
+  std::vector<int> value_of = sub.shared;  // the value in g of p[k]
+  std::map<int, int> replace;
+  for (std::size_t j = 0; j < frontier.size(); ++j) {
+    replace[frontier[j]] = s.input(Argument::parameter, P + static_cast<int>(j));
+    value_of.push_back(in_g[static_cast<std::size_t>(frontier[j])]);
+  }
+  const std::vector<int> outputs = substitute(s, sub.outputs, replace);
+  std::vector<int> read;
+  for (int i : s.schedule(outputs))
+    if (s.node(i).op == Op::input && s.node(i).argument == Argument::parameter) read.push_back(s.node(i).index);
+  std::sort(read.begin(), read.end());
+  replace.clear();
+  sub.shared.clear();
+  for (int k : read) {
+    replace[s.input(Argument::parameter, k)] = s.input(Argument::parameter, static_cast<int>(sub.shared.size()));
+    sub.shared.push_back(value_of[static_cast<std::size_t>(k)]);
+  }
+  sub.outputs = substitute(s, outputs, replace);
+  return true;
+}
+
 std::vector<int> tangent(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& seed) {
   const std::vector<int> order = g.schedule(outputs);
   const int zero = g.constant(0), one = g.constant(1);

@@ -20,6 +20,7 @@
 #include <array>
 #include <cstdint>
 #include <map>
+#include <memory>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -121,12 +122,31 @@ class ExpressionGraph {
   std::map<GiNaC::ex, std::pair<int, int>, GiNaC::ex_is_less> memo_;
 };
 
+/// One program a kernel runs several times on different arguments (the same solve for every column of a
+/// Jacobian), printed once as a function of its own and called: the emitted text then holds it once instead of
+/// once per call. Its own graph reads a call's arguments as x[k] (Argument::state) and the values all calls
+/// share as p[k] (Argument::parameter).
+struct Subroutine {
+  ExpressionGraph graph;
+  std::vector<int> outputs;  ///< nodes of `graph`
+  std::vector<int> shared;   ///< nodes of the kernel's graph, passed as p[k]
+  struct Call {
+    std::vector<int> arguments;  ///< nodes of the kernel's graph, passed as x[k]
+    std::vector<int> results;    ///< per output of the subroutine: the kernel's output it is (−1: none)
+  };
+  std::vector<Call> calls;
+};
+
 /// One emitted function: named outputs computed from the graph.
 struct Kernel {
   std::string name;
   std::string summary;                    ///< one line: what it computes and which equation
   std::vector<int> outputs;               ///< graph nodes, one per output element
   std::vector<std::string> output_names;  ///< for comments, same length as outputs
+  /// If set, how the printer forms the outputs its calls' results name (the others as usual): by calling the
+  /// subroutine. `outputs` is still the whole program, which every other pass reads; whoever rewrites
+  /// `outputs` must clear this.
+  std::shared_ptr<const Subroutine> calls;
 };
 
 /// The interpreter of the IR, one pass over `schedule` (operands before users) writing values[i] for every node
@@ -191,6 +211,12 @@ std::vector<int> parameter_frontier(const ExpressionGraph& g, const std::vector<
 /// before (each rewritten multiplication replaces one), usually fewer. Reassociation: results may differ from
 /// the original program in the last bits.
 std::vector<int> group_invariants(ExpressionGraph& g, const std::vector<int>& outputs);
+
+/// Moves the work of `sub` that depends on its shared values alone (parameter_frontier of its program) into the
+/// kernel's graph `g`, where it is done once instead of once per call: those values become shared values of
+/// their own, and shared values no longer read are dropped. False (and `sub` unchanged) when that work reaches a
+/// constant that is not a finite double.
+bool hoist_shared_work(ExpressionGraph& g, Subroutine& sub);
 
 /// The operations of the program computing `outputs` that depend on t, x or in: what a kernel whose
 /// parameter-only work is prepared (parameter_frontier) still does per call.

@@ -29,6 +29,13 @@ constexpr double kPreparedShare = 0.9;
 // (trees differentiate their inverse dynamics analytically at any size).
 constexpr int kSymbolicJacobianLimit = 8000;
 
+// The jacobian's solves are printed as one function called on this many columns at a time (two: one column's
+// recursion is a chain of dependent operations, two interleave; docs/benchmarks.md)...
+const std::size_t kColumnsPerCall = 2;
+// ... always with the articulated-body recursion, and with the LDLᵀ when its substitutions take at least this many
+// operations.
+const int kCalledSolveMinimum = 1000;
+
 // A tree's Jacobian columns are solved by the articulated-body recursion when its program has at most this share
 // of the operations of the LDLᵀ route: per operation it ran 5–13 % slower (docs/benchmarks.md, ab-bench:
 // 0.95 of the operations took 1.03× the time for chain 12, 0.98 took 1.11× for the 30-body tree; 0.88 took
@@ -60,7 +67,7 @@ std::optional<std::vector<GiNaC::ex>> exact_accelerations(const HamelEquations& 
 // An empty kernel with its registered name and summary, and `how` appended to the summary.
 Kernel registered(const char* name, const std::string& how = "") {
   const KernelSpec& spec = kernel_spec(name);
-  return {spec.name, spec.summary + how, {}, {}};
+  return {spec.name, spec.summary + how, {}, {}, nullptr};
 }
 
 // build_kernels' work in steps that share the graph, the leaves and the converter: the equations' kernels
@@ -107,6 +114,7 @@ class KernelBuilder {
           jacobian_.outputs.push_back(column_[k][row]);
           jacobian_.output_names.push_back("d" + rhs_.output_names[row] + "/d" + state_name(static_cast<int>(k)));
         }
+      jacobian_.calls = column_calls_;
     }
     Kernel energy = registered("energy");
     energy.outputs.push_back(node_of_(eq_.energy_terms.at(0)));
@@ -162,6 +170,7 @@ class KernelBuilder {
   void jacobian_columns();
   std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
                                               const std::optional<InverseDynamicsJacobian>& id, std::string& route);
+  void call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve);
   Kernel linearization();
   void bundle_kernels();
   Kernel riemann_linearization();
@@ -193,6 +202,8 @@ class KernelBuilder {
   std::vector<int> accel_;    ///< u_I' as rhs computes it
   bool build_jacobian_ = false;
   std::vector<std::vector<int>> column_;  ///< column_[k][row] = d(x'_row)/dx_k
+  /// How the jacobian kernel is printed when its columns' solve is one subroutine (jacobian row-major).
+  std::shared_ptr<const Subroutine> column_calls_;
 };
 
 void KernelBuilder::equation_kernels() {
@@ -296,6 +307,7 @@ void KernelBuilder::jacobian_columns() {
     const std::vector<std::vector<int>> forward = forward_columns(Argument::state, static_cast<int>(nx));
     if (operations(forward) < operations(column_)) {
       column_ = forward;
+      column_calls_.reset();
       route = "; forward mode through the rhs program";
     }
   }
@@ -307,10 +319,21 @@ void KernelBuilder::jacobian_columns() {
 std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std::vector<int>>& right_sides,
                                                            const std::optional<InverseDynamicsJacobian>& id,
                                                            std::string& route) {
+  const ColumnSolver by_ldlt = [&](ExpressionGraph& s, const std::function<int(int)>& shared,
+                                   const std::vector<std::vector<int>>& b) {
+    std::vector<std::vector<int>> M = M_;
+    for (std::vector<int>& row : M)
+      for (int& entry : row) entry = shared(entry);
+    return ldlt_solve_columns(s, M, b, eq_.factor_last_first);
+  };
   std::vector<std::vector<int>> solved;
   if (!id || column_solve_ != ColumnSolve::articulated)
     solved = ldlt_solve_columns(g_, M_, right_sides, eq_.factor_last_first);
-  if (!id || column_solve_ == ColumnSolve::ldlt) return solved;
+  if (!id || column_solve_ == ColumnSolve::ldlt) {
+    // Printed as calls when the substitutions are long (the factorization stays in the stage).
+    if (operations(solved) - operations(right_sides) >= kCalledSolveMinimum) call_columns(right_sides, by_ldlt);
+    return solved;
+  }
   // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force.
   std::vector<std::vector<int>> own_rows;
   std::vector<InwardForce> inward;
@@ -321,14 +344,28 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
     for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of_(id->inward[k][c]);
     inward.push_back(f);
   }
-  std::vector<std::vector<int>> recursive =
-      articulated_solve_columns(g_, articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_),
-                                own_rows, inward);
-  if (solved.empty() || operations(recursive) <= kRecursiveSolveShare * operations(solved)) {
-    route = "; M^-1 b by the articulated-body recursion";
-    return recursive;
+  const ArticulatedNodes factor = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);
+  std::vector<std::vector<int>> recursive = articulated_solve_columns(g_, factor, own_rows, inward);
+  if (!solved.empty() && operations(recursive) > kRecursiveSolveShare * operations(solved)) {
+    if (operations(solved) - operations(right_sides) >= kCalledSolveMinimum) call_columns(right_sides, by_ldlt);
+    return solved;
   }
-  return solved;
+  route = "; M^-1 b by the articulated-body recursion";
+  // Printed as calls, on the dense columns (a call cannot know at which body a column's inward force enters).
+  call_columns(right_sides, [&](ExpressionGraph& s, const std::function<int(int)>& shared,
+                                const std::vector<std::vector<int>>& b) {
+    return articulated_solve_columns(s, shared_factor(factor, shared), b);
+  });
+  return recursive;
+}
+
+// The jacobian's solves of M y = b for `right_sides` printed as one function called per kColumnsPerCall columns.
+void KernelBuilder::call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve) {
+  const std::size_t nx = right_sides.size();
+  Subroutine calls = solve_subroutine(g_, right_sides, kColumnsPerCall, [&](std::size_t k, std::size_t i) {
+    return static_cast<int>((static_cast<std::size_t>(n_) + i) * nx + k);  // jacobian row-major
+  }, solve);
+  if (!calls.calls.empty()) column_calls_ = std::make_shared<const Subroutine>(std::move(calls));
 }
 
 // A = d(x')/dx and B = d(x')/d(in) along any state: A is the Jacobian's columns when they are built (for
@@ -482,7 +519,7 @@ void KernelBuilder::prepared_kernels(bool named) {
                  prepared.rhs_prepared.total() > kPreparedShare * prepared.rhs.total()))
     return;
   const int n_p = static_cast<int>(model_.parameters.size());
-  prepared.prepare = {"prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}};
+  prepared.prepare = {"prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}, nullptr};
   for (int k = 0; k < n_p; ++k) {
     prepared.prepare.outputs.push_back(g_.input(Argument::parameter, k));
     prepared.prepare.output_names.push_back(model_.parameters[static_cast<std::size_t>(k)].symbol.get_name());
@@ -499,6 +536,7 @@ void KernelBuilder::prepared_kernels(bool named) {
     variant.name = spec.name;
     variant.summary = spec.summary;
     variant.outputs = substitute(g_, rewritten[i], replace);
+    variant.calls.reset();  // the subroutine's calls read the original program
     prepared.kernels.push_back(variant);
   }
   set_.prepared = prepared;

@@ -1,6 +1,8 @@
 #include "emit/linear_solve.hpp"
 
+#include <algorithm>
 #include <array>
+#include <map>
 
 namespace hamel {
 
@@ -191,6 +193,60 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     }
   }
   return out;
+}
+
+Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<int>>& columns, std::size_t per_call,
+                            const std::function<int(std::size_t, std::size_t)>& result_of, const ColumnSolver& solve) {
+  Subroutine sub;
+  if (columns.empty()) return sub;
+  ExpressionGraph& s = sub.graph;
+  std::map<int, int> input_of;  // node of g -> the subroutine's p[k] reading it
+  const std::function<int(int)> shared = [&](int node) {
+    const Node& n = g.node(node);
+    if (n.op == Op::constant && n.index == 0) return s.constant(n.value);
+    const auto it = input_of.find(node);
+    if (it != input_of.end()) return it->second;
+    const int in = s.input(Argument::parameter, static_cast<int>(sub.shared.size()));
+    sub.shared.push_back(node);
+    return input_of[node] = in;
+  };
+  const std::size_t rows = columns.front().size();
+  per_call = std::max<std::size_t>(1, std::min(per_call, columns.size()));
+  std::vector<std::vector<int>> b(per_call);
+  for (std::size_t j = 0; j < per_call; ++j)
+    for (std::size_t k = 0; k < rows; ++k) b[j].push_back(s.input(Argument::state, static_cast<int>(j * rows + k)));
+  const std::vector<std::vector<int>> y = solve(s, shared, b);
+  for (std::size_t r = 0; r < rows; ++r)
+    for (std::size_t j = 0; j < per_call; ++j) sub.outputs.push_back(y[j][r]);
+  if (!hoist_shared_work(g, sub)) return {};
+  // Calls of per_call consecutive columns; a last call with fewer left takes the per_call last columns, so that
+  // every call has the same shape (it writes some results a second time, the same values).
+  for (std::size_t start = 0; start < columns.size(); start += per_call) {
+    const std::size_t first = std::min(start, columns.size() - per_call);
+    Subroutine::Call call;
+    for (std::size_t j = 0; j < per_call; ++j)
+      call.arguments.insert(call.arguments.end(), columns[first + j].begin(), columns[first + j].end());
+    for (std::size_t r = 0; r < rows; ++r)
+      for (std::size_t j = 0; j < per_call; ++j) call.results.push_back(result_of(first + j, r));
+    sub.calls.push_back(std::move(call));
+  }
+  return sub;
+}
+
+ArticulatedNodes shared_factor(const ArticulatedNodes& factor, const std::function<int(int)>& shared) {
+  using Vec = ArticulatedNodes::Vec;
+  const auto vectors = [&](const std::vector<Vec>& v) {
+    std::vector<Vec> out(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i)
+      for (std::size_t k = 0; k < 6; ++k) out[i][k] = shared(v[i][k]);
+    return out;
+  };
+  ArticulatedNodes local{factor.parent, vectors(factor.s), vectors(factor.U), vectors(factor.W), vectors(factor.e),
+                         {}, factor.base_inertia};
+  for (int d : factor.inverse_D) local.inverse_D.push_back(shared(d));
+  for (std::vector<int>& row : local.base_inertia)
+    for (int& entry : row) entry = shared(entry);
+  return local;
 }
 
 }  // namespace hamel

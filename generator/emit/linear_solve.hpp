@@ -8,6 +8,7 @@
 #include "emit/expression_graph.hpp"
 
 #include <array>
+#include <functional>
 #include <vector>
 
 namespace hamel {
@@ -65,5 +66,23 @@ ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree
 std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const ArticulatedNodes& factor,
                                                         const std::vector<std::vector<int>>& columns,
                                                         const std::vector<InwardForce>& inward = {});
+
+/// Builds, in a subroutine's graph `s`, the solutions of the columns `b` (nodes of s), reading any node of the kernel's
+/// graph through `shared(node)`: e.g. ldlt_solve_columns or articulated_solve_columns on the factor read that way.
+using ColumnSolver = std::function<std::vector<std::vector<int>>(
+    ExpressionGraph& s, const std::function<int(int)>& shared, const std::vector<std::vector<int>>& b)>;
+
+/// A solve repeated over `columns` (nodes of g, all of one length) as a Subroutine (emit/expression_graph.hpp) that
+/// solves `per_call` columns per call: a call's arguments are its columns, one after the other, its results the
+/// solutions row by row (row r of every column, then row r + 1), placed at result_of(column, row) in the kernel's
+/// outputs. Shared values are nodes of g (a constant is copied into the subroutine's graph instead, where it
+/// folds); the work on them alone (a factorization) is hoisted into g (hoist_shared_work). A last call with fewer
+/// columns left takes the last `per_call` columns (some solved twice). Empty (no calls) when that work reaches a
+/// constant that is not a finite double.
+Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<int>>& columns, std::size_t per_call,
+                            const std::function<int(std::size_t, std::size_t)>& result_of, const ColumnSolver& solve);
+
+/// `factor` with every node read through `shared` (for a ColumnSolver).
+ArticulatedNodes shared_factor(const ArticulatedNodes& factor, const std::function<int(int)>& shared);
 
 }  // namespace hamel

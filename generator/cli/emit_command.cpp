@@ -167,7 +167,7 @@ Run add_emit_command(CLI::App& app) {
                   "(default: aba when its program has at most 0.9 of ldlt's operations)");
   cmd->add_flag("--inline", opt->settings.inline_calls,
                "Print the jacobian's solve inline in every column instead of as one function (jacobian_column) called "
-               "per two columns: the flat program, 1.1-1.75x the code and 1.2-2x the compile time, between 3 % faster and 10 % slower "
+               "per two columns: the flat program, 1.1-1.75x the code and 1.2-2x the compile time, between 2 % faster and 13 % slower "
                "on the models measured (docs/benchmarks.md)");
   return [opt] { run(*opt); };
 }

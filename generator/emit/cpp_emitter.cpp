@@ -23,6 +23,7 @@
 #include <set>
 #include <random>
 #include <sstream>
+#include <stdexcept>
 
 #ifndef HAMEL_VERSION
 #define HAMEL_VERSION "unknown"
@@ -282,70 +283,72 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   return {k.name, os.str(), work + n_slots, c, parts};
 }
 
-// A kernel whose repeated solve is a subroutine (Kernel::calls): the subroutine printed once as <name>_column; the
-// kernel as a stage, <name>_stage, that writes the outputs no call gives and, into the stack array scratch[], the
-// values the calls share and each call's arguments; then one call per column, its results copied to out[].
-PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
-  const Subroutine& sub = *k.calls;
-  const std::size_t n_shared = sub.shared.size(), n_results = sub.outputs.size();
-  const std::size_t n_arguments = sub.calls.empty() ? 0 : sub.calls.front().arguments.size();
-  // The subroutine writes its results into out[] itself, at offsets from the pointer it is given: the offsets of
-  // the first call's results from its first result (a Jacobian's column: out[0], out[nx], out[2 nx], ...). A call
-  // whose results lie in the same pattern passes out + its first result; any other call passes result[], copied.
-  std::vector<int> offset;
-  const auto pattern_of = [&](const Subroutine::Call& call) {
+// Where a Subroutine's calls leave their results: the subroutine writes them into out[] itself, at the offsets of
+// the first call's results from its first result (a Jacobian's columns: out[0], out[1], out[nx], out[nx + 1], ...),
+// and each call is given out + its first result. Every call's results must lie in that pattern.
+std::vector<int> result_offsets(const Subroutine& sub) {
+  const auto pattern = [](const Subroutine::Call& call) {
     std::vector<int> d;
     for (int r : call.results) d.push_back(r - call.results.front());
     return d;
   };
-  if (n_results > 0 && !sub.calls.empty()) {
-    offset = pattern_of(sub.calls.front());
-    std::vector<int> sorted = offset;
-    std::sort(sorted.begin(), sorted.end());
-    const bool distinct = std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
-    if (sub.calls.front().results.front() < 0 || sorted.front() < 0 || !distinct) offset.clear();
-  }
-  const auto direct_call = [&](const Subroutine::Call& call) {
-    return !offset.empty() && call.results.front() >= 0 && pattern_of(call) == offset;
-  };
-  bool any_copied = false;
-  for (const Subroutine::Call& call : sub.calls) any_copied = any_copied || !direct_call(call);
-  Kernel column{k.name + "_column", "", sub.outputs, {}, nullptr};
-  for (std::size_t r = 0; r < n_results; ++r)
-    column.output_names.push_back(offset.empty() ? "result " + std::to_string(r)
-                                                 : k.output_names[static_cast<std::size_t>(sub.calls.front().results[r])] +
-                                                       " (first call)");
-  Destination strided = to_out(column);
-  if (!offset.empty()) {
-    strided.target = [&offset](std::size_t r) { return "out[" + std::to_string(offset[r]) + "]"; };
-    strided.shape = "out[" + std::to_string(*std::max_element(offset.begin(), offset.end()) + 1) + "], " +
-                    std::to_string(n_results) + " of them";
-  }
-  const PrintedKernel called = print_kernel(
-      sub.graph, column, Sizes{0, 0, static_cast<int>(n_arguments), static_cast<int>(n_shared), 0, s.split}, strided);
+  const std::vector<int> offset = pattern(sub.calls.front());
+  std::vector<int> sorted = offset;
+  std::sort(sorted.begin(), sorted.end());
+  bool regular = sub.calls.front().results.front() >= 0 && sorted.front() == 0 &&
+                 std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
+  for (const Subroutine::Call& call : sub.calls) regular = regular && call.results.front() >= 0 && pattern(call) == offset;
+  if (!regular) throw std::logic_error("a subroutine's calls place their results in different patterns");
+  return offset;
+}
 
+// The stage of a kernel with calls: the outputs no call gives (`direct`: their positions in the kernel's outputs),
+// then the values the calls share, then every call's arguments in turn.
+Kernel stage_of(const Kernel& k, const Subroutine& sub, std::vector<std::size_t>& direct) {
   std::vector<bool> by_call(k.outputs.size(), false);
   for (const Subroutine::Call& call : sub.calls)
     for (int r : call.results)
       if (r >= 0) by_call[static_cast<std::size_t>(r)] = true;
   Kernel stage{k.name + "_stage", "", {}, {}, nullptr};
-  std::vector<std::size_t> direct;  // the kernel's outputs the stage writes
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     if (by_call[o]) continue;
     stage.outputs.push_back(k.outputs[o]);
     stage.output_names.push_back(k.output_names[o]);
     direct.push_back(o);
   }
-  const std::size_t first = stage.outputs.size();
-  for (std::size_t j = 0; j < n_shared; ++j) {
+  for (std::size_t j = 0; j < sub.shared.size(); ++j) {
     stage.outputs.push_back(sub.shared[j]);
     stage.output_names.push_back("shared " + std::to_string(j));
   }
   for (std::size_t c = 0; c < sub.calls.size(); ++c)
-    for (std::size_t a = 0; a < n_arguments; ++a) {
+    for (std::size_t a = 0; a < sub.calls[c].arguments.size(); ++a) {
       stage.outputs.push_back(sub.calls[c].arguments[a]);
       stage.output_names.push_back("call " + std::to_string(c) + ", argument " + std::to_string(a));
     }
+  return stage;
+}
+
+// A kernel whose repeated solve is a subroutine (Kernel::calls): the subroutine printed once as <name>_column; the
+// kernel as a stage, <name>_stage, that writes the outputs no call gives and, into the stack array scratch[], the
+// values the calls share and each call's arguments; then the calls, each writing its results into out[] in place.
+PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
+  const Subroutine& sub = *k.calls;
+  const std::size_t n_shared = sub.shared.size(), n_results = sub.outputs.size();
+  const std::size_t n_arguments = sub.calls.front().arguments.size();
+  const std::vector<int> offset = result_offsets(sub);
+  Kernel column{k.name + "_column", "", sub.outputs, {}, nullptr};
+  for (std::size_t r = 0; r < n_results; ++r)
+    column.output_names.push_back(k.output_names[static_cast<std::size_t>(sub.calls.front().results[r])] + " (first call)");
+  Destination placed = to_out(column);
+  placed.target = [&offset](std::size_t r) { return "out[" + std::to_string(offset[r]) + "]"; };
+  placed.shape = "out[" + std::to_string(*std::max_element(offset.begin(), offset.end()) + 1) + "], " +
+                 std::to_string(n_results) + " of them";
+  const PrintedKernel called = print_kernel(
+      sub.graph, column, Sizes{0, 0, static_cast<int>(n_arguments), static_cast<int>(n_shared), 0, s.split}, placed);
+
+  std::vector<std::size_t> direct;
+  const Kernel stage = stage_of(k, sub, direct);
+  const std::size_t first = direct.size(), n_scratch = stage.outputs.size() - first;
   Destination into = to_two_arrays(stage, first, "scratch");
   into.target = [&](std::size_t o) {
     return o < first ? "out[" + std::to_string(direct[o]) + "]" : "scratch[" + std::to_string(o - first) + "]";
@@ -358,7 +361,6 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   total.mul += n_calls * called.ops.mul;
   total.div += n_calls * called.ops.div;
   total.call += n_calls * called.ops.call;
-  const std::size_t n_scratch = stage.outputs.size() - first;
   std::ostringstream os;
   os << "namespace {\n\n" << called.text << "\n" << staged.text << "\n}  // namespace\n\n";
   os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> out["
@@ -367,24 +369,11 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
      << " call */\n"
      << signature(k) << " {\n  real scratch[" << std::max<std::size_t>(n_scratch, 1) << "];\n  " << k.name
      << "_stage(t, x, p, in, out, scratch);\n";
-  // result[] holds what the subroutine writes: out[offset[r]] when it has an offset pattern.
-  const std::size_t n_result = offset.empty() ? n_results : static_cast<std::size_t>(*std::max_element(offset.begin(), offset.end())) + 1;
-  if (any_copied) os << "  real result[" << std::max<std::size_t>(n_result, 1) << "];\n";
-  for (std::size_t c = 0; c < sub.calls.size(); ++c) {
-    const bool direct = direct_call(sub.calls[c]);
-    os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, "
-       << (direct ? "out + " + std::to_string(sub.calls[c].results[0]) : std::string("result")) << ");\n";
-    if (direct) continue;
-    for (std::size_t r = 0; r < sub.calls[c].results.size(); ++r) {
-      const int o = sub.calls[c].results[r];
-      if (o >= 0)
-        os << "  out[" << o << "] = result[" << (offset.empty() ? static_cast<int>(r) : offset[r]) << "];  // " << k.output_names[static_cast<std::size_t>(o)] << "\n";
-    }
-  }
+  for (std::size_t c = 0; c < sub.calls.size(); ++c)
+    os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, out + "
+       << sub.calls[c].results.front() << ");\n";
   os << "}\n";
-  return {k.name, os.str(),
-          staged.temporaries + called.temporaries + static_cast<int>(n_scratch + (any_copied ? n_result : 0)), total,
-          staged.parts};
+  return {k.name, os.str(), staged.temporaries + called.temporaries + static_cast<int>(n_scratch), total, staged.parts};
 }
 
 // A kernel with the kernel ABI, printed with its calls when it has them.

@@ -132,7 +132,9 @@ struct Subroutine {
   std::vector<int> shared;   ///< nodes of the kernel's graph, passed as p[k]
   struct Call {
     std::vector<int> arguments;  ///< nodes of the kernel's graph, passed as x[k]
-    std::vector<int> results;    ///< per output of the subroutine: the kernel's output it is (−1: none)
+    /// Per output of the subroutine, the kernel's output it is. Every call's results lie in one pattern, the first
+    /// call's shifted (the printer passes out + the first result): a Jacobian's columns, shifted by one column.
+    std::vector<int> results;
   };
   std::vector<Call> calls;
 };

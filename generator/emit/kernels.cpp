@@ -329,11 +329,12 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
   std::vector<std::vector<int>> solved;
   if (!id || column_solve_ != ColumnSolve::articulated)
     solved = ldlt_solve_columns(g_, M_, right_sides, eq_.factor_last_first);
-  if (!id || column_solve_ == ColumnSolve::ldlt) {
-    // Printed as calls when the substitutions are long (the factorization stays in the stage).
+  // The LDLᵀ's columns, printed as calls when the substitutions are long (the factorization goes to the stage).
+  const auto by_ldlt_kept = [&] {
     if (operations(solved) - operations(right_sides) >= kCalledSolveMinimum) call_columns(right_sides, by_ldlt);
     return solved;
-  }
+  };
+  if (!id || column_solve_ == ColumnSolve::ldlt) return by_ldlt_kept();
   // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force.
   std::vector<std::vector<int>> own_rows;
   std::vector<InwardForce> inward;
@@ -346,10 +347,7 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
   }
   const ArticulatedNodes factor = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);
   std::vector<std::vector<int>> recursive = articulated_solve_columns(g_, factor, own_rows, inward);
-  if (!solved.empty() && operations(recursive) > kRecursiveSolveShare * operations(solved)) {
-    if (operations(solved) - operations(right_sides) >= kCalledSolveMinimum) call_columns(right_sides, by_ldlt);
-    return solved;
-  }
+  if (!solved.empty() && operations(recursive) > kRecursiveSolveShare * operations(solved)) return by_ldlt_kept();
   route = "; M^-1 b by the articulated-body recursion";
   // Printed as calls, on the dense columns (a call cannot know at which body a column's inward force enters).
   call_columns(right_sides, [&](ExpressionGraph& s, const std::function<int(int)>& shared,

@@ -9914,7 +9914,7 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[31] = w1673;  // gamma^wz_locked_theta_dot,psi_dot
 }
 
-/* rhs: (t, x[7], p[9], in[0]) -> out[7]  ops: 1269 add, 2028 mul, 339 div, 4 call */
+/* rhs: (t, x[7], p[9], in[0]) -> out[7]: rhs_with_pivots  ops: 1269 add, 2028 mul, 339 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)
   rhs_with_pivots(t, x, p, in, out, pivots);

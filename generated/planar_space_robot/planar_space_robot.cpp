@@ -7905,7 +7905,7 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[25] = w1271;  // gamma^vy_locked_q2_dot,q1_dot
 }
 
-/* rhs: (t, x[7], p[10], in[0]) -> out[7]  ops: 1041 add, 1688 mul, 202 div, 4 call */
+/* rhs: (t, x[7], p[10], in[0]) -> out[7]: rhs_with_pivots  ops: 1041 add, 1688 mul, 202 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)
   rhs_with_pivots(t, x, p, in, out, pivots);

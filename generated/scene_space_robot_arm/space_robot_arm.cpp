@@ -3587,7 +3587,7 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[6] = x[19];  // q7_dot
 }
 
-/* rhs: (t, x[20], p[26], in[7]) -> out[20]  ops: 1362 add, 1920 mul, 12 div, 14 call */
+/* rhs: (t, x[20], p[26], in[7]) -> out[20]: rhs_with_pivots  ops: 1362 add, 1920 mul, 12 div, 14 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)
   rhs_with_pivots(t, x, p, in, out, pivots);

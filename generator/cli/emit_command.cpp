@@ -58,6 +58,10 @@ std::string given_options(const EmitOptions& opt) {
   add("--jacobian-solve", opt.jacobian_solve);
   if (opt.settings.split_statements != EmitSettings{}.split_statements)
     add("--split", std::to_string(opt.settings.split_statements));
+  if (opt.settings.share_statements != EmitSettings{}.share_statements)
+    add("--share", std::to_string(opt.settings.share_statements));
+  if (opt.settings.share_ratio != EmitSettings{}.share_ratio)
+    add("--share-ratio", std::to_string(opt.settings.share_ratio));
   if (opt.settings.inline_calls) s += std::string(s.empty() ? "" : " ") + "--inline";
   return s;
 }
@@ -148,19 +152,37 @@ Run add_emit_command(CLI::App& app) {
                   "except linearization and riemann_linearization). The jacobian of a large kinematic tree is by far "
                   "its biggest kernel. Known: " +
                       kernel_names());
+  // A whole number of `what`, 0 or more; `zero` says what 0 means.
+  const auto whole_number = [](const std::string& what, const std::string& zero) {
+    return CLI::Validator(
+        [what, zero](std::string& value) {
+          const bool digits = !value.empty() && value.size() <= 9 &&
+                              std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
+          return digits ? std::string() : "expected a whole number of " + what + ", 0 or more (0: " + zero + "), got '" + value + "'";
+        },
+        "", what);
+  };
   cmd->add_option("--split", opt->settings.split_statements,
                   "Print a kernel of more than N statements as functions of at most N statements each, called in turn "
                   "(an optimizing compiler's register allocation grows faster than linearly with the length of one "
                   "function; 0: never split)")
       ->default_val(opt->settings.split_statements)
-      ->check(CLI::Validator(
-          [](std::string& value) {
-            const bool digits = !value.empty() && value.size() <= 9 &&
-                                std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
-            return digits ? std::string() : "expected a whole number of statements, 0 or more (0: never split), got '" + value + "'";
-          },
-          "", "statements"))
+      ->check(whole_number("statements", "never split"))
       ->type_name("N");
+  cmd->add_option("--share", opt->settings.share_statements,
+                  "Print work that several kernels use (N or more statements used by the same kernels) once, as a "
+                  "function shared_<k> that each of them calls before its own work, instead of in every kernel "
+                  "(0: never). The 30-joint chain's jacobian then calls rhs's recursion instead of holding a copy")
+      ->default_val(opt->settings.share_statements)
+      ->check(whole_number("statements", "never"))
+      ->type_name("N");
+  cmd->add_option("--share-ratio", opt->settings.share_ratio,
+                  "Share such work only when its function computes at least R statements per value it leaves to "
+                  "later work, which every caller stores and reads back (0: any; the smallest package, but kernels "
+                  "that read many shared values run up to 1.6x slower, docs/benchmarks.md)")
+      ->default_val(opt->settings.share_ratio)
+      ->check(whole_number("statements per value", "any"))
+      ->type_name("R");
   cmd->add_option("--jacobian-solve", opt->jacobian_solve,
                   "Kinematic trees: how the jacobian solves M y = b for its columns: ldlt (the LDL^T of M, few operations "
                   "for bushy trees), aba (the articulated-body recursion, fewer operations for long chains) or auto "

@@ -1,4 +1,5 @@
 #include "emit/cpp_emitter.hpp"
+#include "emit/shared_stages.hpp"
 
 #include "algebra/expression_text.hpp"
 
@@ -121,12 +122,14 @@ struct Destination {
   std::string head;
   std::string shape;
   std::function<std::string(std::size_t)> target;
+  std::string arrays;  ///< the head's output arrays as a call passes them on: ", out" or ", out, <second>"
 };
+
 
 // The kernel ABI: out[o].
 Destination to_out(const Kernel& k) {
   return {signature(k), "out[" + std::to_string(k.outputs.size()) + "]",
-          [](std::size_t o) { return "out[" + std::to_string(o) + "]"; }};
+          [](std::size_t o) { return "out[" + std::to_string(o) + "]"; }, ", out"};
 }
 
 // Outputs before `first` to out[], the others to a second array `second`, an extra argument.
@@ -135,21 +138,68 @@ Destination to_two_arrays(const Kernel& k, std::size_t first, const std::string&
           "out[" + std::to_string(first) + "], " + second + "[" + std::to_string(k.outputs.size() - first) + "]",
           [first, second](std::size_t o) {
             return o < first ? "out[" + std::to_string(o) + "]" : second + "[" + std::to_string(o - first) + "]";
-          }};
+          },
+          ", out, " + second};
 }
 
-PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d) {
-  const std::vector<int> order = g.schedule(k.outputs);
+// Kernel k's comment line: its argument and output sizes, how it is printed, and the operations it executes.
+std::string kernel_comment(const Kernel& k, const Sizes& s, const std::string& shape, const std::string& how, const OpCounts& c) {
+  return "/* " + k.name + ": (t, x[" + std::to_string(s.n_x) + "], p[" + std::to_string(s.n_p) + "], in[" +
+         std::to_string(s.n_in) + "]) -> " + shape + how + "  ops: " + std::to_string(c.add) + " add, " +
+         std::to_string(c.mul) + " mul, " + std::to_string(c.div) + " div, " + std::to_string(c.call) + " call */\n";
+}
+
+// Shared stages (emit/shared_stages.hpp): stage k's exports are the array s<k>; a function reading some is passed them.
+std::string stage_array(int stage) { return "s" + std::to_string(stage); }
+std::string stage_value(const std::pair<int, int>& at) {
+  return stage_array(at.first) + "[" + std::to_string(at.second) + "]";
+}
+std::string stage_parameters(const StageReads* reads) {
+  std::string text;
+  if (reads)
+    for (int stage : reads->stages) text += ", const real* " + stage_array(stage);
+  return text;
+}
+// (void)s<k>; for every stage array a function is passed and does not read (`read`: the stages it does).
+std::string stage_voids(const StageReads* reads, const std::set<int>& read) {
+  std::string text;
+  if (reads)
+    for (int stage : reads->stages)
+      if (!read.count(stage)) text += "  (void)" + stage_array(stage) + ";\n";
+  return text;
+}
+// `head` with the arrays of the stages `reads` names as further parameters.
+std::string with_stage_parameters(const std::string& head, const StageReads* reads) {
+  return head.substr(0, head.size() - 1) + stage_parameters(reads) + ")";
+}
+std::string stage_arguments(const StageReads* reads) {
+  std::string text;
+  if (reads)
+    for (int stage : reads->stages) text += ", " + stage_array(stage);
+  return text;
+}
+
+// Kernel k's outputs as one function, or a long one as parts called in turn. With `reads`, the values of earlier
+// stages it reads are taken from their arrays (extra parameters of the function and of its parts), not computed.
+PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
+                           const StageReads* reads = nullptr) {
+  std::vector<char> given;
+  if (reads) {
+    given.assign(static_cast<std::size_t>(g.size()), 0);
+    for (const auto& entry : reads->value) given[static_cast<std::size_t>(entry.first)] = 1;
+  }
+  const std::vector<int> order = g.schedule(k.outputs, given);
   const std::string& head = d.head;
   const auto& target = d.target;
-  const OpCounts c = g.count(order);
-  // Leaves (constants and arguments) are written in place; every other node is a statement.
+  // Leaves (constants, arguments and values read from stages) are written in place; every other node is a statement.
   std::map<int, std::string> leaf;
   std::vector<int> statements;
   bool uses[4] = {false, false, false, false};
   for (int i : order) {
     const Node& n = g.node(i);
-    if (n.op == Op::constant) {
+    if (reads && given[static_cast<std::size_t>(i)]) {
+      leaf[i] = stage_value(reads->value.at(i));
+    } else if (n.op == Op::constant) {
       leaf[i] = literal(n.value);
     } else if (n.op == Op::input) {
       uses[static_cast<int>(n.argument)] = true;
@@ -160,24 +210,26 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       statements.push_back(i);
     }
   }
+  const OpCounts c = g.count(statements);
   const int work = static_cast<int>(statements.size());
   std::map<int, int> index;  // statement node -> its position, named w<position>
   for (int w = 0; w < work; ++w) index[statements[static_cast<std::size_t>(w)]] = w;
   const auto local = [&](int i) { return "w" + std::to_string(index.at(i)); };
 
   std::ostringstream os;
-  os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> "
-     << d.shape
-     << "  ops: " << c.add << " add, " << c.mul << " mul, " << c.div << " div, " << c.call
-     << " call */\n";
+  os << kernel_comment(k, s, d.shape, "", c);
   const int part_size = s.split;
   if (part_size <= 0 || work <= part_size) {
     std::ostringstream body;
-    const auto name_of = [&](int i) { return leaf.count(i) ? leaf.at(i) : local(i); };
+    std::set<int> read;
+    const auto name_of = [&](int i) {
+      if (reads && given[static_cast<std::size_t>(i)]) read.insert(reads->value.at(i).first);
+      return leaf.count(i) ? leaf.at(i) : local(i);
+    };
     for (int i : statements) body << "  const real " << local(i) << " = " << statement_text(g.node(i), name_of) << ";\n";
     for (std::size_t o = 0; o < k.outputs.size(); ++o)
       body << "  " << target(o) << " = " << name_of(k.outputs[o]) << ";  // " << k.output_names[o] << "\n";
-    os << head << " {\n" << argument_voids(uses);
+    os << head << " {\n" << argument_voids(uses) << stage_voids(reads, read);
     if (k.outputs.empty()) os << "  (void)out;\n";
     os << body.str() << "}\n";
     return {k.name, os.str(), work, c};
@@ -257,10 +309,14 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   for (int part = 0; part < parts; ++part) {
     std::ostringstream body;
     bool part_uses[4] = {false, false, false, false};
+    std::set<int> read;
     const auto name_of = [&](int i) {
       if (leaf.count(i)) {
         const Node& n = g.node(i);
-        if (n.op == Op::input) part_uses[static_cast<int>(n.argument)] = true;
+        if (reads && given[static_cast<std::size_t>(i)])
+          read.insert(reads->value.at(i).first);
+        else if (n.op == Op::input)
+          part_uses[static_cast<int>(n.argument)] = true;
         return leaf.at(i);
       }
       return part_of(i) == part ? local(i) : passed(i);
@@ -270,11 +326,13 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       body << "  const real " << local(i) << " = " << statement_text(g.node(i), name_of) << ";\n";
       if (slot.count(i)) body << "  " << passed(i) << " = " << local(i) << ";\n";
     }
-    os << "void " << k.name << "_part" << part << "(real t, const real* x, const real* p, const real* in, real* v) {\n"
-       << argument_voids(part_uses) << body.str() << "}\n\n";
+    os << "void " << k.name << "_part" << part << "(real t, const real* x, const real* p, const real* in, real* v"
+       << stage_parameters(reads) << ") {\n"
+       << argument_voids(part_uses) << stage_voids(reads, read) << body.str() << "}\n\n";
   }
   os << "}  // namespace\n\n" << head << " {\n  real v[" << std::max(n_slots, 1) << "];\n";
-  for (int part = 0; part < parts; ++part) os << "  " << k.name << "_part" << part << "(t, x, p, in, v);\n";
+  for (int part = 0; part < parts; ++part)
+    os << "  " << k.name << "_part" << part << "(t, x, p, in, v" << stage_arguments(reads) << ");\n";
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     const int i = k.outputs[o];
     os << "  " << target(o) << " = " << (leaf.count(i) ? leaf.at(i) : passed(i)) << ";  // " << k.output_names[o] << "\n";
@@ -328,10 +386,26 @@ Kernel stage_of(const Kernel& k, const Subroutine& sub, std::vector<std::size_t>
   return stage;
 }
 
+// The shared stages a kernel calls before its own work (emit/shared_stages.hpp), as its function prints them.
+struct UnitStages {
+  const StageReads* reads = nullptr;  ///< what its own work reads from them; null: it calls none
+  std::string prologue;               ///< their arrays declared, then their calls
+  std::vector<std::string> names;     ///< their functions, in calling order
+  OpCounts ops;                       ///< their statements
+  int temporaries = 0;                ///< their arrays, and the most named locals one of them has
+};
+
+std::string joined(const std::vector<std::string>& names) {
+  std::string text;
+  for (std::size_t i = 0; i < names.size(); ++i) text += (i ? ", " : "") + names[i];
+  return text;
+}
+
 // A kernel whose repeated solve is a subroutine (Kernel::calls): the subroutine printed once as <name>_column; the
 // kernel as a stage, <name>_stage, that writes the outputs no call gives and, into the stack array scratch[], the
 // values the calls share and each call's arguments; then the calls, each writing its results into out[] in place.
-PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
+// With shared stages, they are called first and <name>_stage reads their arrays.
+PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const UnitStages& stages) {
   const Subroutine& sub = *k.calls;
   const std::size_t n_shared = sub.shared.size(), n_results = sub.outputs.size();
   const std::size_t n_arguments = sub.calls.front().arguments.size();
@@ -350,35 +424,104 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   const Kernel stage = stage_of(k, sub, direct);
   const std::size_t first = direct.size(), n_scratch = stage.outputs.size() - first;
   Destination into = to_two_arrays(stage, first, "scratch");
+  into.head = with_stage_parameters(into.head, stages.reads);
   into.target = [&](std::size_t o) {
     return o < first ? "out[" + std::to_string(direct[o]) + "]" : "scratch[" + std::to_string(o - first) + "]";
   };
-  const PrintedKernel staged = print_kernel(g, stage, s, into);
+  const PrintedKernel staged = print_kernel(g, stage, s, into, stages.reads);
 
-  OpCounts total = staged.ops;
+  OpCounts total = stages.ops;
+  total.add_times(1, staged.ops);
   const int n_calls = static_cast<int>(sub.calls.size());
-  total.add += n_calls * called.ops.add;
-  total.mul += n_calls * called.ops.mul;
-  total.div += n_calls * called.ops.div;
-  total.call += n_calls * called.ops.call;
+  total.add_times(n_calls, called.ops);
+  std::vector<std::string> steps = stages.names;
+  steps.push_back(k.name + "_stage");
   std::ostringstream os;
   os << "namespace {\n\n" << called.text << "\n" << staged.text << "\n}  // namespace\n\n";
-  os << "/* " << k.name << ": (t, x[" << s.n_x << "], p[" << s.n_p << "], in[" << s.n_in << "]) -> out["
-     << k.outputs.size() << "]: " << k.name << "_stage, then " << n_calls << " calls of " << k.name
-     << "_column  ops: " << total.add << " add, " << total.mul << " mul, " << total.div << " div, " << total.call
-     << " call */\n"
-     << signature(k) << " {\n  real scratch[" << std::max<std::size_t>(n_scratch, 1) << "];\n  " << k.name
-     << "_stage(t, x, p, in, out, scratch);\n";
+  os << kernel_comment(k, s, "out[" + std::to_string(k.outputs.size()) + "]",
+                       ": " + joined(steps) + ", then " + std::to_string(n_calls) + " calls of " + k.name + "_column", total)
+     << signature(k) << " {\n  real scratch[" << std::max<std::size_t>(n_scratch, 1) << "];\n"
+     << stages.prologue << "  " << k.name << "_stage(t, x, p, in, out, scratch" << stage_arguments(stages.reads) << ");\n";
   for (std::size_t c = 0; c < sub.calls.size(); ++c)
     os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, out + "
        << sub.calls[c].results.front() << ");\n";
   os << "}\n";
-  return {k.name, os.str(), staged.temporaries + called.temporaries + static_cast<int>(n_scratch), total, staged.parts};
+  return {k.name, os.str(),
+          stages.temporaries + staged.temporaries + called.temporaries + static_cast<int>(n_scratch), total,
+          staged.parts};
 }
 
-// A kernel with the kernel ABI, printed with its calls when it has them.
-PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s) {
-  return k.calls && s.calls ? print_with_calls(g, k, s) : print_kernel(g, k, s, to_out(k));
+// A kernel printed to `d` when it calls shared stages: its own work as <name>_own, which reads their arrays, and the
+// kernel itself, which calls them and then <name>_own.
+PrintedKernel print_after_stages(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
+                                 const UnitStages& stages) {
+  Kernel own = k;
+  own.name = k.name + "_own";
+  own.calls = nullptr;
+  Destination to = d;
+  to.head = with_stage_parameters(d.head, stages.reads);
+  to.head.replace(to.head.find(" " + k.name + "("), k.name.size() + 2, " " + own.name + "(");
+  const PrintedKernel printed = print_kernel(g, own, s, to, stages.reads);
+  OpCounts total = stages.ops;
+  total.add_times(1, printed.ops);
+  std::vector<std::string> steps = stages.names;
+  steps.push_back(own.name);
+  std::ostringstream os;
+  os << "namespace {\n\n" << printed.text << "\n}  // namespace\n\n"
+     << kernel_comment(k, s, d.shape, ": " + joined(steps), total) << d.head << " {\n"
+     << stages.prologue << "  " << own.name << "(t, x, p, in" << d.arrays << stage_arguments(stages.reads) << ");\n}\n";
+  return {k.name, os.str(), stages.temporaries + printed.temporaries, total, printed.parts};
+}
+
+// A kernel with the kernel ABI, printed with its calls when it has them, and after the shared stages it calls.
+PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const UnitStages& stages = {}) {
+  if (k.calls && s.calls) return print_with_calls(g, k, s, stages);
+  return stages.reads ? print_after_stages(g, k, s, to_out(k), stages) : print_kernel(g, k, s, to_out(k));
+}
+
+// The functions of a package's shared stages, each <prefix>shared_<k>(t, x, p, in, out, <the arrays it reads>)
+// writing its exports to out[]; and for every unit, the stages it calls as its function prints them.
+struct PrintedStages {
+  std::string text;
+  std::vector<UnitStages> units;  ///< their `reads` point into the plan, which must outlive them
+};
+
+PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, const Sizes& s, const std::string& prefix) {
+  PrintedStages out;
+  std::vector<PrintedKernel> printed;
+  for (std::size_t i = 0; i < plan.stages.size(); ++i) {
+    const SharingPlan::Stage& stage = plan.stages[i];
+    Kernel fn{prefix + "shared_" + std::to_string(i), "", stage.exports, {}, nullptr};
+    for (std::size_t e = 0; e < stage.exports.size(); ++e) fn.output_names.push_back("export " + std::to_string(e));
+    Destination d = to_out(fn);
+    d.head = "void " + fn.name + "(real t, const real* x, const real* p, const real* in, real* out" +
+             stage_parameters(&stage.reads) + ")";
+    d.shape = "out[" + std::to_string(stage.exports.size()) + "], called by " + std::to_string(stage.units.size()) + " kernels";
+    printed.push_back(print_kernel(g, fn, s, d, &stage.reads));
+    out.text += printed.back().text + "\n";
+  }
+  for (std::size_t u = 0; u < plan.called.size(); ++u) {
+    UnitStages unit;
+    if (!plan.called[u].empty()) {
+      unit.reads = &plan.own[u];
+      int most = 0;
+      for (int i : plan.called[u]) {
+        const SharingPlan::Stage& stage = plan.stages[static_cast<std::size_t>(i)];
+        const PrintedKernel& fn = printed[static_cast<std::size_t>(i)];
+        unit.prologue += "  real " + stage_array(i) + "[" + std::to_string(std::max<std::size_t>(stage.exports.size(), 1)) + "];\n";
+        unit.names.push_back(fn.name);
+        unit.ops.add_times(1, fn.ops);
+        unit.temporaries += static_cast<int>(stage.exports.size());
+        most = std::max(most, fn.temporaries);
+      }
+      for (int i : plan.called[u])
+        unit.prologue += "  " + printed[static_cast<std::size_t>(i)].name + "(t, x, p, in, " + stage_array(i) +
+                         stage_arguments(&plan.stages[static_cast<std::size_t>(i)].reads) + ");\n";
+      unit.temporaries += most;
+    }
+    out.units.push_back(unit);
+  }
+  return out;
 }
 
 template <class T, class F>
@@ -522,6 +665,8 @@ class PackageWriter {
       state_names;
   std::vector<double> defaults;
   std::vector<int> upper_index, lower_a, lower_b;
+  SharingPlan sharing, prepared_sharing;  // the work kernels.kernels share (emit/shared_stages.hpp), and the prepared
+  std::string stage_text, prepared_stage_text;  // the functions of their stages
   std::vector<PrintedKernel> printed;  // kernels.kernels as text
   std::string rhs_with_pivots;         // rhs and the pivots of its solve, which rhs and rhs_status call; or empty
   std::vector<bool> parameter_used, input_used;
@@ -570,25 +715,43 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
     lower_b.push_back(h.lower_b);
   }
 
-  // The kernels as text, with their sizes for the ABI constants; which parameters and inputs any kernel reads.
-  for (const Kernel& k : kernels.kernels) printed.push_back(print_kernel(kernels.graph, k, s));
+  // The kernels as text, with their sizes for the ABI constants; which parameters and inputs any kernel reads. The
+  // work several kernels share is printed once, as stages they call (emit/shared_stages.hpp).
+  const auto is_checked_rhs = [&](const Kernel& k) { return k.name == "rhs" && !kernels.rhs_pivots.empty(); };
+  std::vector<std::vector<int>> units;  // what each kernel's function computes
+  for (const Kernel& k : kernels.kernels) {
+    std::vector<std::size_t> direct;
+    units.push_back(k.calls && s.calls ? stage_of(k, *k.calls, direct).outputs : k.outputs);
+    if (is_checked_rhs(k)) units.back().insert(units.back().end(), kernels.rhs_pivots.begin(), kernels.rhs_pivots.end());
+  }
+  sharing = plan_shared_stages(kernels.graph, units, settings.share_statements, settings.share_ratio);
+  const PrintedStages stages = print_stages(kernels.graph, sharing, s, "");
+  stage_text = stages.text;
+  for (std::size_t i = 0; i < kernels.kernels.size(); ++i)
+    printed.push_back(print_kernel(kernels.graph, kernels.kernels[i], s, stages.units[i]));
   // rhs_status needs the pivots of rhs's solve, intermediate values of rhs: rhs_with_pivots computes both. When
   // rhs is long enough to be split, rhs calls it with a scratch array for the pivots, so that the package holds
   // and compiles rhs once; a shorter rhs keeps its own copy, which saves the call (2-8 ns, 1-4 % of a rhs of
   // 700-1 400 operations, docs/benchmarks.md).
+  // The same holds when rhs calls shared stages.
   for (std::size_t i = 0; i < kernels.kernels.size(); ++i) {
-    if (kernels.kernels[i].name != "rhs" || kernels.rhs_pivots.empty()) continue;
-    const bool shared = printed[i].parts > 1;
+    if (!is_checked_rhs(kernels.kernels[i])) continue;
+    const bool shared = printed[i].parts > 1 || stages.units[i].reads;
     Kernel checked = kernels.kernels[i];
     checked.name = "rhs_with_pivots";
     for (std::size_t k = 0; k < kernels.rhs_pivots.size(); ++k) {
       checked.outputs.push_back(kernels.rhs_pivots[k]);
       checked.output_names.push_back("pivot " + std::to_string(k));
     }
-    rhs_with_pivots = print_kernel(kernels.graph, checked, s, to_two_arrays(checked, kernels.kernels[i].outputs.size(), "pivots")).text;
+    const Destination two = to_two_arrays(checked, kernels.kernels[i].outputs.size(), "pivots");
+    rhs_with_pivots = (stages.units[i].reads ? print_after_stages(kernels.graph, checked, s, two, stages.units[i])
+                                             : print_kernel(kernels.graph, checked, s, two))
+                          .text;
     if (!shared) continue;
     std::string& text = printed[i].text;
-    text = text.substr(0, text.find('\n') + 1) + signature(kernels.kernels[i]) +
+    text = kernel_comment(kernels.kernels[i], s, "out[" + std::to_string(kernels.kernels[i].outputs.size()) + "]",
+                          ": rhs_with_pivots", printed[i].ops) +
+           signature(kernels.kernels[i]) +
            " {\n"
            "  real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)\n"
            "  rhs_with_pivots(t, x, p, in, out, pivots);\n"
@@ -616,7 +779,13 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
     n_prepared = static_cast<int>(prepared->prepare.outputs.size());
     Sizes wide = s;
     wide.n_p = n_prepared;
-    for (const Kernel& k : prepared->kernels) printed_prepared.push_back(print_kernel(kernels.graph, k, wide));
+    std::vector<std::vector<int>> prepared_units;
+    for (const Kernel& k : prepared->kernels) prepared_units.push_back(k.outputs);
+    prepared_sharing = plan_shared_stages(kernels.graph, prepared_units, settings.share_statements, settings.share_ratio);
+    const PrintedStages prepared_stages = print_stages(kernels.graph, prepared_sharing, wide, "prepared_");
+    prepared_stage_text = prepared_stages.text;
+    for (std::size_t i = 0; i < prepared->kernels.size(); ++i)
+      printed_prepared.push_back(print_kernel(kernels.graph, prepared->kernels[i], wide, prepared_stages.units[i]));
   }
 }
 
@@ -729,6 +898,7 @@ std::string PackageWriter::source() const {
   std::ostringstream c;
   c << stamp << "#include \"" << model.name << ".hpp\"\n#include \"" << model.name
     << ".h\"\n\n#include <cmath>\n\nnamespace " << model.name << " {\n";
+  if (!stage_text.empty()) c << "\nnamespace {\n\n" << stage_text << "}  // namespace\n";
   if (!rhs_with_pivots.empty()) c << "\nnamespace {\n\n" << rhs_with_pivots << "\n}  // namespace\n";
   for (const PrintedKernel& k : printed) c << "\n" << k.text;
   if (has_rhs) {
@@ -753,7 +923,8 @@ std::string PackageWriter::source() const {
   if (prepared) {
     Kernel prepare = prepared->prepare;
     prepare.name = "prepare_parameters_kernel";
-    c << "\nnamespace {\n\n" << print_kernel(kernels.graph, prepare, s).text << "\n}  // namespace\n\n"
+    c << "\nnamespace {\n\n" << print_kernel(kernels.graph, prepare, s).text << "\n" << prepared_stage_text
+      << "}  // namespace\n\n"
       << "void prepare_parameters(const real* p, real* prepared) {\n"
       << "  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);\n"
       << "}\n";

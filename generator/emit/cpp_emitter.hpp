@@ -32,6 +32,12 @@ struct EmitSettings {
   /// turn and passing values through a stack array: g++ -O2 compiles the 30-joint chain's rhs and mass_matrix
   /// in 8.8 s instead of 66 s (docs/benchmarks.md, "Long kernels split into parts"). 0: never split.
   int split_statements = 2000;
+  /// Work that several kernels use, at least this many statements used by the same kernels, is printed once as a
+  /// function they all call (a shared stage, emit/shared_stages.hpp) instead of once in each. 0: never.
+  int share_statements = 1000;
+  /// ... and only when its shared function computes at least this many statements per value it leaves to later work
+  /// (every caller stores and loads them all: a few statements per value made the kernels slower). 0: any.
+  int share_ratio = 32;
   /// Print every kernel flat, also one whose repeated solve is a subroutine (Kernel::calls): each call inline.
   bool inline_calls = false;
   /// The options emit was given (without the model and -o), recorded in every file's first line: with the

@@ -332,6 +332,10 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
 }
 
 std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs) const {
+  return schedule(outputs, std::vector<char>());
+}
+
+std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs, const std::vector<char>& boundary) const {
   // Depth first from the outputs in their order, first operand before second, each node after its
   // operands: a function of the structure reachable from the outputs only (commutative operands are in
   // structural order), not of node indices, and every value is computed close to where it is used.
@@ -346,7 +350,8 @@ std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs) cons
       const int i = stack.back().first;
       const int k = stack.back().second++;
       const Node& n = node(i);
-      const int operand = k == 0 ? n.a : k == 1 ? n.b : -1;
+      const bool given = static_cast<std::size_t>(i) < boundary.size() && boundary[static_cast<std::size_t>(i)];
+      const int operand = given ? -1 : k == 0 ? n.a : k == 1 ? n.b : -1;
       if (k < 2) {
         if (operand >= 0 && !seen[static_cast<std::size_t>(operand)]) {
           seen[static_cast<std::size_t>(operand)] = 1;

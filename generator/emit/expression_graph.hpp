@@ -49,6 +49,13 @@ struct Node {
 struct OpCounts {
   int add = 0, mul = 0, div = 0, call = 0;
   int total() const { return add + mul + div + call; }
+  OpCounts& add_times(int n, const OpCounts& o) {
+    add += n * o.add;
+    mul += n * o.mul;
+    div += n * o.div;
+    call += n * o.call;
+    return *this;
+  }
 };
 
 class ExpressionGraph {
@@ -70,6 +77,9 @@ class ExpressionGraph {
 
   /// Nodes reachable from `outputs`, in evaluation order (operands before users).
   std::vector<int> schedule(const std::vector<int>& outputs) const;
+  /// The same, with every node marked in `boundary` (indexed by node) taken as given: it is scheduled like a leaf,
+  /// its operands are not (the values a function reads from work computed before it, emit/shared_stages.hpp).
+  std::vector<int> schedule(const std::vector<int>& outputs, const std::vector<char>& boundary) const;
   OpCounts count(const std::vector<int>& schedule) const;
 
   bool is_constant(int i, double v) const {

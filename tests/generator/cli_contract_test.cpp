@@ -160,6 +160,28 @@ TEST(Cli, EmitSplitPrintsLongKernelsInParts) {
   }
 }
 
+// --share N --share-ratio R: work of N or more statements that several kernels use is printed once, as functions
+// shared_<k> the kernels call; --share 0 never; a value that is not a whole number exits 2 naming the flag.
+TEST(Cli, EmitSharePrintsSharedWorkOnce) {
+  const fs::path none = scratch("share_none"), shared = scratch("share_all"), never = scratch("share_never");
+  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + none.string() + " --share 0 2>/dev/null").status, 0);
+  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + shared.string() +
+                  " --share 5 --share-ratio 0 2>/dev/null").status, 0);
+  const std::string a = slurp(none / "double_pendulum.cpp"), b = slurp(shared / "double_pendulum.cpp");
+  EXPECT_EQ(a.find("shared_0("), std::string::npos);
+  EXPECT_NE(b.find("void shared_0(real t, const real* x, const real* p, const real* in, real* out"), std::string::npos);
+  EXPECT_NE(b.substr(0, b.find('\n')).find("; emit --share 5 --share-ratio 0). Do not edit."), std::string::npos)
+      << b.substr(0, 200);
+  for (const char* flag : {"--share", "--share-ratio"})
+    for (const char* value : {"-1", "many"}) {
+      const Outcome r = hamel("emit " + source("models/double_pendulum.yaml") + " -o " + never.string() + " " + flag +
+                              " " + value + " 2>&1");
+      EXPECT_EQ(r.status, 2) << flag << " " << value;
+      EXPECT_NE(r.out.find(flag), std::string::npos) << r.out;
+      EXPECT_FALSE(fs::exists(never));
+    }
+}
+
 TEST(Cli, BadInputExitsTwoAndWritesNothing) {
   const fs::path bad = scratch("bad.yaml");
   {

@@ -1,0 +1,148 @@
+#include "emit/shared_stages.hpp"
+
+#include <algorithm>
+#include <bitset>
+#include <set>
+
+namespace hamel {
+
+namespace {
+
+bool is_statement(const ExpressionGraph& g, int i) {
+  const Op op = g.node(i).op;
+  return op != Op::constant && op != Op::input;
+}
+
+std::size_t kernels_in(std::uint64_t set) { return std::bitset<64>(set).count(); }
+
+}  // namespace
+
+SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::vector<int>>& units, int min_statements,
+                               double min_ratio) {
+  SharingPlan plan;
+  const std::size_t n_units = units.size();
+  plan.called.resize(n_units);
+  plan.own.resize(n_units);
+  if (min_statements <= 0 || n_units < 2 || n_units > 64) return plan;
+  const auto size = static_cast<std::size_t>(g.size());
+
+  // Which units use each statement; the classes, each in the schedule order of the first unit that uses it.
+  std::vector<std::vector<int>> schedules(n_units);
+  std::vector<std::uint64_t> users(size, 0);
+  for (std::size_t u = 0; u < n_units; ++u) {
+    schedules[u] = g.schedule(units[u]);
+    for (int i : schedules[u])
+      if (is_statement(g, i)) users[static_cast<std::size_t>(i)] |= std::uint64_t{1} << u;
+  }
+  std::map<std::uint64_t, std::vector<int>> classes;
+  for (std::size_t u = 0; u < n_units; ++u)
+    for (int i : schedules[u]) {
+      const std::uint64_t set = users[static_cast<std::size_t>(i)];
+      if (kernels_in(set) >= 2 && (set & (~set + 1)) == std::uint64_t{1} << u) classes[set].push_back(i);
+    }
+  std::set<std::uint64_t> candidates;  // the classes large enough
+  for (const auto& [set, nodes] : classes)
+    if (nodes.size() >= static_cast<std::size_t>(min_statements)) candidates.insert(set);
+
+  // Each function in calling order: what it computes from its roots, reading what a stage before it computes that
+  // every unit calling it has called (the first such stage).
+  std::vector<std::pair<std::uint64_t, std::vector<int>>> shared;  // (units, the class), in calling order
+  std::vector<std::vector<int>> computes;
+  std::vector<std::set<int>> exported;
+  const auto run = [&](const std::vector<int>& roots, std::uint64_t set, std::size_t before, StageReads& reads) {
+    std::vector<char> boundary(size, 0);
+    std::vector<int> from(size, -1);
+    for (std::size_t s = 0; s < before; ++s) {
+      if ((shared[s].first & set) != set) continue;
+      for (int i : computes[s])
+        if (!boundary[static_cast<std::size_t>(i)]) {
+          boundary[static_cast<std::size_t>(i)] = 1;
+          from[static_cast<std::size_t>(i)] = static_cast<int>(s);
+        }
+    }
+    std::vector<int> statements;
+    for (int i : g.schedule(roots, boundary)) {
+      const int stage = from[static_cast<std::size_t>(i)];
+      if (stage >= 0) {
+        reads.value[i] = {stage, -1};
+        exported[static_cast<std::size_t>(stage)].insert(i);
+      } else if (is_statement(g, i)) {
+        statements.push_back(i);
+      }
+    }
+    return statements;
+  };
+  // The plan with the classes `chosen` as stages. Work of a class that is not a stage but that two stages of one
+  // unit both compute (the joints' sines and cosines, read by the stages of M and of f) would be done twice in that
+  // unit: such a class becomes a stage too, and the plan is made again.
+  const auto make = [&](std::set<std::uint64_t> chosen) {
+    for (;;) {
+      shared.clear();
+      for (std::uint64_t set : chosen) shared.emplace_back(set, classes.at(set));
+      std::stable_sort(shared.begin(), shared.end(),
+                       [](const auto& a, const auto& b) { return kernels_in(a.first) > kernels_in(b.first); });
+      const std::size_t n_stages = shared.size();
+      plan.stages.assign(n_stages, {});
+      plan.called.assign(n_units, {});
+      plan.own.assign(n_units, {});
+      computes.assign(n_stages, {});
+      exported.assign(n_stages, {});
+      for (std::size_t s = 0; s < n_stages; ++s) {
+        computes[s] = run(shared[s].second, shared[s].first, s, plan.stages[s].reads);
+        plan.stages[s].statements = static_cast<int>(computes[s].size());
+        for (std::size_t u = 0; u < n_units; ++u)
+          if (shared[s].first >> u & 1) {
+            plan.stages[s].units.push_back(static_cast<int>(u));
+            plan.called[u].push_back(static_cast<int>(s));
+          }
+      }
+      const std::size_t before = chosen.size();
+      for (std::size_t u = 0; u < n_units; ++u) {
+        std::vector<char> done(size, 0);
+        for (int s : plan.called[u])
+          for (int i : computes[static_cast<std::size_t>(s)]) {
+            if (done[static_cast<std::size_t>(i)]) chosen.insert(users[static_cast<std::size_t>(i)]);
+            done[static_cast<std::size_t>(i)] = 1;
+          }
+      }
+      if (chosen.size() == before) break;
+    }
+    for (std::size_t u = 0; u < n_units; ++u) run(units[u], std::uint64_t{1} << u, shared.size(), plan.own[u]);
+  };
+  // A stage whose exports are many for its work costs more in stores and loads than it saves (every caller writes
+  // all of them): such a candidate is dropped, and the plan made again without it.
+  for (;;) {
+    make(candidates);
+    bool dropped = false;
+    for (std::size_t s = 0; s < shared.size(); ++s)
+      if (candidates.count(shared[s].first) &&
+          static_cast<double>(computes[s].size()) < min_ratio * static_cast<double>(exported[s].size())) {
+        candidates.erase(shared[s].first);
+        dropped = true;
+      }
+    if (!dropped) break;
+  }
+  const std::size_t n_stages = shared.size();
+
+  // The exports in the order the stage computes them; every read names its position.
+  std::vector<std::map<int, int>> position(n_stages);
+  for (std::size_t s = 0; s < n_stages; ++s)
+    for (int i : computes[s])
+      if (exported[s].count(i)) {
+        position[s][i] = static_cast<int>(plan.stages[s].exports.size());
+        plan.stages[s].exports.push_back(i);
+      }
+  const auto resolve = [&](StageReads& reads) {
+    std::set<int> stages;
+    for (auto& [node, at] : reads.value) {
+      at.second = position[static_cast<std::size_t>(at.first)].at(node);
+      stages.insert(at.first);
+    }
+    reads.stages.assign(stages.begin(), stages.end());
+  };
+  for (SharingPlan::Stage& stage : plan.stages) resolve(stage.reads);
+  for (StageReads& reads : plan.own) resolve(reads);
+  return plan;
+}
+
+}  // namespace hamel

@@ -13,9 +13,11 @@ namespace {
 /* rhs_with_pivots: (t, x[7], p[9], in[0]) -> out[7], pivots[5]  ops: 1269 add, 2028 mul, 339 div, 4 call */
 namespace {
 
-void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in, real* v) {
+void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in, real* v, real* out, real* pivots) {
   (void)t;
   (void)in;
+  (void)out;
+  (void)pivots;
   const real w0 = std::cos(x[0]);
   v[0] = w0;
   const real w1 = std::sin(x[1]);
@@ -2164,7 +2166,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   v[185] = w1959;
 }
 
-void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in, real* v) {
+void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in, real* v, real* out, real* pivots) {
   (void)t;
   (void)in;
   const real w1960 = v[2] * v[185];
@@ -2257,7 +2259,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2047 = w2046 * w2008;
   const real w2048 = w2045 + w2047;
   const real w2049 = w2048 / v[7];
-  v[186] = w2049;
+  pivots[0] = w2049;  // pivot 0
   const real w2050 = w2003 / w2049;
   const real w2051 = v[13] * p[1];
   const real w2052 = v[0] * w2051;
@@ -2413,7 +2415,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2202 = w2201 / v[7];
   const real w2203 = w2080 * w2079;
   const real w2204 = w2202 - w2203;
-  v[187] = w2204;
+  pivots[1] = w2204;  // pivot 1
   const real w2205 = w2174 / w2204;
   const real w2206 = v[13] * p[0];
   const real w2207 = v[3] * w2206;
@@ -2553,7 +2555,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2341 = w2339 - w2340;
   const real w2342 = w2263 * w2262;
   const real w2343 = w2341 - w2342;
-  v[188] = w2343;
+  pivots[2] = w2343;  // pivot 2
   const real w2344 = w2323 / w2343;
   const real w2345 = v[56] / v[42];
   const real w2346 = -w2345;
@@ -3307,7 +3309,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3094 = w3092 - w3093;
   const real w3095 = w2418 * w2417;
   const real w3096 = w3094 - w3095;
-  v[189] = w3096;
+  pivots[3] = w3096;  // pivot 3
   const real w3097 = w3064 / w3096;
   const real w3098 = w2295 - w2304;
   const real w3099 = w3098 * x[4];
@@ -3830,24 +3832,24 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3616 = w3614 - w3615;
   const real w3617 = w3581 * w3582;
   const real w3618 = w3616 - w3617;
-  v[190] = w3618;
+  pivots[4] = w3618;  // pivot 4
   const real w3619 = w3584 / w3618;
-  v[191] = w3619;
+  out[6] = w3619;  // theta_dot_rate
   const real w3620 = w3619 * w3582;
   const real w3621 = w3097 - w3620;
-  v[192] = w3621;
+  out[5] = w3621;  // psi_dot_rate
   const real w3622 = w2418 * w3621;
   const real w3623 = w2344 - w3622;
   const real w3624 = w3619 * w3553;
   const real w3625 = w3623 - w3624;
-  v[193] = w3625;
+  out[4] = w3625;  // wz_locked_rate
   const real w3626 = w2263 * w3625;
   const real w3627 = w2205 - w3626;
   const real w3628 = w3621 * w3060;
   const real w3629 = w3627 - w3628;
   const real w3630 = w3537 * w3619;
   const real w3631 = w3629 - w3630;
-  v[194] = w3631;
+  out[3] = w3631;  // wy_locked_rate
   const real w3632 = w2080 * w3631;
   const real w3633 = w2050 - w3632;
   const real w3634 = w2319 * w3625;
@@ -3856,27 +3858,17 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3637 = w3635 - w3636;
   const real w3638 = w3519 * w3619;
   const real w3639 = w3637 - w3638;
-  v[195] = w3639;
+  out[2] = w3639;  // wx_locked_rate
 }
 
 }  // namespace
 
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
-  real v[196];
-  rhs_with_pivots_part0(t, x, p, in, v);
-  rhs_with_pivots_part1(t, x, p, in, v);
+  real v[186];
+  rhs_with_pivots_part0(t, x, p, in, v, out, pivots);
+  rhs_with_pivots_part1(t, x, p, in, v, out, pivots);
   out[0] = x[5];  // psi_dot
   out[1] = x[6];  // theta_dot
-  out[2] = v[195];  // wx_locked_rate
-  out[3] = v[194];  // wy_locked_rate
-  out[4] = v[193];  // wz_locked_rate
-  out[5] = v[192];  // psi_dot_rate
-  out[6] = v[191];  // theta_dot_rate
-  pivots[0] = v[186];  // pivot 0
-  pivots[1] = v[187];  // pivot 1
-  pivots[2] = v[188];  // pivot 2
-  pivots[3] = v[189];  // pivot 3
-  pivots[4] = v[190];  // pivot 4
 }
 
 }  // namespace
@@ -4767,9 +4759,10 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
 /* forcing: (t, x[7], p[9], in[0]) -> out[5]  ops: 1112 add, 1797 mul, 318 div, 4 call */
 namespace {
 
-void forcing_part0(real t, const real* x, const real* p, const real* in, real* v) {
+void forcing_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w0 = std::cos(x[0]);
   v[0] = w0;
   const real w1 = std::sin(x[1]);
@@ -6907,7 +6900,7 @@ void forcing_part0(real t, const real* x, const real* p, const real* in, real* v
   v[174] = w1959;
 }
 
-void forcing_part1(real t, const real* x, const real* p, const real* in, real* v) {
+void forcing_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   const real w1960 = v[2] * v[174];
@@ -6954,7 +6947,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w2001 = x[6] * w2000;
   const real w2002 = v[145] + w2001;
   const real w2003 = v[66] - w2002;
-  v[175] = w2003;
+  out[0] = w2003;  // f[wx_locked]
   const real w2004 = x[2] * v[142];
   const real w2005 = p[2] * v[168];
   const real w2006 = v[56] * v[151];
@@ -7047,7 +7040,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w2093 = w2046 - w2092;
   const real w2094 = w2076 * x[4];
   const real w2095 = w2093 - w2094;
-  v[176] = w2095;
+  out[1] = w2095;  // f[wy_locked]
   const real w2096 = x[3] * w2076;
   const real w2097 = v[129] * v[13];
   const real w2098 = v[53] * w2076;
@@ -7103,7 +7096,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w2148 = v[65] * x[2];
   const real w2149 = w2147 + w2148;
   const real w2150 = w2096 - w2149;
-  v[177] = w2150;
+  out[2] = w2150;  // f[wz_locked]
   const real w2151 = v[63] * v[136];
   const real w2152 = p[6] * w2151;
   const real w2153 = w2059 * v[61];
@@ -7776,7 +7769,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w2820 = w2374 - w2819;
   const real w2821 = v[132] * v[139];
   const real w2822 = w2820 + w2821;
-  v[178] = w2822;
+  out[3] = w2822;  // f[psi_dot]
   const real w2823 = w2127 - w2136;
   const real w2824 = w2823 * x[4];
   const real w2825 = w1974 * v[58];
@@ -8185,20 +8178,15 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w3228 = w3226 + w3227;
   const real w3229 = w2104 * w2025;
   const real w3230 = w3228 + w3229;
-  v[179] = w3230;
+  out[4] = w3230;  // f[theta_dot]
 }
 
 }  // namespace
 
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[180];
-  forcing_part0(t, x, p, in, v);
-  forcing_part1(t, x, p, in, v);
-  out[0] = v[175];  // f[wx_locked]
-  out[1] = v[176];  // f[wy_locked]
-  out[2] = v[177];  // f[wz_locked]
-  out[3] = v[178];  // f[psi_dot]
-  out[4] = v[179];  // f[theta_dot]
+  real v[175];
+  forcing_part0(t, x, p, in, v, out);
+  forcing_part1(t, x, p, in, v, out);
 }
 
 /* hamel_coefficients: (t, x[7], p[9], in[0]) -> out[32]  ops: 497 add, 1030 mul, 144 div, 4 call */
@@ -9923,9 +9911,10 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
 /* jacobian: (t, x[7], p[9], in[0]) -> out[49]  ops: 7749 add, 8855 mul, 2951 div, 4 call */
 namespace {
 
-void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w0 = std::sin(x[0]);
   v[0] = w0;
   const real w1 = std::sin(x[1]);
@@ -12082,9 +12071,10 @@ void jacobian_part0(real t, const real* x, const real* p, const real* in, real* 
   v[594] = w1558;
 }
 
-void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w1559 = v[594] * v[45];
   v[595] = w1559;
   const real w1560 = w1559 / v[23];
@@ -14542,9 +14532,10 @@ void jacobian_part1(real t, const real* x, const real* p, const real* in, real* 
   v[1049] = w3558;
 }
 
-void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w3559 = v[1049] * x[6];
   const real w3560 = w3559 / v[119];
   const real w3561 = v[1047] - w3560;
@@ -16915,9 +16906,10 @@ void jacobian_part2(real t, const real* x, const real* p, const real* in, real* 
   v[1302] = w5558;
 }
 
-void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w5559 = v[1263] / v[23];
   const real w5560 = v[1302] + w5559;
   const real w5561 = v[1260] / v[23];
@@ -19280,9 +19272,10 @@ void jacobian_part3(real t, const real* x, const real* p, const real* in, real* 
   v[1396] = w7558;
 }
 
-void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w7559 = v[24] * v[288];
   v[39] = w7559;
   const real w7560 = v[1396] + w7559;
@@ -21861,9 +21854,10 @@ void jacobian_part4(real t, const real* x, const real* p, const real* in, real* 
   v[1704] = w9558;
 }
 
-void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w9559 = v[1704] * v[45];
   const real w9560 = v[1109] * p[3];
   v[7] = w9560;
@@ -24326,9 +24320,10 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   v[2139] = w11558;
 }
 
-void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
+  (void)out;
   const real w11559 = v[1190] * v[693];
   const real w11560 = v[2139] + w11559;
   const real w11561 = v[153] * v[552];
@@ -26514,7 +26509,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[1698] = w13558;
 }
 
-void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   const real w13559 = v[113] * v[3];
@@ -27463,22 +27458,22 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14417 = v[784] * v[1610];
   const real w14418 = w14416 - w14417;
   const real w14419 = v[790] * w14418;
-  v[729] = w14419;
+  out[42] = w14419;  // dtheta_dot_rate/dpsi
   const real w14420 = w14419 * v[1610];
   const real w14421 = v[788] - w14420;
-  v[751] = w14421;
+  out[35] = w14421;  // dpsi_dot_rate/dpsi
   const real w14422 = v[616] * w14421;
   const real w14423 = v[1759] - w14422;
   const real w14424 = w14419 * v[1607];
   const real w14425 = w14423 - w14424;
-  v[754] = w14425;
+  out[28] = w14425;  // dwz_locked_rate/dpsi
   const real w14426 = v[503] * w14425;
   const real w14427 = v[1688] - w14426;
   const real w14428 = w14421 * v[1457];
   const real w14429 = w14427 - w14428;
   const real w14430 = v[1606] * w14419;
   const real w14431 = w14429 - w14430;
-  v[762] = w14431;
+  out[21] = w14431;  // dwy_locked_rate/dpsi
   const real w14432 = v[122] * w14431;
   const real w14433 = v[1635] - w14432;
   const real w14434 = w14425 * v[589];
@@ -27487,28 +27482,28 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14437 = w14435 - w14436;
   const real w14438 = v[1604] * w14419;
   const real w14439 = w14437 - w14438;
-  v[767] = w14439;
+  out[14] = w14439;  // dwx_locked_rate/dpsi
   const real w14440 = v[659] * v[961];
   const real w14441 = w14440 / v[40];
-  v[770] = w14441;
+  v[729] = w14441;
   const real w14442 = v[1043] * v[232];
-  v[782] = w14442;
+  v[751] = w14442;
   const real w14443 = v[611] * v[961];
   const real w14444 = w14443 * x[5];
   const real w14445 = w14444 / v[40];
-  v[799] = w14445;
+  v[754] = w14445;
   const real w14446 = v[1351] * v[30];
   const real w14447 = v[188] * v[45];
   const real w14448 = v[894] * v[53];
   const real w14449 = w14447 - w14448;
   const real w14450 = v[852] * v[596];
   const real w14451 = v[316] * v[611];
-  v[808] = w14451;
+  v[762] = w14451;
   const real w14452 = w14451 * x[5];
   const real w14453 = w14452 / v[318];
   const real w14454 = v[853] * v[656];
   const real w14455 = v[655] * v[316];
-  v[812] = w14455;
+  v[767] = w14455;
   const real w14456 = x[6] * w14455;
   const real w14457 = w14456 / v[318];
   const real w14458 = v[1157] - v[1150];
@@ -27538,7 +27533,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14482 = real(2.0) * w14481;
   const real w14483 = w14480 - w14482;
   const real w14484 = w14483 - v[1189];
-  v[815] = w14484;
+  v[770] = w14484;
   const real w14485 = v[524] * w14484;
   const real w14486 = v[857] / v[23];
   const real w14487 = v[245] - w14486;
@@ -27642,7 +27637,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14585 = v[537] * v[125];
   const real w14586 = w14584 + w14585;
   const real w14587 = -w14586;
-  v[819] = w14587;
+  v[782] = w14587;
   const real w14588 = v[68] * w14587;
   const real w14589 = w14493 - w14588;
   const real w14590 = w14498 / v[41];
@@ -27761,7 +27756,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14703 = v[849] * v[553];
   const real w14704 = w14702 + w14703;
   const real w14705 = -w14704;
-  v[826] = w14705;
+  v[799] = w14705;
   const real w14706 = w14705 * v[128];
   const real w14707 = w14589 - w14706;
   const real w14708 = v[968] / v[23];
@@ -27798,7 +27793,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14739 = w14736 - w14738;
   const real w14740 = v[1271] * v[58];
   const real w14741 = w14740 / v[23];
-  v[827] = w14741;
+  v[808] = w14741;
   const real w14742 = w14739 - w14741;
   const real w14743 = w14742 * v[551];
   const real w14744 = w14728 + w14743;
@@ -27806,9 +27801,9 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14746 = w14745 - v[230];
   const real w14747 = v[567] * v[249];
   const real w14748 = w14746 + w14747;
-  v[835] = w14748;
+  v[812] = w14748;
   const real w14749 = v[68] * w14748;
-  v[841] = w14749;
+  v[815] = w14749;
   const real w14750 = w14749 * x[5];
   const real w14751 = w14750 / v[77];
   const real w14752 = v[68] * v[346];
@@ -27817,7 +27812,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14755 = v[3] * v[478];
   const real w14756 = w14755 / v[23];
   const real w14757 = v[380] + v[291];
-  v[842] = w14757;
+  v[819] = w14757;
   const real w14758 = v[4] * w14757;
   const real w14759 = w14758 / v[23];
   const real w14760 = v[24] * v[166];
@@ -27843,7 +27838,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14780 = w14779 + v[246];
   const real w14781 = v[588] / v[186];
   const real w14782 = w14781 - v[242];
-  v[843] = w14782;
+  v[826] = w14782;
   const real w14783 = v[166] * w14782;
   const real w14784 = w14780 + w14783;
   const real w14785 = v[567] * w14784;
@@ -27875,7 +27870,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14811 = w14810 + v[209];
   const real w14812 = v[594] / v[186];
   const real w14813 = w14812 - v[218];
-  v[846] = w14813;
+  v[827] = w14813;
   const real w14814 = w14813 * v[166];
   const real w14815 = w14811 + w14814;
   const real w14816 = w14815 * v[45];
@@ -27889,7 +27884,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14824 = w14820 + w14823;
   const real w14825 = v[282] + w14824;
   const real w14826 = -w14825;
-  v[854] = w14826;
+  v[835] = w14826;
   const real w14827 = w14826 * v[529];
   const real w14828 = w14751 + w14827;
   const real w14829 = w14485 + w14828;
@@ -27973,7 +27968,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14907 = w14905 + w14906;
   const real w14908 = w14840 + w14907;
   const real w14909 = w14839 - w14908;
-  v[858] = w14909;
+  v[841] = w14909;
   const real w14910 = x[6] * w14909;
   const real w14911 = w14910 / v[40];
   const real w14912 = w14838 - w14911;
@@ -28042,13 +28037,13 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14975 = w14973 + w14974;
   const real w14976 = w14975 + v[1094];
   const real w14977 = -w14976;
-  v[859] = w14977;
+  v[842] = w14977;
   const real w14978 = v[68] * w14977;
-  v[861] = w14978;
+  v[843] = w14978;
   const real w14979 = w14978 * x[6];
   const real w14980 = w14979 / v[77];
   const real w14981 = w14918 + w14980;
-  v[947] = w14981;
+  v[846] = w14981;
   const real w14982 = w14981 * v[24];
   const real w14983 = v[813] + w14982;
   const real w14984 = v[1795] * x[5];
@@ -28062,7 +28057,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14992 = w14990 - w14991;
   const real w14993 = v[347] * v[14];
   const real w14994 = p[6] * w14993;
-  v[951] = w14994;
+  v[854] = w14994;
   const real w14995 = w14994 * x[6];
   const real w14996 = w14995 / v[414];
   const real w14997 = w14992 + w14996;
@@ -28078,7 +28073,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15007 = w15004 + w15006;
   const real w15008 = v[347] * v[24];
   const real w15009 = w15008 * v[12];
-  v[963] = w15009;
+  v[858] = w15009;
   const real w15010 = x[6] * w15009;
   const real w15011 = w15010 / v[414];
   const real w15012 = w15007 + w15011;
@@ -28095,11 +28090,11 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15023 = v[611] * v[354];
   const real w15024 = v[93] * v[596];
   const real w15025 = w14977 * v[348];
-  v[965] = w15025;
+  v[859] = w15025;
   const real w15026 = w15025 * x[6];
   const real w15027 = w15026 / v[119];
   const real w15028 = v[431] * w14587;
-  v[970] = w15028;
+  v[861] = w15028;
   const real w15029 = w15028 * x[5];
   const real w15030 = w15029 / v[119];
   const real w15031 = v[559] * v[152];
@@ -28131,9 +28126,9 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15057 = v[1117] * x[5];
   const real w15058 = w15057 / v[23];
   const real w15059 = v[14] * v[166];
-  v[975] = w15059;
+  v[947] = w15059;
   const real w15060 = p[6] * w15059;
-  v[1017] = w15060;
+  v[951] = w15060;
   const real w15061 = w15060 * x[5];
   const real w15062 = w15061 / v[186];
   const real w15063 = w15058 - w15062;
@@ -28155,7 +28150,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15079 = v[818] * v[553];
   const real w15080 = w15078 - w15079;
   const real w15081 = w14748 * v[348];
-  v[1020] = w15081;
+  v[963] = w15081;
   const real w15082 = w15081 * x[5];
   const real w15083 = w15082 / v[119];
   const real w15084 = w15080 + w15083;
@@ -28184,11 +28179,11 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15107 = w15104 + w15106;
   const real w15108 = v[166] * p[4];
   const real w15109 = w15108 * v[17];
-  v[1021] = w15109;
+  v[965] = w15109;
   const real w15110 = w15109 * x[5];
   const real w15111 = w15110 / v[186];
   const real w15112 = v[162] * x[5];
-  v[1025] = w15112;
+  v[970] = w15112;
   const real w15113 = w15112 / v[23];
   const real w15114 = w15111 - w15113;
   const real w15115 = w15114 * v[567];
@@ -28204,7 +28199,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15125 = w15123 - w15124;
   const real w15126 = w14705 * v[496];
   const real w15127 = w15125 - w15126;
-  v[1026] = w15127;
+  v[975] = w15127;
   const real w15128 = w15127 * v[19];
   const real w15129 = w14983 - w15128;
   const real w15130 = w15129 - v[820];
@@ -28213,9 +28208,9 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15133 = w15132 - v[822];
   const real w15134 = w15133 + v[825];
   const real w15135 = -w15134;
-  v[1031] = w15135;
+  v[1017] = w15135;
   const real w15136 = v[12] * w15135;
-  v[1032] = w15136;
+  v[1020] = w15136;
   const real w15137 = w15136 * x[5];
   const real w15138 = w15137 * v[19];
   const real w15139 = w14449 - w15138;
@@ -28236,12 +28231,12 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15154 = v[152] * v[957];
   const real w15155 = w15154 * x[5];
   const real w15156 = w15153 - w15155;
-  v[1033] = w15156;
+  v[1021] = w15156;
   const real w15157 = v[1284] * v[552];
   const real w15158 = v[567] * p[8];
-  v[1034] = w15158;
+  v[1025] = w15158;
   const real w15159 = -w15158;
-  v[1035] = w15159;
+  v[1026] = w15159;
   const real w15160 = w15159 * v[647];
   const real w15161 = w15160 / v[23];
   const real w15162 = v[81] * v[643];
@@ -28249,7 +28244,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15164 = v[537] * v[46];
   const real w15165 = v[1294] * v[30];
   const real w15166 = v[12] * w15159;
-  v[1036] = w15166;
+  v[1031] = w15166;
   const real w15167 = w15166 * v[9];
   const real w15168 = w15167 * real(2.0);
   const real w15169 = v[687] + v[685];
@@ -28270,10 +28265,10 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15184 = w15180 + w15183;
   const real w15185 = w15184 + v[689];
   const real w15186 = w15168 + w15185;
-  v[1037] = w15186;
+  v[1032] = w15186;
   const real w15187 = v[278] * w15186;
   const real w15188 = v[1152] * v[92];
-  v[1039] = w15188;
+  v[1033] = w15188;
   const real w15189 = w15188 * v[30];
   const real w15190 = w15189 / v[23];
   const real w15191 = v[30] * v[1293];
@@ -28337,27 +28332,27 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15249 = w15247 + w15248;
   const real w15250 = w15249 + v[745];
   const real w15251 = w15157 - w15250;
-  v[1045] = w15251;
+  v[1034] = w15251;
   const real w15252 = w15251 * v[797];
   const real w15253 = w15252 / v[119];
-  v[1046] = w15253;
+  v[1035] = w15253;
   const real w15254 = v[603] * v[552];
   const real w15255 = w15254 / v[186];
   const real w15256 = v[1119] * x[5];
   const real w15257 = w15256 / v[23];
   const real w15258 = w15255 - w15257;
   const real w15259 = w15258 * v[45];
-  v[1047] = w15259;
+  v[1036] = w15259;
   const real w15260 = v[396] * v[656];
-  v[1048] = w15260;
+  v[1037] = w15260;
   const real w15261 = v[703] * v[553];
-  v[1051] = w15261;
+  v[1039] = w15261;
   const real w15262 = v[624] * v[1];
-  v[1053] = w15262;
+  v[1045] = w15262;
   const real w15263 = v[583] * v[709];
-  v[1058] = w15263;
+  v[1046] = w15263;
   const real w15264 = v[596] * v[337];
-  v[1063] = w15264;
+  v[1047] = w15264;
   const real w15265 = v[567] * v[154];
   const real w15266 = w15265 * real(2.0);
   const real w15267 = v[1146] * v[17];
@@ -28404,7 +28399,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15308 = v[24] * v[537];
   const real w15309 = v[12] * w15308;
   const real w15310 = w15309 * p[4];
-  v[1068] = w15310;
+  v[1048] = w15310;
   const real w15311 = w15310 * v[30];
   const real w15312 = w15311 / v[41];
   const real w15313 = w14879 / v[41];
@@ -28484,7 +28479,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15387 = w15386 * real(2.0);
   const real w15388 = w15385 - w15387;
   const real w15389 = w15388 - v[880];
-  v[1077] = w15389;
+  v[1051] = w15389;
   const real w15390 = w15389 * v[67];
   const real w15391 = w15390 / v[319];
   const real w15392 = w15353 + w15391;
@@ -28519,7 +28514,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15421 = v[322] * w15186;
   const real w15422 = w15420 + w15421;
   const real w15423 = w15422 - v[974];
-  v[1095] = w15423;
+  v[1053] = w15423;
   const real w15424 = v[128] * w15423;
   const real w15425 = v[106] * v[552];
   const real w15426 = v[97] * v[17];
@@ -28542,7 +28537,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15443 = w15424 + w15442;
   const real w15444 = w15266 + w15443;
   const real w15445 = v[1133] * real(2.0);
-  v[1105] = w15445;
+  v[1058] = w15445;
   const real w15446 = w15444 - w15445;
   const real w15447 = v[28] * real(2.0);
   const real w15448 = v[210] * v[553];
@@ -28610,7 +28605,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15510 = w15509 - v[241];
   const real w15511 = v[198] * v[537];
   const real w15512 = w15510 + w15511;
-  v[1109] = w15512;
+  v[1063] = w15512;
   const real w15513 = v[68] * w15512;
   const real w15514 = w15446 + w15513;
   const real w15515 = v[280] * v[1];
@@ -28623,7 +28618,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15522 = w15519 + w15521;
   const real w15523 = v[123] * v[551];
   const real w15524 = w15523 / v[23];
-  v[1113] = w15524;
+  v[1068] = w15524;
   const real w15525 = w15524 * real(2.0);
   const real w15526 = w14929 * real(2.0);
   const real w15527 = w15525 + w15526;
@@ -28632,7 +28627,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15530 = w15529 * p[4];
   const real w15531 = w15530 * v[17];
   const real w15532 = w15531 / v[23];
-  v[1114] = w15532;
+  v[1077] = w15532;
   const real w15533 = w15532 * real(2.0);
   const real w15534 = w15527 + w15533;
   const real w15535 = v[613] * v[552];
@@ -28643,7 +28638,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15540 = w15537 + w15539;
   const real w15541 = v[124] * v[45];
   const real w15542 = w15541 / v[23];
-  v[1115] = w15542;
+  v[1095] = w15542;
   const real w15543 = w15542 * real(2.0);
   const real w15544 = w15540 + w15543;
   const real w15545 = v[537] * v[89];
@@ -28658,17 +28653,18 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w15554 = v[537] * v[90];
   const real w15555 = w15553 + w15554;
   const real w15556 = -w15555;
-  v[1116] = w15556;
+  v[1105] = w15556;
   const real w15557 = v[348] * w15556;
-  v[1118] = w15557;
+  v[1109] = w15557;
   const real w15558 = w15557 * x[5];
-  v[1122] = w15558;
+  v[1113] = w15558;
 }
 
-void jacobian_part8(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part8(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
-  const real w15559 = v[1122] / v[119];
+  (void)out;
+  const real w15559 = v[1113] / v[119];
   const real w15560 = v[433] * v[30];
   const real w15561 = w15559 - w15560;
   const real w15562 = v[358] * v[81];
@@ -28676,17 +28672,17 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15564 = w15563 / v[23];
   const real w15565 = w15561 - w15564;
   const real w15566 = w15565 - v[982];
-  const real w15567 = v[1063] + w15566;
+  const real w15567 = v[1047] + w15566;
   const real w15568 = v[58] * v[630];
   const real w15569 = w15567 - w15568;
   const real w15570 = v[756] + w15569;
-  const real w15571 = v[1109] * v[431];
+  const real w15571 = v[1063] * v[431];
   const real w15572 = x[5] * w15571;
   const real w15573 = w15572 / v[119];
   const real w15574 = w15570 + w15573;
-  const real w15575 = v[199] * v[1037];
+  const real w15575 = v[199] * v[1032];
   const real w15576 = w15574 + w15575;
-  const real w15577 = v[1058] + w15576;
+  const real w15577 = v[1046] + w15576;
   const real w15578 = v[802] * v[656];
   const real w15579 = w15578 / v[414];
   const real w15580 = v[648] * v[563];
@@ -28708,12 +28704,12 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15596 = w15593 - w15595;
   const real w15597 = w15596 * v[551];
   const real w15598 = w15577 + w15597;
-  const real w15599 = v[1053] + w15598;
+  const real w15599 = v[1045] + w15598;
   const real w15600 = w15599 - v[1018];
   const real w15601 = v[1226] * x[5];
   const real w15602 = w15601 / v[23];
   const real w15603 = w15600 - w15602;
-  const real w15604 = v[665] * v[1035];
+  const real w15604 = v[665] * v[1026];
   const real w15605 = w15603 - w15604;
   const real w15606 = w15605 - v[95];
   const real w15607 = w15606 + v[755];
@@ -28733,9 +28729,9 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15621 = w15619 - w15620;
   const real w15622 = w15621 * v[45];
   const real w15623 = w15609 + w15622;
-  const real w15624 = v[1095] * v[496];
+  const real w15624 = v[1053] * v[496];
   const real w15625 = w15623 - w15624;
-  const real w15626 = v[430] * v[1077];
+  const real w15626 = v[430] * v[1051];
   const real w15627 = w15625 - w15626;
   const real w15628 = v[490] * v[552];
   const real w15629 = v[537] * v[559];
@@ -28754,8 +28750,8 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15642 = w15641 + v[96];
   const real w15643 = v[641] * v[80];
   const real w15644 = w15642 - w15643;
-  const real w15645 = v[1051] + w15644;
-  const real w15646 = v[1048] + w15645;
+  const real w15645 = v[1039] + w15644;
+  const real w15646 = v[1037] + w15645;
   const real w15647 = v[606] * v[567];
   const real w15648 = w15646 + w15647;
   const real w15649 = v[739] * v[611];
@@ -28767,13 +28763,13 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15655 = w15654 * real(2.0);
   const real w15656 = v[537] * v[268];
   const real w15657 = w15656 * real(2.0);
-  const real w15658 = v[1095] * v[120];
+  const real w15658 = v[1053] * v[120];
   const real w15659 = w15658 * real(2.0);
-  const real w15660 = v[1077] * v[69];
+  const real w15660 = v[1051] * v[69];
   const real w15661 = v[1180] * v[45];
   const real w15662 = w15661 / v[23];
   const real w15663 = w15662 + v[147];
-  const real w15664 = v[552] * v[843];
+  const real w15664 = v[552] * v[826];
   const real w15665 = w15663 + w15664;
   const real w15666 = v[144] + w15665;
   const real w15667 = v[585] / v[23];
@@ -28781,7 +28777,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15669 = w15668 + v[150];
   const real w15670 = w15669 * v[567];
   const real w15671 = w15670 * real(2.0);
-  const real w15672 = v[590] * v[1035];
+  const real w15672 = v[590] * v[1026];
   const real w15673 = w15672 / v[23];
   const real w15674 = w15673 * real(2.0);
   const real w15675 = w15671 + w15674;
@@ -28796,17 +28792,17 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15684 = v[563] * w15683;
   const real w15685 = w15684 * real(2.0);
   const real w15686 = w15682 + w15685;
-  const real w15687 = v[378] * v[1037];
+  const real w15687 = v[378] * v[1032];
   const real w15688 = w15686 - w15687;
   const real w15689 = v[1011] + w15688;
-  const real w15690 = v[842] * v[80];
+  const real w15690 = v[819] * v[80];
   const real w15691 = w15690 / v[23];
-  const real w15692 = v[1115] + w15691;
-  const real w15693 = v[1068] * v[45];
+  const real w15692 = v[1095] + w15691;
+  const real w15693 = v[1048] * v[45];
   const real w15694 = w15693 / v[23];
   const real w15695 = w15692 + w15694;
-  const real w15696 = v[1114] + w15695;
-  const real w15697 = w15696 + v[1113];
+  const real w15696 = v[1077] + w15695;
+  const real w15697 = w15696 + v[1068];
   const real w15698 = v[17] * v[478];
   const real w15699 = w15698 / v[23];
   const real w15700 = w15697 + w15699;
@@ -28823,7 +28819,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15711 = v[281] * v[80];
   const real w15712 = w15711 * real(2.0);
   const real w15713 = w15710 + w15712;
-  const real w15714 = w15713 - v[1105];
+  const real w15714 = w15713 - v[1058];
   const real w15715 = v[567] * v[594];
   const real w15716 = w15715 / v[23];
   const real w15717 = w15716 * real(2.0);
@@ -28834,7 +28830,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15722 = v[270] * v[552];
   const real w15723 = real(2.0) * w15722;
   const real w15724 = w15721 + w15723;
-  const real w15725 = v[846] * v[552];
+  const real w15725 = v[827] * v[552];
   const real w15726 = v[17] * v[476];
   const real w15727 = w15726 / v[23];
   const real w15728 = v[386] * v[17];
@@ -28862,10 +28858,10 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15749 = v[482] * v[17];
   const real w15750 = w15748 - w15749;
   const real w15751 = w15750 - v[1050];
-  const real w15752 = v[1047] + w15751;
+  const real w15752 = v[1036] + w15751;
   const real w15753 = v[639] * v[617];
   const real w15754 = w15752 - w15753;
-  const real w15755 = v[1046] + w15754;
+  const real w15755 = v[1035] + w15754;
   const real w15756 = v[622] * v[552];
   const real w15757 = w15756 / v[186];
   const real w15758 = v[538] * x[5];
@@ -28873,7 +28869,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15760 = w15757 - w15759;
   const real w15761 = w15760 * v[567];
   const real w15762 = w15755 + w15761;
-  const real w15763 = v[68] * v[1045];
+  const real w15763 = v[68] * v[1034];
   const real w15764 = v[81] * v[292];
   const real w15765 = w15764 / v[23];
   const real w15766 = v[655] * v[583];
@@ -28893,7 +28889,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15780 = w15779 / v[23];
   const real w15781 = v[92] * v[107];
   const real w15782 = w15781 / v[23];
-  const real w15783 = v[1039] * v[45];
+  const real w15783 = v[1033] * v[45];
   const real w15784 = w15783 / v[23];
   const real w15785 = w15782 + w15784;
   const real w15786 = v[633] * v[552];
@@ -28914,10 +28910,10 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15801 = w15800 / v[23];
   const real w15802 = w15801 * real(2.0);
   const real w15803 = w15798 + w15802;
-  const real w15804 = w15803 + v[827];
+  const real w15804 = w15803 + v[808];
   const real w15805 = w15804 * v[551];
   const real w15806 = w15805 - v[1061];
-  const real w15807 = v[1095] * v[104];
+  const real w15807 = v[1053] * v[104];
   const real w15808 = w15806 + w15807;
   const real w15809 = w15772 + w15808;
   const real w15810 = v[70] * v[537];
@@ -28932,7 +28928,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15819 = w15767 + w15818;
   const real w15820 = v[1278] * v[552];
   const real w15821 = w15819 - w15820;
-  const real w15822 = v[229] * v[1037];
+  const real w15822 = v[229] * v[1032];
   const real w15823 = w15821 + w15822;
   const real w15824 = w15765 + w15823;
   const real w15825 = w15824 - v[1057];
@@ -28940,7 +28936,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15827 = w15763 + w15826;
   const real w15828 = w15827 - v[83];
   const real w15829 = w15828 - v[1073];
-  const real w15830 = v[633] * v[1035];
+  const real w15830 = v[633] * v[1026];
   const real w15831 = w15830 / v[23];
   const real w15832 = w15829 + w15831;
   const real w15833 = v[66] * v[17];
@@ -28984,7 +28980,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15868 = w15867 / v[318];
   const real w15869 = v[828] * v[656];
   const real w15870 = v[529] * w15740;
-  const real w15871 = v[513] * v[1095];
+  const real w15871 = v[513] * v[1053];
   const real w15872 = v[611] * v[563];
   const real w15873 = w15872 * x[5];
   const real w15874 = w15873 / v[318];
@@ -28996,10 +28992,10 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15880 = v[836] * v[563];
   const real w15881 = w15879 - w15880;
   const real w15882 = w15865 + w15881;
-  const real w15883 = v[1109] * x[5];
+  const real w15883 = v[1063] * x[5];
   const real w15884 = w15883 / v[40];
   const real w15885 = w15882 - w15884;
-  const real w15886 = v[68] * v[1116];
+  const real w15886 = v[68] * v[1105];
   const real w15887 = w15886 * x[5];
   const real w15888 = w15887 / v[77];
   const real w15889 = w15885 + w15888;
@@ -29008,10 +29004,10 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15891 = x[6] * w15890;
   const real w15892 = w15891 / v[77];
   const real w15893 = w15889 + w15892;
-  const real w15894 = x[6] * v[1045];
+  const real w15894 = x[6] * v[1034];
   const real w15895 = w15894 / v[40];
   const real w15896 = w15893 - w15895;
-  const real w15897 = v[1077] * v[524];
+  const real w15897 = v[1051] * v[524];
   const real w15898 = w15896 + w15897;
   const real w15899 = v[837] * v[596];
   const real w15900 = w15898 - w15899;
@@ -29020,7 +29016,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15902 = w15864 + w15901;
   v[31] = w15902;
   const real w15903 = v[49] * w15902;
-  const real w15904 = v[1033] - w15903;
+  const real w15904 = v[1021] - w15903;
   const real w15905 = v[882] * v[672];
   const real w15906 = w15904 - w15905;
   const real w15907 = v[567] * v[288];
@@ -29043,7 +29039,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15924 = w15920 + w15923;
   const real w15925 = w15917 + w15924;
   const real w15926 = w15916 + w15925;
-  const real w15927 = v[1116] * x[5];
+  const real w15927 = v[1105] * x[5];
   const real w15928 = w15927 / v[77];
   const real w15929 = w15926 - w15928;
   const real w15930 = w15842 * x[6];
@@ -29068,24 +29064,24 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15947 = p[4] * v[1337];
   const real w15948 = x[5] * w15947;
   const real w15949 = w15946 - w15948;
-  const real w15950 = v[859] * x[6];
+  const real w15950 = v[842] * x[6];
   const real w15951 = w15950 / v[77];
   const real w15952 = v[1108] * v[596];
   const real w15953 = w15951 - w15952;
   const real w15954 = v[389] * v[234];
   const real w15955 = w15954 / v[367];
   const real w15956 = w15953 - w15955;
-  const real w15957 = v[854] * v[508];
+  const real w15957 = v[835] * v[508];
   const real w15958 = w15956 - w15957;
   const real w15959 = v[235] * v[389];
   const real w15960 = w15959 / v[367];
   const real w15961 = w15958 - w15960;
-  const real w15962 = v[835] * x[5];
+  const real w15962 = v[812] * x[5];
   const real w15963 = w15962 / v[77];
   const real w15964 = w15961 + w15963;
   const real w15965 = -w15964;
   const real w15966 = v[24] * w15965;
-  const real w15967 = v[8] * v[1026];
+  const real w15967 = v[8] * v[975];
   const real w15968 = w15966 - w15967;
   const real w15969 = v[286] + w15968;
   const real w15970 = v[289] + w15969;
@@ -29104,7 +29100,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15981 = w15979 - w15980;
   const real w15982 = w15932 * v[24];
   const real w15983 = v[8] * w15863;
-  const real w15984 = v[1034] * v[532];
+  const real w15984 = v[1025] * v[532];
   const real w15985 = v[666] * v[550];
   const real w15986 = w15985 * real(2.0);
   const real w15987 = w15986 + v[1106];
@@ -29120,8 +29116,8 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w15996 = x[6] * w15995;
   const real w15997 = w15996 * v[9];
   const real w15998 = w15981 - w15997;
-  const real w15999 = v[14] * v[1026];
-  const real w16000 = v[2] * v[947];
+  const real w15999 = v[14] * v[975];
+  const real w16000 = v[2] * v[846];
   const real w16001 = w15965 * v[6];
   const real w16002 = v[1318] + w16001;
   const real w16003 = v[512] + w16002;
@@ -29136,7 +29132,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16012 = p[6] * w16011;
   const real w16013 = x[5] * w16012;
   const real w16014 = w15998 - w16013;
-  const real w16015 = v[799] + w16014;
+  const real w16015 = v[754] + w16014;
   const real w16016 = v[1341] * v[553];
   const real w16017 = w16015 - w16016;
   const real w16018 = v[1336] * v[563];
@@ -29160,8 +29156,8 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16035 = x[6] * w16034;
   const real w16036 = w16035 * v[19];
   const real w16037 = w16021 - w16036;
-  const real w16038 = v[947] * v[30];
-  const real w16039 = v[1026] * v[17];
+  const real w16038 = v[846] * v[30];
+  const real w16039 = v[975] * v[17];
   const real w16040 = w16038 + w16039;
   const real w16041 = v[999] + w16040;
   const real w16042 = v[994] + w16041;
@@ -29208,8 +29204,8 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16081 = w16079 + w16080;
   const real w16082 = w15863 * v[1637];
   const real w16083 = w16081 - w16082;
-  const real w16084 = v[20] * v[1026];
-  const real w16085 = v[947] * v[13];
+  const real w16084 = v[20] * v[975];
+  const real w16085 = v[846] * v[13];
   const real w16086 = w16085 + v[1352];
   const real w16087 = w16084 + w16086;
   const real w16088 = w16087 + v[1353];
@@ -29240,17 +29236,17 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16111 = p[6] * w16110;
   const real w16112 = x[6] * w16111;
   const real w16113 = w16094 - w16112;
-  const real w16114 = v[1036] * x[6];
+  const real w16114 = v[1031] * x[6];
   const real w16115 = w16114 * v[942];
   const real w16116 = w16113 - w16115;
-  const real w16117 = v[782] + w16116;
+  const real w16117 = v[751] + w16116;
   const real w16118 = v[1306] * v[1120];
   const real w16119 = w16117 - w16118;
   const real w16120 = v[92] * v[1334];
   const real w16121 = w16119 - w16120;
   const real w16122 = v[1304] * v[220];
   const real w16123 = w16121 - w16122;
-  const real w16124 = v[770] + w16123;
+  const real w16124 = v[729] + w16123;
   const real w16125 = v[117] * v[1];
   const real w16126 = w16125 * p[8];
   const real w16127 = v[88] * v[6];
@@ -29415,7 +29411,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16278 = w15965 * v[19];
   const real w16279 = v[1394] - v[1662];
   const real w16280 = w16278 + w16279;
-  const real w16281 = v[8] * v[947];
+  const real w16281 = v[8] * v[846];
   const real w16282 = w16280 - w16281;
   const real w16283 = w16282 - v[1395];
   const real w16284 = w16283 + v[39];
@@ -29466,7 +29462,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16328 = w16266 + w16327;
   const real w16329 = v[553] * v[1334];
   const real w16330 = w16328 - w16329;
-  const real w16331 = v[1034] * v[925];
+  const real w16331 = v[1025] * v[925];
   const real w16332 = v[12] * w16331;
   const real w16333 = x[6] * w16332;
   const real w16334 = w16330 - w16333;
@@ -29493,7 +29489,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16355 = v[1383] * x[5];
   const real w16356 = w16354 - w16355;
   const real w16357 = w16262 + w16356;
-  const real w16358 = v[947] * p[2];
+  const real w16358 = v[846] * p[2];
   v[89] = w16358;
   const real w16359 = w16358 * x[5];
   const real w16360 = w16357 - w16359;
@@ -29502,7 +29498,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16363 = w16362 * x[6];
   const real w16364 = w16360 - w16363;
   const real w16365 = w16254 + w16364;
-  const real w16366 = v[1032] * v[25];
+  const real w16366 = v[1020] * v[25];
   const real w16367 = w16366 * x[5];
   const real w16368 = w16365 - w16367;
   const real w16369 = v[1308] * v[30];
@@ -29510,7 +29506,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16371 = v[8] * w15900;
   const real w16372 = v[550] * v[672];
   const real w16373 = real(2.0) * w16372;
-  const real w16374 = v[1034] * v[534];
+  const real w16374 = v[1025] * v[534];
   const real w16375 = w16374 - v[901];
   const real w16376 = v[92] * v[288];
   const real w16377 = w16376 * real(2.0);
@@ -29916,7 +29912,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16752 = w16749 + w16751;
   const real w16753 = w16732 + w16752;
   const real w16754 = w16730 + w16753;
-  const real w16755 = v[1116] / v[77];
+  const real w16755 = v[1105] / v[77];
   const real w16756 = w16754 - w16755;
   const real w16757 = w16719 + w16756;
   const real w16758 = v[635] * v[596];
@@ -29925,7 +29921,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16761 = w16760 / v[369];
   const real w16762 = w16759 - w16761;
   const real w16763 = w16715 + w16762;
-  const real w16764 = v[854] * v[112];
+  const real w16764 = v[835] * v[112];
   const real w16765 = w16764 / v[367];
   v[154] = w16765;
   const real w16766 = w16763 - w16765;
@@ -29936,7 +29932,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16771 = w16770 / v[367];
   const real w16772 = w16769 + w16771;
   const real w16773 = w16707 + w16772;
-  const real w16774 = v[859] / v[77];
+  const real w16774 = v[842] / v[77];
   v[158] = w16774;
   const real w16775 = w16773 + w16774;
   const real w16776 = w16706 + w16775;
@@ -29963,9 +29959,9 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16796 = v[1302] * v[874];
   const real w16797 = w16795 - w16796;
   const real w16798 = v[1813] * v[617];
-  const real w16799 = v[808] / v[318];
-  const real w16800 = v[815] * v[765];
-  const real w16801 = v[826] * v[130];
+  const real w16799 = v[762] / v[318];
+  const real w16800 = v[770] * v[765];
+  const real w16801 = v[799] * v[130];
   const real w16802 = w16801 / v[77];
   const real w16803 = v[1812] * v[563];
   const real w16804 = w16802 + w16803;
@@ -29973,14 +29969,14 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16806 = v[596] * v[1811];
   const real w16807 = w16805 - w16806;
   const real w16808 = w16799 + w16807;
-  const real w16809 = v[854] * v[757];
+  const real w16809 = v[835] * v[757];
   const real w16810 = w16808 - w16809;
   const real w16811 = v[583] * v[623];
   const real w16812 = w16810 - w16811;
-  const real w16813 = v[841] / v[77];
+  const real w16813 = v[815] / v[77];
   const real w16814 = w16812 + w16813;
   const real w16815 = w16798 + w16814;
-  const real w16816 = v[819] / v[40];
+  const real w16816 = v[782] / v[40];
   const real w16817 = w16815 - w16816;
   v[167] = w16817;
   const real w16818 = w16817 * v[30];
@@ -29996,7 +29992,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16828 = v[32] * v[483];
   const real w16829 = w16828 / v[414];
   const real w16830 = w16827 - w16829;
-  const real w16831 = v[1021] * v[130];
+  const real w16831 = v[965] * v[130];
   const real w16832 = w16831 / v[979];
   const real w16833 = w16830 + w16832;
   const real w16834 = v[162] * v[130];
@@ -30009,18 +30005,18 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16841 = w16838 + w16840;
   const real w16842 = w16837 + w16841;
   const real w16843 = w16842 - v[1925];
-  const real w16844 = v[970] / v[119];
+  const real w16844 = v[861] / v[119];
   const real w16845 = w16843 - w16844;
-  const real w16846 = v[854] * v[681];
+  const real w16846 = v[835] * v[681];
   const real w16847 = w16845 - w16846;
-  const real w16848 = v[1017] / v[186];
+  const real w16848 = v[951] / v[186];
   const real w16849 = v[1117] / v[23];
   const real w16850 = w16848 - w16849;
   const real w16851 = w16850 * v[45];
   const real w16852 = w16847 - w16851;
   const real w16853 = w16852 - v[1924];
   const real w16854 = v[1993] + w16853;
-  const real w16855 = v[826] * v[489];
+  const real w16855 = v[799] * v[489];
   const real w16856 = w16855 / v[119];
   const real w16857 = w16854 + w16856;
   const real w16858 = v[1994] + w16857;
@@ -30050,7 +30046,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16881 = w16876 - w16880;
   const real w16882 = w16881 * v[551];
   const real w16883 = w16861 - w16882;
-  const real w16884 = v[1021] / v[186];
+  const real w16884 = v[965] / v[186];
   const real w16885 = v[162] / v[23];
   const real w16886 = w16884 - w16885;
   const real w16887 = w16886 * v[567];
@@ -30064,10 +30060,10 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16895 = v[1801] * v[611];
   const real w16896 = w16894 - w16895;
   const real w16897 = w16896 - v[2100];
-  const real w16898 = v[1020] / v[119];
+  const real w16898 = v[963] / v[119];
   const real w16899 = w16897 - w16898;
   const real w16900 = w16823 + w16899;
-  const real w16901 = v[815] * v[693];
+  const real w16901 = v[770] * v[693];
   const real w16902 = w16900 - w16901;
   const real w16903 = v[30] * v[1791];
   const real w16904 = w16902 - w16903;
@@ -30085,7 +30081,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16916 = v[47] * v[483];
   const real w16917 = w16916 / v[414];
   const real w16918 = w16915 - w16917;
-  const real w16919 = v[1017] * v[130];
+  const real w16919 = v[951] * v[130];
   const real w16920 = w16919 / v[979];
   const real w16921 = w16918 + w16920;
   const real w16922 = w16921 * v[45];
@@ -30096,9 +30092,9 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   v[176] = w16926;
   const real w16927 = w16926 * v[17];
   const real w16928 = w16822 + w16927;
-  const real w16929 = v[854] * v[130];
+  const real w16929 = v[835] * v[130];
   const real w16930 = w16929 / v[367];
-  const real w16931 = v[835] / v[77];
+  const real w16931 = v[812] / v[77];
   const real w16932 = w16930 - w16931;
   const real w16933 = v[382] * v[596];
   const real w16934 = w16932 - w16933;
@@ -30145,7 +30141,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16973 = w16970 - w16972;
   const real w16974 = w16973 * v[551];
   const real w16975 = v[258] * v[617];
-  const real w16976 = v[1035] * v[663];
+  const real w16976 = v[1026] * v[663];
   const real w16977 = w16976 / v[119];
   const real w16978 = v[1226] / v[23];
   const real w16979 = w16977 + w16978;
@@ -30156,7 +30152,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w16984 = w16982 - w16983;
   const real w16985 = w16974 + w16984;
   const real w16986 = w16960 + w16985;
-  const real w16987 = v[197] * v[1037];
+  const real w16987 = v[197] * v[1032];
   const real w16988 = w16987 / v[187];
   const real w16989 = w16986 - w16988;
   const real w16990 = v[1786] + w16989;
@@ -30194,12 +30190,12 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17022 = v[297] * v[92];
   const real w17023 = w17021 + w17022;
   const real w17024 = w16954 + w17023;
-  const real w17025 = v[1118] / v[119];
+  const real w17025 = v[1109] / v[119];
   const real w17026 = w17024 - w17025;
-  const real w17027 = v[1077] * v[693];
+  const real w17027 = v[1051] * v[693];
   const real w17028 = w17026 - w17027;
   const real w17029 = w17028 - v[1802];
-  const real w17030 = v[1095] * v[489];
+  const real w17030 = v[1053] * v[489];
   const real w17031 = w17030 / v[119];
   const real w17032 = w17029 + w17031;
   const real w17033 = w16956 * v[130];
@@ -30254,11 +30250,11 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17082 = w17081 + v[1];
   const real w17083 = w17082 + v[377];
   const real w17084 = v[583] * v[1818];
-  const real w17085 = v[1077] * v[765];
+  const real w17085 = v[1051] * v[765];
   const real w17086 = w15872 / v[318];
   const real w17087 = w15886 / v[77];
   const real w17088 = w17086 + w17087;
-  const real w17089 = v[1109] / v[40];
+  const real w17089 = v[1063] / v[40];
   const real w17090 = w17088 - w17089;
   const real w17091 = w17085 + w17090;
   const real w17092 = v[757] * w15740;
@@ -30268,7 +30264,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17096 = w17094 + w17095;
   const real w17097 = v[1822] * v[563];
   const real w17098 = w17096 - w17097;
-  const real w17099 = v[1095] * v[130];
+  const real w17099 = v[1053] * v[130];
   const real w17100 = w17099 / v[77];
   const real w17101 = w17098 + w17100;
   const real w17102 = v[1823] * v[596];
@@ -30307,7 +30303,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17134 = w17132 - w17133;
   const real w17135 = v[550] * v[1019];
   const real w17136 = w17135 * real(2.0);
-  const real w17137 = v[1034] * v[592];
+  const real w17137 = v[1025] * v[592];
   const real w17138 = w17136 + w17137;
   const real w17139 = v[8] * w17103;
   const real w17140 = w17138 + w17139;
@@ -30347,12 +30343,12 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17168 = w17165 + w17167;
   const real w17169 = w17168 + w16966;
   const real w17170 = w17169 - w16969;
-  const real w17171 = v[963] / v[414];
+  const real w17171 = v[858] / v[414];
   v[205] = w17171;
   const real w17172 = w17170 + w17171;
   const real w17173 = w17172 - w16972;
   const real w17174 = w17173 * v[551];
-  const real w17175 = v[431] * v[858];
+  const real w17175 = v[431] * v[841];
   const real w17176 = w17175 / v[119];
   v[206] = w17176;
   const real w17177 = v[2091] * v[553];
@@ -30388,7 +30384,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17203 = w17202 - v[1790];
   const real w17204 = w17203 - w16988;
   const real w17205 = w17204 + v[1785];
-  const real w17206 = v[965] / v[119];
+  const real w17206 = v[859] / v[119];
   v[212] = w17206;
   const real w17207 = w17205 + w17206;
   const real w17208 = w17207 - v[85];
@@ -30404,7 +30400,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17218 = w17217 - w16998;
   const real w17219 = v[1696] + w17218;
   const real w17220 = w17219 + v[1694];
-  const real w17221 = v[854] * v[1126];
+  const real w17221 = v[835] * v[1126];
   v[214] = w17221;
   const real w17222 = w17220 + w17221;
   const real w17223 = w17174 + w17222;
@@ -30424,7 +30420,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   v[215] = w17236;
   const real w17237 = w17232 - w17236;
   const real w17238 = w17237 + v[1803];
-  const real w17239 = v[494] * v[826];
+  const real w17239 = v[494] * v[799];
   const real w17240 = w17239 / v[119];
   v[217] = w17240;
   const real w17241 = w17238 - w17240;
@@ -30440,11 +30436,11 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17250 = w17008 + w17249;
   const real w17251 = w17010 + w17250;
   const real w17252 = w17251 - w17014;
-  const real w17253 = v[951] / v[414];
+  const real w17253 = v[854] / v[414];
   v[221] = w17253;
   const real w17254 = w17252 - w17253;
   const real w17255 = w17254 - w17017;
-  const real w17256 = v[112] * v[975];
+  const real w17256 = v[112] * v[947];
   const real w17257 = p[6] * w17256;
   const real w17258 = w17257 / v[979];
   v[223] = w17258;
@@ -30459,7 +30455,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17267 = w17266 + v[137];
   const real w17268 = v[1895] * v[563];
   const real w17269 = w17267 + w17268;
-  const real w17270 = v[1137] * v[815];
+  const real w17270 = v[1137] * v[770];
   v[224] = w17270;
   const real w17271 = w17269 - w17270;
   const real w17272 = w17271 - v[146];
@@ -30509,7 +30505,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17315 = x[3] * v[1071];
   const real w17316 = w17315 * v[961];
   const real w17317 = w17314 - w17316;
-  const real w17318 = v[861] / v[77];
+  const real w17318 = v[843] / v[77];
   v[228] = w17318;
   const real w17319 = v[448] * v[596];
   const real w17320 = v[426] * v[17];
@@ -30534,7 +30530,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17339 = v[598] * v[130];
   const real w17340 = w17339 * v[19];
   const real w17341 = w17340 / v[414];
-  const real w17342 = v[112] * v[826];
+  const real w17342 = v[112] * v[799];
   const real w17343 = w17342 / v[77];
   v[230] = w17343;
   const real w17344 = v[474] * v[3];
@@ -30544,7 +30540,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17348 = w17341 + w17347;
   const real w17349 = w17338 + w17348;
   const real w17350 = w17336 + w17349;
-  const real w17351 = v[68] * v[854];
+  const real w17351 = v[68] * v[835];
   const real w17352 = v[112] * w17351;
   const real w17353 = w17352 / v[367];
   const real w17354 = w17350 - w17353;
@@ -30564,13 +30560,13 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17368 = w17327 + w17367;
   const real w17369 = w17368 - v[1493];
   const real w17370 = w17321 + w17369;
-  const real w17371 = v[815] * v[104];
+  const real w17371 = v[770] * v[104];
   const real w17372 = w17371 / v[318];
   const real w17373 = w17370 + w17372;
-  const real w17374 = v[858] / v[40];
+  const real w17374 = v[841] / v[40];
   v[236] = w17374;
   const real w17375 = w17373 - w17374;
-  const real w17376 = v[128] * v[1077];
+  const real w17376 = v[128] * v[1051];
   const real w17377 = w17376 / v[318];
   const real w17378 = w17375 - w17377;
   const real w17379 = w17378 - v[1496];
@@ -30595,7 +30591,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   v[241] = w17397;
   const real w17398 = w17397 * x[6];
   const real w17399 = w17317 - w17398;
-  const real w17400 = v[1031] * v[98];
+  const real w17400 = v[1017] * v[98];
   const real w17401 = w17399 - w17400;
   const real w17402 = v[385] * v[92];
   const real w17403 = w17401 - w17402;
@@ -30629,7 +30625,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17430 = v[1198] * v[80];
   const real w17431 = w17430 * real(2.0);
   const real w17432 = v[8] * w17068;
-  const real w17433 = v[1034] * v[357];
+  const real w17433 = v[1025] * v[357];
   const real w17434 = w17432 + w17433;
   const real w17435 = v[24] * w16952;
   const real w17436 = w17434 - w17435;
@@ -30735,7 +30731,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   const real w17535 = w17534 * p[6];
   const real w17536 = w17535 * x[6];
   const real w17537 = w17518 - w17536;
-  const real w17538 = v[522] * v[947];
+  const real w17538 = v[522] * v[846];
   const real w17539 = w17537 - w17538;
   const real w17540 = w15900 * v[736];
   const real w17541 = w17539 - w17540;
@@ -30759,12 +30755,12 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   v[246] = w17558;
 }
 
-void jacobian_part9(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part9(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   const real w17559 = v[872] * v[1841];
   const real w17560 = v[246] - w17559;
-  const real w17561 = v[1026] * v[1781];
+  const real w17561 = v[975] * v[1781];
   const real w17562 = w17560 + w17561;
   const real w17563 = v[1306] * v[422];
   const real w17564 = w17562 - w17563;
@@ -30971,18 +30967,18 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w17765 = v[1813] * v[656];
   const real w17766 = v[1027] * v[563];
   const real w17767 = v[230] + w17766;
-  const real w17768 = v[815] * v[1505];
+  const real w17768 = v[770] * v[1505];
   const real w17769 = w17767 + w17768;
   const real w17770 = w17769 - v[236];
   const real w17771 = v[1028] * v[596];
   const real w17772 = w17770 - w17771;
   const real w17773 = v[1566] * v[583];
   const real w17774 = w17772 - w17773;
-  const real w17775 = v[812] / v[318];
+  const real w17775 = v[767] / v[318];
   const real w17776 = w17774 + w17775;
   const real w17777 = w17776 + v[228];
   const real w17778 = w17765 + w17777;
-  const real w17779 = v[854] * v[1507];
+  const real w17779 = v[835] * v[1507];
   const real w17780 = w17778 + w17779;
   const real w17781 = w17780 * v[30];
   const real w17782 = w17764 + w17781;
@@ -31041,7 +31037,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w17835 = w17834 / v[23];
   const real w17836 = w17832 - w17835;
   const real w17837 = w17824 + w17836;
-  const real w17838 = v[1035] * v[661];
+  const real w17838 = v[1026] * v[661];
   const real w17839 = w17838 / v[119];
   const real w17840 = w17837 - w17839;
   const real w17841 = v[583] * v[121];
@@ -31056,7 +31052,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w17850 = w17811 + w17849;
   const real w17851 = v[132] * v[17];
   const real w17852 = w17850 - w17851;
-  const real w17853 = v[1077] * v[1137];
+  const real w17853 = v[1051] * v[1137];
   const real w17854 = w17852 - w17853;
   const real w17855 = w17854 + v[1901];
   const real w17856 = v[2092] + w17855;
@@ -31070,7 +31066,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w17864 = w17860 + w17863;
   const real w17865 = w17864 - v[2098];
   const real w17866 = v[2099] + w17865;
-  const real w17867 = v[494] * v[1095];
+  const real w17867 = v[494] * v[1053];
   const real w17868 = w17867 / v[119];
   const real w17869 = w17866 - w17868;
   const real w17870 = w17869 - v[2101];
@@ -31080,7 +31076,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w17874 = w17872 - w17873;
   const real w17875 = v[29] * v[563];
   const real w17876 = w17874 + w17875;
-  const real w17877 = v[431] * v[1045];
+  const real w17877 = v[431] * v[1034];
   const real w17878 = w17877 / v[119];
   const real w17879 = w17876 + w17878;
   const real w17880 = v[3] * v[168];
@@ -31122,18 +31118,18 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w17916 = w17915 * p[6];
   const real w17917 = w17916 / v[414];
   const real w17918 = w17914 + w17917;
-  const real w17919 = v[184] * v[1037];
+  const real w17919 = v[184] * v[1032];
   const real w17920 = w17919 / v[187];
   const real w17921 = w17918 + w17920;
   const real w17922 = v[20] * w17921;
   const real w17923 = v[1820] * v[656];
-  const real w17924 = v[112] * v[1095];
+  const real w17924 = v[112] * v[1053];
   const real w17925 = w17924 / v[77];
   const real w17926 = v[655] * v[563];
   const real w17927 = w17926 / v[318];
-  const real w17928 = v[1077] * v[1505];
+  const real w17928 = v[1051] * v[1505];
   const real w17929 = v[7] * v[1507];
-  const real w17930 = v[1045] / v[40];
+  const real w17930 = v[1034] / v[40];
   const real w17931 = w17929 - w17930;
   const real w17932 = w17928 + w17931;
   const real w17933 = w17927 + w17932;
@@ -31223,7 +31219,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18017 = w18014 - w18016;
   const real w18018 = v[92] + w18017;
   const real w18019 = w18012 + w18018;
-  const real w18020 = v[239] * v[1034];
+  const real w18020 = v[239] * v[1025];
   const real w18021 = w18019 + w18020;
   const real w18022 = v[24] * w17804;
   const real w18023 = w18021 - w18022;
@@ -31246,7 +31242,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18040 = p[2] * w17780;
   const real w18041 = w18040 * v[534];
   const real w18042 = x[5] * w18041;
-  const real w18043 = v[1034] * v[1510];
+  const real w18043 = v[1025] * v[1510];
   const real w18044 = v[550] * v[1509];
   const real w18045 = w18044 * real(2.0);
   const real w18046 = v[1479] * v[92];
@@ -31270,7 +31266,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18064 = w18063 * x[5];
   const real w18065 = w18062 - w18064;
   const real w18066 = w18011 + w18065;
-  const real w18067 = v[1032] * v[1520];
+  const real w18067 = v[1020] * v[1520];
   const real w18068 = w18067 * x[5];
   const real w18069 = w18066 + w18068;
   const real w18070 = v[1308] * v[1511];
@@ -31329,7 +31325,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18123 = w18122 * x[5];
   const real w18124 = w18120 + w18123;
   const real w18125 = w17810 + w18124;
-  const real w18126 = v[1026] * v[239];
+  const real w18126 = v[975] * v[239];
   const real w18127 = p[2] * w18126;
   const real w18128 = x[5] * w18127;
   const real w18129 = w18125 + w18128;
@@ -31521,22 +31517,22 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18315 = w17693 * v[1610];
   const real w18316 = w18314 - w18315;
   const real w18317 = v[790] * w18316;
-  v[0] = w18317;
+  out[43] = w18317;  // dtheta_dot_rate/dtheta
   const real w18318 = v[1610] * w18317;
   const real w18319 = w17694 - w18318;
-  v[10] = w18319;
+  out[36] = w18319;  // dpsi_dot_rate/dtheta
   const real w18320 = v[616] * w18319;
   const real w18321 = v[145] - w18320;
   const real w18322 = w18317 * v[1607];
   const real w18323 = w18321 - w18322;
-  v[11] = w18323;
+  out[29] = w18323;  // dwz_locked_rate/dtheta
   const real w18324 = v[503] * w18323;
   const real w18325 = v[113] - w18324;
   const real w18326 = v[1457] * w18319;
   const real w18327 = w18325 - w18326;
   const real w18328 = v[1606] * w18317;
   const real w18329 = w18327 - w18328;
-  v[16] = w18329;
+  out[22] = w18329;  // dwy_locked_rate/dtheta
   const real w18330 = v[122] * w18329;
   const real w18331 = v[86] - w18330;
   const real w18332 = v[589] * w18323;
@@ -31545,7 +31541,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18335 = w18333 - w18334;
   const real w18336 = v[1604] * w18317;
   const real w18337 = w18335 - w18336;
-  v[27] = w18337;
+  out[15] = w18337;  // dwx_locked_rate/dtheta
   const real w18338 = v[894] * v[9];
   const real w18339 = v[14] * v[1120];
   const real w18340 = v[163] * x[5];
@@ -31603,7 +31599,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18392 = v[1327] - w18391;
   const real w18393 = v[860] * x[5];
   const real w18394 = w18392 + w18393;
-  const real w18395 = v[1025] * v[45];
+  const real w18395 = v[970] * v[45];
   const real w18396 = w18394 + w18395;
   const real w18397 = w18390 + w18396;
   const real w18398 = w18397 + v[1312];
@@ -31712,22 +31708,22 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18501 = w18462 * v[1610];
   const real w18502 = w18500 - w18501;
   const real w18503 = v[790] * w18502;
-  v[38] = w18503;
+  out[44] = w18503;  // dtheta_dot_rate/dwx_locked
   const real w18504 = w18503 * v[1610];
   const real w18505 = w18463 - w18504;
-  v[39] = w18505;
+  out[37] = w18505;  // dpsi_dot_rate/dwx_locked
   const real w18506 = v[616] * w18505;
   const real w18507 = w18421 - w18506;
   const real w18508 = w18503 * v[1607];
   const real w18509 = w18507 - w18508;
-  v[49] = w18509;
+  out[30] = w18509;  // dwz_locked_rate/dwx_locked
   const real w18510 = w18509 * v[503];
   const real w18511 = w18389 - w18510;
   const real w18512 = w18505 * v[1457];
   const real w18513 = w18511 - w18512;
   const real w18514 = w18503 * v[1606];
   const real w18515 = w18513 - w18514;
-  v[54] = w18515;
+  out[23] = w18515;  // dwy_locked_rate/dwx_locked
   const real w18516 = v[122] * w18515;
   const real w18517 = w18364 - w18516;
   const real w18518 = w18509 * v[589];
@@ -31736,7 +31732,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18521 = w18519 - w18520;
   const real w18522 = w18503 * v[1604];
   const real w18523 = w18521 - w18522;
-  v[55] = w18523;
+  out[16] = w18523;  // dwx_locked_rate/dwx_locked
   const real w18524 = v[25] * v[876];
   const real w18525 = v[2] * v[1120];
   const real w18526 = v[878] + v[960];
@@ -31907,22 +31903,22 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18691 = w18648 * v[1610];
   const real w18692 = w18690 - w18691;
   const real w18693 = v[790] * w18692;
-  v[59] = w18693;
+  out[45] = w18693;  // dtheta_dot_rate/dwy_locked
   const real w18694 = w18693 * v[1610];
   const real w18695 = w18649 - w18694;
-  v[60] = w18695;
+  out[38] = w18695;  // dpsi_dot_rate/dwy_locked
   const real w18696 = v[616] * w18695;
   const real w18697 = w18609 - w18696;
   const real w18698 = w18693 * v[1607];
   const real w18699 = w18697 - w18698;
-  v[66] = w18699;
+  out[31] = w18699;  // dwz_locked_rate/dwy_locked
   const real w18700 = v[503] * w18699;
   const real w18701 = w18575 - w18700;
   const real w18702 = v[1457] * w18695;
   const real w18703 = w18701 - w18702;
   const real w18704 = v[1606] * w18693;
   const real w18705 = w18703 - w18704;
-  v[68] = w18705;
+  out[24] = w18705;  // dwy_locked_rate/dwy_locked
   const real w18706 = v[122] * w18705;
   const real w18707 = w18547 - w18706;
   const real w18708 = w18699 * v[589];
@@ -31931,7 +31927,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18711 = w18709 - w18710;
   const real w18712 = v[1604] * w18693;
   const real w18713 = w18711 - w18712;
-  v[69] = w18713;
+  out[17] = w18713;  // dwx_locked_rate/dwy_locked
   const real w18714 = v[6] * v[1120];
   const real w18715 = v[894] * v[24];
   const real w18716 = v[58] * v[1304];
@@ -32075,22 +32071,22 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18854 = v[1610] * w18818;
   const real w18855 = w18853 - w18854;
   const real w18856 = v[790] * w18855;
-  v[70] = w18856;
+  out[46] = w18856;  // dtheta_dot_rate/dwz_locked
   const real w18857 = v[1610] * w18856;
   const real w18858 = w18819 - w18857;
-  v[74] = w18858;
+  out[39] = w18858;  // dpsi_dot_rate/dwz_locked
   const real w18859 = v[616] * w18858;
   const real w18860 = w18785 - w18859;
   const real w18861 = w18856 * v[1607];
   const real w18862 = w18860 - w18861;
-  v[75] = w18862;
+  out[32] = w18862;  // dwz_locked_rate/dwz_locked
   const real w18863 = v[503] * w18862;
   const real w18864 = w18761 - w18863;
   const real w18865 = v[1457] * w18858;
   const real w18866 = w18864 - w18865;
   const real w18867 = v[1606] * w18856;
   const real w18868 = w18866 - w18867;
-  v[76] = w18868;
+  out[25] = w18868;  // dwy_locked_rate/dwz_locked
   const real w18869 = v[122] * w18868;
   const real w18870 = w18734 - w18869;
   const real w18871 = w18862 * v[589];
@@ -32099,7 +32095,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w18874 = w18872 - w18873;
   const real w18875 = v[1604] * w18856;
   const real w18876 = w18874 - w18875;
-  v[78] = w18876;
+  out[18] = w18876;  // dwx_locked_rate/dwz_locked
   const real w18877 = v[971] * v[612];
   const real w18878 = v[1302] * x[6];
   const real w18879 = w18878 * p[4];
@@ -32420,22 +32416,22 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w19194 = v[1610] * w19111;
   const real w19195 = w19193 - w19194;
   const real w19196 = w19195 * v[790];
-  v[83] = w19196;
+  out[47] = w19196;  // dtheta_dot_rate/dpsi_dot
   const real w19197 = w19196 * v[1610];
   const real w19198 = w19112 - w19197;
-  v[84] = w19198;
+  out[40] = w19198;  // dpsi_dot_rate/dpsi_dot
   const real w19199 = v[616] * w19198;
   const real w19200 = w19033 - w19199;
   const real w19201 = w19196 * v[1607];
   const real w19202 = w19200 - w19201;
-  v[88] = w19202;
+  out[33] = w19202;  // dwz_locked_rate/dpsi_dot
   const real w19203 = v[503] * w19202;
   const real w19204 = w18985 - w19203;
   const real w19205 = w19198 * v[1457];
   const real w19206 = w19204 - w19205;
   const real w19207 = w19196 * v[1606];
   const real w19208 = w19206 - w19207;
-  v[95] = w19208;
+  out[26] = w19208;  // dwy_locked_rate/dpsi_dot
   const real w19209 = v[122] * w19208;
   const real w19210 = w18931 - w19209;
   const real w19211 = v[589] * w19202;
@@ -32444,7 +32440,7 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w19214 = w19212 - w19213;
   const real w19215 = w19196 * v[1604];
   const real w19216 = w19214 - w19215;
-  v[96] = w19216;
+  out[19] = w19216;  // dwx_locked_rate/dpsi_dot
   const real w19217 = v[1539] * v[1304];
   const real w19218 = v[894] * v[1522];
   const real w19219 = v[1531] * v[1120];
@@ -32767,22 +32763,22 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w19536 = w19454 * v[1610];
   const real w19537 = w19535 - w19536;
   const real w19538 = v[790] * w19537;
-  v[99] = w19538;
+  out[48] = w19538;  // dtheta_dot_rate/dtheta_dot
   const real w19539 = w19538 * v[1610];
   const real w19540 = w19455 - w19539;
-  v[107] = w19540;
+  out[41] = w19540;  // dpsi_dot_rate/dtheta_dot
   const real w19541 = v[616] * w19540;
   const real w19542 = w19373 - w19541;
   const real w19543 = w19538 * v[1607];
   const real w19544 = w19542 - w19543;
-  v[108] = w19544;
+  out[34] = w19544;  // dwz_locked_rate/dtheta_dot
   const real w19545 = v[503] * w19544;
   const real w19546 = w19322 - w19545;
   const real w19547 = w19540 * v[1457];
   const real w19548 = w19546 - w19547;
   const real w19549 = w19538 * v[1606];
   const real w19550 = w19548 - w19549;
-  v[109] = w19550;
+  out[27] = w19550;  // dwy_locked_rate/dtheta_dot
   const real w19551 = v[122] * w19550;
   const real w19552 = w19268 - w19551;
   const real w19553 = v[589] * w19544;
@@ -32791,23 +32787,23 @@ void jacobian_part9(real t, const real* x, const real* p, const real* in, real* 
   const real w19556 = w19554 - w19555;
   const real w19557 = w19538 * v[1604];
   const real w19558 = w19556 - w19557;
-  v[110] = w19558;
+  out[20] = w19558;  // dwx_locked_rate/dtheta_dot
 }
 
 }  // namespace
 
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   real v[2140];
-  jacobian_part0(t, x, p, in, v);
-  jacobian_part1(t, x, p, in, v);
-  jacobian_part2(t, x, p, in, v);
-  jacobian_part3(t, x, p, in, v);
-  jacobian_part4(t, x, p, in, v);
-  jacobian_part5(t, x, p, in, v);
-  jacobian_part6(t, x, p, in, v);
-  jacobian_part7(t, x, p, in, v);
-  jacobian_part8(t, x, p, in, v);
-  jacobian_part9(t, x, p, in, v);
+  jacobian_part0(t, x, p, in, v, out);
+  jacobian_part1(t, x, p, in, v, out);
+  jacobian_part2(t, x, p, in, v, out);
+  jacobian_part3(t, x, p, in, v, out);
+  jacobian_part4(t, x, p, in, v, out);
+  jacobian_part5(t, x, p, in, v, out);
+  jacobian_part6(t, x, p, in, v, out);
+  jacobian_part7(t, x, p, in, v, out);
+  jacobian_part8(t, x, p, in, v, out);
+  jacobian_part9(t, x, p, in, v, out);
   out[0] = real(0.0);  // dpsi_dot/dpsi
   out[1] = real(0.0);  // dpsi_dot/dtheta
   out[2] = real(0.0);  // dpsi_dot/dwx_locked
@@ -32822,41 +32818,6 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[11] = real(0.0);  // dtheta_dot/dwz_locked
   out[12] = real(0.0);  // dtheta_dot/dpsi_dot
   out[13] = real(1.0);  // dtheta_dot/dtheta_dot
-  out[14] = v[767];  // dwx_locked_rate/dpsi
-  out[15] = v[27];  // dwx_locked_rate/dtheta
-  out[16] = v[55];  // dwx_locked_rate/dwx_locked
-  out[17] = v[69];  // dwx_locked_rate/dwy_locked
-  out[18] = v[78];  // dwx_locked_rate/dwz_locked
-  out[19] = v[96];  // dwx_locked_rate/dpsi_dot
-  out[20] = v[110];  // dwx_locked_rate/dtheta_dot
-  out[21] = v[762];  // dwy_locked_rate/dpsi
-  out[22] = v[16];  // dwy_locked_rate/dtheta
-  out[23] = v[54];  // dwy_locked_rate/dwx_locked
-  out[24] = v[68];  // dwy_locked_rate/dwy_locked
-  out[25] = v[76];  // dwy_locked_rate/dwz_locked
-  out[26] = v[95];  // dwy_locked_rate/dpsi_dot
-  out[27] = v[109];  // dwy_locked_rate/dtheta_dot
-  out[28] = v[754];  // dwz_locked_rate/dpsi
-  out[29] = v[11];  // dwz_locked_rate/dtheta
-  out[30] = v[49];  // dwz_locked_rate/dwx_locked
-  out[31] = v[66];  // dwz_locked_rate/dwy_locked
-  out[32] = v[75];  // dwz_locked_rate/dwz_locked
-  out[33] = v[88];  // dwz_locked_rate/dpsi_dot
-  out[34] = v[108];  // dwz_locked_rate/dtheta_dot
-  out[35] = v[751];  // dpsi_dot_rate/dpsi
-  out[36] = v[10];  // dpsi_dot_rate/dtheta
-  out[37] = v[39];  // dpsi_dot_rate/dwx_locked
-  out[38] = v[60];  // dpsi_dot_rate/dwy_locked
-  out[39] = v[74];  // dpsi_dot_rate/dwz_locked
-  out[40] = v[84];  // dpsi_dot_rate/dpsi_dot
-  out[41] = v[107];  // dpsi_dot_rate/dtheta_dot
-  out[42] = v[729];  // dtheta_dot_rate/dpsi
-  out[43] = v[0];  // dtheta_dot_rate/dtheta
-  out[44] = v[38];  // dtheta_dot_rate/dwx_locked
-  out[45] = v[59];  // dtheta_dot_rate/dwy_locked
-  out[46] = v[70];  // dtheta_dot_rate/dwz_locked
-  out[47] = v[83];  // dtheta_dot_rate/dpsi_dot
-  out[48] = v[99];  // dtheta_dot_rate/dtheta_dot
 }
 
 /* energy: (t, x[7], p[9], in[0]) -> out[1]  ops: 208 add, 511 mul, 20 div, 4 call */

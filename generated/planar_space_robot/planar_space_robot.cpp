@@ -13,10 +13,12 @@ namespace {
 /* rhs_with_pivots: (t, x[7], p[10], in[0]) -> out[7], pivots[5]  ops: 1041 add, 1688 mul, 202 div, 4 call */
 namespace {
 
-void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in, real* v) {
+void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in, real* v, real* out, real* pivots) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
+  (void)pivots;
   const real w0 = std::cos(x[1]);
   v[0] = w0;
   const real w1 = w0 + real(0.4);
@@ -1779,7 +1781,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   v[129] = w1629;
 }
 
-void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in, real* v) {
+void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in, real* v, real* out, real* pivots) {
   (void)t;
   (void)p;
   (void)in;
@@ -1829,7 +1831,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w1673 = -w1672;
   const real w1674 = real(2.4) * v[0];
   const real w1675 = w1674 + real(13.68);
-  v[130] = w1675;
+  pivots[0] = w1675;  // pivot 0
   const real w1676 = w1673 / w1675;
   const real w1677 = real(5.0) * v[5];
   const real w1678 = real(1.2) * v[6];
@@ -1918,7 +1920,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w1761 = w1759 - w1760;
   const real w1762 = w1683 * w1682;
   const real w1763 = real(27.0) - w1762;
-  v[131] = w1763;
+  pivots[1] = w1763;  // pivot 1
   const real w1764 = w1761 / w1763;
   const real w1765 = real(1.2) * v[8];
   const real w1766 = v[9] * real(1.2);
@@ -1997,7 +1999,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w1839 = real(27.0) - w1838;
   const real w1840 = w1773 * w1772;
   const real w1841 = w1839 - w1840;
-  v[132] = w1841;
+  pivots[2] = w1841;  // pivot 2
   const real w1842 = w1837 / w1841;
   const real w1843 = w1740 * v[34];
   const real w1844 = real(20.0) * w1843;
@@ -2595,7 +2597,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2436 = w2434 - w2435;
   const real w2437 = w2404 * w2405;
   const real w2438 = w2436 - w2437;
-  v[133] = w2438;
+  pivots[3] = w2438;  // pivot 3
   const real w2439 = w2407 / w2438;
   const real w2440 = w1691 * v[3];
   const real w2441 = v[7] * w1643;
@@ -3071,24 +3073,24 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2911 = w2909 - w2910;
   const real w2912 = w2539 * w2540;
   const real w2913 = w2911 - w2912;
-  v[134] = w2913;
+  pivots[4] = w2913;  // pivot 4
   const real w2914 = w2882 / w2913;
-  v[135] = w2914;
+  out[6] = w2914;  // q2_dot_rate
   const real w2915 = w2540 * w2914;
   const real w2916 = w2439 - w2915;
-  v[136] = w2916;
+  out[5] = w2916;  // q1_dot_rate
   const real w2917 = w2916 * w2405;
   const real w2918 = w1842 - w2917;
   const real w2919 = w2878 * w2914;
   const real w2920 = w2918 - w2919;
-  v[137] = w2920;
+  out[4] = w2920;  // vy_locked_rate
   const real w2921 = w1773 * w2920;
   const real w2922 = w1764 - w2921;
   const real w2923 = w2916 * w2385;
   const real w2924 = w2922 - w2923;
   const real w2925 = w2875 * w2914;
   const real w2926 = w2924 - w2925;
-  v[138] = w2926;
+  out[3] = w2926;  // vx_locked_rate
   const real w2927 = w1683 * w2926;
   const real w2928 = w1676 - w2927;
   const real w2929 = w2920 * w1833;
@@ -3097,27 +3099,17 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2932 = w2930 - w2931;
   const real w2933 = w2872 * w2914;
   const real w2934 = w2932 - w2933;
-  v[139] = w2934;
+  out[2] = w2934;  // w_locked_rate
 }
 
 }  // namespace
 
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
-  real v[140];
-  rhs_with_pivots_part0(t, x, p, in, v);
-  rhs_with_pivots_part1(t, x, p, in, v);
+  real v[130];
+  rhs_with_pivots_part0(t, x, p, in, v, out, pivots);
+  rhs_with_pivots_part1(t, x, p, in, v, out, pivots);
   out[0] = x[5];  // q1_dot
   out[1] = x[6];  // q2_dot
-  out[2] = v[139];  // w_locked_rate
-  out[3] = v[138];  // vx_locked_rate
-  out[4] = v[137];  // vy_locked_rate
-  out[5] = v[136];  // q1_dot_rate
-  out[6] = v[135];  // q2_dot_rate
-  pivots[0] = v[130];  // pivot 0
-  pivots[1] = v[131];  // pivot 1
-  pivots[2] = v[132];  // pivot 2
-  pivots[3] = v[133];  // pivot 3
-  pivots[4] = v[134];  // pivot 4
 }
 
 }  // namespace
@@ -3772,10 +3764,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
 /* forcing: (t, x[7], p[10], in[0]) -> out[5]  ops: 944 add, 1537 mul, 187 div, 4 call */
 namespace {
 
-void forcing_part0(real t, const real* x, const real* p, const real* in, real* v) {
+void forcing_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
   const real w0 = std::cos(x[1]);
   v[0] = w0;
   const real w1 = w0 + real(0.4);
@@ -5534,7 +5527,7 @@ void forcing_part0(real t, const real* x, const real* p, const real* in, real* v
   v[125] = w1629;
 }
 
-void forcing_part1(real t, const real* x, const real* p, const real* in, real* v) {
+void forcing_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -5582,7 +5575,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w1671 = w1670 * x[6];
   const real w1672 = v[100] + w1671;
   const real w1673 = -w1672;
-  v[126] = w1673;
+  out[0] = w1673;  // f[w_locked]
   const real w1674 = v[42] * x[2];
   const real w1675 = v[8] * w1650;
   const real w1676 = real(4.0) * w1675;
@@ -5659,7 +5652,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w1747 = w1746 + w1713;
   const real w1748 = x[5] * w1747;
   const real w1749 = w1716 - w1748;
-  v[127] = w1749;
+  out[1] = w1749;  // f[vx_locked]
   const real w1750 = -w1681;
   const real w1751 = w1750 * v[8];
   const real w1752 = v[32] * w1751;
@@ -5719,7 +5712,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w1806 = w1785 - w1805;
   const real w1807 = v[98] * x[2];
   const real w1808 = w1806 - w1807;
-  v[128] = w1808;
+  out[2] = w1808;  // f[vy_locked]
   const real w1809 = w1730 * v[30];
   const real w1810 = real(20.0) * w1809;
   const real w1811 = v[7] * w1730;
@@ -6229,7 +6222,7 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w2315 = real(0.05) * w2314;
   const real w2316 = w2199 + w2315;
   const real w2317 = -w2316;
-  v[129] = w2317;
+  out[3] = w2317;  // f[q1_dot]
   const real w2318 = v[25] * w1668;
   const real w2319 = real(20.0) * w2318;
   const real w2320 = v[40] * v[118];
@@ -6584,20 +6577,15 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
   const real w2669 = v[34] * w1692;
   const real w2670 = real(4.0) * w2669;
   const real w2671 = w2668 + w2670;
-  v[130] = w2671;
+  out[4] = w2671;  // f[q2_dot]
 }
 
 }  // namespace
 
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[131];
-  forcing_part0(t, x, p, in, v);
-  forcing_part1(t, x, p, in, v);
-  out[0] = v[126];  // f[w_locked]
-  out[1] = v[127];  // f[vx_locked]
-  out[2] = v[128];  // f[vy_locked]
-  out[3] = v[129];  // f[q1_dot]
-  out[4] = v[130];  // f[q2_dot]
+  real v[126];
+  forcing_part0(t, x, p, in, v, out);
+  forcing_part1(t, x, p, in, v, out);
 }
 
 /* hamel_coefficients: (t, x[7], p[10], in[0]) -> out[26]  ops: 421 add, 757 mul, 90 div, 4 call */
@@ -7914,10 +7902,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
 /* jacobian: (t, x[7], p[10], in[0]) -> out[49]  ops: 5369 add, 8034 mul, 1483 div, 4 call */
 namespace {
 
-void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
   const real w0 = std::cos(x[1]);
   v[0] = w0;
   const real w1 = real(2.4) * w0;
@@ -9716,10 +9705,11 @@ void jacobian_part0(real t, const real* x, const real* p, const real* in, real* 
   v[393] = w1401;
 }
 
-void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
   const real w1402 = v[393] * x[6];
   const real w1403 = w1402 / v[245];
   const real w1404 = w1403 * real(3.0);
@@ -11869,10 +11859,11 @@ void jacobian_part1(real t, const real* x, const real* p, const real* in, real* 
   v[664] = w3277;
 }
 
-void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
   const real w3278 = v[133] * v[664];
   const real w3279 = real(0.2) * w3278;
   const real w3280 = v[663] - w3279;
@@ -14109,10 +14100,11 @@ void jacobian_part2(real t, const real* x, const real* p, const real* in, real* 
   v[961] = w5121;
 }
 
-void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
   const real w5122 = v[602] * v[467];
   v[4] = w5122;
   const real w5123 = v[51] * v[245];
@@ -16444,10 +16436,11 @@ void jacobian_part3(real t, const real* x, const real* p, const real* in, real* 
   v[1264] = w7029;
 }
 
-void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
   const real w7030 = v[1264] * v[15];
   const real w7031 = real(10.0) * w7030;
   const real w7032 = v[1263] - w7031;
@@ -18631,7 +18624,7 @@ void jacobian_part4(real t, const real* x, const real* p, const real* in, real* 
   v[1321] = w9019;
 }
 
-void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -19330,22 +19323,22 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9667 = v[921] * v[975];
   const real w9668 = w9666 - w9667;
   const real w9669 = v[925] * w9668;
-  v[309] = w9669;
+  out[42] = w9669;  // dq2_dot_rate/dq1
   const real w9670 = w9669 * v[975];
   const real w9671 = v[924] - w9670;
-  v[311] = w9671;
+  out[35] = w9671;  // dq1_dot_rate/dq1
   const real w9672 = w9671 * v[647];
   const real w9673 = v[1175] - w9672;
   const real w9674 = v[1079] * w9669;
   const real w9675 = w9673 - w9674;
-  v[312] = w9675;
+  out[28] = w9675;  // dvy_locked_rate/dq1
   const real w9676 = v[870] * w9675;
   const real w9677 = v[1139] - w9676;
   const real w9678 = v[643] * w9671;
   const real w9679 = w9677 - w9678;
   const real w9680 = v[1078] * w9669;
   const real w9681 = w9679 - w9680;
-  v[321] = w9681;
+  out[21] = w9681;  // dvx_locked_rate/dq1
   const real w9682 = v[866] * w9681;
   const real w9683 = v[1091] - w9682;
   const real w9684 = w9675 * v[892];
@@ -19354,14 +19347,14 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9687 = w9685 - w9686;
   const real w9688 = v[1077] * w9669;
   const real w9689 = w9687 - w9688;
-  v[324] = w9689;
+  out[14] = w9689;  // dw_locked_rate/dq1
   const real w9690 = v[345] * v[189];
   const real w9691 = v[79] * v[506];
   const real w9692 = v[149] * v[556];
   const real w9693 = v[78] * v[390];
   const real w9694 = w9693 * real(2.0);
   const real w9695 = v[433] * v[494];
-  v[342] = w9695;
+  v[309] = w9695;
   const real w9696 = w9695 * x[5];
   const real w9697 = w9696 / v[284];
   const real w9698 = w9697 * real(50.0);
@@ -19372,7 +19365,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9703 = w9702 / v[502];
   const real w9704 = w9703 * real(10.0);
   const real w9705 = v[488] * v[51];
-  v[343] = w9705;
+  v[311] = w9705;
   const real w9706 = w9705 * x[6];
   const real w9707 = w9706 * v[10];
   const real w9708 = w9707 * v[66];
@@ -19382,7 +19375,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9712 = v[511] * v[51];
   const real w9713 = v[6] * w9712;
   const real w9714 = w9713 * v[66];
-  v[349] = w9714;
+  v[312] = w9714;
   const real w9715 = w9714 * x[5];
   const real w9716 = w9715 / v[284];
   const real w9717 = real(50.0) * w9716;
@@ -19393,15 +19386,15 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9722 = w9718 - w9721;
   const real w9723 = v[10] * v[669];
   const real w9724 = w9723 * v[6];
-  v[354] = w9724;
+  v[321] = w9724;
   const real w9725 = w9724 * v[467];
-  v[357] = w9725;
+  v[324] = w9725;
   const real w9726 = w9725 * x[5];
   const real w9727 = w9726 / v[502];
   const real w9728 = w9727 * real(100.0);
   const real w9729 = w9722 - w9728;
   const real w9730 = v[486] - v[487];
-  v[362] = w9730;
+  v[342] = w9730;
   const real w9731 = w9730 * x[6];
   const real w9732 = w9731 / v[245];
   const real w9733 = real(12.0) * w9732;
@@ -19423,7 +19416,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9749 = v[187] * v[592];
   const real w9750 = w9749 * v[6];
   const real w9751 = v[66] * w9750;
-  v[367] = w9751;
+  v[343] = w9751;
   const real w9752 = w9751 * x[5];
   const real w9753 = w9752 / v[284];
   const real w9754 = real(20.0) * w9753;
@@ -19436,7 +19429,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9761 = w9737 + w9760;
   const real w9762 = w9694 + w9761;
   const real w9763 = v[317] * v[370];
-  v[369] = w9763;
+  v[349] = w9763;
   const real w9764 = w9763 * x[6];
   const real w9765 = w9764 * v[6];
   const real w9766 = w9765 * v[66];
@@ -19446,7 +19439,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9770 = v[191] * v[334];
   const real w9771 = w9770 / v[245];
   const real w9772 = w9771 * real(24.0);
-  v[372] = w9772;
+  v[354] = w9772;
   const real w9773 = w9769 - w9772;
   const real w9774 = w9692 + w9773;
   const real w9775 = v[418] * v[147];
@@ -19455,13 +19448,13 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9778 = v[47] * v[187];
   const real w9779 = w9778 * v[6];
   const real w9780 = w9779 * v[66];
-  v[373] = w9780;
+  v[357] = w9780;
   const real w9781 = x[5] * w9780;
   const real w9782 = w9781 / v[245];
   const real w9783 = real(20.0) * w9782;
   const real w9784 = w9777 + w9783;
   const real w9785 = v[66] * v[542];
-  v[375] = w9785;
+  v[362] = w9785;
   const real w9786 = x[5] * w9785;
   const real w9787 = w9786 / v[245];
   const real w9788 = real(10.0) * w9787;
@@ -19496,7 +19489,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9817 = w9815 + w9816;
   const real w9818 = v[476] * real(8.0);
   const real w9819 = w9817 + w9818;
-  v[377] = w9819;
+  v[367] = w9819;
   const real w9820 = w9819 * x[6];
   const real w9821 = w9820 / v[245];
   const real w9822 = w9821 * real(3.0);
@@ -19505,13 +19498,13 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9825 = w9824 / v[284];
   const real w9826 = w9825 * real(60.0);
   const real w9827 = v[243] * v[467];
-  v[382] = w9827;
+  v[369] = w9827;
   const real w9828 = w9827 * x[5];
   const real w9829 = w9828 / v[284];
   const real w9830 = real(10.0) * w9829;
   const real w9831 = w9826 + w9830;
   const real w9832 = v[414] * v[494];
-  v[389] = w9832;
+  v[372] = w9832;
   const real w9833 = w9832 * x[5];
   const real w9834 = w9833 / v[284];
   const real w9835 = w9834 * real(200.0);
@@ -19523,7 +19516,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9841 = w9822 + w9840;
   const real w9842 = v[9] * v[151];
   const real w9843 = v[81] * w9842;
-  v[398] = w9843;
+  v[373] = w9843;
   const real w9844 = x[6] * w9843;
   const real w9845 = w9844 * v[482];
   const real w9846 = w9845 / v[502];
@@ -19531,13 +19524,13 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9848 = w9841 + w9847;
   const real w9849 = v[466] - v[464];
   const real w9850 = v[465] + w9849;
-  v[399] = w9850;
+  v[375] = w9850;
   const real w9851 = w9850 * x[5];
   const real w9852 = w9851 / v[245];
   const real w9853 = real(20.0) * w9852;
   const real w9854 = w9848 + w9853;
   const real w9855 = v[467] * w9843;
-  v[400] = w9855;
+  v[377] = w9855;
   const real w9856 = w9855 * x[5];
   const real w9857 = w9856 / v[502];
   const real w9858 = real(200.0) * w9857;
@@ -19546,7 +19539,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9861 = w9797 + w9860;
   const real w9862 = v[0] * w9842;
   const real w9863 = w9862 * v[81];
-  v[412] = w9863;
+  v[382] = w9863;
   const real w9864 = w9863 * x[5];
   const real w9865 = w9864 / v[284];
   const real w9866 = real(100.0) * w9865;
@@ -19637,7 +19630,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9951 = w9950 * v[0];
   const real w9952 = w9951 * real(1.6666666666666667);
   const real w9953 = -v[0];
-  v[419] = w9953;
+  v[389] = w9953;
   const real w9954 = v[75] * w9953;
   const real w9955 = w9954 * real(1.6666666666666667);
   const real w9956 = w9955 - v[113];
@@ -19674,7 +19667,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w9987 = w9961 + w9986;
   const real w9988 = w9987 - v[110];
   const real w9989 = w9952 - w9988;
-  v[421] = w9989;
+  v[398] = w9989;
   const real w9990 = w9989 * v[98];
   const real w9991 = w9990 / v[51];
   const real w9992 = w9991 * real(0.6);
@@ -19743,7 +19736,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10055 = w10054 * v[15];
   const real w10056 = w10055 * real(1.6666666666666667);
   const real w10057 = w10035 - w10056;
-  v[422] = w10057;
+  v[399] = w10057;
   const real w10058 = w10057 * v[72];
   const real w10059 = w10058 / v[51];
   const real w10060 = w10059 * real(0.6);
@@ -19789,12 +19782,12 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10100 = real(1.2) * w10099;
   const real w10101 = w10098 + w10100;
   const real w10102 = -w10101;
-  v[425] = w10102;
+  v[400] = w10102;
   const real w10103 = v[60] * w10102;
   const real w10104 = w10103 / v[81];
   const real w10105 = real(0.2) * w10104;
   const real w10106 = w10072 + w10105;
-  v[429] = w10106;
+  v[412] = w10106;
   const real w10107 = v[146] * w10106;
   const real w10108 = w10107 * real(2.0);
   const real w10109 = w10102 * v[62];
@@ -19828,11 +19821,11 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10137 = w10136 - v[161];
   const real w10138 = w10137 - v[120];
   const real w10139 = v[121] - w10138;
-  v[441] = w10139;
+  v[419] = w10139;
   const real w10140 = v[484] * w10139;
   const real w10141 = real(0.05) * w10140;
   const real w10142 = v[11] * v[669];
-  v[443] = w10142;
+  v[421] = w10142;
   const real w10143 = w10142 * x[5];
   const real w10144 = w10143 / v[284];
   const real w10145 = real(10.0) * w10144;
@@ -19844,7 +19837,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10151 = v[81] * w10150;
   const real w10152 = w10151 * v[10];
   const real w10153 = w10152 * v[6];
-  v[454] = w10153;
+  v[422] = w10153;
   const real w10154 = w10153 * x[5];
   const real w10155 = w10154 / v[284];
   const real w10156 = w10155 * real(10.0);
@@ -19911,7 +19904,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10217 = w9953 * v[51];
   const real w10218 = v[10] * w10217;
   const real w10219 = w10218 * v[66];
-  v[457] = w10219;
+  v[425] = w10219;
   const real w10220 = w10219 * x[5];
   const real w10221 = w10220 / v[245];
   const real w10222 = w10221 * real(5.0);
@@ -19991,7 +19984,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10296 = w10295 - v[221];
   const real w10297 = w10262 + w10296;
   const real w10298 = w10259 - w10297;
-  v[468] = w10298;
+  v[429] = w10298;
   const real w10299 = w10298 * v[61];
   const real w10300 = w10257 + w10299;
   const real w10301 = v[165] * w10106;
@@ -20016,14 +20009,14 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10320 = w10319 - v[186];
   const real w10321 = w10320 - v[182];
   const real w10322 = w10238 - w10321;
-  v[483] = w10322;
+  v[441] = w10322;
   const real w10323 = w10322 * v[317];
-  v[492] = w10323;
+  v[443] = w10323;
   const real w10324 = w10323 * x[5];
   const real w10325 = w10324 / v[245];
   const real w10326 = w10232 - w10325;
   const real w10327 = w10298 * v[347];
-  v[504] = w10327;
+  v[454] = w10327;
   const real w10328 = w10327 * x[5];
   const real w10329 = w10328 / v[245];
   const real w10330 = w10326 + w10329;
@@ -20058,7 +20051,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10359 = real(100.0) * w10358;
   const real w10360 = w9778 * v[10];
   const real w10361 = w10360 * v[66];
-  v[507] = w10361;
+  v[457] = w10361;
   const real w10362 = w10361 * x[5];
   const real w10363 = w10362 / v[245];
   const real w10364 = real(100.0) * w10363;
@@ -20102,7 +20095,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10402 = w10401 - v[478];
   const real w10403 = w10402 + w9816;
   const real w10404 = w10403 + w9818;
-  v[508] = w10404;
+  v[468] = w10404;
   const real w10405 = x[6] * w10404;
   const real w10406 = w10405 / v[245];
   const real w10407 = real(3.0) * w10406;
@@ -20110,13 +20103,13 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10409 = w9839 + w10408;
   const real w10410 = v[10] * w9712;
   const real w10411 = w10410 * v[66];
-  v[523] = w10411;
+  v[483] = w10411;
   const real w10412 = w10411 * x[5];
   const real w10413 = w10412 / v[284];
   const real w10414 = real(200.0) * w10413;
   const real w10415 = w10409 - w10414;
   const real w10416 = w10142 * v[467];
-  v[524] = w10416;
+  v[492] = w10416;
   const real w10417 = x[5] * w10416;
   const real w10418 = w10417 / v[502];
   const real w10419 = w10418 * real(200.0);
@@ -20141,7 +20134,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10438 = w10434 + w10437;
   const real w10439 = w9749 * v[10];
   const real w10440 = v[66] * w10439;
-  v[527] = w10440;
+  v[504] = w10440;
   const real w10441 = w10440 * x[5];
   const real w10442 = w10441 / v[284];
   const real w10443 = real(100.0) * w10442;
@@ -20156,10 +20149,10 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10452 = w10451 * v[15];
   const real w10453 = real(0.1) * w10452;
   const real w10454 = w10345 + w10453;
-  v[529] = w10454;
+  v[507] = w10454;
   const real w10455 = x[6] * w10454;
   const real w10456 = real(2.0) * w10455;
-  v[532] = w10456;
+  v[508] = w10456;
   const real w10457 = v[149] * x[5];
   const real w10458 = w10457 * v[189];
   const real w10459 = w10458 / v[151];
@@ -20207,7 +20200,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10501 = real(0.05) * w10500;
   const real w10502 = w10499 + w10501;
   const real w10503 = v[193] * w9989;
-  v[533] = w10503;
+  v[523] = w10503;
   const real w10504 = w10503 * x[6];
   const real w10505 = w10504 / v[66];
   const real w10506 = w10505 * real(0.15);
@@ -20215,12 +20208,12 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10508 = w10459 + w10507;
   const real w10509 = w10508 - v[229];
   const real w10510 = w10057 * v[31];
-  v[537] = w10510;
+  v[524] = w10510;
   const real w10511 = w10510 * x[6];
   const real w10512 = w10511 / v[66];
   const real w10513 = w10512 * real(0.15);
   const real w10514 = w10509 + w10513;
-  v[554] = w10514;
+  v[527] = w10514;
   const real w10515 = v[3] * w10514;
   const real w10516 = w10468 * v[725];
   const real w10517 = w10516 / v[243];
@@ -20235,7 +20228,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10526 = w10525 - v[392];
   const real w10527 = v[738] + w10526;
   const real w10528 = v[79] * v[187];
-  v[557] = w10528;
+  v[529] = w10528;
   const real w10529 = w10528 * x[5];
   const real w10530 = w10529 / v[81];
   const real w10531 = w10527 - w10530;
@@ -20243,7 +20236,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10533 = w10532 + v[668];
   const real w10534 = w10523 + w10533;
   const real w10535 = v[341] * w9989;
-  v[565] = w10535;
+  v[532] = w10535;
   const real w10536 = w10535 * x[6];
   const real w10537 = w10536 / v[243];
   const real w10538 = real(0.15) * w10537;
@@ -20254,7 +20247,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10543 = real(0.05) * w10542;
   const real w10544 = w10541 - w10543;
   const real w10545 = w10057 * v[333];
-  v[570] = w10545;
+  v[533] = w10545;
   const real w10546 = w10545 * x[6];
   const real w10547 = w10546 / v[243];
   const real w10548 = real(0.15) * w10547;
@@ -20269,7 +20262,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10557 = real(0.05) * w10556;
   const real w10558 = w10555 + w10557;
   const real w10559 = v[61] * w10322;
-  v[575] = w10559;
+  v[537] = w10559;
   const real w10560 = w10559 * x[5];
   const real w10561 = w10560 / v[66];
   const real w10562 = w10558 - w10561;
@@ -20279,7 +20272,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10566 = v[196] * v[743];
   const real w10567 = w10566 / v[243];
   const real w10568 = v[91] * v[61];
-  v[582] = w10568;
+  v[554] = w10568;
   const real w10569 = x[6] * w10568;
   const real w10570 = w10569 / v[66];
   const real w10571 = x[6] * v[725];
@@ -20304,15 +20297,15 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10590 = w10589 * real(0.15);
   const real w10591 = w10588 - w10590;
   const real w10592 = w10518 - w10591;
-  v[587] = w10592;
+  v[557] = w10592;
   const real w10593 = w10592 * v[5];
   const real w10594 = w10515 - w10593;
   const real w10595 = real(0.5) * w10454;
   const real w10596 = w10594 + w10595;
-  v[599] = w10596;
+  v[565] = w10596;
   const real w10597 = w10596 * x[6];
   const real w10598 = w10597 * real(2.0);
-  v[601] = w10598;
+  v[570] = w10598;
   const real w10599 = v[758] * real(2.0);
   const real w10600 = w10592 * v[27];
   const real w10601 = v[19] * w10514;
@@ -20327,11 +20320,11 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10610 = w10608 - w10609;
   const real w10611 = w10610 + v[621];
   const real w10612 = -w10611;
-  v[603] = w10612;
+  v[575] = w10612;
   const real w10613 = w10612 * x[6];
   const real w10614 = v[6] * w10613;
   const real w10615 = w10614 * real(3.0);
-  v[632] = w10615;
+  v[582] = w10615;
   const real w10616 = v[755] * w10454;
   const real w10617 = real(0.2) * w10616;
   const real w10618 = v[754] * real(2.0);
@@ -20346,28 +20339,28 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10627 = w10626 - v[624];
   const real w10628 = w10514 * v[27];
   const real w10629 = w10627 - w10628;
-  v[646] = w10629;
+  v[587] = w10629;
   const real w10630 = w10629 * x[6];
-  v[650] = w10630;
+  v[599] = w10630;
   const real w10631 = w10630 * v[10];
   const real w10632 = real(3.0) * w10631;
-  v[651] = w10632;
+  v[601] = w10632;
   const real w10633 = v[707] * v[147];
   const real w10634 = w10633 * x[5];
   const real w10635 = w10634 / v[66];
-  v[670] = w10635;
+  v[603] = w10635;
   const real w10636 = v[810] * v[778];
   const real w10637 = real(4.0) * w10636;
-  v[672] = w10637;
+  v[632] = w10637;
   const real w10638 = w10468 * v[627];
   const real w10639 = w10638 * real(3.0);
-  v[676] = w10639;
+  v[646] = w10639;
   const real w10640 = v[1097] * v[15];
   const real w10641 = w10640 * real(3.0);
-  v[677] = w10641;
+  v[650] = w10641;
   const real w10642 = v[1101] * v[0];
   const real w10643 = w10642 * real(3.0);
-  v[682] = w10643;
+  v[651] = w10643;
   const real w10644 = v[685] * v[147];
   const real w10645 = real(0.05) * w10644;
   const real w10646 = v[82] * v[10];
@@ -20390,7 +20383,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10663 = w10662 * real(1.6666666666666667);
   const real w10664 = w10655 + w10663;
   const real w10665 = -w10664;
-  v[689] = w10665;
+  v[670] = w10665;
   const real w10666 = w10665 * v[98];
   const real w10667 = w10666 / v[51];
   const real w10668 = w10667 * real(0.6);
@@ -20413,7 +20406,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10685 = w10684 - v[22];
   const real w10686 = w10685 - v[29];
   const real w10687 = w10676 - w10686;
-  v[690] = w10687;
+  v[672] = w10687;
   const real w10688 = v[72] * w10687;
   const real w10689 = w10688 / v[51];
   const real w10690 = w10689 * real(0.6);
@@ -20472,7 +20465,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10743 = w10742 + v[118];
   const real w10744 = w10743 + v[120];
   const real w10745 = w10744 + v[121];
-  v[696] = w10745;
+  v[676] = w10745;
   const real w10746 = v[60] * w10745;
   const real w10747 = w10746 / v[81];
   const real w10748 = real(0.2) * w10747;
@@ -20484,7 +20477,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10754 = real(0.6) * w10753;
   const real w10755 = w10752 + w10754;
   const real w10756 = -w10755;
-  v[697] = w10756;
+  v[677] = w10756;
   const real w10757 = v[165] * w10756;
   const real w10758 = v[88] * v[10];
   const real w10759 = v[15] * w10758;
@@ -20508,7 +20501,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10777 = real(1.5) * w10776;
   const real w10778 = w10775 + w10777;
   const real w10779 = -w10778;
-  v[698] = w10779;
+  v[682] = w10779;
   const real w10780 = v[61] * w10779;
   const real w10781 = w10687 * v[183];
   const real w10782 = real(1.5) * w10781;
@@ -20534,9 +20527,9 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10802 = w10757 + w10801;
   const real w10803 = w10802 - v[186];
   const real w10804 = v[182] - w10803;
-  v[700] = w10804;
+  v[689] = w10804;
   const real w10805 = v[61] * w10804;
-  v[701] = w10805;
+  v[690] = w10805;
   const real w10806 = w10805 * x[5];
   const real w10807 = w10806 / v[66];
   const real w10808 = v[91] * v[674];
@@ -20570,7 +20563,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10836 = w10835 - v[161];
   const real w10837 = w10836 - v[120];
   const real w10838 = v[121] - w10837;
-  v[704] = w10838;
+  v[696] = w10838;
   const real w10839 = w10838 * v[356];
   const real w10840 = real(0.05) * w10839;
   const real w10841 = w10811 - w10840;
@@ -20594,7 +20587,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10859 = w10858 * real(0.15);
   const real w10860 = w10856 + w10859;
   const real w10861 = v[133] * v[187];
-  v[709] = w10861;
+  v[697] = w10861;
   const real w10862 = w10861 * x[5];
   const real w10863 = w10862 / v[81];
   const real w10864 = w10860 + w10863;
@@ -20626,9 +20619,9 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10890 = v[149] * v[671];
   const real w10891 = real(0.05) * w10890;
   const real w10892 = w10889 - w10891;
-  v[714] = w10892;
+  v[698] = w10892;
   const real w10893 = v[5] * w10892;
-  v[716] = w10893;
+  v[700] = w10893;
   const real w10894 = w10756 * v[589];
   const real w10895 = w10894 * real(0.1);
   const real w10896 = v[260] * v[91];
@@ -20636,12 +20629,12 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10898 = v[271] * v[79];
   const real w10899 = real(0.05) * w10898;
   const real w10900 = v[347] * w10779;
-  v[722] = w10900;
+  v[701] = w10900;
   const real w10901 = w10900 * x[5];
   const real w10902 = w10901 / v[245];
   const real w10903 = v[303] * v[187];
   const real w10904 = v[317] * w10804;
-  v[737] = w10904;
+  v[704] = w10904;
   const real w10905 = w10904 * x[5];
   const real w10906 = w10905 / v[245];
   const real w10907 = w10903 - w10906;
@@ -20687,7 +20680,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10947 = v[462] * v[107];
   const real w10948 = w10947 * real(2.0);
   const real w10949 = v[596] * v[217];
-  v[745] = w10949;
+  v[709] = w10949;
   const real w10950 = w10949 * x[5];
   const real w10951 = w10950 / v[284];
   const real w10952 = real(100.0) * w10951;
@@ -20701,7 +20694,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10960 = w10952 + w10959;
   const real w10961 = v[336] * v[233];
   const real w10962 = w10961 * v[66];
-  v[748] = w10962;
+  v[714] = w10962;
   const real w10963 = w10962 * x[5];
   const real w10964 = w10963 / v[284];
   const real w10965 = real(100.0) * w10964;
@@ -20715,7 +20708,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10973 = w10972 - w10349;
   const real w10974 = w10973 - w10433;
   const real w10975 = v[268] * v[217];
-  v[757] = w10975;
+  v[716] = w10975;
   const real w10976 = w10975 * x[5];
   const real w10977 = w10976 / v[245];
   const real w10978 = real(100.0) * w10977;
@@ -20729,19 +20722,19 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w10986 = v[295] * v[189];
   const real w10987 = w10985 - w10986;
   const real w10988 = w10987 - v[588];
-  v[764] = w10988;
+  v[722] = w10988;
   const real w10989 = v[180] * v[556];
-  v[776] = w10989;
+  v[737] = w10989;
   const real w10990 = v[287] * v[217];
-  v[780] = w10990;
+  v[745] = w10990;
   const real w10991 = w10990 * x[5];
   const real w10992 = w10991 / v[245];
   const real w10993 = real(20.0) * w10992;
-  v[782] = w10993;
+  v[748] = w10993;
   const real w10994 = v[88] * v[390];
   const real w10995 = w10994 * real(2.0);
   const real w10996 = v[593] * v[217];
-  v[783] = w10996;
+  v[757] = w10996;
   const real w10997 = w10996 * x[5];
   const real w10998 = w10997 / v[284];
   const real w10999 = real(20.0) * w10998;
@@ -20753,7 +20746,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w11005 = w10995 + w11004;
   const real w11006 = v[233] * v[329];
   const real w11007 = w11006 * v[66];
-  v[786] = w11007;
+  v[764] = w11007;
   const real w11008 = w11007 * x[5];
   const real w11009 = w11008 / v[284];
   const real w11010 = real(20.0) * w11009;
@@ -20766,27 +20759,28 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   const real w11017 = v[451] * v[107];
   const real w11018 = w11017 * real(2.0);
   const real w11019 = w11016 - w11018;
-  v[790] = w11019;
+  v[776] = w11019;
 }
 
-void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
-  const real w11020 = v[790] - v[372];
-  const real w11021 = v[782] + w11020;
-  const real w11022 = v[776] + w11021;
+  (void)out;
+  const real w11020 = v[776] - v[354];
+  const real w11021 = v[748] + w11020;
+  const real w11022 = v[737] + w11021;
   const real w11023 = v[133] * v[506];
   const real w11024 = w11022 + w11023;
   const real w11025 = w11024 * v[0];
   const real w11026 = real(0.5) * w11025;
-  const real w11027 = v[764] + w11026;
+  const real w11027 = v[722] + w11026;
   const real w11028 = w11027 + v[305];
   v[1] = w11028;
   const real w11029 = w11028 * real(0.5);
-  const real w11030 = v[716] - w11029;
+  const real w11030 = v[700] - w11029;
   const real w11031 = v[727] + w11030;
-  const real w11032 = v[689] * v[194];
+  const real w11032 = v[670] * v[194];
   const real w11033 = w11032 / v[66];
   const real w11034 = w11033 * real(0.15);
   const real w11035 = w11034 - v[156];
@@ -20796,7 +20790,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11038 = w11037 / v[151];
   const real w11039 = w11038 * real(0.15);
   const real w11040 = w11035 + w11039;
-  const real w11041 = v[697] * x[6];
+  const real w11041 = v[677] * x[6];
   const real w11042 = v[68] * w11041;
   const real w11043 = w11042 / v[66];
   const real w11044 = w11043 * real(0.15);
@@ -20809,19 +20803,19 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11051 = w11050 * v[189];
   const real w11052 = w11051 / v[151];
   const real w11053 = w11049 - w11052;
-  const real w11054 = v[700] * x[5];
+  const real w11054 = v[689] * x[5];
   const real w11055 = w11054 / v[66];
   const real w11056 = w11053 + w11055;
   const real w11057 = v[149] * v[95];
   const real w11058 = w11057 * real(0.05);
   const real w11059 = w11056 - w11058;
-  const real w11060 = v[704] * v[176];
+  const real w11060 = v[696] * v[176];
   const real w11061 = real(0.05) * w11060;
   const real w11062 = w11059 - w11061;
   const real w11063 = v[140] * v[78];
   const real w11064 = real(0.15) * w11063;
   const real w11065 = w11062 - w11064;
-  const real w11066 = v[690] * v[152];
+  const real w11066 = v[672] * v[152];
   const real w11067 = w11066 / v[66];
   const real w11068 = w11067 * real(0.15);
   const real w11069 = w11065 - w11068;
@@ -20862,15 +20856,15 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11103 = w11097 + w11102;
   const real w11104 = w11095 + w11103;
   const real w11105 = w11093 + w11104;
-  const real w11106 = v[682] + w11105;
-  const real w11107 = v[677] + w11106;
-  const real w11108 = v[676] + w11107;
+  const real w11106 = v[651] + w11105;
+  const real w11107 = v[650] + w11106;
+  const real w11108 = v[646] + w11107;
   const real w11109 = v[642] * v[187];
   const real w11110 = x[5] * w11109;
   const real w11111 = w11110 / v[51];
   const real w11112 = w11108 - w11111;
-  const real w11113 = real(0.6) * v[529];
-  const real w11114 = v[554] - w11113;
+  const real w11113 = real(0.6) * v[507];
+  const real w11114 = v[527] - w11113;
   v[12] = w11114;
   const real w11115 = x[6] * w11114;
   const real w11116 = real(12.0) * w11115;
@@ -20880,16 +20874,16 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[13] = w11119;
   const real w11120 = x[6] * w11119;
   const real w11121 = w11117 - w11120;
-  const real w11122 = v[672] + w11121;
-  const real w11123 = v[670] + w11122;
+  const real w11122 = v[632] + w11121;
+  const real w11123 = v[603] + w11122;
   const real w11124 = v[360] * v[726];
   const real w11125 = w11124 * real(20.0);
   const real w11126 = w11123 - w11125;
-  const real w11127 = v[651] + w11126;
+  const real w11127 = v[601] + w11126;
   const real w11128 = v[1113] * v[15];
   const real w11129 = w11128 * real(3.0);
   const real w11130 = w11127 + w11129;
-  const real w11131 = v[632] + w11130;
+  const real w11131 = v[582] + w11130;
   const real w11132 = v[630] * v[1034];
   const real w11133 = w11132 * x[6];
   const real w11134 = w11131 - w11133;
@@ -20908,8 +20902,8 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11146 = w11145 * x[5];
   const real w11147 = real(12.0) * w11146;
   const real w11148 = w11143 - w11147;
-  const real w11149 = v[601] + w11148;
-  const real w11150 = v[19] * v[714];
+  const real w11149 = v[570] + w11148;
+  const real w11150 = v[19] * v[698];
   const real w11151 = v[753] + w11150;
   const real w11152 = w11151 - v[754];
   const real w11153 = w11152 + v[710];
@@ -20926,14 +20920,14 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11163 = w11162 * x[5];
   const real w11164 = w11163 * real(3.0);
   const real w11165 = w11149 + w11164;
-  const real w11166 = v[532] + w11165;
+  const real w11166 = v[508] + w11165;
   const real w11167 = v[645] * v[149];
   const real w11168 = w11167 * x[5];
   const real w11169 = w11166 - w11168;
   const real w11170 = v[820] * v[702];
   const real w11171 = real(4.0) * w11170;
   const real w11172 = w11169 + w11171;
-  const real w11173 = v[27] * v[714];
+  const real w11173 = v[27] * v[698];
   const real w11174 = v[19] * w11087;
   const real w11175 = w11173 - w11174;
   const real w11176 = v[665] + w11175;
@@ -21010,10 +21004,10 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11242 = w11241 * v[937];
   const real w11243 = v[824] * v[1093];
   const real w11244 = w11243 * real(3.0);
-  const real w11245 = v[23] * v[599];
+  const real w11245 = v[23] * v[565];
   const real w11246 = w11245 * x[6];
   const real w11247 = w11246 * real(4.0);
-  const real w11248 = v[20] * v[646];
+  const real w11248 = v[20] * v[587];
   const real w11249 = w11248 * x[6];
   const real w11250 = w11249 * real(3.0);
   const real w11251 = v[1103] * v[1045];
@@ -21027,7 +21021,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11259 = w11256 - w11258;
   const real w11260 = w11259 + v[1098];
   const real w11261 = w11247 + w11260;
-  const real w11262 = x[5] * v[714];
+  const real w11262 = x[5] * v[698];
   const real w11263 = w11262 * real(20.0);
   const real w11264 = w11261 + w11263;
   const real w11265 = v[1104] + w11264;
@@ -21043,7 +21037,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11275 = w11244 + w11274;
   const real w11276 = v[5] * w11087;
   const real w11277 = v[805] + w11276;
-  const real w11278 = v[3] * v[714];
+  const real w11278 = v[3] * v[698];
   const real w11279 = w11277 + w11278;
   const real w11280 = w11279 - v[809];
   v[33] = w11280;
@@ -21051,7 +21045,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11282 = w11281 * x[5];
   const real w11283 = real(4.0) * w11282;
   const real w11284 = w11275 + w11283;
-  const real w11285 = v[8] * v[603];
+  const real w11285 = v[8] * v[575];
   const real w11286 = w11285 * x[6];
   const real w11287 = w11286 * real(3.0);
   const real w11288 = w11284 + w11287;
@@ -21060,8 +21054,8 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11291 = w11290 * x[5];
   const real w11292 = w11291 * real(3.0);
   const real w11293 = w11289 + w11292;
-  const real w11294 = v[587] * v[3];
-  const real w11295 = v[5] * v[554];
+  const real w11294 = v[557] * v[3];
+  const real w11295 = v[5] * v[527];
   const real w11296 = w11294 + w11295;
   const real w11297 = v[3] * w11296;
   const real w11298 = x[6] * w11297;
@@ -21075,7 +21069,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11306 = v[1115] * v[860];
   const real w11307 = real(20.0) * w11306;
   const real w11308 = w11305 - w11307;
-  const real w11309 = v[587] * x[6];
+  const real w11309 = v[557] * x[6];
   const real w11310 = real(20.0) * w11309;
   const real w11311 = w11308 + w11310;
   const real w11312 = w11311 + v[1120];
@@ -21125,7 +21119,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[39] = w11351;
   const real w11352 = v[1092] * w11351;
   v[46] = w11352;
-  const real w11353 = v[8] * v[646];
+  const real w11353 = v[8] * v[587];
   const real w11354 = w11353 * x[6];
   const real w11355 = w11354 * real(3.0);
   const real w11356 = v[19] * w11185;
@@ -21135,7 +21129,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11360 = v[8] * w11161;
   const real w11361 = w11360 * x[5];
   const real w11362 = real(3.0) * w11361;
-  const real w11363 = v[599] * v[3];
+  const real w11363 = v[565] * v[3];
   const real w11364 = w11363 * x[6];
   const real w11365 = real(4.0) * w11364;
   const real w11366 = v[5] * w11296;
@@ -21156,7 +21150,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11380 = w11362 + w11379;
   const real w11381 = w11359 + w11380;
   const real w11382 = w11381 + v[1144];
-  const real w11383 = v[19] * v[603];
+  const real w11383 = v[19] * v[575];
   const real w11384 = w11383 * x[6];
   const real w11385 = w11384 * real(3.0);
   const real w11386 = w11382 + w11385;
@@ -21239,44 +21233,44 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[60] = w11458;
   const real w11459 = w11458 * v[1174];
   v[62] = w11459;
-  const real w11460 = v[166] * v[441];
+  const real w11460 = v[166] * v[419];
   const real w11461 = w11460 / v[151];
   const real w11462 = v[149] * v[189];
   const real w11463 = w11462 / v[151];
   const real w11464 = w11461 + w11463;
   const real w11465 = v[149] * v[148];
   const real w11466 = w11464 + w11465;
-  const real w11467 = v[483] / v[66];
+  const real w11467 = v[441] / v[66];
   const real w11468 = w11466 - w11467;
   const real w11469 = v[3] * w11468;
   const real w11470 = v[242] * v[79];
   const real w11471 = v[175] * v[147];
-  const real w11472 = v[557] / v[81];
+  const real w11472 = v[529] / v[81];
   const real w11473 = w11471 + w11472;
-  const real w11474 = v[468] / v[51];
+  const real w11474 = v[429] / v[51];
   const real w11475 = w11473 - w11474;
   const real w11476 = w11470 + w11475;
   const real w11477 = v[149] * v[236];
   const real w11478 = w11476 - w11477;
   const real w11479 = v[241] * v[189];
   const real w11480 = w11478 - w11479;
-  const real w11481 = v[946] * v[441];
+  const real w11481 = v[946] * v[419];
   const real w11482 = w11480 - w11481;
-  const real w11483 = v[166] * v[429];
+  const real w11483 = v[166] * v[412];
   const real w11484 = w11483 / v[66];
   const real w11485 = w11482 + w11484;
-  const real w11486 = v[575] / v[66];
+  const real w11486 = v[537] / v[66];
   const real w11487 = w11485 + w11486;
-  const real w11488 = v[940] * v[425];
+  const real w11488 = v[940] * v[400];
   const real w11489 = w11487 + w11488;
   const real w11490 = v[5] * w11489;
-  const real w11491 = v[441] * v[922];
+  const real w11491 = v[419] * v[922];
   const real w11492 = real(0.5) * w11491;
   const real w11493 = v[490] / v[245];
   const real w11494 = v[500] / v[284];
   const real w11495 = w11493 - w11494;
   const real w11496 = v[79] * w11495;
-  const real w11497 = v[354] * v[15];
+  const real w11497 = v[321] * v[15];
   const real w11498 = w11497 / v[284];
   const real w11499 = real(10.0) * w11498;
   const real w11500 = w11496 - w11499;
@@ -21286,7 +21280,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11504 = w11501 - w11503;
   const real w11505 = v[149] * w11504;
   const real w11506 = w11500 + w11505;
-  const real w11507 = v[398] / v[284];
+  const real w11507 = v[373] / v[284];
   const real w11508 = real(10.0) * w11507;
   const real w11509 = v[243] / v[245];
   const real w11510 = w11508 - w11509;
@@ -21299,19 +21293,19 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11517 = v[91] * v[142];
   const real w11518 = v[1239] * v[149];
   const real w11519 = real(0.5) * w11518;
-  const real w11520 = v[425] * v[930];
+  const real w11520 = v[400] * v[930];
   const real w11521 = real(0.5) * w11520;
   const real w11522 = v[933] * v[15];
   const real w11523 = real(5.0) * w11522;
-  const real w11524 = v[457] / v[245];
+  const real w11524 = v[425] / v[245];
   const real w11525 = real(5.0) * w11524;
-  const real w11526 = v[492] / v[245];
+  const real w11526 = v[443] / v[245];
   const real w11527 = w11525 + w11526;
-  const real w11528 = v[422] * v[240];
+  const real w11528 = v[399] * v[240];
   const real w11529 = w11528 / v[245];
   const real w11530 = w11527 - w11529;
   const real w11531 = w11523 + w11530;
-  const real w11532 = v[419] * v[918];
+  const real w11532 = v[389] * v[918];
   const real w11533 = real(5.0) * w11532;
   const real w11534 = w11531 - w11533;
   const real w11535 = w11521 + w11534;
@@ -21323,14 +21317,14 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11541 = w11540 * v[10];
   const real w11542 = w11541 / v[245];
   const real w11543 = w11542 * real(2.0);
-  const real w11544 = v[443] * v[15];
+  const real w11544 = v[421] * v[15];
   const real w11545 = w11544 / v[284];
   const real w11546 = real(10.0) * w11545;
   const real w11547 = v[1227] * v[149];
-  const real w11548 = v[349] / v[284];
-  const real w11549 = v[342] / v[284];
+  const real w11548 = v[312] / v[284];
+  const real w11549 = v[309] / v[284];
   const real w11550 = w11548 + w11549;
-  const real w11551 = v[357] / v[502];
+  const real w11551 = v[324] / v[502];
   const real w11552 = w11551 * real(2.0);
   const real w11553 = w11550 - w11552;
   const real w11554 = v[0] * w11553;
@@ -21349,7 +21343,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11567 = w11566 * real(2.0);
   const real w11568 = w11564 - w11567;
   const real w11569 = w11543 + w11568;
-  const real w11570 = v[507] / v[245];
+  const real w11570 = v[457] / v[245];
   const real w11571 = real(2.0) * w11570;
   const real w11572 = w11569 + w11571;
   const real w11573 = v[243] * v[15];
@@ -21360,22 +21354,22 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11578 = w11577 * real(2.0);
   const real w11579 = w11575 - w11578;
   const real w11580 = w11538 + w11579;
-  const real w11581 = v[527] / v[284];
+  const real w11581 = v[504] / v[284];
   const real w11582 = w11581 * real(2.0);
   const real w11583 = w11580 - w11582;
-  const real w11584 = v[399] / v[245];
+  const real w11584 = v[375] / v[245];
   const real w11585 = real(2.0) * w11584;
-  const real w11586 = v[523] / v[284];
+  const real w11586 = v[483] / v[284];
   const real w11587 = w11586 * real(20.0);
   const real w11588 = w11585 + w11587;
-  const real w11589 = v[524] / v[502];
+  const real w11589 = v[492] / v[502];
   const real w11590 = real(20.0) * w11589;
   const real w11591 = w11588 - w11590;
-  const real w11592 = v[382] / v[284];
+  const real w11592 = v[369] / v[284];
   const real w11593 = w11591 + w11592;
   const real w11594 = w11593 * v[15];
   const real w11595 = w11583 + w11594;
-  const real w11596 = v[454] / v[284];
+  const real w11596 = v[422] / v[284];
   const real w11597 = real(10.0) * w11596;
   const real w11598 = w11595 + w11597;
   const real w11599 = v[79] * v[1264];
@@ -21397,7 +21391,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11615 = w11614 * v[15];
   const real w11616 = real(5.0) * w11615;
   const real w11617 = w11535 - w11616;
-  const real w11618 = v[421] * v[361];
+  const real w11618 = v[398] * v[361];
   const real w11619 = w11618 / v[245];
   const real w11620 = w11617 - w11619;
   const real w11621 = w11519 + w11620;
@@ -21421,7 +21415,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11639 = v[79] * w11638;
   const real w11640 = w11635 - w11639;
   const real w11641 = w11640 + w11597;
-  const real w11642 = v[443] / v[284];
+  const real w11642 = v[421] / v[284];
   const real w11643 = real(10.0) * w11642;
   const real w11644 = w11509 - w11643;
   const real w11645 = v[15] * w11644;
@@ -21431,11 +21425,11 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11649 = w11630 - w11648;
   const real w11650 = v[1217] * v[189];
   const real w11651 = w11649 - w11650;
-  const real w11652 = v[504] / v[245];
+  const real w11652 = v[454] / v[245];
   const real w11653 = w11651 - w11652;
-  const real w11654 = v[412] / v[284];
+  const real w11654 = v[382] / v[284];
   const real w11655 = real(10.0) * w11654;
-  const real w11656 = v[373] / v[245];
+  const real w11656 = v[357] / v[245];
   const real w11657 = w11656 * real(2.0);
   const real w11658 = v[15] * w11553;
   const real w11659 = real(10.0) * w11658;
@@ -21451,16 +21445,16 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11669 = w11668 / v[245];
   const real w11670 = w11669 * real(2.0);
   const real w11671 = w11667 - w11670;
-  const real w11672 = v[389] / v[284];
+  const real w11672 = v[372] / v[284];
   const real w11673 = w11672 * real(20.0);
-  const real w11674 = v[400] / v[502];
+  const real w11674 = v[377] / v[502];
   const real w11675 = real(20.0) * w11674;
   const real w11676 = w11585 - w11675;
   const real w11677 = w11673 + w11676;
   const real w11678 = w11677 + w11592;
   const real w11679 = v[0] * w11678;
   const real w11680 = w11671 + w11679;
-  const real w11681 = v[375] / v[245];
+  const real w11681 = v[362] / v[245];
   const real w11682 = w11680 - w11681;
   const real w11683 = v[417] * v[147];
   const real w11684 = w11683 / v[245];
@@ -21493,13 +21487,13 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11711 = w11710 / v[284];
   const real w11712 = w11711 * real(2.0);
   const real w11713 = w11709 + w11712;
-  const real w11714 = v[367] / v[284];
+  const real w11714 = v[343] / v[284];
   const real w11715 = real(2.0) * w11714;
   const real w11716 = w11713 - w11715;
   const real w11717 = w11716 * v[0];
   const real w11718 = real(5.0) * w11717;
   const real w11719 = w11653 - w11718;
-  const real w11720 = v[429] * v[416];
+  const real w11720 = v[412] * v[416];
   const real w11721 = w11720 / v[245];
   const real w11722 = w11719 + w11721;
   const real w11723 = v[414] * v[15];
@@ -21580,7 +21574,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11798 = w11794 + w11797;
   const real w11799 = w11798 * v[15];
   const real w11800 = real(0.05) * w11799;
-  const real w11801 = v[333] * v[690];
+  const real w11801 = v[333] * v[672];
   const real w11802 = w11801 / v[243];
   const real w11803 = real(0.15) * w11802;
   const real w11804 = v[539] - w11803;
@@ -21600,7 +21594,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11818 = w11817 / v[245];
   const real w11819 = real(0.75) * w11818;
   const real w11820 = w11815 - w11819;
-  const real w11821 = v[789] * v[704];
+  const real w11821 = v[789] * v[696];
   const real w11822 = w11821 * real(0.15);
   const real w11823 = w11820 - w11822;
   const real w11824 = w11823 + w11481;
@@ -21614,11 +21608,11 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11832 = w11829 + w11831;
   const real w11833 = w11832 - w11486;
   const real w11834 = w11734 + w11833;
-  const real w11835 = v[696] * v[788];
+  const real w11835 = v[676] * v[788];
   const real w11836 = w11835 * real(0.15);
   v[65] = w11836;
   const real w11837 = w11834 + w11836;
-  const real w11838 = v[697] * v[328];
+  const real w11838 = v[677] * v[328];
   const real w11839 = w11838 / v[243];
   const real w11840 = real(0.15) * w11839;
   v[67] = w11840;
@@ -21627,7 +21621,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11843 = real(0.05) * w11842;
   const real w11844 = w11841 - w11843;
   const real w11845 = v[380] + w11844;
-  const real w11846 = v[341] * v[689];
+  const real w11846 = v[341] * v[670];
   const real w11847 = w11846 / v[243];
   const real w11848 = real(0.15) * w11847;
   v[69] = w11848;
@@ -21661,7 +21655,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11875 = real(0.025) * w11874;
   const real w11876 = v[78] * v[319];
   const real w11877 = real(0.075) * w11876;
-  const real w11878 = v[704] * v[174];
+  const real w11878 = v[696] * v[174];
   const real w11879 = w11878 / v[151];
   const real w11880 = w11879 * real(0.15);
   v[73] = w11880;
@@ -21685,7 +21679,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11898 = w11895 - w11897;
   const real w11899 = w11873 + w11898;
   const real w11900 = w11899 + w11467;
-  const real w11901 = v[31] * v[690];
+  const real w11901 = v[31] * v[672];
   const real w11902 = w11901 / v[66];
   const real w11903 = real(0.15) * w11902;
   v[74] = w11903;
@@ -21694,7 +21688,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11906 = w11905 * real(0.075);
   const real w11907 = w11904 + w11906;
   const real w11908 = w11907 + v[274];
-  const real w11909 = v[193] * v[689];
+  const real w11909 = v[193] * v[670];
   const real w11910 = w11909 / v[66];
   const real w11911 = w11910 * real(0.15);
   v[75] = w11911;
@@ -21743,7 +21737,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w11950 = w11949 * v[15];
   const real w11951 = real(0.05) * w11950;
   const real w11952 = w11916 + w11951;
-  const real w11953 = v[697] * v[68];
+  const real w11953 = v[677] * v[68];
   const real w11954 = w11953 / v[66];
   const real w11955 = w11954 * real(0.15);
   v[87] = w11955;
@@ -21808,13 +21802,13 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[89] = w12013;
   const real w12014 = w12013 * x[6];
   const real w12015 = w12014 * real(3.0);
-  const real w12016 = v[599] * v[911];
+  const real w12016 = v[565] * v[911];
   const real w12017 = x[6] * w12016;
   const real w12018 = real(4.0) * w12017;
   const real w12019 = x[2] * w11167;
   const real w12020 = v[189] * v[1194];
   const real w12021 = v[1204] * v[91];
-  const real w12022 = v[240] * v[690];
+  const real w12022 = v[240] * v[672];
   const real w12023 = w12022 / v[245];
   const real w12024 = v[125] * v[10];
   const real w12025 = w12024 * v[66];
@@ -21823,7 +21817,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12028 = w12027 * real(2.0);
   const real w12029 = v[180] * v[1227];
   const real w12030 = v[133] * v[1264];
-  const real w12031 = v[757] / v[245];
+  const real w12031 = v[716] / v[245];
   const real w12032 = real(2.0) * w12031;
   const real w12033 = v[88] * v[51];
   const real w12034 = v[361] * w12033;
@@ -21838,7 +21832,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12043 = real(2.0) * w12042;
   const real w12044 = w12040 - w12043;
   const real w12045 = w12029 + w12044;
-  const real w12046 = v[745] / v[284];
+  const real w12046 = v[709] / v[284];
   const real w12047 = real(2.0) * w12046;
   const real w12048 = w12045 - w12047;
   const real w12049 = v[107] * v[460];
@@ -21849,7 +21843,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12054 = w12053 / v[245];
   const real w12055 = w12054 * real(2.0);
   const real w12056 = w12052 + w12055;
-  const real w12057 = v[748] / v[284];
+  const real w12057 = v[714] / v[284];
   const real w12058 = real(2.0) * w12057;
   const real w12059 = w12056 + w12058;
   const real w12060 = w12028 + w12059;
@@ -21868,7 +21862,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12073 = v[1200] * v[149];
   const real w12074 = w12073 * real(0.5);
   const real w12075 = v[1195] * v[147];
-  const real w12076 = v[704] * v[922];
+  const real w12076 = v[696] * v[922];
   const real w12077 = real(0.5) * w12076;
   const real w12078 = v[1199] * v[78];
   const real w12079 = w12077 - w12078;
@@ -21886,7 +21880,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12091 = w12089 + w12090;
   const real w12092 = w12074 + w12091;
   const real w12093 = w12072 + w12092;
-  const real w12094 = v[697] * v[416];
+  const real w12094 = v[677] * v[416];
   const real w12095 = w12094 / v[245];
   const real w12096 = w12093 - w12095;
   const real w12097 = v[6] * w12062;
@@ -21901,7 +21895,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12106 = w12105 / v[284];
   const real w12107 = w12106 * real(2.0);
   const real w12108 = v[1261] * v[133];
-  const real w12109 = v[780] / v[245];
+  const real w12109 = v[745] / v[245];
   const real w12110 = real(2.0) * w12109;
   const real w12111 = w12108 - w12110;
   const real w12112 = v[450] * v[107];
@@ -21913,7 +21907,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12118 = real(2.0) * w12117;
   const real w12119 = w12115 - w12118;
   const real w12120 = w12107 + w12119;
-  const real w12121 = v[786] / v[284];
+  const real w12121 = v[764] / v[284];
   const real w12122 = w12121 * real(2.0);
   const real w12123 = w12120 - w12122;
   const real w12124 = w12104 + w12123;
@@ -21925,7 +21919,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12130 = w12129 * real(2.0);
   const real w12131 = w12125 - w12130;
   const real w12132 = w12099 + w12131;
-  const real w12133 = v[783] / v[284];
+  const real w12133 = v[757] / v[284];
   const real w12134 = w12133 * real(2.0);
   const real w12135 = w12132 + w12134;
   const real w12136 = v[233] * v[334];
@@ -21935,11 +21929,11 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12140 = w12139 * v[0];
   const real w12141 = real(5.0) * w12140;
   const real w12142 = w12096 - w12141;
-  const real w12143 = v[737] / v[245];
+  const real w12143 = v[704] / v[245];
   const real w12144 = w12142 - w12143;
   const real w12145 = w12023 + w12144;
   const real w12146 = w12021 + w12145;
-  const real w12147 = v[696] * v[930];
+  const real w12147 = v[676] * v[930];
   const real w12148 = real(0.5) * w12147;
   const real w12149 = w12146 - w12148;
   const real w12150 = w12020 + w12149;
@@ -21949,41 +21943,41 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12154 = w12153 * v[15];
   const real w12155 = real(5.0) * w12154;
   const real w12156 = w12150 - w12155;
-  const real w12157 = v[361] * v[689];
+  const real w12157 = v[361] * v[670];
   const real w12158 = w12157 / v[245];
   const real w12159 = w12156 + w12158;
-  const real w12160 = v[722] / v[245];
+  const real w12160 = v[701] / v[245];
   const real w12161 = w12159 + w12160;
   const real w12162 = v[755] * w12161;
   const real w12163 = real(0.2) * w12162;
   const real w12164 = v[180] * v[189];
   const real w12165 = w12164 / v[151];
-  const real w12166 = v[700] / v[66];
+  const real w12166 = v[689] / v[66];
   const real w12167 = v[1182] * v[149];
   const real w12168 = w12166 + w12167;
-  const real w12169 = v[166] * v[704];
+  const real w12169 = v[166] * v[696];
   const real w12170 = w12169 / v[151];
   const real w12171 = w12168 - w12170;
   const real w12172 = w12165 - w12171;
   const real w12173 = v[27] * w12172;
-  const real w12174 = v[709] / v[81];
-  const real w12175 = v[704] * v[946];
+  const real w12174 = v[697] / v[81];
+  const real w12175 = v[696] * v[946];
   const real w12176 = v[1192] * v[189];
   const real w12177 = v[79] * v[1188];
   const real w12178 = w12176 + w12177;
   const real w12179 = v[149] * v[1186];
   const real w12180 = w12178 + w12179;
-  const real w12181 = v[940] * v[696];
+  const real w12181 = v[940] * v[676];
   const real w12182 = w12180 - w12181;
   const real w12183 = w12175 + w12182;
-  const real w12184 = v[697] * v[166];
+  const real w12184 = v[677] * v[166];
   const real w12185 = w12184 / v[66];
   const real w12186 = w12183 - w12185;
   const real w12187 = v[1189] * v[147];
   const real w12188 = w12186 - w12187;
-  const real w12189 = v[698] / v[51];
+  const real w12189 = v[682] / v[51];
   const real w12190 = w12188 + w12189;
-  const real w12191 = v[701] / v[66];
+  const real w12191 = v[690] / v[66];
   const real w12192 = w12190 - w12191;
   const real w12193 = w12174 - w12192;
   const real w12194 = v[19] * w12193;
@@ -22011,7 +22005,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12216 = v[633] * w12215;
   const real w12217 = w12216 * x[6];
   const real w12218 = real(20.0) * w12217;
-  const real w12219 = v[603] * v[168];
+  const real w12219 = v[575] * v[168];
   const real w12220 = w12219 * x[6];
   const real w12221 = w12220 * real(3.0);
   const real w12222 = v[171] * x[6];
@@ -22019,18 +22013,18 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12224 = real(0.1) * w12223;
   const real w12225 = v[344] * v[147];
   const real w12226 = real(0.1) * w12225;
-  const real w12227 = v[697] * v[411];
+  const real w12227 = v[677] * v[411];
   const real w12228 = w12227 / v[245];
   const real w12229 = real(0.3) * w12228;
   v[90] = w12229;
-  const real w12230 = v[264] * v[690];
+  const real w12230 = v[264] * v[672];
   const real w12231 = w12230 / v[245];
   const real w12232 = real(0.3) * w12231;
   v[92] = w12232;
   const real w12233 = w12232 + w11525;
   const real w12234 = w11526 + w12233;
   const real w12235 = w12234 - v[355];
-  const real w12236 = v[172] * v[704];
+  const real w12236 = v[172] * v[696];
   const real w12237 = real(0.05) * w12236;
   v[93] = w12237;
   const real w12238 = w12235 - w12237;
@@ -22040,7 +22034,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12242 = w11521 + w12241;
   const real w12243 = w12242 - w11619;
   const real w12244 = w12229 + w12243;
-  const real w12245 = v[696] * v[197];
+  const real w12245 = v[676] * v[197];
   const real w12246 = real(0.05) * w12245;
   v[94] = w12246;
   const real w12247 = w12244 - w12246;
@@ -22056,7 +22050,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12257 = w12256 * real(0.1);
   const real w12258 = w12255 - w12257;
   const real w12259 = w12258 - w11648;
-  const real w12260 = v[374] * v[689];
+  const real w12260 = v[374] * v[670];
   const real w12261 = w12260 / v[245];
   const real w12262 = real(0.3) * w12261;
   v[98] = w12262;
@@ -22100,7 +22094,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12296 = w12294 - w12295;
   const real w12297 = w11562 * real(100.0);
   const real w12298 = w12296 - w12297;
-  const real w12299 = v[369] * v[10];
+  const real w12299 = v[349] * v[10];
   const real w12300 = v[66] * w12299;
   const real w12301 = w12300 / v[284];
   const real w12302 = w12301 * real(120.0);
@@ -22237,7 +22231,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12415 = w12413 + w12414;
   const real w12416 = real(10.0) * w11679;
   const real w12417 = w12415 - w12416;
-  const real w12418 = v[369] * v[6];
+  const real w12418 = v[349] * v[6];
   const real w12419 = v[66] * w12418;
   const real w12420 = w12419 / v[284];
   const real w12421 = w12420 * real(24.0);
@@ -22288,7 +22282,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12464 = w12458 + w12463;
   const real w12465 = w12456 + w12464;
   const real w12466 = w12454 + w12465;
-  const real w12467 = v[714] * v[869];
+  const real w12467 = v[698] * v[869];
   const real w12468 = real(20.0) * w12467;
   const real w12469 = w12466 - w12468;
   const real w12470 = w11280 * v[893];
@@ -22358,7 +22352,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12534 = w12531 + w12533;
   const real w12535 = v[267] * x[6];
   v[135] = w12535;
-  const real w12536 = v[529] * w12535;
+  const real w12536 = v[507] * w12535;
   const real w12537 = real(0.05) * w12536;
   const real w12538 = w12534 + w12537;
   const real w12539 = w11854 + w12538;
@@ -22366,7 +22360,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12541 = w12540 * x[6];
   const real w12542 = real(20.0) * w12541;
   const real w12543 = w12539 + w12542;
-  const real w12544 = v[650] * v[261];
+  const real w12544 = v[599] * v[261];
   const real w12545 = w12544 * real(3.0);
   const real w12546 = w12543 + w12545;
   const real w12547 = v[244] * v[820];
@@ -22529,7 +22523,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[158] = w12697;
   const real w12698 = w11963 * x[5];
   v[159] = w12698;
-  const real w12699 = v[155] * v[529];
+  const real w12699 = v[155] * v[507];
   const real w12700 = real(0.05) * w12699;
   v[160] = w12700;
   const real w12701 = w11296 * v[282];
@@ -22551,10 +22545,10 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12714 = w12711 - w12713;
   const real w12715 = v[1302] * v[147];
   const real w12716 = w12715 * real(0.15);
-  const real w12717 = v[429] * v[68];
+  const real w12717 = v[412] * v[68];
   const real w12718 = w12717 / v[66];
   const real w12719 = real(0.15) * w12718;
-  const real w12720 = v[419] * v[202];
+  const real w12720 = v[389] * v[202];
   const real w12721 = w12720 / v[66];
   const real w12722 = real(1.2) * w12721;
   const real w12723 = v[91] * v[1303];
@@ -22568,10 +22562,10 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12731 = v[1307] * v[78];
   const real w12732 = real(0.15) * w12731;
   const real w12733 = w12730 - w12732;
-  const real w12734 = v[537] / v[66];
+  const real w12734 = v[524] / v[66];
   const real w12735 = real(0.15) * w12734;
   const real w12736 = w12733 + w12735;
-  const real w12737 = v[441] * v[174];
+  const real w12737 = v[419] * v[174];
   const real w12738 = w12737 / v[151];
   const real w12739 = w12738 * real(0.15);
   const real w12740 = w12736 + w12739;
@@ -22579,7 +22573,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12742 = v[149] * v[1305];
   const real w12743 = w12742 * real(0.15);
   const real w12744 = w12741 - w12743;
-  const real w12745 = v[533] / v[66];
+  const real w12745 = v[523] / v[66];
   const real w12746 = real(0.15) * w12745;
   const real w12747 = w12744 - w12746;
   const real w12748 = v[47] * v[147];
@@ -22603,15 +22597,15 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12765 = w12764 * real(0.15);
   const real w12766 = v[124] * v[78];
   const real w12767 = w12766 * real(0.15);
-  const real w12768 = v[425] * v[788];
+  const real w12768 = v[400] * v[788];
   const real w12769 = real(0.15) * w12768;
   const real w12770 = v[123] * v[91];
   const real w12771 = real(0.15) * w12770;
   const real w12772 = w12769 - w12771;
-  const real w12773 = v[789] * v[441];
+  const real w12773 = v[789] * v[419];
   const real w12774 = real(0.15) * w12773;
   const real w12775 = w12772 - w12774;
-  const real w12776 = v[570] / v[243];
+  const real w12776 = v[533] / v[243];
   const real w12777 = real(0.15) * w12776;
   const real w12778 = w12775 - w12777;
   const real w12779 = w12767 + w12778;
@@ -22619,7 +22613,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12781 = v[149] * w11761;
   const real w12782 = v[147] * v[743];
   const real w12783 = w12782 / v[243];
-  const real w12784 = v[582] / v[66];
+  const real w12784 = v[554] / v[66];
   const real w12785 = w12783 + w12784;
   const real w12786 = v[79] * w11767;
   const real w12787 = w12785 + w12786;
@@ -22631,15 +22625,15 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12793 = real(1.2) * w12792;
   const real w12794 = w12780 - w12793;
   const real w12795 = w12765 + w12794;
-  const real w12796 = v[328] * v[429];
+  const real w12796 = v[328] * v[412];
   const real w12797 = w12796 / v[243];
   const real w12798 = w12797 * real(0.15);
   const real w12799 = w12795 - w12798;
   const real w12800 = w12763 + w12799;
-  const real w12801 = v[565] / v[243];
+  const real w12801 = v[532] / v[243];
   const real w12802 = real(0.15) * w12801;
   const real w12803 = w12800 + w12802;
-  const real w12804 = v[419] * v[725];
+  const real w12804 = v[389] * v[725];
   const real w12805 = w12804 / v[243];
   const real w12806 = real(1.2) * w12805;
   const real w12807 = w12803 + w12806;
@@ -22655,40 +22649,40 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12816 = w12815 + v[656];
   const real w12817 = w12814 + w12816;
   const real w12818 = w12817 - v[657];
-  const real w12819 = v[411] * v[429];
+  const real w12819 = v[411] * v[412];
   const real w12820 = w12819 / v[245];
   const real w12821 = real(0.3) * w12820;
-  const real w12822 = v[422] * v[264];
+  const real w12822 = v[399] * v[264];
   const real w12823 = w12822 / v[245];
   const real w12824 = real(0.3) * w12823;
-  const real w12825 = v[172] * v[441];
+  const real w12825 = v[172] * v[419];
   const real w12826 = real(0.05) * w12825;
   const real w12827 = v[1313] - w12826;
   const real w12828 = v[51] * v[482];
   const real w12829 = v[66] * w12828;
   const real w12830 = w12829 / v[284];
-  const real w12831 = v[343] * v[6];
+  const real w12831 = v[311] * v[6];
   const real w12832 = w12831 * v[66];
   const real w12833 = w12832 / v[284];
   const real w12834 = real(60.0) * w12833;
   const real w12835 = w12830 - w12834;
-  const real w12836 = v[482] * v[398];
+  const real w12836 = v[482] * v[373];
   const real w12837 = w12836 / v[502];
   const real w12838 = real(20.0) * w12837;
   const real w12839 = w12835 - w12838;
-  const real w12840 = v[377] / v[245];
+  const real w12840 = v[367] / v[245];
   const real w12841 = real(3.0) * w12840;
   const real w12842 = w12839 - w12841;
   const real w12843 = v[0] * w12842;
   const real w12844 = v[414] * v[519];
   const real w12845 = w12844 / v[284];
-  const real w12846 = v[362] / v[245];
+  const real w12846 = v[342] / v[245];
   const real w12847 = real(12.0) * w12846;
-  const real w12848 = v[354] * v[482];
+  const real w12848 = v[321] * v[482];
   const real w12849 = w12848 / v[502];
   const real w12850 = real(10.0) * w12849;
   const real w12851 = w12847 - w12850;
-  const real w12852 = v[343] * v[10];
+  const real w12852 = v[311] * v[10];
   const real w12853 = w12852 * v[66];
   const real w12854 = w12853 / v[284];
   const real w12855 = w12854 * real(15.0);
@@ -22764,14 +22758,14 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12925 = w12924 + w12330;
   const real w12926 = v[1321] * v[149];
   const real w12927 = w12925 - w12926;
-  const real w12928 = v[508] / v[245];
+  const real w12928 = v[468] / v[245];
   const real w12929 = w12928 * real(3.0);
   const real w12930 = w12929 - w12830;
   const real w12931 = v[433] * v[519];
   const real w12932 = w12931 / v[284];
   const real w12933 = real(4.0) * w12932;
   const real w12934 = w12930 - w12933;
-  const real w12935 = v[443] * v[482];
+  const real w12935 = v[421] * v[482];
   const real w12936 = w12935 / v[502];
   const real w12937 = real(20.0) * w12936;
   const real w12938 = w12934 + w12937;
@@ -22792,7 +22786,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12953 = v[1037] * v[15];
   const real w12954 = real(0.5) * w12953;
   const real w12955 = w12952 - w12954;
-  const real w12956 = v[419] * v[1041];
+  const real w12956 = v[389] * v[1041];
   const real w12957 = w12956 * real(0.1);
   const real w12958 = w12955 + w12957;
   const real w12959 = v[32] * v[79];
@@ -22803,14 +22797,14 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   const real w12964 = w12961 - w12963;
   const real w12965 = w12964 + v[1312];
   const real w12966 = w12824 + w12965;
-  const real w12967 = v[425] * v[197];
+  const real w12967 = v[400] * v[197];
   const real w12968 = real(0.05) * w12967;
   const real w12969 = w12966 - w12968;
   const real w12970 = v[149] * v[7];
   const real w12971 = real(0.05) * w12970;
   const real w12972 = w12969 - w12971;
   const real w12973 = w12821 + w12972;
-  const real w12974 = v[374] * v[421];
+  const real w12974 = v[374] * v[398];
   const real w12975 = w12974 / v[245];
   const real w12976 = real(0.3) * w12975;
   const real w12977 = w12973 - w12976;
@@ -22861,7 +22855,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[181] = w13019;
 }
 
-void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v) {
+void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -22971,7 +22965,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13123 = w13122 * x[5];
   const real w13124 = w13123 * real(3.0);
   const real w13125 = w13121 - w13124;
-  const real w13126 = v[138] * v[599];
+  const real w13126 = v[138] * v[565];
   const real w13127 = real(4.0) * w13126;
   const real w13128 = w13125 - w13127;
   const real w13129 = v[1059] * v[1097];
@@ -23022,14 +23016,14 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13174 = v[1291] * v[860];
   const real w13175 = w13174 * real(4.0);
   const real w13176 = w13173 - w13175;
-  const real w13177 = v[587] * v[139];
+  const real w13177 = v[557] * v[139];
   const real w13178 = real(20.0) * w13177;
   const real w13179 = w13176 + w13178;
   const real w13180 = w13179 - v[1288];
   const real w13181 = v[1028] * v[800];
   const real w13182 = real(20.0) * w13181;
   const real w13183 = w13180 - w13182;
-  const real w13184 = v[603] * v[281];
+  const real w13184 = v[575] * v[281];
   const real w13185 = w13184 * real(3.0);
   const real w13186 = w13183 - w13185;
   const real w13187 = v[33] * v[965];
@@ -23084,7 +23078,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13236 = w13235 * v[627];
   const real w13237 = w13236 * real(3.0);
   const real w13238 = w13220 - w13237;
-  const real w13239 = v[285] * v[714];
+  const real w13239 = v[285] * v[698];
   const real w13240 = real(20.0) * w13239;
   const real w13241 = w13238 - w13240;
   const real w13242 = v[3] * w13057;
@@ -23150,7 +23144,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13302 = v[89] * x[5];
   const real w13303 = w13302 * real(3.0);
   const real w13304 = w13301 + w13303;
-  const real w13305 = v[277] * v[646];
+  const real w13305 = v[277] * v[587];
   const real w13306 = w13305 * real(3.0);
   const real w13307 = w13304 + w13306;
   const real w13308 = v[1] * v[1281];
@@ -23199,22 +23193,22 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13351 = v[154] * v[975];
   const real w13352 = w13350 - w13351;
   const real w13353 = v[925] * w13352;
-  v[4] = w13353;
+  out[43] = w13353;  // dq2_dot_rate/dq2
   const real w13354 = w13353 * v[975];
   const real w13355 = v[158] - w13354;
-  v[7] = w13355;
+  out[36] = w13355;  // dq1_dot_rate/dq2
   const real w13356 = w13355 * v[647];
   const real w13357 = v[62] - w13356;
   const real w13358 = v[1079] * w13353;
   const real w13359 = w13357 - w13358;
-  v[17] = w13359;
+  out[29] = w13359;  // dvy_locked_rate/dq2
   const real w13360 = v[870] * w13359;
   const real w13361 = v[46] - w13360;
   const real w13362 = w13355 * v[643];
   const real w13363 = w13361 - w13362;
   const real w13364 = v[1078] * w13353;
   const real w13365 = w13363 - w13364;
-  v[18] = w13365;
+  out[22] = w13365;  // dvx_locked_rate/dq2
   const real w13366 = w13365 * v[866];
   const real w13367 = v[29] - w13366;
   const real w13368 = w13359 * v[892];
@@ -23223,7 +23217,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13371 = w13369 - w13370;
   const real w13372 = v[1077] * w13353;
   const real w13373 = w13371 - w13372;
-  v[30] = w13373;
+  out[15] = w13373;  // dw_locked_rate/dq2
   const real w13374 = v[772] * real(2.0);
   const real w13375 = real(2.0) * v[777];
   const real w13376 = v[513] * v[15];
@@ -23403,22 +23397,22 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13550 = w13501 * v[975];
   const real w13551 = w13549 - w13550;
   const real w13552 = v[925] * w13551;
-  v[31] = w13552;
+  out[44] = w13552;  // dq2_dot_rate/dw_locked
   const real w13553 = v[975] * w13552;
   const real w13554 = w13502 - w13553;
-  v[32] = w13554;
+  out[37] = w13554;  // dq1_dot_rate/dw_locked
   const real w13555 = w13554 * v[647];
   const real w13556 = w13461 - w13555;
   const real w13557 = v[1079] * w13552;
   const real w13558 = w13556 - w13557;
-  v[36] = w13558;
+  out[30] = w13558;  // dvy_locked_rate/dw_locked
   const real w13559 = v[870] * w13558;
   const real w13560 = w13432 - w13559;
   const real w13561 = v[643] * w13554;
   const real w13562 = w13560 - w13561;
   const real w13563 = v[1078] * w13552;
   const real w13564 = w13562 - w13563;
-  v[47] = w13564;
+  out[23] = w13564;  // dvx_locked_rate/dw_locked
   const real w13565 = w13564 * v[866];
   const real w13566 = w13401 - w13565;
   const real w13567 = w13558 * v[892];
@@ -23427,7 +23421,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13570 = w13568 - w13569;
   const real w13571 = v[1077] * w13552;
   const real w13572 = w13570 - w13571;
-  v[49] = w13572;
+  out[16] = w13572;  // dw_locked_rate/dw_locked
   const real w13573 = real(20.0) * v[359];
   const real w13574 = real(20.0) * x[4];
   const real w13575 = v[640] - w13574;
@@ -23642,22 +23636,22 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13784 = w13732 * v[975];
   const real w13785 = w13783 - w13784;
   const real w13786 = v[925] * w13785;
-  v[50] = w13786;
+  out[45] = w13786;  // dq2_dot_rate/dvx_locked
   const real w13787 = v[975] * w13786;
   const real w13788 = w13733 - w13787;
-  v[51] = w13788;
+  out[38] = w13788;  // dq1_dot_rate/dvx_locked
   const real w13789 = w13788 * v[647];
   const real w13790 = w13682 - w13789;
   const real w13791 = v[1079] * w13786;
   const real w13792 = w13790 - w13791;
-  v[61] = w13792;
+  out[31] = w13792;  // dvy_locked_rate/dvx_locked
   const real w13793 = v[870] * w13792;
   const real w13794 = w13641 - w13793;
   const real w13795 = w13788 * v[643];
   const real w13796 = w13794 - w13795;
   const real w13797 = v[1078] * w13786;
   const real w13798 = w13796 - w13797;
-  v[63] = w13798;
+  out[24] = w13798;  // dvx_locked_rate/dvx_locked
   const real w13799 = w13798 * v[866];
   const real w13800 = w13609 - w13799;
   const real w13801 = w13792 * v[892];
@@ -23666,7 +23660,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w13804 = w13802 - w13803;
   const real w13805 = v[1077] * w13786;
   const real w13806 = w13804 - w13805;
-  v[64] = w13806;
+  out[17] = w13806;  // dw_locked_rate/dvx_locked
   const real w13807 = real(20.0) * v[705];
   const real w13808 = w13807 + v[623];
   const real w13809 = v[19] * v[721];
@@ -23876,22 +23870,22 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14013 = w13961 * v[975];
   const real w14014 = w14012 - w14013;
   const real w14015 = v[925] * w14014;
-  v[66] = w14015;
+  out[46] = w14015;  // dq2_dot_rate/dvy_locked
   const real w14016 = w14015 * v[975];
   const real w14017 = w13962 - w14016;
-  v[68] = w14017;
+  out[39] = w14017;  // dq1_dot_rate/dvy_locked
   const real w14018 = w14017 * v[647];
   const real w14019 = w13911 - w14018;
   const real w14020 = v[1079] * w14015;
   const real w14021 = w14019 - w14020;
-  v[70] = w14021;
+  out[32] = w14021;  // dvy_locked_rate/dvy_locked
   const real w14022 = v[870] * w14021;
   const real w14023 = w13882 - w14022;
   const real w14024 = v[643] * w14017;
   const real w14025 = w14023 - w14024;
   const real w14026 = v[1078] * w14015;
   const real w14027 = w14025 - w14026;
-  v[81] = w14027;
+  out[25] = w14027;  // dvx_locked_rate/dvy_locked
   const real w14028 = w14027 * v[866];
   const real w14029 = w13844 - w14028;
   const real w14030 = v[892] * w14021;
@@ -23900,7 +23894,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14033 = w14031 - w14032;
   const real w14034 = v[1077] * w14015;
   const real w14035 = w14033 - w14034;
-  v[88] = w14035;
+  out[18] = w14035;  // dw_locked_rate/dvy_locked
   const real w14036 = v[1085] * x[5];
   const real w14037 = w14036 * real(3.0);
   const real w14038 = v[446] * v[755];
@@ -24312,22 +24306,22 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14444 = v[975] * w14330;
   const real w14445 = w14443 - w14444;
   const real w14446 = v[925] * w14445;
-  v[95] = w14446;
+  out[47] = w14446;  // dq2_dot_rate/dq1_dot
   const real w14447 = w14446 * v[975];
   const real w14448 = w14331 - w14447;
-  v[96] = w14448;
+  out[40] = w14448;  // dq1_dot_rate/dq1_dot
   const real w14449 = w14448 * v[647];
   const real w14450 = w14218 - w14449;
   const real w14451 = v[1079] * w14446;
   const real w14452 = w14450 - w14451;
-  v[97] = w14452;
+  out[33] = w14452;  // dvy_locked_rate/dq1_dot
   const real w14453 = v[870] * w14452;
   const real w14454 = w14159 - w14453;
   const real w14455 = v[643] * w14448;
   const real w14456 = w14454 - w14455;
   const real w14457 = v[1078] * w14446;
   const real w14458 = w14456 - w14457;
-  v[107] = w14458;
+  out[26] = w14458;  // dvx_locked_rate/dq1_dot
   const real w14459 = v[866] * w14458;
   const real w14460 = w14100 - w14459;
   const real w14461 = w14452 * v[892];
@@ -24336,7 +24330,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14464 = w14462 - w14463;
   const real w14465 = v[1077] * w14446;
   const real w14466 = w14464 - w14465;
-  v[123] = w14466;
+  out[19] = w14466;  // dw_locked_rate/dq1_dot
   const real w14467 = v[755] * v[982];
   const real w14468 = real(0.2) * w14467;
   const real w14469 = v[1009] - w14468;
@@ -24740,22 +24734,22 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14867 = v[975] * w14758;
   const real w14868 = w14866 - w14867;
   const real w14869 = v[925] * w14868;
-  v[124] = w14869;
+  out[48] = w14869;  // dq2_dot_rate/dq2_dot
   const real w14870 = v[975] * w14869;
   const real w14871 = w14759 - w14870;
-  v[125] = w14871;
+  out[41] = w14871;  // dq1_dot_rate/dq2_dot
   const real w14872 = w14871 * v[647];
   const real w14873 = w14647 - w14872;
   const real w14874 = v[1079] * w14869;
   const real w14875 = w14873 - w14874;
-  v[127] = w14875;
+  out[34] = w14875;  // dvy_locked_rate/dq2_dot
   const real w14876 = v[870] * w14875;
   const real w14877 = w14587 - w14876;
   const real w14878 = w14871 * v[643];
   const real w14879 = w14877 - w14878;
   const real w14880 = v[1078] * w14869;
   const real w14881 = w14879 - w14880;
-  v[129] = w14881;
+  out[27] = w14881;  // dvx_locked_rate/dq2_dot
   const real w14882 = w14881 * v[866];
   const real w14883 = w14528 - w14882;
   const real w14884 = w14875 * v[892];
@@ -24764,21 +24758,21 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   const real w14887 = w14885 - w14886;
   const real w14888 = v[1077] * w14869;
   const real w14889 = w14887 - w14888;
-  v[133] = w14889;
+  out[20] = w14889;  // dw_locked_rate/dq2_dot
 }
 
 }  // namespace
 
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   real v[1322];
-  jacobian_part0(t, x, p, in, v);
-  jacobian_part1(t, x, p, in, v);
-  jacobian_part2(t, x, p, in, v);
-  jacobian_part3(t, x, p, in, v);
-  jacobian_part4(t, x, p, in, v);
-  jacobian_part5(t, x, p, in, v);
-  jacobian_part6(t, x, p, in, v);
-  jacobian_part7(t, x, p, in, v);
+  jacobian_part0(t, x, p, in, v, out);
+  jacobian_part1(t, x, p, in, v, out);
+  jacobian_part2(t, x, p, in, v, out);
+  jacobian_part3(t, x, p, in, v, out);
+  jacobian_part4(t, x, p, in, v, out);
+  jacobian_part5(t, x, p, in, v, out);
+  jacobian_part6(t, x, p, in, v, out);
+  jacobian_part7(t, x, p, in, v, out);
   out[0] = real(0.0);  // dq1_dot/dq1
   out[1] = real(0.0);  // dq1_dot/dq2
   out[2] = real(0.0);  // dq1_dot/dw_locked
@@ -24793,41 +24787,6 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[11] = real(0.0);  // dq2_dot/dvy_locked
   out[12] = real(0.0);  // dq2_dot/dq1_dot
   out[13] = real(1.0);  // dq2_dot/dq2_dot
-  out[14] = v[324];  // dw_locked_rate/dq1
-  out[15] = v[30];  // dw_locked_rate/dq2
-  out[16] = v[49];  // dw_locked_rate/dw_locked
-  out[17] = v[64];  // dw_locked_rate/dvx_locked
-  out[18] = v[88];  // dw_locked_rate/dvy_locked
-  out[19] = v[123];  // dw_locked_rate/dq1_dot
-  out[20] = v[133];  // dw_locked_rate/dq2_dot
-  out[21] = v[321];  // dvx_locked_rate/dq1
-  out[22] = v[18];  // dvx_locked_rate/dq2
-  out[23] = v[47];  // dvx_locked_rate/dw_locked
-  out[24] = v[63];  // dvx_locked_rate/dvx_locked
-  out[25] = v[81];  // dvx_locked_rate/dvy_locked
-  out[26] = v[107];  // dvx_locked_rate/dq1_dot
-  out[27] = v[129];  // dvx_locked_rate/dq2_dot
-  out[28] = v[312];  // dvy_locked_rate/dq1
-  out[29] = v[17];  // dvy_locked_rate/dq2
-  out[30] = v[36];  // dvy_locked_rate/dw_locked
-  out[31] = v[61];  // dvy_locked_rate/dvx_locked
-  out[32] = v[70];  // dvy_locked_rate/dvy_locked
-  out[33] = v[97];  // dvy_locked_rate/dq1_dot
-  out[34] = v[127];  // dvy_locked_rate/dq2_dot
-  out[35] = v[311];  // dq1_dot_rate/dq1
-  out[36] = v[7];  // dq1_dot_rate/dq2
-  out[37] = v[32];  // dq1_dot_rate/dw_locked
-  out[38] = v[51];  // dq1_dot_rate/dvx_locked
-  out[39] = v[68];  // dq1_dot_rate/dvy_locked
-  out[40] = v[96];  // dq1_dot_rate/dq1_dot
-  out[41] = v[125];  // dq1_dot_rate/dq2_dot
-  out[42] = v[309];  // dq2_dot_rate/dq1
-  out[43] = v[4];  // dq2_dot_rate/dq2
-  out[44] = v[31];  // dq2_dot_rate/dw_locked
-  out[45] = v[50];  // dq2_dot_rate/dvx_locked
-  out[46] = v[66];  // dq2_dot_rate/dvy_locked
-  out[47] = v[95];  // dq2_dot_rate/dq1_dot
-  out[48] = v[124];  // dq2_dot_rate/dq2_dot
 }
 
 /* energy: (t, x[7], p[10], in[0]) -> out[1]  ops: 204 add, 423 mul, 15 div, 4 call */

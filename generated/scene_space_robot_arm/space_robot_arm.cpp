@@ -13,10 +13,11 @@ namespace {
 /* rhs_with_pivots: (t, x[20], p[26], in[7]) -> out[20], pivots[13]  ops: 1362 add, 1920 mul, 12 div, 14 call */
 namespace {
 
-void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in, real* v) {
+void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in, real* v, real* out, real* pivots) {
   (void)t;
   (void)p;
   (void)in;
+  (void)out;
   const real w0 = std::sin(x[0]);
   v[0] = w0;
   const real w1 = -w0;
@@ -65,6 +66,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   const real w35 = w29 - w34;
   const real w36 = real(0.004700648) + w35;
   v[10] = w36;
+  pivots[1] = w36;  // pivot 1
   const real w37 = real(1.0) / w36;
   v[11] = w37;
   const real w38 = w26 * w37;
@@ -118,6 +120,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   const real w81 = w66 + w80;
   const real w82 = real(0.005749717) + w81;
   v[17] = w82;
+  pivots[2] = w82;  // pivot 2
   const real w83 = real(1.0) / w82;
   v[18] = w83;
   const real w84 = w45 * real(0.0045);
@@ -441,6 +444,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   const real w369 = w368 * real(0.0005);
   const real w370 = w341 + w369;
   v[52] = w370;
+  pivots[3] = w370;  // pivot 3
   const real w371 = real(1.0) / w370;
   v[53] = w371;
   const real w372 = w295 * w371;
@@ -605,6 +609,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   const real w514 = w496 + w513;
   const real w515 = real(0.0127) + w514;
   v[71] = w515;
+  pivots[4] = w515;  // pivot 4
   const real w516 = real(1.0) / w515;
   v[72] = w516;
   const real w517 = real(0.0918) - w469;
@@ -971,6 +976,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   const real w845 = w816 + w844;
   const real w846 = real(0.05792436) + w845;
   v[106] = w846;
+  pivots[5] = w846;  // pivot 5
   const real w847 = real(1.0) / w846;
   v[107] = w847;
   const real w848 = w689 * w847;
@@ -1205,6 +1211,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   const real w1053 = w1041 + w1052;
   const real w1054 = w1053 + real(0.0236);
   v[132] = w1054;
+  pivots[6] = w1054;  // pivot 6
   const real w1055 = real(1.0) / w1054;
   v[133] = w1055;
   const real w1056 = w1010 * w1055;
@@ -1508,7 +1515,7 @@ void rhs_with_pivots_part0(real t, const real* x, const real* p, const real* in,
   v[178] = w1309;
 }
 
-void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in, real* v) {
+void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in, real* v, real* out, real* pivots) {
   (void)t;
   (void)p;
   const real w1310 = v[154] * v[146];
@@ -1583,7 +1590,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w1379 = w1376 - w1378;
   const real w1380 = real(0.113625) * v[170];
   const real w1381 = w1379 - w1380;
-  v[179] = w1381;
+  pivots[7] = w1381;  // pivot 7
   const real w1382 = real(1.0) / w1381;
   const real w1383 = w1359 * w1382;
   const real w1384 = w1383 * w1383;
@@ -1659,7 +1666,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w1454 = w1440 + w1453;
   const real w1455 = w1385 + w1454;
   const real w1456 = -w1455;
-  v[180] = w1456;
+  pivots[8] = w1456;  // pivot 8
   const real w1457 = real(1.0) / w1456;
   const real w1458 = w1383 * w1381;
   const real w1459 = w1377 * real(0.000625);
@@ -3016,7 +3023,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2810 = w1490 * w1490;
   const real w2811 = w2810 * w1381;
   const real w2812 = w2809 - w2811;
-  v[181] = w2812;
+  pivots[9] = w2812;  // pivot 9
   const real w2813 = real(1.0) / w2812;
   const real w2814 = w2768 * w2813;
   const real w2815 = real(0.7575) * v[170];
@@ -3103,7 +3110,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2896 = w2876 * w2876;
   const real w2897 = w2896 * w2812;
   const real w2898 = w2895 - w2897;
-  v[182] = w2898;
+  pivots[10] = w2898;  // pivot 10
   const real w2899 = real(1.0) / w2898;
   const real w2900 = w2883 * w2899;
   const real w2901 = w2900 * w2900;
@@ -3171,7 +3178,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2963 = w2962 * w1456;
   const real w2964 = w2961 + w2963;
   const real w2965 = -w2964;
-  v[183] = w2965;
+  pivots[11] = w2965;  // pivot 11
   const real w2966 = w2923 * w2823;
   const real w2967 = w2849 * w2947;
   const real w2968 = w2837 * w2932;
@@ -3190,7 +3197,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w2981 = w2965 * w2980;
   const real w2982 = w2911 + w2981;
   const real w2983 = -w2982;
-  v[184] = w2983;
+  pivots[12] = w2983;  // pivot 12
   const real w2984 = real(1.0) / w2983;
   const real w2985 = w1532 * x[7];
   const real w2986 = x[8] * w2707;
@@ -3234,13 +3241,13 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3024 = w3022 + w3023;
   const real w3025 = -w3024;
   const real w3026 = w2984 * w3025;
-  v[185] = w3026;
+  out[12] = w3026;  // vz_rate
   const real w3027 = w2849 * w3026;
   const real w3028 = w2814 - w3027;
   const real w3029 = w3015 * w2977;
   const real w3030 = w2979 * w3026;
   const real w3031 = w3029 - w3030;
-  v[186] = w3031;
+  out[11] = w3031;  // vy_rate
   const real w3032 = w2936 * w3031;
   const real w3033 = w3028 - w3032;
   const real w3034 = w2958 * w3031;
@@ -3249,10 +3256,10 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3037 = w3035 - w3036;
   const real w3038 = w3034 + w3037;
   const real w3039 = -w3038;
-  v[187] = w3039;
+  out[10] = w3039;  // vx_rate
   const real w3040 = w3039 * w2876;
   const real w3041 = w3033 - w3040;
-  v[188] = w3041;
+  out[9] = w3041;  // wz_rate
   const real w3042 = w1516 * w3041;
   const real w3043 = w3039 * w2872;
   const real w3044 = w2932 * w3031;
@@ -3263,7 +3270,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3049 = w3043 + w3048;
   const real w3050 = w3042 + w3049;
   const real w3051 = -w3050;
-  v[189] = w3051;
+  out[8] = w3051;  // wy_rate
   const real w3052 = w1383 * w3051;
   const real w3053 = w3041 * w1490;
   const real w3054 = w2916 * w3031;
@@ -3276,7 +3283,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3061 = w3026 * w2823;
   const real w3062 = w3060 + w3061;
   const real w3063 = -w3062;
-  v[190] = w3063;
+  out[7] = w3063;  // wx_rate
   const real w3064 = v[132] * w3041;
   const real w3065 = real(303.0) * w3051;
   const real w3066 = w3039 * real(400.0);
@@ -3325,7 +3332,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3109 = w3108 - w2546;
   const real w3110 = v[133] * w3109;
   const real w3111 = -w3110;
-  v[191] = w3111;
+  out[13] = w3111;  // q1_dot_rate
   const real w3112 = w3085 * v[114];
   const real w3113 = w3112 - w1571;
   const real w3114 = real(81.0) * w3095;
@@ -3364,7 +3371,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3147 = w3145 + w3146;
   const real w3148 = v[107] * w3147;
   const real w3149 = -w3148;
-  v[192] = w3149;
+  out[14] = w3149;  // q2_dot_rate
   const real w3150 = w3130 * v[80];
   const real w3151 = w3095 - w3148;
   const real w3152 = w3151 * v[86];
@@ -3406,7 +3413,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3188 = w3187 - w2244;
   const real w3189 = v[72] * w3188;
   const real w3190 = -w3189;
-  v[193] = w3190;
+  out[15] = w3190;  // q3_dot_rate
   const real w3191 = w3125 - w3189;
   const real w3192 = v[2] * w3191;
   const real w3193 = w3177 * v[57];
@@ -3445,7 +3452,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3226 = w3196 + w3225;
   const real w3227 = v[53] * w3226;
   const real w3228 = -w3227;
-  v[194] = w3228;
+  out[16] = w3228;  // q4_dot_rate
   const real w3229 = v[22] * w3215;
   const real w3230 = w3221 * real(2000.0);
   const real w3231 = real(369.0) * w3200;
@@ -3487,7 +3494,7 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3267 = w3261 + w3266;
   const real w3268 = w3267 * v[18];
   const real w3269 = -w3268;
-  v[195] = w3269;
+  out[17] = w3269;  // q5_dot_rate
   const real w3270 = v[5] * w3215;
   const real w3271 = w3249 * real(431.0);
   const real w3272 = w3242 * real(2000.0);
@@ -3525,17 +3532,17 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
   const real w3304 = w3303 * v[11];
   const real w3305 = w3304 * real(1.6e-08);
   const real w3306 = -w3305;
-  v[196] = w3306;
+  out[18] = w3306;  // q6_dot_rate
   const real w3307 = w1908 - w3290;
-  v[197] = w3307;
+  out[19] = w3307;  // q7_dot_rate
 }
 
 }  // namespace
 
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
-  real v[198];
-  rhs_with_pivots_part0(t, x, p, in, v);
-  rhs_with_pivots_part1(t, x, p, in, v);
+  real v[179];
+  rhs_with_pivots_part0(t, x, p, in, v, out, pivots);
+  rhs_with_pivots_part1(t, x, p, in, v, out, pivots);
   out[0] = x[13];  // q1_dot
   out[1] = x[14];  // q2_dot
   out[2] = x[15];  // q3_dot
@@ -3543,32 +3550,7 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
   out[4] = x[17];  // q5_dot
   out[5] = x[18];  // q6_dot
   out[6] = x[19];  // q7_dot
-  out[7] = v[190];  // wx_rate
-  out[8] = v[189];  // wy_rate
-  out[9] = v[188];  // wz_rate
-  out[10] = v[187];  // vx_rate
-  out[11] = v[186];  // vy_rate
-  out[12] = v[185];  // vz_rate
-  out[13] = v[191];  // q1_dot_rate
-  out[14] = v[192];  // q2_dot_rate
-  out[15] = v[193];  // q3_dot_rate
-  out[16] = v[194];  // q4_dot_rate
-  out[17] = v[195];  // q5_dot_rate
-  out[18] = v[196];  // q6_dot_rate
-  out[19] = v[197];  // q7_dot_rate
   pivots[0] = real(0.002);  // pivot 0
-  pivots[1] = v[10];  // pivot 1
-  pivots[2] = v[17];  // pivot 2
-  pivots[3] = v[52];  // pivot 3
-  pivots[4] = v[71];  // pivot 4
-  pivots[5] = v[106];  // pivot 5
-  pivots[6] = v[132];  // pivot 6
-  pivots[7] = v[179];  // pivot 7
-  pivots[8] = v[180];  // pivot 8
-  pivots[9] = v[181];  // pivot 9
-  pivots[10] = v[182];  // pivot 10
-  pivots[11] = v[183];  // pivot 11
-  pivots[12] = v[184];  // pivot 12
 }
 
 }  // namespace

@@ -121,17 +121,15 @@ void run(EmitOptions opt) {
   write_package(package, opt.output);
   std::string files;
   for (const EmittedFile& f : package.files()) files += (files.empty() ? "" : ", ") + f.name;
-  std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << "\n";
-  const auto report = [&](const Kernel& k) {
-    const OpCounts c = kernels.graph.count(kernels.graph.schedule(k.outputs));
-    std::cerr << "  " << k.name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, "
+  std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << " (" << (package.source.size() + 500) / 1000
+            << " kB of C++";
+  if (package.shared_stages > 0)
+    std::cerr << ", " << package.shared_stages << " shared stage" << (package.shared_stages > 1 ? "s" : "");
+  std::cerr << ")\n";
+  // What one call of each kernel executes as printed (with its shared stages and calls).
+  for (const auto& [name, c] : package.operations)
+    std::cerr << "  " << name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, "
               << c.div << " div, " << c.call << " call)\n";
-  };
-  for (const Kernel& k : kernels.kernels) report(k);
-  if (kernels.prepared) {
-    report(kernels.prepared->prepare);
-    for (const Kernel& k : kernels.prepared->kernels) report(k);
-  }
 }
 
 }  // namespace

@@ -123,6 +123,8 @@ struct Destination {
   std::string shape;
   std::function<std::string(std::size_t)> target;
   std::string arrays;  ///< the head's output arrays as a call passes them on: ", out" or ", out, <second>"
+  /// A split kernel's parts write the outputs they compute; false: the kernel copies them all at its end.
+  bool outputs_in_parts = true;
 };
 
 
@@ -238,8 +240,9 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   // A long kernel is split into parts of at most part_size consecutive statements, each a function of its own: an
   // optimizing compiler's register allocation grows faster than linearly with the length of one function
   // (g++ -O2 spent 75 % of a 63 s compile in LRA on a 44 000-statement file), and a part's code stays
-  // closer to the instruction cache. A value one part computes and a later part (or out[]) reads is passed
-  // in the kernel's stack array v[]; a slot is reused once its value has been read for the last time.
+  // closer to the instruction cache. A value one part computes and a later part reads is passed in the kernel's
+  // stack array v[]; a slot is reused once its value has been read for the last time. Outputs go to out[] from
+  // the part that computes them.
   // Where the parts end: near equal lengths (a short last part would read most of what it needs from v[]: the
   // 4-body tree's rhs, 2 207 statements, ran 11 % slower in parts of 2 000 + 207), and within a quarter of a
   // part of that, at the boundary the fewest values cross (live[b]: statements before b read at or after b).
@@ -252,8 +255,9 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       for (int operand : {n.a, n.b})
         if (operand >= 0 && !leaf.count(operand)) last_use[static_cast<std::size_t>(index.at(operand))] = w;
     }
-    for (int o : k.outputs)
-      if (!leaf.count(o)) last_use[static_cast<std::size_t>(index.at(o))] = work;
+    if (!d.outputs_in_parts)
+      for (int o : k.outputs)
+        if (!leaf.count(o)) last_use[static_cast<std::size_t>(index.at(o))] = work;
     std::vector<int> change(static_cast<std::size_t>(work) + 2, 0);
     for (int w = 0; w < work; ++w) {
       ++change[static_cast<std::size_t>(w) + 1];
@@ -285,8 +289,9 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     for (int operand : {g.node(i).a, g.node(i).b})
       if (operand >= 0 && !leaf.count(operand) && part_of(operand) != part_of(i))
         last_part[operand] = std::max(last_part[operand], part_of(i));
-  for (int o : k.outputs)
-    if (!leaf.count(o)) last_part[o] = parts;
+  if (!d.outputs_in_parts)
+    for (int o : k.outputs)
+      if (!leaf.count(o)) last_part[o] = parts;
   std::map<int, int> slot;
   std::vector<std::vector<int>> expiring(static_cast<std::size_t>(parts) + 1);
   std::set<int> free_slots;
@@ -305,11 +310,25 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     }
   }
   const auto passed = [&](int i) { return "v[" + std::to_string(slot.at(i)) + "]"; };
+  // An output a statement computes is written by the part that computes it, right after it: no slot of v[] unless
+  // a later part reads it too, and no copy at the end. The kernel itself writes the outputs that are leaves.
+  std::map<int, std::vector<std::size_t>> gives;  // statement node -> the outputs it is
+  for (std::size_t o = 0; o < k.outputs.size(); ++o)
+    if (!leaf.count(k.outputs[o]) && d.outputs_in_parts) gives[k.outputs[o]].push_back(o);
+  std::vector<std::string> arrays;  // the destination's arrays, passed on to every part: out, or out and a second
+  for (std::size_t at = 2; at < d.arrays.size();) {
+    const std::size_t end = std::min(d.arrays.find(", ", at), d.arrays.size());
+    arrays.push_back(d.arrays.substr(at, end - at));
+    at = end + 2;
+  }
+  std::string array_parameters;
+  for (const std::string& a : arrays) array_parameters += ", real* " + a;
   os << "namespace {\n\n";
   for (int part = 0; part < parts; ++part) {
     std::ostringstream body;
     bool part_uses[4] = {false, false, false, false};
     std::set<int> read;
+    std::set<std::string> wrote;  // arrays it uses: v (read or written), out, ... (written)
     const auto name_of = [&](int i) {
       if (leaf.count(i)) {
         const Node& n = g.node(i);
@@ -319,23 +338,40 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
           part_uses[static_cast<int>(n.argument)] = true;
         return leaf.at(i);
       }
-      return part_of(i) == part ? local(i) : passed(i);
+      if (part_of(i) == part) return local(i);
+      wrote.insert("v");
+      return passed(i);
     };
     for (int w = start[static_cast<std::size_t>(part)]; w < end_of(part); ++w) {
       const int i = statements[static_cast<std::size_t>(w)];
       body << "  const real " << local(i) << " = " << statement_text(g.node(i), name_of) << ";\n";
-      if (slot.count(i)) body << "  " << passed(i) << " = " << local(i) << ";\n";
+      if (slot.count(i)) {
+        body << "  " << passed(i) << " = " << local(i) << ";\n";
+        wrote.insert("v");
+      }
+      const auto outputs = gives.find(i);
+      if (outputs == gives.end()) continue;
+      for (std::size_t o : outputs->second) {
+        const std::string to = target(o);
+        wrote.insert(to.substr(0, to.find('[')));
+        body << "  " << to << " = " << local(i) << ";  // " << k.output_names[o] << "\n";
+      }
     }
+    std::string voids;
+    for (const std::string& a : arrays)
+      if (!wrote.count(a)) voids += "  (void)" + a + ";\n";
+    if (!wrote.count("v")) voids += "  (void)v;\n";
     os << "void " << k.name << "_part" << part << "(real t, const real* x, const real* p, const real* in, real* v"
-       << stage_parameters(reads) << ") {\n"
-       << argument_voids(part_uses) << stage_voids(reads, read) << body.str() << "}\n\n";
+       << array_parameters << stage_parameters(reads) << ") {\n"
+       << argument_voids(part_uses) << voids << stage_voids(reads, read) << body.str() << "}\n\n";
   }
   os << "}  // namespace\n\n" << head << " {\n  real v[" << std::max(n_slots, 1) << "];\n";
   for (int part = 0; part < parts; ++part)
-    os << "  " << k.name << "_part" << part << "(t, x, p, in, v" << stage_arguments(reads) << ");\n";
+    os << "  " << k.name << "_part" << part << "(t, x, p, in, v" << d.arrays << stage_arguments(reads) << ");\n";
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     const int i = k.outputs[o];
-    os << "  " << target(o) << " = " << (leaf.count(i) ? leaf.at(i) : passed(i)) << ";  // " << k.output_names[o] << "\n";
+    if (leaf.count(i) || !d.outputs_in_parts)
+      os << "  " << target(o) << " = " << (leaf.count(i) ? leaf.at(i) : passed(i)) << ";  // " << k.output_names[o] << "\n";
   }
   os << "}\n";
   return {k.name, os.str(), work + n_slots, c, parts};
@@ -415,6 +451,7 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
     column.output_names.push_back(k.output_names[static_cast<std::size_t>(sub.calls.front().results[r])] + " (first call)");
   Destination placed = to_out(column);
   placed.target = [&offset](std::size_t r) { return "out[" + std::to_string(offset[r]) + "]"; };
+  placed.outputs_in_parts = false;  // measured: tree 30's jacobian ran a third slower with its calls' parts writing out[]
   placed.shape = "out[" + std::to_string(*std::max_element(offset.begin(), offset.end()) + 1) + "], " +
                  std::to_string(n_results) + " of them";
   const PrintedKernel called = print_kernel(
@@ -645,6 +682,8 @@ class PackageWriter {
   std::string c_header() const;  // <name>.h: the C entry points
   std::string cmake() const;     // CMakeLists.txt
   std::string readme() const;    // README.md
+  std::vector<std::pair<std::string, OpCounts>> operations() const;  // EmittedPackage::operations
+  int shared_stages() const { return static_cast<int>(sharing.stages.size() + prepared_sharing.stages.size()); }
 
  private:
   static std::string quoted(const std::string& x) { return "\"" + x + "\""; }
@@ -787,6 +826,16 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
     for (std::size_t i = 0; i < prepared->kernels.size(); ++i)
       printed_prepared.push_back(print_kernel(kernels.graph, prepared->kernels[i], wide, prepared_stages.units[i]));
   }
+}
+
+std::vector<std::pair<std::string, OpCounts>> PackageWriter::operations() const {
+  std::vector<std::pair<std::string, OpCounts>> all;
+  for (const PrintedKernel& k : printed) all.emplace_back(k.name, k.ops);
+  if (prepared) {
+    all.emplace_back("prepare_parameters", kernels.graph.count(kernels.graph.schedule(prepared->prepare.outputs)));
+    for (const PrintedKernel& k : printed_prepared) all.emplace_back(k.name, k.ops);
+  }
+  return all;
 }
 
 std::string PackageWriter::header() const {
@@ -1151,10 +1200,12 @@ std::string PackageWriter::readme() const {
 EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const KernelSet& kernels,
                         const EmitSettings& settings) {
   const PackageWriter writer(model, derivation, kernels, settings);
-  EmittedPackage package{model.name + ".hpp", writer.header(), model.name + ".cpp", writer.source(), {}};
+  EmittedPackage package{model.name + ".hpp", writer.header(), model.name + ".cpp", writer.source(), {}, {}, 0};
   package.extra.push_back({model.name + ".h", writer.c_header()});
   package.extra.push_back({"CMakeLists.txt", writer.cmake()});
   package.extra.push_back({"README.md", writer.readme()});
+  package.operations = writer.operations();
+  package.shared_stages = writer.shared_stages();
   return package;
 }
 

@@ -9,6 +9,7 @@
 #include "model/model.hpp"
 
 #include <string>
+#include <utility>
 #include <vector>
 
 namespace hamel {
@@ -21,6 +22,10 @@ struct EmittedPackage {
   std::string header_name, header;
   std::string source_name, source;
   std::vector<EmittedFile> extra;  ///< CMakeLists.txt and README.md
+  /// Per kernel (then prepare_parameters and the prepared kernels), the operations one call executes as printed:
+  /// with its shared stages and, for a kernel with calls, every call's (what each kernel's comment reports).
+  std::vector<std::pair<std::string, OpCounts>> operations;
+  int shared_stages = 0;  ///< functions shared_<k> (and prepared_shared_<k>) printed
 
   /// Every file of the package, header and source first.
   std::vector<EmittedFile> files() const;

@@ -18,7 +18,7 @@
 // reads them back. A stage of many statements per export (rhs's articulated-body recursion, which the jacobian
 // reuses: 16 000 statements, 74 exports on the 30-joint chain) costs nothing measurable; one of a few statements
 // per export (the composite inertias that mass_matrix, connection and shape_inertia read, 7 per export) made those
-// kernels 20-35 % slower (docs/benchmarks.md). Hence `min_ratio`.
+// kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio`.
 #pragma once
 
 #include "emit/expression_graph.hpp"

@@ -145,8 +145,8 @@ TEST(Cli, EmitSplitPrintsLongKernelsInParts) {
   // The first line of every file records the options emit was given.
   EXPECT_NE(a.substr(0, a.find('\n')).find("; emit --split 0). Do not edit."), std::string::npos) << a.substr(0, 200);
   EXPECT_NE(b.substr(0, b.find('\n')).find("; emit --split 30). Do not edit."), std::string::npos) << b.substr(0, 200);
-  EXPECT_NE(b.find("void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v) {"), std::string::npos);
-  EXPECT_NE(b.find("  jacobian_part1(t, x, p, in, v);"), std::string::npos);
+  EXPECT_NE(b.find("void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {"), std::string::npos);
+  EXPECT_NE(b.find("  jacobian_part1(t, x, p, in, v, out);"), std::string::npos);
   // A split rhs is printed once, as rhs_with_pivots, which rhs and rhs_status call.
   EXPECT_NE(b.find("void rhs_with_pivots_part0("), std::string::npos);
   EXPECT_NE(b.find("  rhs_with_pivots(t, x, p, in, out, pivots);"), std::string::npos);

@@ -1,8 +1,9 @@
 // Long kernels printed in parts (emit --split N): every part has at most N statements, values cross parts in
-// the stack array v[], and a slot is reused once its value has been read for the last time. The printed text
-// is run by a small interpreter of its statements (locals scoped to their part, v[] starting as NaN, so a
-// value read after its slot was reused or read from another part's locals shows up) and compared with the
-// generator's own evaluation of the graph (GraphEvaluator), for random programs and every part size from 1.
+// the stack array v[] (outputs go to out[] from the part that computes them), and a slot is reused once its value
+// has been read for the last time. The printed text is run by a small interpreter of its statements (locals
+// scoped to their part, v[] starting as NaN, so a value read after its slot was reused or read from another
+// part's locals shows up) and compared with the generator's own evaluation of the graph (GraphEvaluator), for
+// random programs and every part size from 1.
 #include "emit/cpp_emitter.hpp"
 #include "emit/expression_graph.hpp"
 #include "numeric/graph_evaluator.hpp"
@@ -145,7 +146,7 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
       } else if (w.size() == 2 && w[0] == "real" && starts(w[1], "v[") && ends(w[1], "];")) {
         run.slots = static_cast<int>(subscript(w[1]));
         v.assign(static_cast<std::size_t>(run.slots), std::numeric_limits<double>::quiet_NaN());
-      } else if (starts(l, "  f_part") && ends(l, "(t, x, p, in, v);")) {
+      } else if (starts(l, "  f_part") && ends(l, "(t, x, p, in, v, out);")) {
         const int called = std::stoi(l.substr(8, l.find('(') - 8));
         EXPECT_TRUE(parts.count(called)) << l;
         if (parts.count(called)) execute(parts.at(called), called);

@@ -117,31 +117,29 @@ std::string argument_voids(const bool uses[4]) {
   return s;
 }
 
-// Where a printed kernel's outputs go: its signature (`head`), the shape in its comment, and output o's target.
+// Where a printed kernel's outputs go: the arrays its signature takes (head_of), the shape in its comment, and output
+// o's target.
 struct Destination {
-  std::string head;
+  std::vector<std::string> arrays;  ///< the arrays it writes, its parameters after (t, x, p, in): out, or out and a second
   std::string shape;
   std::function<std::string(std::size_t)> target;
-  std::string arrays;  ///< the head's output arrays as a call passes them on: ", out" or ", out, <second>"
   /// A split kernel's parts write the outputs they compute; false: the kernel copies them all at its end.
   bool outputs_in_parts = true;
 };
 
-
 // The kernel ABI: out[o].
 Destination to_out(const Kernel& k) {
-  return {signature(k), "out[" + std::to_string(k.outputs.size()) + "]",
-          [](std::size_t o) { return "out[" + std::to_string(o) + "]"; }, ", out"};
+  return {{"out"}, "out[" + std::to_string(k.outputs.size()) + "]",
+          [](std::size_t o) { return "out[" + std::to_string(o) + "]"; }};
 }
 
 // Outputs before `first` to out[], the others to a second array `second`, an extra argument.
 Destination to_two_arrays(const Kernel& k, std::size_t first, const std::string& second) {
-  return {"void " + k.name + "(real t, const real* x, const real* p, const real* in, real* out, real* " + second + ")",
+  return {{"out", second},
           "out[" + std::to_string(first) + "], " + second + "[" + std::to_string(k.outputs.size() - first) + "]",
           [first, second](std::size_t o) {
             return o < first ? "out[" + std::to_string(o) + "]" : second + "[" + std::to_string(o - first) + "]";
-          },
-          ", out, " + second};
+          }};
 }
 
 // Kernel k's comment line: its argument and output sizes, how it is printed, and the operations it executes.
@@ -170,9 +168,17 @@ std::string stage_voids(const StageReads* reads, const std::set<int>& read) {
       if (!read.count(stage)) text += "  (void)" + stage_array(stage) + ";\n";
   return text;
 }
-// `head` with the arrays of the stages `reads` names as further parameters.
-std::string with_stage_parameters(const std::string& head, const StageReads* reads) {
-  return head.substr(0, head.size() - 1) + stage_parameters(reads) + ")";
+// The signature of a function `name` printed to `d`: (t, x, p, in), the arrays of `d`, the stage arrays it reads.
+std::string head_of(const Destination& d, const std::string& name, const StageReads* reads) {
+  std::string text = "void " + name + "(real t, const real* x, const real* p, const real* in";
+  for (const std::string& a : d.arrays) text += ", real* " + a;
+  return text + stage_parameters(reads) + ")";
+}
+// Its arrays as a call passes them on: ", out" or ", out, <second>".
+std::string array_arguments(const Destination& d) {
+  std::string text;
+  for (const std::string& a : d.arrays) text += ", " + a;
+  return text;
 }
 std::string stage_arguments(const StageReads* reads) {
   std::string text;
@@ -191,7 +197,7 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     for (const auto& entry : reads->value) given[static_cast<std::size_t>(entry.first)] = 1;
   }
   const std::vector<int> order = g.schedule(k.outputs, given);
-  const std::string& head = d.head;
+  const std::string head = head_of(d, k.name, reads);
   const auto& target = d.target;
   // Leaves (constants, arguments and values read from stages) are written in place; every other node is a statement.
   std::map<int, std::string> leaf;
@@ -315,14 +321,6 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   std::map<int, std::vector<std::size_t>> gives;  // statement node -> the outputs it is
   for (std::size_t o = 0; o < k.outputs.size(); ++o)
     if (!leaf.count(k.outputs[o]) && d.outputs_in_parts) gives[k.outputs[o]].push_back(o);
-  std::vector<std::string> arrays;  // the destination's arrays, passed on to every part: out, or out and a second
-  for (std::size_t at = 2; at < d.arrays.size();) {
-    const std::size_t end = std::min(d.arrays.find(", ", at), d.arrays.size());
-    arrays.push_back(d.arrays.substr(at, end - at));
-    at = end + 2;
-  }
-  std::string array_parameters;
-  for (const std::string& a : arrays) array_parameters += ", real* " + a;
   os << "namespace {\n\n";
   for (int part = 0; part < parts; ++part) {
     std::ostringstream body;
@@ -358,16 +356,17 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       }
     }
     std::string voids;
-    for (const std::string& a : arrays)
+    for (const std::string& a : d.arrays)
       if (!wrote.count(a)) voids += "  (void)" + a + ";\n";
     if (!wrote.count("v")) voids += "  (void)v;\n";
-    os << "void " << k.name << "_part" << part << "(real t, const real* x, const real* p, const real* in, real* v"
-       << array_parameters << stage_parameters(reads) << ") {\n"
+    Destination with_v = d;  // a part also gets v[]
+    with_v.arrays.insert(with_v.arrays.begin(), "v");
+    os << head_of(with_v, k.name + "_part" + std::to_string(part), reads) << " {\n"
        << argument_voids(part_uses) << voids << stage_voids(reads, read) << body.str() << "}\n\n";
   }
   os << "}  // namespace\n\n" << head << " {\n  real v[" << std::max(n_slots, 1) << "];\n";
   for (int part = 0; part < parts; ++part)
-    os << "  " << k.name << "_part" << part << "(t, x, p, in, v" << d.arrays << stage_arguments(reads) << ");\n";
+    os << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(reads) << ");\n";
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     const int i = k.outputs[o];
     if (leaf.count(i) || !d.outputs_in_parts)
@@ -461,7 +460,6 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   const Kernel stage = stage_of(k, sub, direct);
   const std::size_t first = direct.size(), n_scratch = stage.outputs.size() - first;
   Destination into = to_two_arrays(stage, first, "scratch");
-  into.head = with_stage_parameters(into.head, stages.reads);
   into.target = [&](std::size_t o) {
     return o < first ? "out[" + std::to_string(direct[o]) + "]" : "scratch[" + std::to_string(o - first) + "]";
   };
@@ -495,18 +493,16 @@ PrintedKernel print_after_stages(const ExpressionGraph& g, const Kernel& k, cons
   Kernel own = k;
   own.name = k.name + "_own";
   own.calls = nullptr;
-  Destination to = d;
-  to.head = with_stage_parameters(d.head, stages.reads);
-  to.head.replace(to.head.find(" " + k.name + "("), k.name.size() + 2, " " + own.name + "(");
-  const PrintedKernel printed = print_kernel(g, own, s, to, stages.reads);
+  const PrintedKernel printed = print_kernel(g, own, s, d, stages.reads);
   OpCounts total = stages.ops;
   total.add_times(1, printed.ops);
   std::vector<std::string> steps = stages.names;
   steps.push_back(own.name);
   std::ostringstream os;
   os << "namespace {\n\n" << printed.text << "\n}  // namespace\n\n"
-     << kernel_comment(k, s, d.shape, ": " + joined(steps), total) << d.head << " {\n"
-     << stages.prologue << "  " << own.name << "(t, x, p, in" << d.arrays << stage_arguments(stages.reads) << ");\n}\n";
+     << kernel_comment(k, s, d.shape, ": " + joined(steps), total) << head_of(d, k.name, nullptr) << " {\n"
+     << stages.prologue << "  " << own.name << "(t, x, p, in" << array_arguments(d) << stage_arguments(stages.reads)
+     << ");\n}\n";
   return {k.name, os.str(), stages.temporaries + printed.temporaries, total, printed.parts};
 }
 
@@ -531,8 +527,6 @@ PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, co
     Kernel fn{prefix + "shared_" + std::to_string(i), "", stage.exports, {}, nullptr};
     for (std::size_t e = 0; e < stage.exports.size(); ++e) fn.output_names.push_back("export " + std::to_string(e));
     Destination d = to_out(fn);
-    d.head = "void " + fn.name + "(real t, const real* x, const real* p, const real* in, real* out" +
-             stage_parameters(&stage.reads) + ")";
     d.shape = "out[" + std::to_string(stage.exports.size()) + "], called by " + std::to_string(stage.units.size()) + " kernels";
     printed.push_back(print_kernel(g, fn, s, d, &stage.reads));
     out.text += printed.back().text + "\n";

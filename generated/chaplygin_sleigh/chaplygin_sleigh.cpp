@@ -13,30 +13,18 @@ namespace {
 /* rhs_with_pivots: (t, x[5], p[3], in[2]) -> out[5], pivots[2]  ops: 3 add, 10 mul, 2 div, 2 call */
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = x[3] * w0;
-  const real w2 = std::sin(x[2]);
-  const real w3 = x[3] * w2;
-  const real w4 = x[4] * x[4];
-  const real w5 = p[2] * p[0];
-  const real w6 = w4 * w5;
-  const real w7 = w6 + in[1];
-  const real w8 = w7 / p[0];
-  const real w9 = x[3] * p[2];
-  const real w10 = p[0] * w9;
-  const real w11 = w10 * x[4];
-  const real w12 = in[0] - w11;
-  const real w13 = p[2] * p[2];
-  const real w14 = w13 * p[0];
-  const real w15 = p[1] + w14;
-  const real w16 = w12 / w15;
-  out[0] = w1;  // x_dot
-  out[1] = w3;  // y_dot
+  const real w0 = x[3] * std::cos(x[2]);
+  const real w1 = x[3] * std::sin(x[2]);
+  const real w2 = (x[4] * x[4] * (p[2] * p[0]) + in[1]) / p[0];
+  const real w3 = p[1] + p[2] * p[2] * p[0];
+  const real w4 = (in[0] - p[0] * (x[3] * p[2]) * x[4]) / w3;
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
-  out[3] = w8;  // v_rate
-  out[4] = w16;  // omega_rate
+  out[3] = w2;  // v_rate
+  out[4] = w4;  // omega_rate
   pivots[0] = p[0];  // pivot 0
-  pivots[1] = w15;  // pivot 1
+  pivots[1] = w3;  // pivot 1
 }
 
 }  // namespace
@@ -46,12 +34,10 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   (void)t;
   (void)p;
   (void)in;
-  const real w0 = std::cos(x[2]);
-  const real w1 = x[3] * w0;
-  const real w2 = std::sin(x[2]);
-  const real w3 = x[3] * w2;
-  out[0] = w1;  // x_dot
-  out[1] = w3;  // y_dot
+  const real w0 = x[3] * std::cos(x[2]);
+  const real w1 = x[3] * std::sin(x[2]);
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
 }
 
@@ -60,28 +46,20 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = p[2] * p[2];
-  const real w1 = w0 * p[0];
-  const real w2 = p[1] + w1;
+  const real w0 = p[1] + p[2] * p[2] * p[0];
   out[0] = p[0];  // M[v][v]
   out[1] = real(0.0);  // M[v][omega]
   out[2] = real(0.0);  // M[omega][v]
-  out[3] = w2;  // M[omega][omega]
+  out[3] = w0;  // M[omega][omega]
 }
 
 /* forcing: (t, x[5], p[3], in[2]) -> out[2]  ops: 2 add, 6 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
-  const real w0 = x[4] * x[4];
-  const real w1 = p[2] * p[0];
-  const real w2 = w0 * w1;
-  const real w3 = w2 + in[1];
-  const real w4 = x[3] * p[2];
-  const real w5 = p[0] * w4;
-  const real w6 = w5 * x[4];
-  const real w7 = in[0] - w6;
-  out[0] = w3;  // f[v]
-  out[1] = w7;  // f[omega]
+  const real w0 = x[4] * x[4] * (p[2] * p[0]) + in[1];
+  const real w1 = in[0] - p[0] * (x[3] * p[2]) * x[4];
+  out[0] = w0;  // f[v]
+  out[1] = w1;  // f[omega]
 }
 
 /* hamel_coefficients: (t, x[5], p[3], in[2]) -> out[4]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -99,28 +77,15 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
 /* rhs: (t, x[5], p[3], in[2]) -> out[5]  ops: 3 add, 10 mul, 2 div, 2 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = x[3] * w0;
-  const real w2 = std::sin(x[2]);
-  const real w3 = x[3] * w2;
-  const real w4 = x[4] * x[4];
-  const real w5 = p[2] * p[0];
-  const real w6 = w4 * w5;
-  const real w7 = w6 + in[1];
-  const real w8 = w7 / p[0];
-  const real w9 = x[3] * p[2];
-  const real w10 = p[0] * w9;
-  const real w11 = w10 * x[4];
-  const real w12 = in[0] - w11;
-  const real w13 = p[2] * p[2];
-  const real w14 = w13 * p[0];
-  const real w15 = p[1] + w14;
-  const real w16 = w12 / w15;
-  out[0] = w1;  // x_dot
-  out[1] = w3;  // y_dot
+  const real w0 = x[3] * std::cos(x[2]);
+  const real w1 = x[3] * std::sin(x[2]);
+  const real w2 = (x[4] * x[4] * (p[2] * p[0]) + in[1]) / p[0];
+  const real w3 = (in[0] - p[0] * (x[3] * p[2]) * x[4]) / (p[1] + p[2] * p[2] * p[0]);
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
-  out[3] = w8;  // v_rate
-  out[4] = w16;  // omega_rate
+  out[3] = w2;  // v_rate
+  out[4] = w3;  // omega_rate
 }
 
 /* jacobian: (t, x[5], p[3], in[2]) -> out[25]  ops: 4 add, 12 mul, 2 div, 2 call */
@@ -128,33 +93,22 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[2]);
-  const real w1 = x[3] * w0;
-  const real w2 = -w1;
-  const real w3 = std::cos(x[2]);
-  const real w4 = x[3] * w3;
-  const real w5 = real(1.0) / p[0];
-  const real w6 = p[2] * p[0];
-  const real w7 = w6 * x[4];
-  const real w8 = w7 * real(2.0);
-  const real w9 = w5 * w8;
-  const real w10 = -w7;
-  const real w11 = p[2] * p[2];
-  const real w12 = w11 * p[0];
-  const real w13 = p[1] + w12;
-  const real w14 = real(1.0) / w13;
-  const real w15 = w10 * w14;
-  const real w16 = x[3] * p[2];
-  const real w17 = p[0] * w16;
-  const real w18 = -w17;
-  const real w19 = w18 * w14;
+  const real w1 = -(x[3] * w0);
+  const real w2 = std::cos(x[2]);
+  const real w3 = x[3] * w2;
+  const real w4 = p[2] * p[0] * x[4];
+  const real w5 = real(1.0) / p[0] * (w4 * real(2.0));
+  const real w6 = real(1.0) / (p[1] + p[2] * p[2] * p[0]);
+  const real w7 = -w4 * w6;
+  const real w8 = -(p[0] * (x[3] * p[2])) * w6;
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
-  out[2] = w2;  // dx_dot/dtheta
-  out[3] = w3;  // dx_dot/dv
+  out[2] = w1;  // dx_dot/dtheta
+  out[3] = w2;  // dx_dot/dv
   out[4] = real(0.0);  // dx_dot/domega
   out[5] = real(0.0);  // dy_dot/dx
   out[6] = real(0.0);  // dy_dot/dy
-  out[7] = w4;  // dy_dot/dtheta
+  out[7] = w3;  // dy_dot/dtheta
   out[8] = w0;  // dy_dot/dv
   out[9] = real(0.0);  // dy_dot/domega
   out[10] = real(0.0);  // dtheta_dot/dx
@@ -166,12 +120,12 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[16] = real(0.0);  // dv_rate/dy
   out[17] = real(0.0);  // dv_rate/dtheta
   out[18] = real(0.0);  // dv_rate/dv
-  out[19] = w9;  // dv_rate/domega
+  out[19] = w5;  // dv_rate/domega
   out[20] = real(0.0);  // domega_rate/dx
   out[21] = real(0.0);  // domega_rate/dy
   out[22] = real(0.0);  // domega_rate/dtheta
-  out[23] = w15;  // domega_rate/dv
-  out[24] = w19;  // domega_rate/domega
+  out[23] = w7;  // domega_rate/dv
+  out[24] = w8;  // domega_rate/domega
 }
 
 /* energy: (t, x[5], p[3], in[2]) -> out[1]  ops: 2 add, 10 mul, 0 div, 0 call */
@@ -179,18 +133,8 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = x[4] * x[4];
-  const real w1 = p[1] * w0;
-  const real w2 = real(0.5) * w1;
-  const real w3 = p[2] * p[2];
-  const real w4 = w3 * p[0];
-  const real w5 = w0 * w4;
-  const real w6 = real(0.5) * w5;
-  const real w7 = w2 + w6;
-  const real w8 = x[3] * x[3];
-  const real w9 = p[0] * w8;
-  const real w10 = real(0.5) * w9;
-  const real w11 = w7 + w10;
-  out[0] = w11;  // E
+  const real w1 = real(0.5) * (p[1] * w0) + real(0.5) * (w0 * (p[2] * p[2] * p[0])) + real(0.5) * (p[0] * (x[3] * x[3]));
+  out[0] = w1;  // E
 }
 
 /* constraint_residual: (t, x[5], p[3], in[2]) -> out[1]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -249,22 +193,17 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   (void)in;
   const real w0 = real(1.0) / p[0];
   const real w1 = p[2] * p[0];
-  const real w2 = p[2] * p[2];
-  const real w3 = w2 * p[0];
-  const real w4 = p[1] + w3;
-  const real w5 = real(1.0) / w4;
-  const real w6 = w1 * real(2.0);
-  const real w7 = w6 * w0;
-  const real w8 = -w1;
-  const real w9 = w8 * w5;
+  const real w2 = real(1.0) / (p[1] + p[2] * p[2] * p[0]);
+  const real w3 = w1 * real(2.0) * w0;
+  const real w4 = -w1 * w2;
   out[0] = p[0];  // m
   out[1] = p[1];  // J
   out[2] = p[2];  // a
   out[3] = w0;  // prepared 0
   out[4] = w1;  // prepared 1
-  out[5] = w5;  // prepared 2
-  out[6] = w7;  // prepared 3
-  out[7] = w9;  // prepared 4
+  out[5] = w2;  // prepared 2
+  out[6] = w3;  // prepared 3
+  out[7] = w4;  // prepared 4
 }
 
 }  // namespace
@@ -276,23 +215,15 @@ void prepare_parameters(const real* p, real* prepared) {
 /* rhs_prepared: (t, x[5], p[8], in[2]) -> out[5]  ops: 2 add, 8 mul, 0 div, 2 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = x[3] * w0;
-  const real w2 = std::sin(x[2]);
-  const real w3 = x[3] * w2;
-  const real w4 = x[4] * x[4];
-  const real w5 = w4 * p[4];
-  const real w6 = in[1] + w5;
-  const real w7 = w6 * p[3];
-  const real w8 = x[3] * x[4];
-  const real w9 = w8 * p[4];
-  const real w10 = in[0] - w9;
-  const real w11 = p[5] * w10;
-  out[0] = w1;  // x_dot
-  out[1] = w3;  // y_dot
+  const real w0 = x[3] * std::cos(x[2]);
+  const real w1 = x[3] * std::sin(x[2]);
+  const real w2 = (in[1] + x[4] * x[4] * p[4]) * p[3];
+  const real w3 = p[5] * (in[0] - x[3] * x[4] * p[4]);
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
-  out[3] = w7;  // v_rate
-  out[4] = w11;  // omega_rate
+  out[3] = w2;  // v_rate
+  out[4] = w3;  // omega_rate
 }
 
 /* jacobian_prepared: (t, x[5], p[8], in[2]) -> out[25]  ops: 1 add, 5 mul, 0 div, 2 call */
@@ -300,21 +231,20 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   (void)t;
   (void)in;
   const real w0 = std::sin(x[2]);
-  const real w1 = x[3] * w0;
-  const real w2 = -w1;
-  const real w3 = std::cos(x[2]);
-  const real w4 = x[3] * w3;
-  const real w5 = p[6] * x[4];
-  const real w6 = p[7] * x[4];
-  const real w7 = x[3] * p[7];
+  const real w1 = -(x[3] * w0);
+  const real w2 = std::cos(x[2]);
+  const real w3 = x[3] * w2;
+  const real w4 = p[6] * x[4];
+  const real w5 = p[7] * x[4];
+  const real w6 = x[3] * p[7];
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
-  out[2] = w2;  // dx_dot/dtheta
-  out[3] = w3;  // dx_dot/dv
+  out[2] = w1;  // dx_dot/dtheta
+  out[3] = w2;  // dx_dot/dv
   out[4] = real(0.0);  // dx_dot/domega
   out[5] = real(0.0);  // dy_dot/dx
   out[6] = real(0.0);  // dy_dot/dy
-  out[7] = w4;  // dy_dot/dtheta
+  out[7] = w3;  // dy_dot/dtheta
   out[8] = w0;  // dy_dot/dv
   out[9] = real(0.0);  // dy_dot/domega
   out[10] = real(0.0);  // dtheta_dot/dx
@@ -326,12 +256,12 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[16] = real(0.0);  // dv_rate/dy
   out[17] = real(0.0);  // dv_rate/dtheta
   out[18] = real(0.0);  // dv_rate/dv
-  out[19] = w5;  // dv_rate/domega
+  out[19] = w4;  // dv_rate/domega
   out[20] = real(0.0);  // domega_rate/dx
   out[21] = real(0.0);  // domega_rate/dy
   out[22] = real(0.0);  // domega_rate/dtheta
-  out[23] = w6;  // domega_rate/dv
-  out[24] = w7;  // domega_rate/domega
+  out[23] = w5;  // domega_rate/dv
+  out[24] = w6;  // domega_rate/domega
 }
 
 }  // namespace chaplygin_sleigh

@@ -14,22 +14,12 @@ namespace {
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
   (void)in;
-  const real w0 = x[1] * x[2];
-  const real w1 = p[1] - p[2];
-  const real w2 = w0 * w1;
-  const real w3 = w2 / p[0];
-  const real w4 = p[2] - p[0];
-  const real w5 = w4 * x[2];
-  const real w6 = w5 * x[0];
-  const real w7 = w6 / p[1];
-  const real w8 = p[1] - p[0];
-  const real w9 = w8 * x[1];
-  const real w10 = w9 * x[0];
-  const real w11 = -w10;
-  const real w12 = w11 / p[2];
-  out[0] = w3;  // wx_rate
-  out[1] = w7;  // wy_rate
-  out[2] = w12;  // wz_rate
+  const real w0 = x[1] * x[2] * (p[1] - p[2]) / p[0];
+  const real w1 = (p[2] - p[0]) * x[2] * x[0] / p[1];
+  const real w2 = -((p[1] - p[0]) * x[1] * x[0]) / p[2];
+  out[0] = w0;  // wx_rate
+  out[1] = w1;  // wy_rate
+  out[2] = w2;  // wz_rate
   pivots[0] = p[0];  // pivot 0
   pivots[1] = p[1];  // pivot 1
   pivots[2] = p[2];  // pivot 2
@@ -66,19 +56,12 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[1] * x[2];
-  const real w1 = p[1] - p[2];
-  const real w2 = w0 * w1;
-  const real w3 = p[2] - p[0];
-  const real w4 = w3 * x[2];
-  const real w5 = w4 * x[0];
-  const real w6 = p[1] - p[0];
-  const real w7 = w6 * x[1];
-  const real w8 = w7 * x[0];
-  const real w9 = -w8;
-  out[0] = w2;  // f[wx]
-  out[1] = w5;  // f[wy]
-  out[2] = w9;  // f[wz]
+  const real w0 = x[1] * x[2] * (p[1] - p[2]);
+  const real w1 = (p[2] - p[0]) * x[2] * x[0];
+  const real w2 = -((p[1] - p[0]) * x[1] * x[0]);
+  out[0] = w0;  // f[wx]
+  out[1] = w1;  // f[wy]
+  out[2] = w2;  // f[wz]
 }
 
 /* hamel_coefficients: (t, x[3], p[3], in[0]) -> out[6]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -99,22 +82,12 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[1] * x[2];
-  const real w1 = p[1] - p[2];
-  const real w2 = w0 * w1;
-  const real w3 = w2 / p[0];
-  const real w4 = p[2] - p[0];
-  const real w5 = w4 * x[2];
-  const real w6 = w5 * x[0];
-  const real w7 = w6 / p[1];
-  const real w8 = p[1] - p[0];
-  const real w9 = w8 * x[1];
-  const real w10 = w9 * x[0];
-  const real w11 = -w10;
-  const real w12 = w11 / p[2];
-  out[0] = w3;  // wx_rate
-  out[1] = w7;  // wy_rate
-  out[2] = w12;  // wz_rate
+  const real w0 = x[1] * x[2] * (p[1] - p[2]) / p[0];
+  const real w1 = (p[2] - p[0]) * x[2] * x[0] / p[1];
+  const real w2 = -((p[1] - p[0]) * x[1] * x[0]) / p[2];
+  out[0] = w0;  // wx_rate
+  out[1] = w1;  // wy_rate
+  out[2] = w2;  // wz_rate
 }
 
 /* jacobian: (t, x[3], p[3], in[0]) -> out[9]  ops: 5 add, 12 mul, 3 div, 0 call */
@@ -122,33 +95,25 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = p[1] - p[2];
-  const real w1 = x[2] * w0;
-  const real w2 = real(1.0) / p[0];
-  const real w3 = w1 * w2;
-  const real w4 = x[1] * w0;
-  const real w5 = w4 * w2;
-  const real w6 = real(1.0) / p[1];
-  const real w7 = p[2] - p[0];
-  const real w8 = w7 * x[2];
-  const real w9 = w6 * w8;
-  const real w10 = w7 * x[0];
-  const real w11 = w6 * w10;
-  const real w12 = real(1.0) / p[2];
-  const real w13 = p[1] - p[0];
-  const real w14 = w13 * x[1];
-  const real w15 = -w14;
-  const real w16 = w12 * w15;
-  const real w17 = w13 * x[0];
-  const real w18 = -w17;
-  const real w19 = w18 * w12;
+  const real w1 = real(1.0) / p[0];
+  const real w2 = x[2] * w0 * w1;
+  const real w3 = x[1] * w0 * w1;
+  const real w4 = real(1.0) / p[1];
+  const real w5 = p[2] - p[0];
+  const real w6 = w4 * (w5 * x[2]);
+  const real w7 = w4 * (w5 * x[0]);
+  const real w8 = real(1.0) / p[2];
+  const real w9 = p[1] - p[0];
+  const real w10 = w8 * -(w9 * x[1]);
+  const real w11 = -(w9 * x[0]) * w8;
   out[0] = real(0.0);  // dwx_rate/dwx
-  out[1] = w3;  // dwx_rate/dwy
-  out[2] = w5;  // dwx_rate/dwz
-  out[3] = w9;  // dwy_rate/dwx
+  out[1] = w2;  // dwx_rate/dwy
+  out[2] = w3;  // dwx_rate/dwz
+  out[3] = w6;  // dwy_rate/dwx
   out[4] = real(0.0);  // dwy_rate/dwy
-  out[5] = w11;  // dwy_rate/dwz
-  out[6] = w16;  // dwz_rate/dwx
-  out[7] = w19;  // dwz_rate/dwy
+  out[5] = w7;  // dwy_rate/dwz
+  out[6] = w10;  // dwz_rate/dwx
+  out[7] = w11;  // dwz_rate/dwy
   out[8] = real(0.0);  // dwz_rate/dwz
 }
 
@@ -156,18 +121,8 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[1] * x[1];
-  const real w1 = p[1] * w0;
-  const real w2 = real(0.5) * w1;
-  const real w3 = x[0] * x[0];
-  const real w4 = p[0] * w3;
-  const real w5 = real(0.5) * w4;
-  const real w6 = x[2] * x[2];
-  const real w7 = p[2] * w6;
-  const real w8 = w7 * real(0.5);
-  const real w9 = w5 + w8;
-  const real w10 = w2 + w9;
-  out[0] = w10;  // E
+  const real w0 = real(0.5) * (p[1] * (x[1] * x[1])) + (real(0.5) * (p[0] * (x[0] * x[0])) + p[2] * (x[2] * x[2]) * real(0.5));
+  out[0] = w0;  // E
 }
 
 /* group_velocity: (t, x[3], p[3], in[0]) -> out[3]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -241,21 +196,15 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = real(1.0) / p[0];
-  const real w1 = p[1] - p[2];
-  const real w2 = w0 * w1;
-  const real w3 = real(1.0) / p[1];
-  const real w4 = p[2] - p[0];
-  const real w5 = w3 * w4;
-  const real w6 = real(1.0) / p[2];
-  const real w7 = p[0] - p[1];
-  const real w8 = w6 * w7;
+  const real w0 = real(1.0) / p[0] * (p[1] - p[2]);
+  const real w1 = real(1.0) / p[1] * (p[2] - p[0]);
+  const real w2 = real(1.0) / p[2] * (p[0] - p[1]);
   out[0] = p[0];  // I1
   out[1] = p[1];  // I2
   out[2] = p[2];  // I3
-  out[3] = w2;  // prepared 0
-  out[4] = w5;  // prepared 1
-  out[5] = w8;  // prepared 2
+  out[3] = w0;  // prepared 0
+  out[4] = w1;  // prepared 1
+  out[5] = w2;  // prepared 2
 }
 
 }  // namespace
@@ -268,15 +217,12 @@ void prepare_parameters(const real* p, real* prepared) {
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[1] * x[2];
-  const real w1 = w0 * p[3];
-  const real w2 = x[2] * x[0];
-  const real w3 = w2 * p[4];
-  const real w4 = x[1] * x[0];
-  const real w5 = p[5] * w4;
-  out[0] = w1;  // wx_rate
-  out[1] = w3;  // wy_rate
-  out[2] = w5;  // wz_rate
+  const real w0 = x[1] * x[2] * p[3];
+  const real w1 = x[2] * x[0] * p[4];
+  const real w2 = p[5] * (x[1] * x[0]);
+  out[0] = w0;  // wx_rate
+  out[1] = w1;  // wy_rate
+  out[2] = w2;  // wz_rate
 }
 
 /* jacobian_prepared: (t, x[3], p[6], in[0]) -> out[9]  ops: 0 add, 6 mul, 0 div, 0 call */

@@ -10,8 +10,8 @@
 // are ignored, see README.md); in: inputs (n_inputs, may be null when n_inputs == 0); out: the
 // kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and
 // branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is
-// n_temporaries_<kernel> named locals (an upper bound; the compiler keeps most in registers).
-// A kernel longer than 2000 statements is printed as functions <kernel>_part<k> of at most that many,
+// n_temporaries_<kernel> reals, one per operation (an upper bound; the compiler keeps most in registers).
+// A kernel longer than 2000 operations is printed as functions <kernel>_part<k> of at most that many,
 // called in turn, which pass values in a local array v[] (counted in n_temporaries).
 // Scalar type: define HAMEL_PLANAR_SPACE_ROBOT_REAL (e.g. to float) before including this header and
 // when compiling planar_space_robot.cpp (CMake: -DHAMEL_PLANAR_SPACE_ROBOT_REAL=float); the kernels' signatures

@@ -63,9 +63,8 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   (void)in;
   const real w0 = real(1.0) / p[1];
   const real w1 = -w0;
-  const real w2 = p[1] * p[1];
-  const real w3 = real(1.0) / w2;
-  const real w4 = -w3;
+  const real w2 = real(1.0) / (p[1] * p[1]);
+  const real w3 = -w2;
   out[0] = real(-1.0);  // gamma^omega_x_constraint_omega_y_constraint,omega_z_constraint
   out[1] = real(1.0);  // gamma^omega_x_constraint_omega_z_constraint,omega_y_constraint
   out[2] = w0;  // gamma^omega_x_constraint_omega_z_constraint,x_dot
@@ -79,9 +78,9 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[10] = real(1.0);  // gamma^omega_z_constraint_omega_y_constraint,omega_x_constraint
   out[11] = w1;  // gamma^omega_z_constraint_omega_y_constraint,y_dot
   out[12] = w0;  // gamma^omega_z_constraint_x_dot,omega_x_constraint
-  out[13] = w4;  // gamma^omega_z_constraint_x_dot,y_dot
+  out[13] = w3;  // gamma^omega_z_constraint_x_dot,y_dot
   out[14] = w0;  // gamma^omega_z_constraint_y_dot,omega_y_constraint
-  out[15] = w3;  // gamma^omega_z_constraint_y_dot,x_dot
+  out[15] = w2;  // gamma^omega_z_constraint_y_dot,x_dot
 }
 
 /* rhs: (t, x[4], p[2], in[0]) -> out[4]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -123,25 +122,18 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[3] * x[3];
-  const real w1 = p[0] * w0;
-  const real w2 = real(0.7) * w1;
-  const real w3 = x[2] * x[2];
-  const real w4 = p[0] * w3;
-  const real w5 = real(0.7) * w4;
-  const real w6 = w2 + w5;
-  out[0] = w6;  // E
+  const real w0 = real(0.7) * (p[0] * (x[3] * x[3])) + real(0.7) * (p[0] * (x[2] * x[2]));
+  out[0] = w0;  // E
 }
 
 /* group_velocity: (t, x[4], p[2], in[0]) -> out[3]  ops: 1 add, 0 mul, 2 div, 0 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[3] / p[1];
-  const real w1 = -w0;
-  const real w2 = x[2] / p[1];
-  out[0] = w1;  // omega_x
-  out[1] = w2;  // omega_y
+  const real w0 = -(x[3] / p[1]);
+  const real w1 = x[2] / p[1];
+  out[0] = w0;  // omega_x
+  out[1] = w1;  // omega_y
   out[2] = real(0.0);  // omega_z
 }
 
@@ -165,18 +157,16 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = p[1] * p[1];
-  const real w1 = w0 * p[0];
-  const real w2 = w1 * real(0.4);
-  out[0] = w2;  // L[omega_x][omega_x]
+  const real w0 = p[1] * p[1] * p[0] * real(0.4);
+  out[0] = w0;  // L[omega_x][omega_x]
   out[1] = real(0.0);  // L[omega_x][omega_y]
   out[2] = real(0.0);  // L[omega_x][omega_z]
   out[3] = real(0.0);  // L[omega_y][omega_x]
-  out[4] = w2;  // L[omega_y][omega_y]
+  out[4] = w0;  // L[omega_y][omega_y]
   out[5] = real(0.0);  // L[omega_y][omega_z]
   out[6] = real(0.0);  // L[omega_z][omega_x]
   out[7] = real(0.0);  // L[omega_z][omega_y]
-  out[8] = w2;  // L[omega_z][omega_z]
+  out[8] = w0;  // L[omega_z][omega_z]
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {

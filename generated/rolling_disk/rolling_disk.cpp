@@ -13,25 +13,19 @@ namespace {
 /* rhs_with_pivots: (t, x[6], p[4], in[2]) -> out[6], pivots[2]  ops: 1 add, 6 mul, 2 div, 2 call */
 void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = p[1] * w0;
-  const real w2 = w1 * x[5];
-  const real w3 = p[1] * x[5];
-  const real w4 = std::sin(x[2]);
-  const real w5 = w3 * w4;
-  const real w6 = in[0] / p[2];
-  const real w7 = p[1] * p[1];
-  const real w8 = w7 * p[0];
-  const real w9 = w8 + p[3];
-  const real w10 = in[1] / w9;
-  out[0] = w2;  // x_dot
-  out[1] = w5;  // y_dot
+  const real w0 = p[1] * std::cos(x[2]) * x[5];
+  const real w1 = p[1] * x[5] * std::sin(x[2]);
+  const real w2 = in[0] / p[2];
+  const real w3 = p[1] * p[1] * p[0] + p[3];
+  const real w4 = in[1] / w3;
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
   out[3] = x[5];  // phi_dot
-  out[4] = w6;  // omega_heading_rate
-  out[5] = w10;  // omega_roll_rate
+  out[4] = w2;  // omega_heading_rate
+  out[5] = w4;  // omega_roll_rate
   pivots[0] = p[2];  // pivot 0
-  pivots[1] = w9;  // pivot 1
+  pivots[1] = w3;  // pivot 1
 }
 
 }  // namespace
@@ -40,14 +34,10 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
 void kinematics(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[2]);
-  const real w1 = p[1] * w0;
-  const real w2 = w1 * x[5];
-  const real w3 = p[1] * x[5];
-  const real w4 = std::sin(x[2]);
-  const real w5 = w3 * w4;
-  out[0] = w2;  // x_dot
-  out[1] = w5;  // y_dot
+  const real w0 = p[1] * std::cos(x[2]) * x[5];
+  const real w1 = p[1] * x[5] * std::sin(x[2]);
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
   out[3] = x[5];  // phi_dot
 }
@@ -57,13 +47,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   (void)t;
   (void)x;
   (void)in;
-  const real w0 = p[1] * p[1];
-  const real w1 = w0 * p[0];
-  const real w2 = w1 + p[3];
+  const real w0 = p[1] * p[1] * p[0] + p[3];
   out[0] = p[2];  // M[omega_heading][omega_heading]
   out[1] = real(0.0);  // M[omega_heading][omega_roll]
   out[2] = real(0.0);  // M[omega_roll][omega_heading]
-  out[3] = w2;  // M[omega_roll][omega_roll]
+  out[3] = w0;  // M[omega_roll][omega_roll]
 }
 
 /* forcing: (t, x[6], p[4], in[2]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -79,64 +67,52 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::sin(x[2]);
-  const real w1 = p[1] * w0;
-  const real w2 = -w1;
-  const real w3 = std::cos(x[2]);
-  const real w4 = p[1] * w3;
-  const real w5 = -w4;
-  out[0] = w2;  // gamma^u_x_omega_heading,omega_roll
-  out[1] = w1;  // gamma^u_x_omega_roll,omega_heading
-  out[2] = w4;  // gamma^u_y_omega_heading,omega_roll
-  out[3] = w5;  // gamma^u_y_omega_roll,omega_heading
+  const real w0 = p[1] * std::sin(x[2]);
+  const real w1 = -w0;
+  const real w2 = p[1] * std::cos(x[2]);
+  const real w3 = -w2;
+  out[0] = w1;  // gamma^u_x_omega_heading,omega_roll
+  out[1] = w0;  // gamma^u_x_omega_roll,omega_heading
+  out[2] = w2;  // gamma^u_y_omega_heading,omega_roll
+  out[3] = w3;  // gamma^u_y_omega_roll,omega_heading
 }
 
 /* rhs: (t, x[6], p[4], in[2]) -> out[6]  ops: 1 add, 6 mul, 2 div, 2 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = p[1] * w0;
-  const real w2 = w1 * x[5];
-  const real w3 = p[1] * x[5];
-  const real w4 = std::sin(x[2]);
-  const real w5 = w3 * w4;
-  const real w6 = in[0] / p[2];
-  const real w7 = p[1] * p[1];
-  const real w8 = w7 * p[0];
-  const real w9 = w8 + p[3];
-  const real w10 = in[1] / w9;
-  out[0] = w2;  // x_dot
-  out[1] = w5;  // y_dot
+  const real w0 = p[1] * std::cos(x[2]) * x[5];
+  const real w1 = p[1] * x[5] * std::sin(x[2]);
+  const real w2 = in[0] / p[2];
+  const real w3 = in[1] / (p[1] * p[1] * p[0] + p[3]);
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
   out[3] = x[5];  // phi_dot
-  out[4] = w6;  // omega_heading_rate
-  out[5] = w10;  // omega_roll_rate
+  out[4] = w2;  // omega_heading_rate
+  out[5] = w3;  // omega_roll_rate
 }
 
 /* jacobian: (t, x[6], p[4], in[2]) -> out[36]  ops: 1 add, 5 mul, 0 div, 2 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = p[1] * x[5];
-  const real w1 = std::sin(x[2]);
-  const real w2 = w0 * w1;
-  const real w3 = -w2;
-  const real w4 = std::cos(x[2]);
-  const real w5 = p[1] * w4;
-  const real w6 = w5 * x[5];
-  const real w7 = p[1] * w1;
+  const real w0 = std::sin(x[2]);
+  const real w1 = -(p[1] * x[5] * w0);
+  const real w2 = p[1] * std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = p[1] * w0;
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
-  out[2] = w3;  // dx_dot/dtheta
+  out[2] = w1;  // dx_dot/dtheta
   out[3] = real(0.0);  // dx_dot/dphi
   out[4] = real(0.0);  // dx_dot/domega_heading
-  out[5] = w5;  // dx_dot/domega_roll
+  out[5] = w2;  // dx_dot/domega_roll
   out[6] = real(0.0);  // dy_dot/dx
   out[7] = real(0.0);  // dy_dot/dy
-  out[8] = w6;  // dy_dot/dtheta
+  out[8] = w3;  // dy_dot/dtheta
   out[9] = real(0.0);  // dy_dot/dphi
   out[10] = real(0.0);  // dy_dot/domega_heading
-  out[11] = w7;  // dy_dot/domega_roll
+  out[11] = w4;  // dy_dot/domega_roll
   out[12] = real(0.0);  // dtheta_dot/dx
   out[13] = real(0.0);  // dtheta_dot/dy
   out[14] = real(0.0);  // dtheta_dot/dtheta
@@ -168,18 +144,8 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = x[5] * x[5];
-  const real w1 = p[3] * w0;
-  const real w2 = w1 * real(0.5);
-  const real w3 = p[1] * p[1];
-  const real w4 = w3 * p[0];
-  const real w5 = w4 * w0;
-  const real w6 = real(0.5) * w5;
-  const real w7 = x[4] * x[4];
-  const real w8 = p[2] * w7;
-  const real w9 = real(0.5) * w8;
-  const real w10 = w6 + w9;
-  const real w11 = w2 + w10;
-  out[0] = w11;  // E
+  const real w1 = p[3] * w0 * real(0.5) + (real(0.5) * (p[1] * p[1] * p[0] * w0) + real(0.5) * (p[2] * (x[4] * x[4])));
+  out[0] = w1;  // E
 }
 
 /* constraint_residual: (t, x[6], p[4], in[2]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -238,16 +204,13 @@ void prepare_parameters_kernel(real t, const real* x, const real* p, const real*
   (void)x;
   (void)in;
   const real w0 = real(1.0) / p[2];
-  const real w1 = p[1] * p[1];
-  const real w2 = w1 * p[0];
-  const real w3 = w2 + p[3];
-  const real w4 = real(1.0) / w3;
+  const real w1 = real(1.0) / (p[1] * p[1] * p[0] + p[3]);
   out[0] = p[0];  // m
   out[1] = p[1];  // R
   out[2] = p[2];  // I_heading
   out[3] = p[3];  // J_roll
   out[4] = w0;  // prepared 0
-  out[5] = w4;  // prepared 1
+  out[5] = w1;  // prepared 1
 }
 
 }  // namespace
@@ -259,46 +222,39 @@ void prepare_parameters(const real* p, real* prepared) {
 /* rhs_prepared: (t, x[6], p[6], in[2]) -> out[6]  ops: 0 add, 6 mul, 0 div, 2 call */
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
-  const real w0 = std::cos(x[2]);
-  const real w1 = w0 * x[5];
-  const real w2 = p[1] * w1;
-  const real w3 = std::sin(x[2]);
-  const real w4 = x[5] * w3;
-  const real w5 = w4 * p[1];
-  const real w6 = p[4] * in[0];
-  const real w7 = in[1] * p[5];
-  out[0] = w2;  // x_dot
-  out[1] = w5;  // y_dot
+  const real w0 = p[1] * (std::cos(x[2]) * x[5]);
+  const real w1 = x[5] * std::sin(x[2]) * p[1];
+  const real w2 = p[4] * in[0];
+  const real w3 = in[1] * p[5];
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[4];  // theta_dot
   out[3] = x[5];  // phi_dot
-  out[4] = w6;  // omega_heading_rate
-  out[5] = w7;  // omega_roll_rate
+  out[4] = w2;  // omega_heading_rate
+  out[5] = w3;  // omega_roll_rate
 }
 
 /* jacobian_prepared: (t, x[6], p[6], in[2]) -> out[36]  ops: 1 add, 5 mul, 0 div, 2 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = p[1] * x[5];
-  const real w1 = std::sin(x[2]);
-  const real w2 = w0 * w1;
-  const real w3 = -w2;
-  const real w4 = std::cos(x[2]);
-  const real w5 = p[1] * w4;
-  const real w6 = w5 * x[5];
-  const real w7 = p[1] * w1;
+  const real w0 = std::sin(x[2]);
+  const real w1 = -(p[1] * x[5] * w0);
+  const real w2 = p[1] * std::cos(x[2]);
+  const real w3 = w2 * x[5];
+  const real w4 = p[1] * w0;
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
-  out[2] = w3;  // dx_dot/dtheta
+  out[2] = w1;  // dx_dot/dtheta
   out[3] = real(0.0);  // dx_dot/dphi
   out[4] = real(0.0);  // dx_dot/domega_heading
-  out[5] = w5;  // dx_dot/domega_roll
+  out[5] = w2;  // dx_dot/domega_roll
   out[6] = real(0.0);  // dy_dot/dx
   out[7] = real(0.0);  // dy_dot/dy
-  out[8] = w6;  // dy_dot/dtheta
+  out[8] = w3;  // dy_dot/dtheta
   out[9] = real(0.0);  // dy_dot/dphi
   out[10] = real(0.0);  // dy_dot/domega_heading
-  out[11] = w7;  // dy_dot/domega_roll
+  out[11] = w4;  // dy_dot/domega_roll
   out[12] = real(0.0);  // dtheta_dot/dx
   out[13] = real(0.0);  // dtheta_dot/dy
   out[14] = real(0.0);  // dtheta_dot/dtheta

@@ -17,32 +17,21 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
   const real w0 = std::sin(x[1]);
   const real w1 = std::cos(x[0]);
   const real w2 = w1 * x[6];
-  const real w3 = w0 * w2;
-  const real w4 = std::sin(x[0]);
-  const real w5 = w4 * w0;
-  const real w6 = w5 * x[5];
-  const real w7 = w3 - w6;
-  const real w8 = std::cos(x[1]);
-  const real w9 = p[1] * w8;
-  const real w10 = w7 / w9;
-  const real w11 = -w10;
-  const real w12 = w4 * x[6];
-  const real w13 = w1 * x[5];
-  const real w14 = w12 + w13;
-  const real w15 = w14 / p[1];
-  const real w16 = w4 * x[5];
-  const real w17 = w16 - w2;
-  const real w18 = w17 / w9;
-  const real w19 = real(1.4) * p[0];
-  out[0] = w11;  // psi_dot
-  out[1] = w15;  // theta_dot
-  out[2] = w18;  // phi_dot
+  const real w3 = std::sin(x[0]);
+  const real w4 = p[1] * std::cos(x[1]);
+  const real w5 = -((w0 * w2 - w3 * w0 * x[5]) / w4);
+  const real w6 = (w3 * x[6] + w1 * x[5]) / p[1];
+  const real w7 = (w3 * x[5] - w2) / w4;
+  const real w8 = real(1.4) * p[0];
+  out[0] = w5;  // psi_dot
+  out[1] = w6;  // theta_dot
+  out[2] = w7;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
   out[5] = real(0.0);  // vx_rate
   out[6] = real(0.0);  // vy_rate
-  pivots[0] = w19;  // pivot 0
-  pivots[1] = w19;  // pivot 1
+  pivots[0] = w8;  // pivot 0
+  pivots[1] = w8;  // pivot 1
 }
 
 }  // namespace
@@ -54,25 +43,14 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   const real w0 = std::sin(x[1]);
   const real w1 = std::cos(x[0]);
   const real w2 = w1 * x[6];
-  const real w3 = w0 * w2;
-  const real w4 = std::sin(x[0]);
-  const real w5 = w4 * w0;
-  const real w6 = w5 * x[5];
-  const real w7 = w3 - w6;
-  const real w8 = std::cos(x[1]);
-  const real w9 = p[1] * w8;
-  const real w10 = w7 / w9;
-  const real w11 = -w10;
-  const real w12 = w4 * x[6];
-  const real w13 = w1 * x[5];
-  const real w14 = w12 + w13;
-  const real w15 = w14 / p[1];
-  const real w16 = w4 * x[5];
-  const real w17 = w16 - w2;
-  const real w18 = w17 / w9;
-  out[0] = w11;  // psi_dot
-  out[1] = w15;  // theta_dot
-  out[2] = w18;  // phi_dot
+  const real w3 = std::sin(x[0]);
+  const real w4 = p[1] * std::cos(x[1]);
+  const real w5 = -((w0 * w2 - w3 * w0 * x[5]) / w4);
+  const real w6 = (w3 * x[6] + w1 * x[5]) / p[1];
+  const real w7 = (w3 * x[5] - w2) / w4;
+  out[0] = w5;  // psi_dot
+  out[1] = w6;  // theta_dot
+  out[2] = w7;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
 }
@@ -84,25 +62,14 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   const real w0 = std::sin(x[1]);
   const real w1 = std::cos(x[0]);
   const real w2 = w1 * x[6];
-  const real w3 = w0 * w2;
-  const real w4 = std::sin(x[0]);
-  const real w5 = w4 * w0;
-  const real w6 = w5 * x[5];
-  const real w7 = w3 - w6;
-  const real w8 = std::cos(x[1]);
-  const real w9 = p[1] * w8;
-  const real w10 = w7 / w9;
-  const real w11 = -w10;
-  const real w12 = w4 * x[6];
-  const real w13 = w1 * x[5];
-  const real w14 = w12 + w13;
-  const real w15 = w14 / p[1];
-  const real w16 = w4 * x[5];
-  const real w17 = w16 - w2;
-  const real w18 = w17 / w9;
-  out[0] = w11;  // psi_dot
-  out[1] = w15;  // theta_dot
-  out[2] = w18;  // phi_dot
+  const real w3 = std::sin(x[0]);
+  const real w4 = p[1] * std::cos(x[1]);
+  const real w5 = -((w0 * w2 - w3 * w0 * x[5]) / w4);
+  const real w6 = (w3 * x[6] + w1 * x[5]) / p[1];
+  const real w7 = (w3 * x[5] - w2) / w4;
+  out[0] = w5;  // psi_dot
+  out[1] = w6;  // theta_dot
+  out[2] = w7;  // phi_dot
   out[3] = x[5];  // x_dot
   out[4] = x[6];  // y_dot
   out[5] = real(0.0);  // vx_rate
@@ -113,14 +80,8 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = x[5] * x[5];
-  const real w1 = p[0] * w0;
-  const real w2 = real(0.7) * w1;
-  const real w3 = x[6] * x[6];
-  const real w4 = p[0] * w3;
-  const real w5 = real(0.7) * w4;
-  const real w6 = w2 + w5;
-  out[0] = w6;  // E
+  const real w0 = real(0.7) * (p[0] * (x[5] * x[5])) + real(0.7) * (p[0] * (x[6] * x[6]));
+  out[0] = w0;  // E
 }
 
 /* constraint_residual: (t, x[7], p[2], in[0]) -> out[3]  ops: 9 add, 13 mul, 8 div, 4 call */
@@ -129,41 +90,17 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   (void)in;
   const real w0 = std::cos(x[0]);
   const real w1 = std::sin(x[0]);
-  const real w2 = w1 * x[5];
-  const real w3 = w0 * x[6];
-  const real w4 = w2 - w3;
-  const real w5 = w0 * w4;
-  const real w6 = w5 / p[1];
-  const real w7 = x[6] / p[1];
-  const real w8 = w6 + w7;
-  const real w9 = w1 * x[6];
-  const real w10 = w0 * x[5];
-  const real w11 = w9 + w10;
-  const real w12 = w11 * w1;
-  const real w13 = w12 / p[1];
-  const real w14 = w8 - w13;
-  const real w15 = w1 * w4;
-  const real w16 = w15 / p[1];
-  const real w17 = w11 * w0;
-  const real w18 = w17 / p[1];
-  const real w19 = x[5] / p[1];
-  const real w20 = w18 - w19;
-  const real w21 = w16 + w20;
-  const real w22 = std::sin(x[1]);
-  const real w23 = w22 * w4;
-  const real w24 = std::cos(x[1]);
-  const real w25 = p[1] * w24;
-  const real w26 = w23 / w25;
-  const real w27 = w22 * w3;
-  const real w28 = w1 * w22;
-  const real w29 = w28 * x[5];
-  const real w30 = w27 - w29;
-  const real w31 = w30 / w25;
-  const real w32 = w26 + w31;
-  const real w33 = -w32;
-  out[0] = w14;  // u1
-  out[1] = w21;  // u2
-  out[2] = w33;  // u3
+  const real w2 = w0 * x[6];
+  const real w3 = w1 * x[5] - w2;
+  const real w4 = w1 * x[6] + w0 * x[5];
+  const real w5 = w0 * w3 / p[1] + x[6] / p[1] - w4 * w1 / p[1];
+  const real w6 = w1 * w3 / p[1] + (w4 * w0 / p[1] - x[5] / p[1]);
+  const real w7 = std::sin(x[1]);
+  const real w8 = p[1] * std::cos(x[1]);
+  const real w9 = -(w7 * w3 / w8 + (w7 * w2 - w1 * w7 * x[5]) / w8);
+  out[0] = w5;  // u1
+  out[1] = w6;  // u2
+  out[2] = w9;  // u3
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {

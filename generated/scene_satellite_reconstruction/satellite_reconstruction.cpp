@@ -13,43 +13,18 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   (void)t;
   (void)p;
   (void)in;
-  const real w0 = real(5.071390281161825e-05) * x[5];
-  const real w1 = real(0.00030483074466150495) * x[4];
-  const real w2 = w0 - w1;
-  const real w3 = real(0.0899074318443323) * x[3];
-  const real w4 = w2 - w3;
-  const real w5 = real(0.0006240297432225561) * x[5];
-  const real w6 = real(0.08407505618790964) * x[4];
-  const real w7 = x[3] * real(0.00030483074466150495);
-  const real w8 = w6 + w7;
-  const real w9 = w5 + w8;
-  const real w10 = -w9;
-  const real w11 = x[3] * real(5.071390281161825e-05);
-  const real w12 = real(0.0006240297432225561) * x[4];
-  const real w13 = w11 - w12;
-  const real w14 = real(0.07660592392237783) * x[5];
-  const real w15 = w13 - w14;
-  const real w16 = real(0.003875586979878733) * x[4];
-  const real w17 = real(0.0005604749651003268) * x[5];
-  const real w18 = x[3] * real(1.4459218236774214e-05);
-  const real w19 = w17 - w18;
-  const real w20 = w16 - w19;
-  const real w21 = real(2.9132947854107504e-05) * x[4];
-  const real w22 = real(0.005305827682448232) * x[5];
-  const real w23 = w21 + w22;
-  const real w24 = x[3] * real(0.004153084739933064);
-  const real w25 = w23 - w24;
-  const real w26 = x[3] * real(0.0006704919626336827);
-  const real w27 = real(0.005818235961127118) * x[4];
-  const real w28 = real(4.3592166090881715e-05) * x[5];
-  const real w29 = w27 + w28;
-  const real w30 = w26 - w29;
-  out[0] = w4;  // wx
-  out[1] = w10;  // wy
-  out[2] = w15;  // wz
-  out[3] = w20;  // vx
-  out[4] = w25;  // vy
-  out[5] = w30;  // vz
+  const real w0 = real(5.071390281161825e-05) * x[5] - real(0.00030483074466150495) * x[4] - real(0.0899074318443323) * x[3];
+  const real w1 = -(real(0.0006240297432225561) * x[5] + (real(0.08407505618790964) * x[4] + x[3] * real(0.00030483074466150495)));
+  const real w2 = x[3] * real(5.071390281161825e-05) - real(0.0006240297432225561) * x[4] - real(0.07660592392237783) * x[5];
+  const real w3 = real(0.003875586979878733) * x[4] - (real(0.0005604749651003268) * x[5] - x[3] * real(1.4459218236774214e-05));
+  const real w4 = real(2.9132947854107504e-05) * x[4] + real(0.005305827682448232) * x[5] - x[3] * real(0.004153084739933064);
+  const real w5 = x[3] * real(0.0006704919626336827) - (real(0.005818235961127118) * x[4] + real(4.3592166090881715e-05) * x[5]);
+  out[0] = w0;  // wx
+  out[1] = w1;  // wy
+  out[2] = w2;  // wz
+  out[3] = w3;  // vx
+  out[4] = w4;  // vy
+  out[5] = w5;  // vz
 }
 
 }  // namespace satellite_reconstruction

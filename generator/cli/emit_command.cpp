@@ -161,25 +161,25 @@ Run add_emit_command(CLI::App& app) {
         "", what);
   };
   cmd->add_option("--split", opt->settings.split_statements,
-                  "Print a kernel of more than N statements as functions of at most N statements each, called in turn "
+                  "Print a kernel of more than N operations as functions of at most N operations each, called in turn "
                   "(an optimizing compiler's register allocation grows faster than linearly with the length of one "
                   "function; 0: never split)")
       ->default_val(opt->settings.split_statements)
-      ->check(whole_number("statements", "never split"))
+      ->check(whole_number("operations", "never split"))
       ->type_name("N");
   cmd->add_option("--share", opt->settings.share_statements,
-                  "Print work that several kernels use (N or more statements used by the same kernels) once, as a "
+                  "Print work that several kernels use (N or more operations used by the same kernels) once, as a "
                   "function shared_<k> that each of them calls before its own work, instead of in every kernel "
                   "(0: never). The 30-joint chain's jacobian then calls rhs's recursion instead of holding a copy")
       ->default_val(opt->settings.share_statements)
-      ->check(whole_number("statements", "never"))
+      ->check(whole_number("operations", "never"))
       ->type_name("N");
   cmd->add_option("--share-ratio", opt->settings.share_ratio,
-                  "Share such work only when its function computes at least R statements per value it leaves to "
+                  "Share such work only when its function computes at least R operations per value it leaves to "
                   "later work, which every caller stores and reads back (0: any; the smallest package, but kernels "
                   "that read many shared values run up to 1.6x slower, docs/benchmarks.md)")
       ->default_val(opt->settings.share_ratio)
-      ->check(whole_number("statements per value", "any"))
+      ->check(whole_number("operations per value", "any"))
       ->type_name("R");
   cmd->add_option("--jacobian-solve", opt->jacobian_solve,
                   "Kinematic trees: how the jacobian solves M y = b for its columns: ldlt (the LDL^T of M, few operations "

@@ -62,6 +62,10 @@ void check_package_folder(const std::string& directory, const std::string& model
 /// an existing folder is replaced only once the new one is complete.
 void write_package(const EmittedPackage& package, const std::string& directory);
 
+/// The most operations one printed statement holds: a statement read once, by a later statement of the same
+/// function, and no output, is printed inside that statement's expression, not as a local of its own, up to this.
+constexpr int kOperationsPerStatement = 16;
+
 /// One kernel as emit_cpp prints it into the package source (with argument sizes n_x, n_p, n_in for its
 /// comment): for tests of the printed text, e.g. that it does not depend on the order the graph was built in.
 std::string kernel_text(const ExpressionGraph& graph, const Kernel& kernel, int n_x, int n_p, int n_in,

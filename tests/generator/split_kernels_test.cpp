@@ -1,9 +1,10 @@
-// Long kernels printed in parts (emit --split N): every part has at most N statements, values cross parts in
+// Long kernels printed in parts (emit --split N): every part has at most N operations, values cross parts in
 // the stack array v[] (outputs go to out[] from the part that computes them), and a slot is reused once its value
 // has been read for the last time. The printed text is run by a small interpreter of its statements (locals
 // scoped to their part, v[] starting as NaN, so a value read after its slot was reused or read from another
 // part's locals shows up) and compared with the generator's own evaluation of the graph (GraphEvaluator), for
-// random programs and every part size from 1.
+// random programs and every part size from 1. Its expressions are grouped as C++ groups them, so a statement printed
+// inside its reader with a missing pair of parentheses gives another value.
 #include "emit/cpp_emitter.hpp"
 #include "emit/expression_graph.hpp"
 #include "numeric/graph_evaluator.hpp"
@@ -28,8 +29,9 @@ using hamel::Op;
 
 constexpr int kInputs = 4;
 
-// A random program: `statements` nodes, each an add, sub or mul of earlier nodes (a mul takes an input or a
-// constant as one factor, so values stay of order one), and `outputs` outputs among them, early ones included.
+// A random program: `statements` nodes, each an add, sub, mul, div or negation of earlier nodes (most products and
+// quotients take an input or a constant as one operand, so values stay finite), and `outputs` outputs among them,
+// early ones included.
 struct Program {
   ExpressionGraph graph;
   std::vector<int> outputs;
@@ -47,11 +49,17 @@ Program random_program(unsigned seed, int statements, int outputs) {
     return from[std::uniform_int_distribution<std::size_t>(0, from.size() - 1)(rng)];
   };
   while (static_cast<int>(nodes.size()) < statements + static_cast<int>(leaves.size())) {
-    const int kind = std::uniform_int_distribution<int>(0, 2)(rng);
-    const Op op = kind == 0 ? Op::add : kind == 1 ? Op::sub : Op::mul;
+    const int kind = std::uniform_int_distribution<int>(0, 7)(rng);
     const int a = pick(nodes);
-    const int b = op == Op::mul ? pick(leaves) : pick(nodes);
-    const int node = g.binary(op, a, b);
+    int node;
+    if (kind == 7) {
+      node = g.unary(Op::neg, a);
+    } else {
+      const Op op = kind <= 1 ? Op::add : kind <= 3 ? Op::sub : kind <= 5 ? Op::mul : Op::div;
+      // A product of two statements, or a quotient by one, now and then: the printed text then needs a * (b + c).
+      const bool any = op == Op::add || op == Op::sub || kind == 5 || (op == Op::div && a % 2 == 0);
+      node = g.binary(op, a, any ? pick(nodes) : pick(leaves));
+    }
     if (node >= 0 && std::find(nodes.begin(), nodes.end(), node) == nodes.end()) nodes.push_back(node);
   }
   for (int o = 0; o < outputs; ++o) prog.outputs.push_back(pick(nodes));
@@ -71,7 +79,8 @@ hamel::Kernel kernel_of(const std::vector<int>& outputs) {
 // it does not know or on a name that is not in scope.
 struct Interpreted {
   std::vector<double> out;
-  std::map<int, int> statements_per_part;
+  std::map<int, int> statements_per_part;  // operations of the printed statements, by part (-1: not split)
+  int lines = 0;  // statements printed (locals)
   int slots = 0;       // size of v[] (0: not split)
   int slot_writes = 0;  // values passed between parts
 };
@@ -90,6 +99,64 @@ std::vector<std::string> words(const std::string& line) {
   for (std::string word; in >> word;) w.push_back(word);
   return w;
 }
+
+// One printed expression, evaluated as C++ groups it: sums of products of factors, left to right; a factor is a
+// name, a literal, a negated factor or a parenthesized sum. `operations` counts what it executes.
+struct Expression {
+  const std::string& text;
+  std::size_t at;
+  std::function<double(const std::string&)> value;  // of a name or literal
+  int operations = 0;
+
+  void blanks() {
+    while (at < text.size() && text[at] == ' ') ++at;
+  }
+  double factor() {
+    blanks();
+    if (text[at] == '-') {
+      ++at;
+      ++operations;
+      return -factor();
+    }
+    if (text[at] == '(') {
+      ++at;
+      const double inner = sum();
+      blanks();
+      EXPECT_EQ(text[at], ')') << text;
+      ++at;
+      return inner;
+    }
+    const std::size_t begin = at;
+    // A name, x[k], v[k] or real(literal): up to the next blank or closing parenthesis outside its own brackets.
+    int depth = 0;
+    while (at < text.size() && !(depth == 0 && (text[at] == ' ' || text[at] == ')'))) {
+      if (text[at] == '(' || text[at] == '[') ++depth;
+      if (text[at] == ')' || text[at] == ']') --depth;
+      ++at;
+    }
+    return value(text.substr(begin, at - begin));
+  }
+  double product() {
+    double r = factor();
+    for (blanks(); at < text.size() && (text[at] == '*' || text[at] == '/'); blanks()) {
+      const char op = text[at++];
+      const double b = factor();
+      ++operations;
+      r = op == '*' ? r * b : r / b;
+    }
+    return r;
+  }
+  double sum() {
+    double r = product();
+    for (blanks(); at < text.size() && (text[at] == '+' || text[at] == '-'); blanks()) {
+      const char op = text[at++];
+      const double b = product();
+      ++operations;
+      r = op == '+' ? r + b : r - b;
+    }
+    return r;
+  }
+};
 
 // (Parsed by hand: GCC 12's <regex> trips -Wmaybe-uninitialized in the sanitized build.)
 Interpreted interpret(const std::string& text, const double* x, std::size_t n_out) {
@@ -115,9 +182,7 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
   std::function<void(const std::vector<std::string>&, int)> execute = [&](const std::vector<std::string>& body,
                                                                          int part) {
     std::map<std::string, double> locals;
-    std::function<double(std::string)> value = [&](std::string token) -> double {
-      if (ends(token, ";")) token.pop_back();
-      if (token.size() > 1 && token[0] == '-') return -value(token.substr(1));
+    const auto value = [&](const std::string& token) -> double {
       if (starts(token, "x[")) return x[subscript(token)];
       if (starts(token, "v[")) return v.at(subscript(token));
       if (starts(token, "real(")) return std::stod(token.substr(5));
@@ -129,19 +194,16 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
       const std::vector<std::string> w = words(l);
       if (!starts(l, "  ") || w.empty()) {
         ADD_FAILURE() << "unexpected line: " << l;
-      } else if ((w.size() == 5 || w.size() == 7) && w[0] == "const" && w[1] == "real" && w[3] == "=" &&
-                 ends(w.back(), ";")) {
-        const double a = value(w[4]);
-        double r = a;
-        if (w.size() == 7) {
-          const double b = value(w[6]);
-          const char op = w[5][0];
-          r = op == '+' ? a + b : op == '-' ? a - b : op == '*' ? a * b : a / b;
-        }
-        locals[w[2]] = r;
-        ++run.statements_per_part[part];
+      } else if (w.size() >= 5 && w[0] == "const" && w[1] == "real" && w[3] == "=" && ends(l, ";")) {
+        const std::string expression = l.substr(l.find(" = ") + 3, l.size() - l.find(" = ") - 4);
+        Expression e{expression, 0, value};
+        locals[w[2]] = e.sum();
+        EXPECT_EQ(e.at, expression.size()) << "not one expression: " << l;
+        EXPECT_LE(e.operations, hamel::kOperationsPerStatement) << l;
+        run.statements_per_part[part] += e.operations;
+        ++run.lines;
       } else if (w.size() == 3 && starts(w[0], "v[") && w[1] == "=" && starts(w[2], "w") && ends(w[2], ";")) {
-        v.at(subscript(w[0])) = value(w[2]);
+        v.at(subscript(w[0])) = value(w[2].substr(0, w[2].size() - 1));
         ++run.slot_writes;
       } else if (w.size() == 2 && w[0] == "real" && starts(w[1], "v[") && ends(w[1], "];")) {
         run.slots = static_cast<int>(subscript(w[1]));
@@ -151,7 +213,7 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
         EXPECT_TRUE(parts.count(called)) << l;
         if (parts.count(called)) execute(parts.at(called), called);
       } else if (w.size() >= 4 && starts(w[0], "out[") && w[1] == "=" && ends(w[2], ";") && w[3] == "//") {
-        run.out.at(subscript(w[0])) = value(w[2]);
+        run.out.at(subscript(w[0])) = value(w[2].substr(0, w[2].size() - 1));
       } else {
         ADD_FAILURE() << "unexpected line: " << l;
       }
@@ -169,11 +231,13 @@ TEST(SplitKernels, EveryPartSizeGivesTheGraphsValuesAndReusesSlots) {
     std::vector<double> expected(prog.outputs.size());
     hamel::GraphEvaluator evaluator(prog.graph, prog.outputs);
     evaluator.evaluate(0.0, x, nullptr, nullptr, expected.data());
+    for (double e : expected) ASSERT_TRUE(std::isfinite(e)) << "seed " << seed << ": the comparison needs finite values";
 
     const Interpreted whole = interpret(hamel::kernel_text(prog.graph, k, kInputs, 0, 0, 0), x, prog.outputs.size());
     int statements = 0;
     for (const auto& [part, count] : whole.statements_per_part) statements += count;
     ASSERT_GT(statements, 40);
+    EXPECT_LT(whole.lines, statements) << "single-use statements are printed inside their readers";
     EXPECT_EQ(whole.slots, 0);
     for (int size : {1, 2, 3, 7, 16, 50, statements - 1, statements, statements + 1}) {
       SCOPED_TRACE("seed " + std::to_string(seed) + ", parts of " + std::to_string(size));

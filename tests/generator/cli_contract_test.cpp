@@ -134,8 +134,9 @@ TEST(Cli, EmitIsByteIdenticalOnRegeneration) {
   EXPECT_EQ(entries, 1);
 }
 
-// --split N: kernels longer than N statements become functions <kernel>_part<k>; --split 0 prints every kernel
-// whole (rhs and rhs_with_pivots each in full); a value that is not a whole number of operations exits 2 naming the flag and writes nothing.
+// --split N: kernels longer than N operations become functions <kernel>_part<k>; --split 0 prints every kernel
+// whole (rhs and rhs_with_pivots each in full); a value that is not a whole number of operations exits 2 naming the
+// flag and writes nothing.
 TEST(Cli, EmitSplitPrintsLongKernelsInParts) {
   const fs::path whole = scratch("split_whole"), parts = scratch("split_parts"), never = scratch("split_never");
   ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + whole.string() + " --split 0 2>/dev/null").status, 0);

@@ -80,7 +80,7 @@ hamel::Kernel kernel_of(const std::vector<int>& outputs) {
 struct Interpreted {
   std::vector<double> out;
   std::map<int, int> statements_per_part;  // operations of the printed statements, by part (-1: not split)
-  int lines = 0;  // statements printed (locals)
+  int lines = 0;                           // statements printed (locals)
   int slots = 0;       // size of v[] (0: not split)
   int slot_writes = 0;  // values passed between parts
 };
@@ -231,7 +231,8 @@ TEST(SplitKernels, EveryPartSizeGivesTheGraphsValuesAndReusesSlots) {
     std::vector<double> expected(prog.outputs.size());
     hamel::GraphEvaluator evaluator(prog.graph, prog.outputs);
     evaluator.evaluate(0.0, x, nullptr, nullptr, expected.data());
-    for (double e : expected) ASSERT_TRUE(std::isfinite(e)) << "seed " << seed << ": the comparison needs finite values";
+    for (double e : expected)
+      ASSERT_TRUE(std::isfinite(e)) << "seed " << seed << ": the comparison needs finite values";
 
     const Interpreted whole = interpret(hamel::kernel_text(prog.graph, k, kInputs, 0, 0, 0), x, prog.outputs.size());
     int statements = 0;

@@ -145,14 +145,11 @@ std::vector<char> printed_inside(const ExpressionGraph& g, const std::vector<int
                                  const std::vector<char>& output, const std::function<bool(int, int)>& same_function) {
   const std::size_t n = static_cast<std::size_t>(g.size());
   std::vector<char> statement(n, 0), inside(n, 0);
-  std::vector<int> reads(n, 0), reader(n, -1), size(n, 1);
+  std::vector<int> reads(n, 0), size(n, 1);  // size: the operations of its printed expression
   for (int r : statements) {
     statement[static_cast<std::size_t>(r)] = 1;
     for (int operand : {g.node(r).a, g.node(r).b})
-      if (operand >= 0) {
-        ++reads[static_cast<std::size_t>(operand)];
-        reader[static_cast<std::size_t>(operand)] = r;
-      }
+      if (operand >= 0) ++reads[static_cast<std::size_t>(operand)];
   }
   for (int r : statements) {
     int total = 1;

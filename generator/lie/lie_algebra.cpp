@@ -39,33 +39,62 @@ void add_translations(std::vector<matrix>& basis, std::vector<std::string>& name
   }
 }
 
-// One factor of a product, placed as a diagonal block at `at` of a size×size matrix.
-unsigned block_size(const std::string& g) {
-  if (g == "SO3") return 3;
-  if (g == "SE3") return 4;
-  if (g == "SE2") return 3;
-  if (g.size() == 2 && g[0] == 'R' && g[1] >= '1' && g[1] <= '6') return static_cast<unsigned>(g[1] - '0') + 1;
-  return 0;
+void add_se3(std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size, unsigned at) {
+  add_so3(basis, names, size, at);
+  add_translations(basis, names, size, at, 3, at + 3, "v_");
 }
 
-void add_factor(const std::string& g, std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size,
-                unsigned at) {
-  if (g == "SO3") {
-    add_so3(basis, names, size, at);
-  } else if (g == "SE3") {
-    add_so3(basis, names, size, at);
-    add_translations(basis, names, size, at, 3, at + 3, "v_");
-  } else if (g == "SE2") {
-    matrix e = zeros(size);
-    e(at, at + 1) = -1;
-    e(at + 1, at) = 1;
-    basis.push_back(e);
-    names.push_back("omega");
-    add_translations(basis, names, size, at, 2, at + 2, "v_");
-  } else {  // Rk
-    const unsigned k = static_cast<unsigned>(g[1] - '0');
-    add_translations(basis, names, size, at, k, at + k, "v_");
-  }
+void add_se2(std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size, unsigned at) {
+  matrix e = zeros(size);
+  e(at, at + 1) = -1;
+  e(at + 1, at) = 1;
+  basis.push_back(e);
+  names.push_back("omega");
+  add_translations(basis, names, size, at, 2, at + 2, "v_");
+}
+
+template <unsigned k>
+void add_rk(std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size, unsigned at) {
+  add_translations(basis, names, size, at, k, at + k, "v_");
+}
+
+// A group a model may name, alone or as a factor of a product: the size of its square block, how its algebra's
+// basis is written into that block (at row and column `at` of a size×size matrix), and the directions of a body's
+// twist (ω, v) in which it moves a kinematic tree's floating base (empty: no tree base). The only list of groups.
+struct Factor {
+  const char* name;
+  unsigned block;
+  void (*add)(std::vector<matrix>& basis, std::vector<std::string>& names, unsigned size, unsigned at);
+  std::vector<int> tree_base;
+};
+
+const std::vector<Factor>& factors() {
+  static const std::vector<Factor> table = {
+      {"SE3", 4, add_se3, {0, 1, 2, 3, 4, 5}},
+      {"SO3", 3, add_so3, {0, 1, 2}},
+      {"SE2", 3, add_se2, {2, 3, 4}},
+      {"R1", 2, add_rk<1>, {3}},
+      {"R2", 3, add_rk<2>, {3, 4}},
+      {"R3", 4, add_rk<3>, {3, 4, 5}},
+      {"R4", 5, add_rk<4>, {}},
+      {"R5", 6, add_rk<5>, {}},
+      {"R6", 7, add_rk<6>, {}},
+  };
+  return table;
+}
+
+// The factor called `name`; null when there is none.
+const Factor* factor(const std::string& name) {
+  for (const Factor& f : factors())
+    if (name == f.name) return &f;
+  return nullptr;
+}
+
+// "a, b or c"
+std::string listed(const std::vector<std::string>& names, const char* last) {
+  std::string text;
+  for (std::size_t i = 0; i < names.size(); ++i) text += (i == 0 ? "" : i + 1 == names.size() ? last : ", ") + names[i];
+  return text;
 }
 
 std::vector<std::string> split_product(const std::string& group) {
@@ -90,37 +119,40 @@ GiNaC::ex frobenius(const matrix& a, const matrix& b) {
 }  // namespace
 
 std::vector<int> tree_base_directions(const std::string& group) {
-  if (group == "SE3") return {0, 1, 2, 3, 4, 5};
-  if (group == "SO3") return {0, 1, 2};
-  if (group == "SE2") return {2, 3, 4};
-  if (group == "R1") return {3};
-  if (group == "R2") return {3, 4};
-  if (group == "R3") return {3, 4, 5};
-  return {};
+  const Factor* f = factor(group);
+  return f ? f->tree_base : std::vector<int>{};
+}
+
+std::string tree_base_groups() {
+  std::vector<std::string> names;
+  for (const Factor& f : factors())
+    if (!f.tree_base.empty()) names.push_back(f.name);
+  return listed(names, " or ");
 }
 
 std::vector<std::string> known_groups() {
-  return {"SO3", "SE3", "SE2", "R1", "R2", "R3", "R4", "R5", "R6", "products such as SO3xR3"};
+  std::vector<std::string> names;
+  for (const Factor& f : factors()) names.push_back(f.name);
+  names.push_back("products such as SO3xR3");
+  return names;
 }
 
 LieAlgebra lie_algebra(const std::string& group) {
   const std::vector<std::string> parts = split_product(group);
   unsigned size = 0;
   for (const auto& p : parts) {
-    const unsigned s = block_size(p);
-    if (s == 0) {
-      std::string list;
-      for (const auto& g : known_groups()) list += (list.empty() ? "" : ", ") + g;
-      throw std::invalid_argument("unknown group '" + group + "'; expected one of: " + list);
-    }
-    size += s;
+    const Factor* f = factor(p);
+    if (!f)
+      throw std::invalid_argument("unknown group '" + group + "'; expected one of: " + listed(known_groups(), ", "));
+    size += f->block;
   }
   LieAlgebra algebra;
   algebra.group = group;
   unsigned at = 0;
   for (const auto& p : parts) {
-    add_factor(p, algebra.basis, algebra.basis_names, size, at);
-    at += block_size(p);
+    const Factor& f = *factor(p);
+    f.add(algebra.basis, algebra.basis_names, size, at);
+    at += f.block;
   }
   return algebra;
 }

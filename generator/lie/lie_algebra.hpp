@@ -20,13 +20,16 @@ struct LieAlgebra {
   unsigned dim() const { return static_cast<unsigned>(basis.size()); }
 };
 
-/// The names accepted by lie_algebra(), for messages: SO3, SE3, SE2, R1…R6 and products such as SO3xR3.
+/// The names accepted by lie_algebra(), for messages: SE3, SO3, SE2, R1…R6 and products such as SO3xR3.
 std::vector<std::string> known_groups();
 
 /// The groups a kinematic tree's floating base may have, and the directions of a body's twist (ω, v) in which
 /// each moves the base, as indices 0…5 into (ω_x, ω_y, ω_z, v_x, v_y, v_z), in the order of the group's
 /// velocity: SE3 all six, SO3 ω, SE2 (ω_z, v_x, v_y), R1…R3 v_x…. Empty for any other group.
 std::vector<int> tree_base_directions(const std::string& group);
+
+/// The groups tree_base_directions() accepts, for messages: "SE3, SO3, SE2, R1, R2 or R3".
+std::string tree_base_groups();
 
 /// The algebra of `group`: SO3 (ω), SE3 (ω, v), SE2 (ω, vx, vy), Rk (k translations, 1 ≤ k ≤ 6) and direct
 /// products written with 'x' (SO3xR3: (ω, v)), represented block-diagonally. Throws std::invalid_argument

@@ -585,8 +585,8 @@ void Loader::load_bundle(Model& model) {
            "a kinematic tree needs 'left' (the base frame's body twist); 'right' is not supported for trees");
     if (tree_base_directions(b.group).empty())
       fail(group, "group",
-           "a kinematic tree's floating base must be SE3, SO3, SE2, R1, R2 or R3 (the group frame carries the "
-           "base body), got '" + b.group + "'");
+           "a kinematic tree's floating base must be " + tree_base_groups() +
+               " (the group frame carries the base body), got '" + b.group + "'");
     model.locations["kinetic"] = where(tree);
     if (tree.IsMap() && tree["gravity"])
       fail(tree["gravity"], "tree.gravity",

@@ -134,16 +134,23 @@ class ExpressionGraph {
 
 /// One program a kernel runs several times on different arguments (the same solve for every column of a
 /// Jacobian), printed once as a function of its own and called: the emitted text then holds it once instead of
-/// once per call. Its own graph reads a call's arguments as x[k] (Argument::state) and the values all calls
-/// share as p[k] (Argument::parameter).
+/// once per call. Its own graph reads one argument set as x[k] (Argument::state) and the values all calls share as
+/// p[k] (Argument::parameter).
+///
+/// Lanes: a call runs the program on `lanes` argument sets at once (a Jacobian's consecutive columns), printed
+/// statement by statement for each lane in turn, so that the lanes' copies of a statement are adjacent, alike and
+/// independent: a compiler's straight-line (SLP) vectorizer then computes them in one SIMD instruction (g++ -O2
+/// does, with two doubles per SSE2 or NEON register), and a scalar build still interleaves two dependent chains.
 struct Subroutine {
   ExpressionGraph graph;
-  std::vector<int> outputs;  ///< nodes of `graph`
+  std::vector<int> outputs;  ///< nodes of `graph`: one lane's results
   std::vector<int> shared;   ///< nodes of the kernel's graph, passed as p[k]
+  std::size_t lanes = 1;
   struct Call {
-    std::vector<int> arguments;  ///< nodes of the kernel's graph, passed as x[k]
-    /// Per output of the subroutine, the kernel's output it is. Every call's results lie in one pattern, the first
-    /// call's shifted (the printer passes out + the first result): a Jacobian's columns, shifted by one column.
+    /// Nodes of the kernel's graph: argument k of lane l at k·lanes + l, passed as x[k·lanes + l].
+    std::vector<int> arguments;
+    /// The kernel's output that output r of lane l is, at r·lanes + l. Every call's results lie in one pattern, the
+    /// first call's shifted (the printer passes out + the first result): a Jacobian's columns, shifted by a column.
     std::vector<int> results;
   };
   std::vector<Call> calls;

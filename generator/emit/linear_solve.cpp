@@ -195,7 +195,7 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
   return out;
 }
 
-Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<int>>& columns, std::size_t per_call,
+Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<int>>& columns, std::size_t lanes,
                             const std::function<int(std::size_t, std::size_t)>& result_of, const ColumnSolver& solve) {
   Subroutine sub;
   if (columns.empty()) return sub;
@@ -211,23 +211,20 @@ Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<in
     return input_of[node] = in;
   };
   const std::size_t rows = columns.front().size();
-  per_call = std::max<std::size_t>(1, std::min(per_call, columns.size()));
-  std::vector<std::vector<int>> b(per_call);
-  for (std::size_t j = 0; j < per_call; ++j)
-    for (std::size_t k = 0; k < rows; ++k) b[j].push_back(s.input(Argument::state, static_cast<int>(j * rows + k)));
-  const std::vector<std::vector<int>> y = solve(s, shared, b);
-  for (std::size_t r = 0; r < rows; ++r)
-    for (std::size_t j = 0; j < per_call; ++j) sub.outputs.push_back(y[j][r]);
+  std::vector<int> b;
+  for (std::size_t k = 0; k < rows; ++k) b.push_back(s.input(Argument::state, static_cast<int>(k)));
+  sub.outputs = solve(s, shared, {b}).front();
   if (!hoist_shared_work(g, sub)) return {};
-  // Calls of per_call consecutive columns; a last call with fewer left takes the per_call last columns, so that
-  // every call has the same shape (it writes some results a second time, the same values).
-  for (std::size_t start = 0; start < columns.size(); start += per_call) {
-    const std::size_t first = std::min(start, columns.size() - per_call);
+  // Calls of `lanes` consecutive columns; a last call with fewer left takes the `lanes` last columns, so that every
+  // call has the same shape (it writes some results a second time, the same values).
+  sub.lanes = std::max<std::size_t>(1, std::min(lanes, columns.size()));
+  for (std::size_t start = 0; start < columns.size(); start += sub.lanes) {
+    const std::size_t first = std::min(start, columns.size() - sub.lanes);
     Subroutine::Call call;
-    for (std::size_t j = 0; j < per_call; ++j)
-      call.arguments.insert(call.arguments.end(), columns[first + j].begin(), columns[first + j].end());
+    for (std::size_t k = 0; k < rows; ++k)
+      for (std::size_t l = 0; l < sub.lanes; ++l) call.arguments.push_back(columns[first + l][k]);
     for (std::size_t r = 0; r < rows; ++r)
-      for (std::size_t j = 0; j < per_call; ++j) call.results.push_back(result_of(first + j, r));
+      for (std::size_t l = 0; l < sub.lanes; ++l) call.results.push_back(result_of(first + l, r));
     sub.calls.push_back(std::move(call));
   }
   return sub;

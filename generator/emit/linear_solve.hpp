@@ -72,14 +72,13 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
 using ColumnSolver = std::function<std::vector<std::vector<int>>(
     ExpressionGraph& s, const std::function<int(int)>& shared, const std::vector<std::vector<int>>& b)>;
 
-/// A solve repeated over `columns` (nodes of g, all of one length) as a Subroutine (emit/expression_graph.hpp) that
-/// solves `per_call` columns per call: a call's arguments are its columns, one after the other, its results the
-/// solutions row by row (row r of every column, then row r + 1), placed at result_of(column, row) in the kernel's
-/// outputs. Shared values are nodes of g (a constant is copied into the subroutine's graph instead, where it
-/// folds); the work on them alone (a factorization) is hoisted into g (hoist_shared_work). A last call with fewer
-/// columns left takes the last `per_call` columns (some solved twice). Empty (no calls) when that work reaches a
-/// constant that is not a finite double.
-Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<int>>& columns, std::size_t per_call,
+/// A solve repeated over `columns` (nodes of g, all of one length) as a Subroutine (emit/expression_graph.hpp): the
+/// solve of one column, called on `lanes` consecutive columns at a time (its lanes); the solution's row r of a call's
+/// lane l is placed at result_of(column, r) in the kernel's outputs. Shared values are nodes of g (a constant is
+/// copied into the subroutine's graph instead, where it folds); the work on them alone (a factorization) is hoisted
+/// into g (hoist_shared_work). A last call with fewer columns left takes the last `lanes` columns (some solved
+/// twice). Empty (no calls) when that work reaches a constant that is not a finite double.
+Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<int>>& columns, std::size_t lanes,
                             const std::function<int(std::size_t, std::size_t)>& result_of, const ColumnSolver& solve);
 
 /// `factor` with every node read through `shared` (for a ColumnSolver).

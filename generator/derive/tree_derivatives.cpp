@@ -103,22 +103,55 @@ ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape
   return f;
 }
 
+namespace {
+
+bool in_subtree(const TreeRecursion& t, std::size_t i, std::size_t k) {  // i = k or a descendant of k
+  for (int j = static_cast<int>(i); j >= 0; j = t.parent[static_cast<std::size_t>(j)])
+    if (static_cast<std::size_t>(j) == k) return true;
+  return false;
+}
+
+}  // namespace
+
+bool InverseDynamicsJacobian::inside(const TreeRecursion& t, std::size_t i, std::size_t k) const {
+  return in_subtree(t, i, columns[k].body);
+}
+
+bool InverseDynamicsJacobian::ancestor(const TreeRecursion& t, std::size_t i, std::size_t k) const {
+  const std::size_t K = columns[k].body;
+  return K > 0 && i != K && in_subtree(t, K, i);
+}
+
+std::vector<ex> InverseDynamicsJacobian::rows(const TreeRecursion& t, std::size_t k) const {
+  const std::size_t m = t.base.size(), N = t.parent.size();
+  const Column& c = columns[k];
+  std::vector<ex> column(m + N - 1, ex(0));
+  if (c.body == 0)
+    for (std::size_t beta = 0; beta < m; ++beta) column[beta] = dot(t.base[beta], c.Delta);
+  for (std::size_t i = 1; i < N; ++i) {
+    if (inside(t, i, k)) column[m + i - 1] = dot(u[i], c.P) + dot(b[i], c.V);
+    column[m + i - 1] -= c.force[i - 1];
+  }
+  return column;
+}
+
 std::vector<std::vector<ex>> InverseDynamicsJacobian::dense(const TreeRecursion& t) const {
   const std::size_t m = t.base.size();
-  std::vector<std::vector<ex>> columns = rows;
+  std::vector<std::vector<ex>> out;
   for (std::size_t k = 0; k < columns.size(); ++k) {
-    const std::size_t K = inward_body[k];
+    out.push_back(rows(t, k));
+    const std::size_t K = columns[k].body;
     if (K == 0) continue;
-    for (std::size_t beta = 0; beta < m; ++beta) columns[k][beta] += dot(t.base[beta], inward[k]);
+    for (std::size_t beta = 0; beta < m; ++beta) out[k][beta] += dot(t.base[beta], inward(k));
     for (int i = t.parent[K]; i > 0; i = t.parent[static_cast<std::size_t>(i)])
-      columns[k][m + static_cast<std::size_t>(i) - 1] += dot(t.frame.axis[static_cast<std::size_t>(i)], inward[k]);
+      out[k][m + static_cast<std::size_t>(i) - 1] += dot(t.frame.axis[static_cast<std::size_t>(i)], inward(k));
   }
-  return columns;
+  return out;
 }
 
 InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Intermediates& tape) {
   Namer name(tape);
-  const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1, d = m + n;
+  const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1;
 
   // Forward, in the common frame (t.frame: poses, axes s_i, inertias): twists v_i, accelerations a_i at u̇ =
   // accelerations, ψ_i = v_λ × s_i (= v_i × s_i, the rate of s_i), c_i = a_λ × s_i + v_λ × ψ_i, momenta and
@@ -166,60 +199,42 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
 
   // Per joint: u = 𝕀ᶜ s, b = Bᶜᵀ s = Qᶜ s + Qᶜᵀ s − s ×* hᶜ, and what an ancestor's row sees of the subtree:
   // Δ (for r_i) and Δ' (for ṙ_i).
-  std::vector<Vec6> u(N), b(N), delta(N), delta_rate(N);
+  InverseDynamicsJacobian out;
+  out.u.assign(N, zero6());
+  out.b.assign(N, zero6());
+  std::vector<Vec6> delta(N), delta_rate(N);
   for (std::size_t i = 1; i < N; ++i) {
-    u[i] = name(Ic[i](s[i]));
+    out.u[i] = name(Ic[i](s[i]));
     const Vec6 Qs = name(times(Qc[i], s[i]) + times_transposed(Qc[i], s[i]));
     const Vec6 sh = name(coadjoint_term(s[i], Hc[i]));
-    b[i] = name(Qs - sh);
+    out.b[i] = name(Qs - sh);
     delta[i] = name(coadjoint_term(s[i], Fc[i]) + Ic[i](c[i]) + B(i, psi[i]));
     delta_rate[i] = name(Ic[i](psi[i]) * 2 + Qs + sh);
   }
 
-  const auto in_subtree = [&](std::size_t i, std::size_t k) {  // i = k or a descendant of k
-    for (int j = static_cast<int>(i); j >= 0; j = t.parent[static_cast<std::size_t>(j)])
-      if (static_cast<std::size_t>(j) == k) return true;
-    return false;
-  };
-  // Column of a joint K (body index): its rows I in K's subtree by `inside`; its ancestors' and the base's rows
-  // see the force Δ K's subtree passes inward.
-  InverseDynamicsJacobian out;
-  const auto joint_column = [&](std::size_t K, const Vec6& Delta, const auto& inside) {
-    std::vector<ex> column(d, ex(0));
-    for (std::size_t i = 1; i < N; ++i)
-      if (in_subtree(i, K)) column[m + i - 1] = inside(i);
-    out.rows.push_back(column);
-    out.inward_body.push_back(K);
-    out.inward.push_back(Delta);
-  };
-
+  // Joint K's angle: rows in K's subtree ⟨u_I, c_K⟩ + ⟨b_I, ψ_K⟩, the others see Δ_K. A base velocity: every body
+  // moves with the base, rows I see 𝕀ᶜ_I ψ + Bᶜ_I e with ψ = v_0 × e (no bias on the base itself). Joint K's rate:
+  // 2⟨u_I, ψ_K⟩ + ⟨b_I, s_K⟩ inside, Δ'_K outside.
   std::vector<ex> state;
   for (std::size_t K = 1; K < N; ++K) {
-    joint_column(K, delta[K], [&](std::size_t i) { return dot(u[i], c[K]) + dot(b[i], psi[K]); });
+    out.columns.push_back({K, c[K], psi[K], delta[K], {}});
     state.push_back(t.coordinates[K - 1]);
   }
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
-    // Every body moves with the base: rows I see 𝕀ᶜ_I ψ + Bᶜ_I e with ψ = v_0 × e (no bias on the base itself).
     const Vec6& e = t.base[alpha];
     const Vec6 psi0 = name(ad(v[0], e));
-    std::vector<ex> column(d);
-    const Vec6 base_rows = Ic[0](psi0) + B(0, e);
-    for (std::size_t beta = 0; beta < m; ++beta) column[beta] = dot(t.base[beta], base_rows);
-    for (std::size_t i = 1; i < N; ++i) column[m + i - 1] = dot(u[i], psi0) + dot(b[i], e);
-    out.rows.push_back(column);
-    out.inward_body.push_back(0);
-    out.inward.push_back(zero6());
+    out.columns.push_back({0, psi0, e, Ic[0](psi0) + B(0, e), {}});
     state.push_back(t.base_velocity[alpha]);
   }
   for (std::size_t K = 1; K < N; ++K) {
-    joint_column(K, delta_rate[K], [&](std::size_t i) { return 2 * dot(u[i], psi[K]) + dot(b[i], s[K]); });
+    out.columns.push_back({K, psi[K] * 2, s[K], delta_rate[K], {}});
     state.push_back(t.rates[K - 1]);
   }
 
   // The joint forces: ID_I = ⟨s_I, Fᶜ_I⟩ + armature_I u̇_I − τ_I.
-  for (std::size_t k = 0; k < out.rows.size(); ++k) {
+  for (std::size_t k = 0; k < out.columns.size(); ++k) {
     const GiNaC::symbol& x = GiNaC::ex_to<GiNaC::symbol>(state[k]);
-    for (std::size_t i = 0; i < n; ++i) out.rows[k][m + i] -= tape.diff(t.joint_force[i], x);
+    for (std::size_t i = 0; i < n; ++i) out.columns[k].force.push_back(tape.diff(t.joint_force[i], x));
   }
   return out;
 }

@@ -70,15 +70,33 @@ struct ArticulatedFactor {
 ArticulatedFactor articulated_factor(const TreeRecursion& tree, Intermediates& tape);
 
 /// ∂ID/∂x for the state x = (r, ξ, ṙ), one column per x_k, in the intermediates of `tape` (new definitions are
-/// added to it), at u̇ = tree.accelerations. The m + n rows (base directions, then joints) of column k are
-/// `rows[k]` plus, when inward_body[k] = K > 0 (the columns of K's joint angle and rate), ⟨s_I, inward[k]⟩ on
-/// the rows of K's strict ancestors I and ⟨e_α, inward[k]⟩ on the base's: the force K's subtree passes inward
-/// (Δ_K or Δ'_K). A recursive solve takes that force as it is (emit/linear_solve.hpp); dense() adds its rows.
+/// added to it), at u̇ = tree.accelerations. Every column has one form: with per-body vectors u_i = 𝕀ᶜ_i s_i and
+/// b_i = Bᶜ_iᵀ s_i and per-column vectors P, V and Δ,
+///   row of joint i:  [i inside] (⟨u_i, P⟩ + ⟨b_i, V⟩) + [i an ancestor] ⟨s_i, Δ⟩ − ∂τ_i/∂x_k,
+///   base row α:      ⟨e_α, Δ⟩,
+/// where for the columns of joint K's angle and rate (Column::body = K) the bodies inside are K's subtree and the
+/// ancestors K's strict ancestors, Δ being the force K's subtree passes inward (Δ_K or Δ'_K); for a base velocity
+/// (body 0) every body is inside and none an ancestor. A recursive solve takes Δ as that force (emit/linear_solve.hpp:
+/// rows() lists the rows without it, inward() gives it); dense() adds its rows; a program called per column
+/// (emit/tree_columns.hpp) reads the form itself.
 struct InverseDynamicsJacobian {
-  std::vector<std::vector<GiNaC::ex>> rows;
-  std::vector<std::size_t> inward_body;
-  std::vector<spatial::Vec6> inward;
-  /// The full columns: `rows` with the inward forces' rows added.
+  std::vector<spatial::Vec6> u, b;  ///< per body i ≥ 1 (index 0 unused)
+  struct Column {
+    std::size_t body = 0;  ///< K for the columns of joint K's angle and rate; 0 for a base velocity
+    spatial::Vec6 P, V, Delta;
+    std::vector<GiNaC::ex> force;  ///< ∂τ_I/∂x_k of the joint forces (n)
+  };
+  std::vector<Column> columns;
+
+  /// Whether joint i's row (body i ≥ 1) of column k sees P and V, or Δ.
+  bool inside(const TreeRecursion& tree, std::size_t i, std::size_t k) const;
+  bool ancestor(const TreeRecursion& tree, std::size_t i, std::size_t k) const;
+  /// Column k's rows (m + n: base directions, then joints) but those an inward force gives: an ancestor's ⟨s_i, Δ⟩
+  /// and, for a joint's column, the base's ⟨e_α, Δ⟩.
+  std::vector<GiNaC::ex> rows(const TreeRecursion& tree, std::size_t k) const;
+  /// The force column k passes inward from its joint's body (Column::body; none for 0).
+  const spatial::Vec6& inward(std::size_t k) const { return columns[k].Delta; }
+  /// The full columns: rows() with the inward forces' rows added.
   std::vector<std::vector<GiNaC::ex>> dense(const TreeRecursion& tree) const;
 };
 

@@ -341,9 +341,9 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
   std::vector<InwardForce> inward;
   for (std::size_t k = 0; k < right_sides.size(); ++k) {
     own_rows.emplace_back();
-    for (const GiNaC::ex& r : id->rows[k]) own_rows.back().push_back(node_of_(-r));
-    InwardForce f{id->inward_body[k], {}};
-    for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of_(id->inward[k][c]);
+    for (const GiNaC::ex& r : id->rows(*eq_.tree, k)) own_rows.back().push_back(node_of_(-r));
+    InwardForce f{id->columns[k].body, {}};
+    for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of_(id->inward(k)[c]);
     inward.push_back(f);
   }
   const ArticulatedNodes factor = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);

@@ -77,8 +77,7 @@ ArticulatedFactor articulated_factor(const TreeRecursion& tree, Intermediates& t
 /// where for the columns of joint K's angle and rate (Column::body = K) the bodies inside are K's subtree and the
 /// ancestors K's strict ancestors, Δ being the force K's subtree passes inward (Δ_K or Δ'_K); for a base velocity
 /// (body 0) every body is inside and none an ancestor. A recursive solve takes Δ as that force (emit/linear_solve.hpp:
-/// rows() lists the rows without it, inward() gives it); dense() adds its rows; a program called per column
-/// (emit/tree_columns.hpp) reads the form itself.
+/// rows() lists the rows without it, inward() gives it); dense() adds its rows.
 struct InverseDynamicsJacobian {
   std::vector<spatial::Vec6> u, b;  ///< per body i ≥ 1 (index 0 unused)
   struct Column {

@@ -249,6 +249,93 @@ std::string stage_arguments(const StageReads* reads) {
   return text;
 }
 
+// A long kernel is split into parts of at most part_size consecutive statements, each a function of its own: an
+// optimizing compiler's register allocation grows faster than linearly with the length of one function
+// (g++ -O2 spent 75 % of a 63 s compile in LRA on a 44 000-statement file), and a part's code stays
+// closer to the instruction cache. A value one part computes and a later part reads is passed in the kernel's
+// stack array v[]; a slot is reused once its value has been read for the last time. Outputs go to out[] from
+// the part that computes them (`outputs_in_parts`), or else from v[] at the kernel's end.
+// Where the parts end: near equal lengths (a short last part would read most of what it needs from v[]: the
+// 4-body tree's rhs, 2 207 statements, ran 11 % slower in parts of 2 000 + 207), and within a quarter of a
+// part of that, at the boundary the fewest values cross (live[b]: statements before b read at or after b).
+struct Parts {
+  std::vector<int> start;   ///< position of each part's first statement
+  std::map<int, int> slot;  ///< statement node passed to a later part (or to the kernel's end) -> its slot of v[]
+  int n_slots = 0;
+  /// The part of the statement at position w.
+  int part_at(int w) const {
+    return static_cast<int>(std::upper_bound(start.begin(), start.end(), w) - start.begin()) - 1;
+  }
+};
+
+Parts plan_parts(const ExpressionGraph& g, const std::vector<int>& statements, const std::map<int, int>& index,
+                 const std::map<int, std::string>& leaf, const std::vector<int>& outputs, bool outputs_in_parts,
+                 int part_size) {
+  const int work = static_cast<int>(statements.size());
+  const int parts = (work + part_size - 1) / part_size;
+  std::vector<int> live(static_cast<std::size_t>(work) + 1, 0);
+  {
+    std::vector<int> last_use(static_cast<std::size_t>(work), 0);  // position of the last reader; work: out[]
+    for (int w = 0; w < work; ++w) {
+      const Node& n = g.node(statements[static_cast<std::size_t>(w)]);
+      for (int operand : {n.a, n.b})
+        if (operand >= 0 && !leaf.count(operand)) last_use[static_cast<std::size_t>(index.at(operand))] = w;
+    }
+    if (!outputs_in_parts)
+      for (int o : outputs)
+        if (!leaf.count(o)) last_use[static_cast<std::size_t>(index.at(o))] = work;
+    std::vector<int> change(static_cast<std::size_t>(work) + 2, 0);
+    for (int w = 0; w < work; ++w) {
+      ++change[static_cast<std::size_t>(w) + 1];
+      --change[static_cast<std::size_t>(last_use[static_cast<std::size_t>(w)]) + 1];
+    }
+    for (int b = 1; b <= work; ++b)
+      live[static_cast<std::size_t>(b)] = live[static_cast<std::size_t>(b) - 1] + change[static_cast<std::size_t>(b)];
+  }
+  Parts plan;
+  std::vector<int>& start = plan.start;
+  start.push_back(0);
+  for (int part = 1; part < parts; ++part) {
+    const int ideal = static_cast<int>(static_cast<long long>(part) * work / parts);
+    const int slack = work / parts / 4;
+    // Every part nonempty and at most part_size long, this one and those left.
+    const int first = std::max(start.back() + 1, work - (parts - part) * part_size);
+    const int last = std::min(start.back() + part_size, work - (parts - part));
+    int lo = std::max(first, ideal - slack), hi = std::min(last, ideal + slack);
+    if (lo > hi) lo = hi = std::clamp(ideal, first, last);
+    int best = std::clamp(ideal, lo, hi);
+    for (int b = lo; b <= hi; ++b)
+      if (live[static_cast<std::size_t>(b)] < live[static_cast<std::size_t>(best)]) best = b;
+    start.push_back(best);
+  }
+  const auto part_of = [&](int i) { return plan.part_at(index.at(i)); };
+  const auto end_of = [&](int part) { return part + 1 < parts ? start[static_cast<std::size_t>(part) + 1] : work; };
+  std::map<int, int> last_part;  // statement node read outside its part -> last part reading it (parts: out[])
+  for (int i : statements)
+    for (int operand : {g.node(i).a, g.node(i).b})
+      if (operand >= 0 && !leaf.count(operand) && part_of(operand) != part_of(i))
+        last_part[operand] = std::max(last_part[operand], part_of(i));
+  if (!outputs_in_parts)
+    for (int o : outputs)
+      if (!leaf.count(o)) last_part[o] = parts;
+  std::vector<std::vector<int>> expiring(static_cast<std::size_t>(parts) + 1);
+  std::set<int> free_slots;
+  for (int part = 0; part < parts; ++part) {
+    for (int i : expiring[static_cast<std::size_t>(part)]) free_slots.insert(plan.slot.at(i));
+    for (int w = start[static_cast<std::size_t>(part)]; w < end_of(part); ++w) {
+      const int i = statements[static_cast<std::size_t>(w)];
+      const auto last = last_part.find(i);
+      if (last == last_part.end()) continue;
+      if (free_slots.empty()) free_slots.insert(plan.n_slots++);
+      plan.slot[i] = *free_slots.begin();
+      free_slots.erase(free_slots.begin());
+      // Free from the part after its last reader on (a part may read it after writing its own values).
+      expiring[static_cast<std::size_t>(std::min(last->second + 1, parts))].push_back(i);
+    }
+  }
+  return plan;
+}
+
 // Kernel k's outputs as one function, or a long one as parts called in turn. With `reads`, the values of earlier
 // stages it reads are taken from their arrays (extra parameters of the function and of its parts), not computed.
 PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
@@ -339,78 +426,12 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     return {k.name, os.str(), work * lanes, c};
   }
 
-  // A long kernel is split into parts of at most part_size consecutive statements, each a function of its own: an
-  // optimizing compiler's register allocation grows faster than linearly with the length of one function
-  // (g++ -O2 spent 75 % of a 63 s compile in LRA on a 44 000-statement file), and a part's code stays
-  // closer to the instruction cache. A value one part computes and a later part reads is passed in the kernel's
-  // stack array v[]; a slot is reused once its value has been read for the last time. Outputs go to out[] from
-  // the part that computes them.
-  // Where the parts end: near equal lengths (a short last part would read most of what it needs from v[]: the
-  // 4-body tree's rhs, 2 207 statements, ran 11 % slower in parts of 2 000 + 207), and within a quarter of a
-  // part of that, at the boundary the fewest values cross (live[b]: statements before b read at or after b).
-  const int parts = (work + part_size - 1) / part_size;
-  std::vector<int> live(static_cast<std::size_t>(work) + 1, 0);
-  {
-    std::vector<int> last_use(static_cast<std::size_t>(work), 0);  // position of the last reader; work: out[]
-    for (int w = 0; w < work; ++w) {
-      const Node& n = g.node(statements[static_cast<std::size_t>(w)]);
-      for (int operand : {n.a, n.b})
-        if (operand >= 0 && !leaf.count(operand)) last_use[static_cast<std::size_t>(index.at(operand))] = w;
-    }
-    if (!d.outputs_in_parts)
-      for (int o : k.outputs)
-        if (!leaf.count(o)) last_use[static_cast<std::size_t>(index.at(o))] = work;
-    std::vector<int> change(static_cast<std::size_t>(work) + 2, 0);
-    for (int w = 0; w < work; ++w) {
-      ++change[static_cast<std::size_t>(w) + 1];
-      --change[static_cast<std::size_t>(last_use[static_cast<std::size_t>(w)]) + 1];
-    }
-    for (int b = 1; b <= work; ++b) live[static_cast<std::size_t>(b)] = live[static_cast<std::size_t>(b) - 1] + change[static_cast<std::size_t>(b)];
-  }
-  std::vector<int> start{0};  // first statement of each part
-  for (int part = 1; part < parts; ++part) {
-    const int ideal = static_cast<int>(static_cast<long long>(part) * work / parts);
-    const int slack = work / parts / 4;
-    // Every part nonempty and at most part_size long, this one and those left.
-    const int first = std::max(start.back() + 1, work - (parts - part) * part_size);
-    const int last = std::min(start.back() + part_size, work - (parts - part));
-    int lo = std::max(first, ideal - slack), hi = std::min(last, ideal + slack);
-    if (lo > hi) lo = hi = std::clamp(ideal, first, last);
-    int best = std::clamp(ideal, lo, hi);
-    for (int b = lo; b <= hi; ++b)
-      if (live[static_cast<std::size_t>(b)] < live[static_cast<std::size_t>(best)]) best = b;
-    start.push_back(best);
-  }
-  const auto part_at = [&](int w) {
-    return static_cast<int>(std::upper_bound(start.begin(), start.end(), w) - start.begin()) - 1;
-  };
-  const auto part_of = [&](int i) { return part_at(index.at(i)); };
+  const Parts plan = plan_parts(g, statements, index, leaf, k.outputs, d.outputs_in_parts, part_size);
+  const std::vector<int>& start = plan.start;
+  const std::map<int, int>& slot = plan.slot;
+  const int parts = static_cast<int>(start.size()), n_slots = plan.n_slots;
+  const auto part_of = [&](int i) { return plan.part_at(index.at(i)); };
   const auto end_of = [&](int part) { return part + 1 < parts ? start[static_cast<std::size_t>(part) + 1] : work; };
-  std::map<int, int> last_part;  // statement node read outside its part -> last part reading it (parts: out[])
-  for (int i : statements)
-    for (int operand : {g.node(i).a, g.node(i).b})
-      if (operand >= 0 && !leaf.count(operand) && part_of(operand) != part_of(i))
-        last_part[operand] = std::max(last_part[operand], part_of(i));
-  if (!d.outputs_in_parts)
-    for (int o : k.outputs)
-      if (!leaf.count(o)) last_part[o] = parts;
-  std::map<int, int> slot;
-  std::vector<std::vector<int>> expiring(static_cast<std::size_t>(parts) + 1);
-  std::set<int> free_slots;
-  int n_slots = 0;
-  for (int part = 0; part < parts; ++part) {
-    for (int i : expiring[static_cast<std::size_t>(part)]) free_slots.insert(slot.at(i));
-    for (int w = start[static_cast<std::size_t>(part)]; w < end_of(part); ++w) {
-      const int i = statements[static_cast<std::size_t>(w)];
-      const auto last = last_part.find(i);
-      if (last == last_part.end()) continue;
-      if (free_slots.empty()) free_slots.insert(n_slots++);
-      slot[i] = *free_slots.begin();
-      free_slots.erase(free_slots.begin());
-      // Free from the part after its last reader on (a part may read it after writing its own values).
-      expiring[static_cast<std::size_t>(std::min(last->second + 1, parts))].push_back(i);
-    }
-  }
   const auto passed = [&](int i) { return "v[" + std::to_string(slot.at(i) * lanes + lane) + "]"; };
   const std::vector<char> inside =
       printed_inside(g, statements, output, [&](int value, int reader) { return part_of(value) == part_of(reader); });

@@ -117,11 +117,6 @@ bool InverseDynamicsJacobian::inside(const TreeRecursion& t, std::size_t i, std:
   return in_subtree(t, i, columns[k].body);
 }
 
-bool InverseDynamicsJacobian::ancestor(const TreeRecursion& t, std::size_t i, std::size_t k) const {
-  const std::size_t K = columns[k].body;
-  return K > 0 && i != K && in_subtree(t, K, i);
-}
-
 std::vector<ex> InverseDynamicsJacobian::rows(const TreeRecursion& t, std::size_t k) const {
   const std::size_t m = t.base.size(), N = t.parent.size();
   const Column& c = columns[k];

@@ -87,9 +87,8 @@ struct InverseDynamicsJacobian {
   };
   std::vector<Column> columns;
 
-  /// Whether joint i's row (body i ≥ 1) of column k sees P and V, or Δ.
+  /// Whether joint i's row (body i ≥ 1) of column k sees P and V.
   bool inside(const TreeRecursion& tree, std::size_t i, std::size_t k) const;
-  bool ancestor(const TreeRecursion& tree, std::size_t i, std::size_t k) const;
   /// Column k's rows (m + n: base directions, then joints) but those an inward force gives: an ancestor's ⟨s_i, Δ⟩
   /// and, for a joint's column, the base's ⟨e_α, Δ⟩.
   std::vector<GiNaC::ex> rows(const TreeRecursion& tree, std::size_t k) const;

@@ -526,13 +526,19 @@ std::vector<int> result_offsets(const Subroutine& sub) {
 // scratch[] of each output after the direct ones, where a call's arguments lie as its lanes read them). Computing one
 // lane's arguments before the next keeps the stage's depth-first order column by column: with the arguments in
 // their interleaved order instead, g++ -O2 took 7 s longer on the 30-joint chain's rhs and jacobian.
-Kernel stage_of(const Kernel& k, const Subroutine& sub, std::vector<std::size_t>& direct,
-                std::vector<std::size_t>& slot) {
+struct Stage {
+  Kernel kernel;
+  std::vector<std::size_t> direct, slot;
+};
+
+Stage stage_of(const Kernel& k, const Subroutine& sub) {
+  Stage staged{{k.name + "_stage", "", {}, {}, nullptr}, {}, {}};
+  Kernel& stage = staged.kernel;
+  std::vector<std::size_t>&direct = staged.direct, &slot = staged.slot;
   std::vector<bool> by_call(k.outputs.size(), false);
   for (const Subroutine::Call& call : sub.calls)
     for (int r : call.results)
       if (r >= 0) by_call[static_cast<std::size_t>(r)] = true;
-  Kernel stage{k.name + "_stage", "", {}, {}, nullptr};
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     if (by_call[o]) continue;
     stage.outputs.push_back(k.outputs[o]);
@@ -556,7 +562,7 @@ Kernel stage_of(const Kernel& k, const Subroutine& sub, std::vector<std::size_t>
         slot.push_back(sub.shared.size() + c * arguments.size() + a * lanes + l);
       }
   }
-  return stage;
+  return staged;
 }
 
 // The shared stages a kernel calls before its own work (emit/shared_stages.hpp), as its function prints them.
@@ -595,8 +601,9 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   const PrintedKernel called = print_kernel(
       sub.graph, column, Sizes{0, 0, static_cast<int>(n_arguments), static_cast<int>(n_shared), 0, s.split}, placed);
 
-  std::vector<std::size_t> direct, slot;
-  const Kernel stage = stage_of(k, sub, direct, slot);
+  const Stage staging = stage_of(k, sub);
+  const Kernel& stage = staging.kernel;
+  const std::vector<std::size_t>&direct = staging.direct, &slot = staging.slot;
   const std::size_t first = direct.size(), n_scratch = stage.outputs.size() - first;
   Destination into = to_two_arrays(stage, first, "scratch");
   into.target = [&](std::size_t o) {
@@ -892,8 +899,7 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   const auto is_checked_rhs = [&](const Kernel& k) { return k.name == "rhs" && !kernels.rhs_pivots.empty(); };
   std::vector<std::vector<int>> units;  // what each kernel's function computes
   for (const Kernel& k : kernels.kernels) {
-    std::vector<std::size_t> direct, slot;
-    units.push_back(k.calls && s.calls ? stage_of(k, *k.calls, direct, slot).outputs : k.outputs);
+    units.push_back(k.calls && s.calls ? stage_of(k, *k.calls).kernel.outputs : k.outputs);
     if (is_checked_rhs(k)) units.back().insert(units.back().end(), kernels.rhs_pivots.begin(), kernels.rhs_pivots.end());
   }
   sharing = plan_shared_stages(kernels.graph, units, settings.share_statements, settings.share_ratio);

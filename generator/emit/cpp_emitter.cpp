@@ -364,19 +364,18 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       uses[static_cast<int>(n.argument)] = true;
       leaf[i] = n.argument == Argument::time
                     ? std::string("t")
-                    : std::string(argument_name(n.argument)) + "[" +
-                          std::to_string(n.argument == Argument::state ? n.index * lanes : n.index) + "]";
+                    : std::string(argument_name(n.argument)) + "[" + std::to_string(n.index) + "]";
     } else {
       statements.push_back(i);
     }
   }
   const OpCounts c = OpCounts{}.add_times(lanes, g.count(statements));
   const int work = static_cast<int>(statements.size());
-  // A leaf as lane `lane` reads it: x[k·lanes] is lane 0's x[k].
+  // A leaf as lane `lane` reads it: the program's x[k] is x[k·lanes + lane].
   const auto leaf_of = [&](int i) {
-    const std::string& text = leaf.at(i);
-    if (lane == 0 || g.node(i).op != Op::input || g.node(i).argument != Argument::state) return text;
-    return "x[" + std::to_string(g.node(i).index * lanes + lane) + "]";
+    const Node& n = g.node(i);
+    if (lanes == 1 || n.op != Op::input || n.argument != Argument::state) return leaf.at(i);
+    return "x[" + std::to_string(n.index * lanes + lane) + "]";
   };
   const auto each_lane = [&](const std::function<void()>& print) {
     for (lane = 0; lane < lanes; ++lane) print();

@@ -48,6 +48,7 @@ class TreeProgram {
   Vec3 name(const Vec3& v) { return name_(v); }
   Vec6 name(const Vec6& v) { return name_(v); }
   Mat6 name_symmetric(const Mat6& m) { return name_.symmetric(m); }
+  Mat6 inertia_to_parent(const Link& l, const Mat6& inertia) { return spatial::inertia_to_parent(l, inertia, name_); }
 
   // A x = b for a small symmetric positive definite A (the floating base's articulated inertia on its
   // directions) by LDLᵀ without pivoting, every factor named; the pivots d_k go to `pivots`.
@@ -169,16 +170,11 @@ void articulated_body(TreeProgram& prog, const BodyFrames& b, const std::vector<
     u[i] = prog.name(joint_force[i] - dot(b.axis[i], pA[i]));
     const std::size_t p = static_cast<std::size_t>(b.parent[i]);
     if (p == 0 && m == 0) continue;  // a fixed base takes no articulated inertia: nothing solves for it
-    // 𝕀ᵃ = 𝕀ᴬ − U Uᵀ / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + U u / D, moved to the parent's frame.
-    const Mat6 Ia = prog.name_symmetric(articulated_remainder(IA[i], U[i], inverse_D[i]));
-    const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + U[i] * prog.name(u[i] * inverse_D[i]));
-    for (int k = 0; k < 6; ++k) {
-      const Vec6 col = b.link[i].to_parent(times(Ia, b.link[i].to_child(unit6(k))));
-      for (std::size_t r = static_cast<std::size_t>(k); r < 6; ++r) {
-        IA[p][r][static_cast<std::size_t>(k)] += col[r];
-        if (r != static_cast<std::size_t>(k)) IA[p][static_cast<std::size_t>(k)][r] += col[r];
-      }
-    }
+    // 𝕀ᵃ = 𝕀ᴬ − U Wᵀ with W = U / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + W u, moved to the parent's frame.
+    const Vec6 W = prog.name(U[i] * inverse_D[i]);
+    const Mat6 Ia = prog.name_symmetric(articulated_remainder(IA[i], U[i], W));
+    const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + W * u[i]);
+    IA[p] = IA[p] + prog.inertia_to_parent(b.link[i], Ia);
     pA[p] = pA[p] + b.link[i].to_parent(pa);
   }
   if (m > 0) {

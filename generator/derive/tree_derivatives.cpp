@@ -91,7 +91,7 @@ ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape
     const ex inverse_D = f.inverse_pivot[i] = name(1 / name(dot(s[i], U) + t.armature[i - 1]));
     const std::size_t l = static_cast<std::size_t>(t.parent[i]);
     if (l == 0 && m == 0) continue;  // a fixed base takes nothing
-    IA[l] = IA[l] + articulated_remainder(IA[i], U, inverse_D);
+    IA[l] = IA[l] + articulated_remainder(IA[i], U, name(U * inverse_D));
   }
   if (m > 0) {
     IA[0] = name.symmetric(IA[0]);

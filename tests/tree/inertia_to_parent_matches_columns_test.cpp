@@ -1,0 +1,54 @@
+// spatial::inertia_to_parent (the articulated-body algorithm's X 𝕀 Xᵀ by 3×3 blocks, derive/spatial_algebra.hpp)
+// against the same congruence formed column by column from the twist and wrench maps it must agree with,
+// Link::to_child and Link::to_parent: column k of X 𝕀 Xᵀ is to_parent(𝕀 to_child(e_k)). Random rotations
+// (general, and about each coordinate axis, where the blocks drop R's zeros), random offsets and random
+// symmetric 𝕀, in exact rational arithmetic: the two must be equal, not close.
+#include "algebra/intermediates.hpp"
+#include "derive/spatial_algebra.hpp"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+namespace {
+
+using namespace hamel::spatial;
+using GiNaC::ex;
+using GiNaC::numeric;
+
+// A rotation with rational entries (Cayley transform of a rational skew matrix): exact, orthonormal.
+Mat3 cayley(const numeric& a, const numeric& b, const numeric& c) {
+  const numeric n = 1 + a * a + b * b + c * c;
+  return {{{(1 + a * a - b * b - c * c) / n, 2 * (a * b - c) / n, 2 * (a * c + b) / n},
+           {2 * (a * b + c) / n, (1 - a * a + b * b - c * c) / n, 2 * (b * c - a) / n},
+           {2 * (a * c - b) / n, 2 * (b * c + a) / n, (1 - a * a - b * b + c * c) / n}}};
+}
+
+TEST(InertiaToParent, EqualsTheCongruenceFormedColumnByColumn) {
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> small(-9, 9);
+  const auto r = [&] { return numeric(small(rng), 7); };
+  for (int trial = 0; trial < 12; ++trial) {
+    Link l;
+    const int axis = trial % 4;  // 0..2: about that coordinate axis, 3: general
+    const numeric t = r();
+    l.R = cayley(axis == 0 || axis == 3 ? t : numeric(0), axis == 1 || axis == 3 ? r() : numeric(0),
+                 axis == 2 || axis == 3 ? r() : numeric(0));
+    l.p = {r(), r(), r()};
+    Mat6 I;
+    for (std::size_t a = 0; a < 6; ++a)
+      for (std::size_t b = a; b < 6; ++b) I[a][b] = I[b][a] = r();
+    hamel::Intermediates tape;
+    Namer name(tape);
+    const Mat6 blocks = inertia_to_parent(l, I, name);
+    for (int k = 0; k < 6; ++k) {
+      const Vec6 column = l.to_parent(times(I, l.to_child(unit6(k))));
+      for (std::size_t row = 0; row < 6; ++row) {
+        const ex difference = tape.inline_all(blocks[row][static_cast<std::size_t>(k)]) - column[row];
+        EXPECT_TRUE(difference.expand().is_zero()) << "trial " << trial << " entry (" << row << ", " << k << ")";
+      }
+    }
+  }
+}
+
+}  // namespace

@@ -69,6 +69,14 @@ std::vector<std::vector<int>> reversed(const std::vector<std::vector<int>>& M) {
   return R;
 }
 
+// ⟨a, b⟩ of two 6-vectors of nodes, summed in pairs: shorter chains of dependent additions.
+int paired_dot(ExpressionGraph& g, const std::array<int, 6>& a, const std::array<int, 6>& b) {
+  int pair[3];
+  for (std::size_t k = 0; k < 3; ++k)
+    pair[k] = g.binary(Op::add, g.binary(Op::mul, a[2 * k], b[2 * k]), g.binary(Op::mul, a[2 * k + 1], b[2 * k + 1]));
+  return g.binary(Op::add, g.binary(Op::add, pair[0], pair[1]), pair[2]);
+}
+
 }  // namespace
 
 // Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
@@ -122,13 +130,24 @@ ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree
     return out;
   };
   const Vec none = {zero, zero, zero, zero, zero, zero};
-  ArticulatedNodes f{tree.parent, std::vector<Vec>(N, none), std::vector<Vec>(N, none), std::vector<Vec>(N, none),
-                     {}, std::vector<int>(N, zero), std::vector<std::vector<int>>(m, std::vector<int>(m))};
+  ArticulatedNodes f{tree.parent,
+                     std::vector<Vec>(N, none),
+                     std::vector<Vec>(N, none),
+                     std::vector<Vec>(N, none),
+                     {},
+                     std::vector<int>(N, zero),
+                     std::vector<std::vector<int>>(m, std::vector<int>(m)),
+                     std::vector<int>(N, zero),
+                     std::vector<int>(N, zero)};
   for (std::size_t i = 1; i < N; ++i) {
     f.s[i] = nodes(tree.frame.axis[i]);
     f.U[i] = nodes(factor.U[i]);
     f.inverse_D[i] = node_of(factor.inverse_pivot[i]);
     for (std::size_t k = 0; k < 6; ++k) f.W[i][k] = g.binary(Op::mul, f.U[i][k], f.inverse_D[i]);
+    const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+    if (l == 0) continue;
+    f.sigma[i] = paired_dot(g, f.s[l], f.U[i]);
+    f.omega[i] = g.binary(Op::mul, f.sigma[i], f.inverse_D[i]);
   }
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
     f.e.push_back(nodes(tree.base[alpha]));
@@ -143,12 +162,8 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
   using Vec = ArticulatedNodes::Vec;
   const std::size_t N = factor.parent.size(), m = factor.e.size();
   const int zero = g.constant(0);
-  const auto dot = [&](const Vec& a, const Vec& b) {  // summed in pairs: shorter chains of dependent additions
-    int pair[3];
-    for (std::size_t k = 0; k < 3; ++k)
-      pair[k] = g.binary(Op::add, g.binary(Op::mul, a[2 * k], b[2 * k]), g.binary(Op::mul, a[2 * k + 1], b[2 * k + 1]));
-    return g.binary(Op::add, g.binary(Op::add, pair[0], pair[1]), pair[2]);
-  };
+  const auto dot = [&](const Vec& a, const Vec& b) { return paired_dot(g, a, b); };
+  const auto fma = [&](int y, int a, int x) { return g.binary(Op::add, y, g.binary(Op::mul, a, x)); };  // y + a x
   const auto axpy = [&](const Vec& y, const Vec& a, int x) {  // y + a x
     Vec out;
     for (std::size_t k = 0; k < 6; ++k) out[k] = g.binary(Op::add, y[k], g.binary(Op::mul, a[k], x));
@@ -159,20 +174,30 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
   const std::vector<int>& parent = factor.parent;
   const Vec none = {zero, zero, zero, zero, zero, zero};
 
-  // Inward, per column: μ_i and the base's right-hand side.
+  // Inward, per column: μ_i and the base's right-hand side. q_i is p_i without its children's U_c μ_c, which
+  // reach ⟨s_i, p_i⟩ as σ_c μ_c in `s_p`.
   std::vector<std::vector<int>> mu(columns.size(), std::vector<int>(N, zero)), base_rhs(columns.size());
   for (std::size_t c = 0; c < columns.size(); ++c) {
     const std::vector<int>& b = columns[c];
-    std::vector<Vec> p(N, none);
+    std::vector<Vec> p(N, none), q(N, none);
+    std::vector<int> s_p(N, zero);
     // b_I = −⟨s_I, F⟩ on the ancestors of the force's body: μ_I = (b_I − ⟨s_I, p_I⟩) / D_I with p_I + F in place
     // of p_I, and F passes inward with p unchanged.
-    if (!inward.empty() && inward[c].body > 0) p[static_cast<std::size_t>(parent[inward[c].body])] = inward[c].force;
+    if (!inward.empty() && inward[c].body > 0) {
+      const std::size_t entry = static_cast<std::size_t>(parent[inward[c].body]);
+      p[entry] = q[entry] = inward[c].force;
+    }
     for (std::size_t i = N; i-- > 1;) {
-      mu[c][i] = g.binary(Op::mul, g.binary(Op::sub, b[m + i - 1], dot(s[i], p[i])), inverse_D[i]);
+      const int s_pi = g.binary(Op::add, dot(s[i], q[i]), s_p[i]);  // ⟨s_i, p_i⟩
+      mu[c][i] = g.binary(Op::mul, g.binary(Op::sub, b[m + i - 1], s_pi), inverse_D[i]);
       const std::size_t l = static_cast<std::size_t>(parent[i]);
       if (l == 0 && m == 0) continue;
       const Vec pi = axpy(p[i], U[i], mu[c][i]);
-      for (std::size_t k = 0; k < 6; ++k) p[l][k] = g.binary(Op::add, p[l][k], pi[k]);
+      for (std::size_t k = 0; k < 6; ++k) {
+        p[l][k] = g.binary(Op::add, p[l][k], pi[k]);
+        q[l][k] = g.binary(Op::add, q[l][k], p[i][k]);
+      }
+      s_p[l] = fma(s_p[l], factor.sigma[i], mu[c][i]);
     }
     for (std::size_t alpha = 0; alpha < m; ++alpha) base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
   }
@@ -187,7 +212,11 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     out[c] = base_rate[c];
     for (std::size_t i = 1; i < N; ++i) {
       const std::size_t l = static_cast<std::size_t>(parent[i]);
-      const int rate = g.binary(Op::sub, mu[c][i], dot(W[i], a[l]));
+      // ⟨W_i, a_λ⟩ = ⟨W_i, a_λλ⟩ + ω_i ÿ_λ below a joint λ.
+      const int W_a = l == 0
+                          ? dot(W[i], a[0])
+                          : fma(dot(W[i], a[static_cast<std::size_t>(parent[l])]), factor.omega[i], out[c][m + l - 1]);
+      const int rate = g.binary(Op::sub, mu[c][i], W_a);
       out[c].push_back(rate);
       a[i] = axpy(a[l], s[i], rate);
     }
@@ -238,9 +267,18 @@ ArticulatedNodes shared_factor(const ArticulatedNodes& factor, const std::functi
       for (std::size_t k = 0; k < 6; ++k) out[i][k] = shared(v[i][k]);
     return out;
   };
-  ArticulatedNodes local{factor.parent, vectors(factor.s), vectors(factor.U), vectors(factor.W), vectors(factor.e),
-                         {}, factor.base_inertia};
+  ArticulatedNodes local{factor.parent,
+                         vectors(factor.s),
+                         vectors(factor.U),
+                         vectors(factor.W),
+                         vectors(factor.e),
+                         {},
+                         factor.base_inertia,
+                         {},
+                         {}};
   for (int d : factor.inverse_D) local.inverse_D.push_back(shared(d));
+  for (int x : factor.sigma) local.sigma.push_back(shared(x));
+  for (int x : factor.omega) local.omega.push_back(shared(x));
   for (std::vector<int>& row : local.base_inertia)
     for (int& entry : row) entry = shared(entry);
   return local;

@@ -2,6 +2,7 @@
 
 #include "algebra/simplify.hpp"
 
+#include "derive/articulated_body.hpp"
 #include "derive/spatial_algebra.hpp"
 #include "derive/tree_derivatives.hpp"
 #include "lie/lie_algebra.hpp"
@@ -47,40 +48,7 @@ class TreeProgram {
   ex name(const ex& e) { return name_(e); }
   Vec3 name(const Vec3& v) { return name_(v); }
   Vec6 name(const Vec6& v) { return name_(v); }
-  Mat6 name_symmetric(const Mat6& m) { return name_.symmetric(m); }
-  Mat6 inertia_to_parent(const Link& l, const Mat6& inertia) { return spatial::inertia_to_parent(l, inertia, name_); }
-
-  // A x = b for a small symmetric positive definite A (the floating base's articulated inertia on its
-  // directions) by LDLᵀ without pivoting, every factor named; the pivots d_k go to `pivots`.
-  std::vector<ex> solve_symmetric(const std::vector<std::vector<ex>>& A, const std::vector<ex>& b,
-                                  std::vector<ex>& pivots) {
-    const std::size_t k = b.size();
-    std::vector<std::vector<ex>> L(k, std::vector<ex>(k, ex(0)));
-    std::vector<ex> d(k), inverse(k), y(k), x(k);
-    for (std::size_t j = 0; j < k; ++j) {
-      ex dj = A[j][j];
-      for (std::size_t l = 0; l < j; ++l) dj -= L[j][l] * L[j][l] * d[l];
-      d[j] = name(dj);
-      pivots.push_back(d[j]);
-      inverse[j] = name(1 / d[j]);
-      for (std::size_t i = j + 1; i < k; ++i) {
-        ex s = A[i][j];
-        for (std::size_t l = 0; l < j; ++l) s -= L[i][l] * L[j][l] * d[l];
-        L[i][j] = name(s * inverse[j]);
-      }
-    }
-    for (std::size_t i = 0; i < k; ++i) {
-      ex s = b[i];
-      for (std::size_t l = 0; l < i; ++l) s -= L[i][l] * y[l];
-      y[i] = name(s);
-    }
-    for (std::size_t i = k; i-- > 0;) {
-      ex s = y[i] * inverse[i];
-      for (std::size_t l = i + 1; l < k; ++l) s -= L[l][i] * x[l];
-      x[i] = name(s);
-    }
-    return x;
-  }
+  Namer& namer() { return name_; }
 
   // The joint's pose: (rotation, offset) · exp(q S).
   Link link(const TreeBody& body) {
@@ -127,77 +95,6 @@ ex joint_springs(const Model& model, const KinematicTree& tree) {
     v += b.stiffness * GiNaC::pow(model.coordinates[i] - b.reference, 2) / 2;
   }
   return v;
-}
-
-// The body-frame recursion of derive_tree: parents, joint poses, axes and inertias in each body's frame,
-// and the twists V_i and momenta h_i = 𝕀_i V_i.
-struct BodyFrames {
-  const std::vector<int>& parent;
-  const std::vector<Link>& link;
-  const std::vector<Vec6>& axis;
-  const std::vector<Mat6>& inertia;
-  const std::vector<Vec6>& V;
-  const std::vector<Vec6>& h;
-};
-
-// The articulated-body algorithm (Featherstone, Rigid Body Dynamics Algorithms, Table 7.1) in the bodies'
-// frames: u̇ without forming M, O(n). Bias accelerations c_i = ad_{V_i} S_i ṙ_i and bias wrenches
-// p_i = −ad*_{V_i} 𝕀_i V_i as in derive_tree's f; the floating base is the root "joint" with the directions
-// `base` (its acceleration S_0 ξ̇, no bias term: left trivialization). On a fixed base (m = 0) the root
-// does not move; gravity enters as its upward acceleration a_0 = −g (as in f), carried outward in the last
-// pass. A joint's armature adds to D_i, its springs and damper to τ_i (joint_force).
-// `b` is the body-frame recursion at u̇ = 0; the accelerations and pivots go to eq.recursive_accelerations and
-// eq.recursive_pivots.
-void articulated_body(TreeProgram& prog, const BodyFrames& b, const std::vector<Vec6>& base,
-                      const Vec6& root_acceleration, const std::vector<GiNaC::realsymbol>& rates,
-                      const std::vector<ex>& joint_force, const std::vector<ex>& armature, HamelEquations& eq) {
-  const std::size_t N = b.parent.size(), m = base.size();
-  std::vector<Mat6> IA = b.inertia;  // articulated inertias, summed inward
-  std::vector<Vec6> pA(N), c(N), U(N);
-  std::vector<ex> inverse_D(N), u(N);
-  for (std::size_t i = 0; i < N; ++i) {
-    pA[i] = coadjoint_term(b.V[i], b.h[i]);
-    if (i > 0) c[i] = prog.name(ad(b.V[i], b.axis[i] * rates[i - 1]));
-  }
-  for (std::size_t i = N; i-- > 1;) {
-    IA[i] = prog.name_symmetric(IA[i]);
-    pA[i] = prog.name(pA[i]);
-    U[i] = prog.name(times(IA[i], b.axis[i]));
-    // D_i = S_iᵀ 𝕀ᴬ_i S_i + armature_i (the rotor's inertia about the joint axis, as in M's diagonal).
-    const ex D = prog.name(dot(b.axis[i], U[i]) + armature[i]);
-    eq.recursive_pivots.push_back(D);
-    inverse_D[i] = prog.name(1 / D);
-    u[i] = prog.name(joint_force[i] - dot(b.axis[i], pA[i]));
-    const std::size_t p = static_cast<std::size_t>(b.parent[i]);
-    if (p == 0 && m == 0) continue;  // a fixed base takes no articulated inertia: nothing solves for it
-    // 𝕀ᵃ = 𝕀ᴬ − U Wᵀ with W = U / D (symmetric), pᵃ = pᴬ + 𝕀ᵃ c + W u, moved to the parent's frame.
-    const Vec6 W = prog.name(U[i] * inverse_D[i]);
-    const Mat6 Ia = prog.name_symmetric(articulated_remainder(IA[i], U[i], W));
-    const Vec6 pa = prog.name(pA[i] + times(Ia, c[i]) + W * u[i]);
-    IA[p] = IA[p] + prog.inertia_to_parent(b.link[i], Ia);
-    pA[p] = pA[p] + b.link[i].to_parent(pa);
-  }
-  if (m > 0) {
-    IA[0] = prog.name_symmetric(IA[0]);
-    pA[0] = prog.name(pA[0]);
-  }
-  std::vector<std::vector<ex>> A(m, std::vector<ex>(m));
-  std::vector<ex> rhs(m);
-  for (std::size_t alpha = 0; alpha < m; ++alpha) {
-    rhs[alpha] = -dot(base[alpha], pA[0]);
-    for (std::size_t beta = 0; beta < m; ++beta) A[alpha][beta] = dot(base[alpha], times(IA[0], base[beta]));
-  }
-  const std::vector<ex> base_rate = prog.solve_symmetric(A, rhs, eq.recursive_pivots);
-  std::vector<Vec6> acc(N);
-  acc[0] = root_acceleration;  // −g on a fixed base; zero on a floating one (the loader refuses gravity)
-  for (std::size_t alpha = 0; alpha < m; ++alpha) acc[0] = acc[0] + base[alpha] * base_rate[alpha];
-  eq.recursive_accelerations = base_rate;
-  for (std::size_t i = 1; i < N; ++i) {
-    const Vec6 ap = prog.name(b.link[i].to_child(acc[static_cast<std::size_t>(b.parent[i])]) + c[i]);
-    const ex rate = prog.name((u[i] - dot(U[i], ap)) * inverse_D[i]);
-    eq.recursive_accelerations.push_back(rate);
-    acc[i] = prog.name(ap + b.axis[i] * rate);
-  }
 }
 
 }  // namespace
@@ -339,7 +236,8 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   if (articulated) {
     std::vector<ex> armature(N, ex(0));
     for (std::size_t i = 1; i < N; ++i) armature[i] = tree.bodies[i - 1].armature;
-    articulated_body(prog, {parent, link, axis, inertia, V, h}, base, a[0], model.rates, joint_force, armature, eq);
+    articulated_body(prog.namer(), {parent, link, axis, inertia, V, h}, base, a[0], model.rates, joint_force, armature,
+                     eq);
   }
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));

@@ -1,6 +1,7 @@
 // Spatial algebra on se(3) with GiNaC entries, for the recursive derivations over kinematic trees
-// (derive/kinematic_tree.cpp, derive/tree_derivatives.cpp). Twists and motion vectors are (ω, v), v the
-// velocity of the point at the frame's origin; wrenches and momenta are (moment about the origin, force).
+// (derive/kinematic_tree.cpp, derive/articulated_body.cpp, derive/tree_derivatives.cpp). Twists and motion
+// vectors are (ω, v), v the velocity of the point at the frame's origin; wrenches and momenta are (moment about
+// the origin, force).
 // Motion cross product ad_V W = V × W; force cross product V ×* F = −ad*_V F; ⟨V × W, F⟩ + ⟨W, V ×* F⟩ = 0.
 #pragma once
 

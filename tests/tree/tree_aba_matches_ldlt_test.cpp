@@ -1,4 +1,4 @@
-// `--dynamics aba` (the articulated-body algorithm, derive/kinematic_tree.cpp) against two computations that
+// `--dynamics aba` (the articulated-body algorithm, derive/articulated_body.cpp) against two computations that
 // do not share its code path:
 //  - the M u̇ = f path of the same model (`--dynamics ldlt`: composite inertias, unrolled LDLᵀ), and
 //  - the Eigen recursive Newton–Euler reference of tests/tree/tree_reference.hpp (mass matrix from unit

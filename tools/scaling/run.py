@@ -2,14 +2,15 @@
 """Scaling benchmark of hamel against SymPy (derivation) and MuJoCo (run time) on floating-base trees.
 
   run.py [--max-n N] [--ns 1,2,4,8,16,30] [--topologies chain,tree] [--timeout S] [--out DIR]
-         [--hamel PATH] [--states K] [--no-hamel] [--no-sympy]
+         [--hamel PATH] [--states K] [--no-hamel] [--no-sympy] [--repetitions R] [--interleave]
 
 For every topology and n (models.py), one after the other (never two heavy processes at once):
   hamel   `hamel emit MODEL -o DIR --fold all`: wall time, peak RSS (/usr/bin/time), the operation counts
           stated in the emitted .cpp (kernels rhs, mass_matrix, forcing); then `--kernels rhs,mass_matrix`
           (same kernels, checked by their operation counts) compiled with g++ -O2 (the compile time; with
           --compile-all the whole package instead); ns per call of rhs and mass_matrix (Google Benchmark,
-          harness.cpp, median of 5 repetitions).
+          harness.cpp, median of --repetitions R, default 5; with --interleave the repetitions of all
+          benchmarks run in random order, so a burst of load on a noisy host reaches hamel and MuJoCo alike).
   SymPy   sympy_kane.py in a subprocess with a timeout: KanesMethod + kanes_equations time, count_ops of
           M and f, and after cse; peak RSS. After a timeout the larger n of that topology are skipped.
   MuJoCo  ns per call of mj_forward, and of its dynamics core alone (kinematics, CRB, factorM, RNE, solve:
@@ -127,10 +128,11 @@ def parse_ops(pkg_dir, name):
     return ops, tmps
 
 
-def bench(binary, xml):
+def bench(binary, xml, repetitions=5, interleave=False):
     status, _, _, out = run_measured(
-        [binary, "bench", xml, "--benchmark_format=json", "--benchmark_repetitions=5",
-         "--benchmark_min_time=0.1", "--benchmark_report_aggregates_only=true"])
+        [binary, "bench", xml, "--benchmark_format=json", f"--benchmark_repetitions={repetitions}",
+         "--benchmark_min_time=0.1", "--benchmark_report_aggregates_only=true"]
+        + (["--benchmark_enable_random_interleaving=true"] if interleave else []))
     if status != "ok":
         raise RuntimeError(f"{binary} bench: {status}")
     res = {}
@@ -190,6 +192,11 @@ def main():
     ap.add_argument("--no-sympy", action="store_true")
     ap.add_argument("--dynamics", default=None, choices=["aba", "ldlt"],
                     help="hamel emit --dynamics (default: hamel's own default)")
+    ap.add_argument("--repetitions", type=int, default=5,
+                    help="Google Benchmark repetitions per kernel; the median is reported (default 5)")
+    ap.add_argument("--interleave", action="store_true",
+                    help="run the repetitions of hamel's kernels and MuJoCo's in random order "
+                         "(--benchmark_enable_random_interleaving): ratios that a noisy host disturbs less")
     a = ap.parse_args()
 
     dyn = ["--dynamics", a.dynamics] if a.dynamics else []
@@ -291,8 +298,9 @@ def main():
             row["err_core_mujoco"] = rel_err(a_core, a_mj)
             if a_hm is not None:
                 row["err_hamel_mujoco"] = rel_err(a_hm, a_mj)
-            log(f"{tag} benchmark (Google Benchmark, median of 5) ...")
-            res = bench(binary, stem + ".xml")
+            log(f"{tag} benchmark (Google Benchmark, median of {a.repetitions}"
+                f"{', interleaved' if a.interleave else ''}) ...")
+            res = bench(binary, stem + ".xml", a.repetitions, a.interleave)
             row["mujoco_forward_ns"] = res.get("mujoco_forward")
             row["mujoco_core_ns"] = res.get("mujoco_core")
             row["hamel_rhs_ns"] = res.get("hamel_rhs")

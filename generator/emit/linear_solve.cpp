@@ -163,10 +163,11 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
   const std::size_t N = factor.parent.size(), m = factor.e.size();
   const int zero = g.constant(0);
   const auto dot = [&](const Vec& a, const Vec& b) { return paired_dot(g, a, b); };
-  const auto fma = [&](int y, int a, int x) { return g.binary(Op::add, y, g.binary(Op::mul, a, x)); };  // y + a x
-  const auto axpy = [&](const Vec& y, const Vec& a, int x) {  // y + a x
+  // y + a x, of numbers and of 6-vectors
+  const auto multiply_add = [&](int y, int a, int x) { return g.binary(Op::add, y, g.binary(Op::mul, a, x)); };
+  const auto axpy = [&](const Vec& y, const Vec& a, int x) {
     Vec out;
-    for (std::size_t k = 0; k < 6; ++k) out[k] = g.binary(Op::add, y[k], g.binary(Op::mul, a[k], x));
+    for (std::size_t k = 0; k < 6; ++k) out[k] = multiply_add(y[k], a[k], x);
     return out;
   };
   const std::vector<Vec>&s = factor.s, &U = factor.U, &W = factor.W, &e = factor.e;
@@ -197,7 +198,7 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
         p[l][k] = g.binary(Op::add, p[l][k], pi[k]);
         q[l][k] = g.binary(Op::add, q[l][k], p[i][k]);
       }
-      s_p[l] = fma(s_p[l], factor.sigma[i], mu[c][i]);
+      s_p[l] = multiply_add(s_p[l], factor.sigma[i], mu[c][i]);
     }
     for (std::size_t alpha = 0; alpha < m; ++alpha) base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
   }
@@ -213,9 +214,9 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
     for (std::size_t i = 1; i < N; ++i) {
       const std::size_t l = static_cast<std::size_t>(parent[i]);
       // ⟨W_i, a_λ⟩ = ⟨W_i, a_λλ⟩ + ω_i ÿ_λ below a joint λ.
-      const int W_a = l == 0
-                          ? dot(W[i], a[0])
-                          : fma(dot(W[i], a[static_cast<std::size_t>(parent[l])]), factor.omega[i], out[c][m + l - 1]);
+      const int W_a =
+          l == 0 ? dot(W[i], a[0])
+                 : multiply_add(dot(W[i], a[static_cast<std::size_t>(parent[l])]), factor.omega[i], out[c][m + l - 1]);
       const int rate = g.binary(Op::sub, mu[c][i], W_a);
       out[c].push_back(rate);
       a[i] = axpy(a[l], s[i], rate);

@@ -184,27 +184,19 @@ class Namer {
     for (std::size_t r = 0; r < 6; ++r) out[r] = (*this)(m[r]);
     return out;
   }
-  // A symmetric 6×6, each distinct entry named once.
-  Mat6 symmetric(const Mat6& m) {
-    Mat6 out;
-    for (std::size_t r = 0; r < 6; ++r)
-      for (std::size_t c = r; c < 6; ++c) out[r][c] = out[c][r] = (*this)(m[r][c]);
+  // A symmetric K×K (3×3 or 6×6), each distinct entry named once.
+  template <std::size_t K>
+  std::array<std::array<ex, K>, K> symmetric(const std::array<std::array<ex, K>, K>& m) {
+    std::array<std::array<ex, K>, K> out;
+    for (std::size_t r = 0; r < K; ++r)
+      for (std::size_t c = r; c < K; ++c) out[r][c] = out[c][r] = (*this)(m[r][c]);
     return out;
   }
   Inertia operator()(const Inertia& I) {
     Inertia out;
     out.m = (*this)(I.m);
     out.h = (*this)(I.h);
-    for (std::size_t r = 0; r < 3; ++r)
-      for (std::size_t c = r; c < 3; ++c) out.J[r][c] = out.J[c][r] = (*this)(I.J[r][c]);
-    return out;
-  }
-
-  // A symmetric 3×3, each distinct entry named once.
-  Mat3 symmetric(const Mat3& m) {
-    Mat3 out;
-    for (std::size_t r = 0; r < 3; ++r)
-      for (std::size_t c = r; c < 3; ++c) out[r][c] = out[c][r] = (*this)(m[r][c]);
+    out.J = symmetric(I.J);
     return out;
   }
 

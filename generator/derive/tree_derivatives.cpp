@@ -84,14 +84,16 @@ ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape
   }
   ArticulatedFactor f;
   f.U.assign(N, zero6());
+  f.W.assign(N, zero6());
   f.inverse_pivot.assign(N, ex(0));
   for (std::size_t i = N; i-- > 1;) {
     if (inner[i]) IA[i] = name.symmetric(IA[i]);
     const Vec6 U = f.U[i] = name(times(IA[i], s[i]));
     const ex inverse_D = f.inverse_pivot[i] = name(1 / name(dot(s[i], U) + t.armature[i - 1]));
     const std::size_t l = static_cast<std::size_t>(t.parent[i]);
+    f.W[i] = name(U * inverse_D);
     if (l == 0 && m == 0) continue;  // a fixed base takes nothing
-    IA[l] = IA[l] + articulated_remainder(IA[i], U, name(U * inverse_D));
+    IA[l] = IA[l] + articulated_remainder(IA[i], U, f.W[i]);
   }
   if (m > 0) {
     IA[0] = name.symmetric(IA[0]);

@@ -62,6 +62,7 @@ CommonFrame common_frame(const TreeRecursion& tree, Intermediates& tape);
 /// base's block ⟨e_α, 𝕀ᴬ_0 e_β⟩ (no rows on a fixed base). Index 0 of U and inverse_pivot is unused.
 struct ArticulatedFactor {
   std::vector<spatial::Vec6> U;
+  std::vector<spatial::Vec6> W;                     ///< U_i / D_i
   std::vector<GiNaC::ex> inverse_pivot;             ///< 1 / D_i
   std::vector<std::vector<GiNaC::ex>> base_inertia;  ///< m × m
 };

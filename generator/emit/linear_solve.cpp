@@ -143,7 +143,7 @@ ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree
     f.s[i] = nodes(tree.frame.axis[i]);
     f.U[i] = nodes(factor.U[i]);
     f.inverse_D[i] = node_of(factor.inverse_pivot[i]);
-    for (std::size_t k = 0; k < 6; ++k) f.W[i][k] = g.binary(Op::mul, f.U[i][k], f.inverse_D[i]);
+    f.W[i] = nodes(factor.W[i]);
     const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
     if (l == 0) continue;
     f.sigma[i] = paired_dot(g, f.s[l], f.U[i]);

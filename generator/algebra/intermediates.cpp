@@ -40,6 +40,7 @@ GiNaC::realsymbol Intermediates::define_named(const std::string& name, const ex&
 void Intermediates::substitute_in_definitions(const GiNaC::exmap& map) {
   for (Definition& d : definitions_) d.value = d.value.subs(map);
   derivative_memo_.clear();
+  partials_.clear();
   inlined_.clear();
   small_inlined_.clear();
   small_limit_.clear();
@@ -64,21 +65,39 @@ std::vector<std::size_t> Intermediates::used_by(const ex& e) const {
   return {used.begin(), used.end()};
 }
 
-ex Intermediates::diff(const ex& e, const GiNaC::symbol& x) {
-  ex out = e.diff(x);  // explicit dependence; intermediates are independent symbols to GiNaC
+Intermediates::Partials Intermediates::partials_of(const ex& e) const {
+  Partials out;
   std::set<std::size_t> used;
   collect(e, position_, used);
-  for (std::size_t k : used) {
+  for (std::size_t k : used) out.emplace_back(k, e.diff(definitions_[k].symbol));
+  return out;
+}
+
+ex Intermediates::chain_rule(const ex& explicit_part, const Partials& partials, const GiNaC::symbol& x) {
+  GiNaC::exvector terms{explicit_part};
+  for (const auto& [k, partial] : partials) {
     const auto key = std::make_pair(k, ex(x));
     auto it = derivative_memo_.find(key);
     if (it == derivative_memo_.end()) {
-      const ex value = definitions_[k].value;  // copy: define() below may grow the vector
-      const ex d = define(diff(value, x));
+      if (partials_.size() <= k) partials_.resize(k + 1);
+      if (!partials_[k]) partials_[k] = partials_of(definitions_[k].value);
+      const Partials inner = *partials_[k];  // copies: the recursion below may grow both vectors
+      const ex value = definitions_[k].value;
+      const ex d = define(chain_rule(value.diff(x), inner, x));
       it = derivative_memo_.emplace(key, d).first;
     }
-    if (it->second.is_zero()) continue;
-    out += e.diff(definitions_[k].symbol) * it->second;
+    if (!it->second.is_zero()) terms.push_back(partial * it->second);
   }
+  return GiNaC::add(terms);
+}
+
+ex Intermediates::diff(const ex& e, const GiNaC::symbol& x) { return chain_rule(e.diff(x), partials_of(e), x); }
+
+std::vector<ex> Intermediates::diff(const ex& e, const std::vector<GiNaC::symbol>& xs) {
+  const Partials partials = partials_of(e);
+  std::vector<ex> out;
+  out.reserve(xs.size());
+  for (const GiNaC::symbol& x : xs) out.push_back(chain_rule(e.diff(x), partials, x));
   return out;
 }
 

@@ -53,6 +53,9 @@ class Intermediates {
   /// d e / d x by the chain rule through the definitions; derivatives of intermediates become new
   /// definitions (memoized per intermediate and variable). Without intermediates this is e.diff(x).
   GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::symbol& x);
+  /// d e / d x for every x of `xs`, in order: as diff(e, x) each, but e's partial derivatives with respect to
+  /// the intermediates it uses are formed once (as they are for every definition), not once per variable.
+  std::vector<GiNaC::ex> diff(const GiNaC::ex& e, const std::vector<GiNaC::symbol>& xs);
 
   /// `e` with `map` (symbols of the model → expressions) applied, also inside the definitions `e` uses:
   /// a definition that changes becomes a new intermediate, one that does not stays as it is. Memoized in
@@ -84,6 +87,12 @@ class Intermediates {
     }
   };
   std::map<std::pair<std::size_t, GiNaC::ex>, GiNaC::ex, KeyLess> derivative_memo_;
+  /// ∂e/∂s_k for the intermediates s_k an expression uses directly (nonzero or not), with k.
+  using Partials = std::vector<std::pair<std::size_t, GiNaC::ex>>;
+  Partials partials_of(const GiNaC::ex& e) const;
+  /// explicit_part + Σ_k ∂e/∂s_k · ds_k/dx, the ds_k/dx memoized definitions.
+  GiNaC::ex chain_rule(const GiNaC::ex& explicit_part, const Partials& partials, const GiNaC::symbol& x);
+  std::vector<std::optional<Partials>> partials_;          // of each definition's value, by position, formed once
   mutable std::vector<std::optional<GiNaC::ex>> inlined_;  // cache for inline_all, by position
   mutable std::vector<std::optional<GiNaC::ex>> small_inlined_;  // inline_bounded's cache (by position)
   mutable std::vector<std::size_t> small_limit_;                 // the limit each entry was computed with

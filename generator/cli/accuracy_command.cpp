@@ -9,6 +9,7 @@
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
 #include "numeric/kernel_accuracy.hpp"
+#include "report/progress.hpp"
 
 #include <nlohmann/json.hpp>
 
@@ -108,7 +109,10 @@ void run(const AccuracyOptions& opt) {
   nlohmann::json per_setting = nlohmann::json::array();
   for (const auto& [label, p] : cases) {
     const Derivation derivation = derive(apply_fold(model, p, opt.fold), DeriveSettings{opt.form});
-    const KernelSet kernels = build_kernels(model, derivation);
+    const KernelSet kernels = [&] {
+      progress::Step step("building the kernels' expression graph");
+      return build_kernels(model, derivation);
+    }();
     std::vector<KernelAccuracy> r;
     try {
       r = measure_kernel_accuracy(model, derivation, kernels, p, settings, label);

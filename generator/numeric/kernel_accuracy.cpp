@@ -2,6 +2,7 @@
 
 #include "algebra/operations.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "report/progress.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -112,22 +113,63 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, cons
 std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric& t, const std::vector<numeric>& x,
                                                                   const std::vector<numeric>& p,
                                                                   const std::vector<numeric>& in) {
+  arguments_ = {std::vector<numeric>{t}, x, p, in};
+  run(schedule_, nullptr);
+  return outputs();
+}
+
+std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate_moved(Argument argument, int index,
+                                                                        const numeric& value) {
+  const auto key = std::make_pair(argument, index);
+  auto it = dependents_.find(key);
+  if (it == dependents_.end()) {
+    // The scheduled nodes that depend on this argument, in schedule order (operands before users).
+    std::vector<char> depends(values_.size(), 0);
+    std::vector<int> list;
+    for (int i : schedule_) {
+      const Node& n = graph_.node(i);
+      const bool d = n.op == Op::input      ? n.argument == argument && n.index == index
+                     : n.op == Op::constant ? false
+                                            : depends[static_cast<std::size_t>(n.a)] ||
+                                                  (n.b >= 0 && depends[static_cast<std::size_t>(n.b)]);
+      if (d) depends[static_cast<std::size_t>(i)] = 1, list.push_back(i);
+    }
+    it = dependents_.emplace(key, std::move(list)).first;
+  }
+  const std::vector<int>& moved = it->second;
+  std::vector<numeric> saved;
+  saved.reserve(moved.size());
+  for (int i : moved) saved.push_back(values_[static_cast<std::size_t>(i)]);
+  const auto restore = [&] {
+    for (std::size_t k = 0; k < moved.size(); ++k) values_[static_cast<std::size_t>(moved[k])] = saved[k];
+  };
+  const Moved change{argument, index, &value};
+  try {
+    run(moved, &change);
+  } catch (...) {
+    restore();
+    throw;
+  }
+  std::vector<numeric> out = outputs();
+  restore();
+  return out;
+}
+
+std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::outputs() const {
+  std::vector<numeric> out;
+  out.reserve(outputs_.size());
+  for (int o : outputs_) out.push_back(values_[static_cast<std::size_t>(o)]);
+  return out;
+}
+
+void HighPrecisionGraphEvaluator::run(const std::vector<int>& schedule, const Moved* moved) {
   const DigitsGuard digits(digits_);
   interpret(
-      graph_, schedule_, values_, [](const Node& n) { return high_precision(n.value); },
+      graph_, schedule, values_, [](const Node& n) { return high_precision(n.value); },
       [&](Argument argument, int index) -> const numeric& {
-        const std::size_t k = static_cast<std::size_t>(index);
-        switch (argument) {
-          case Argument::time:
-            return t;
-          case Argument::state:
-            return x.at(k);
-          case Argument::parameter:
-            return p.at(k);
-          case Argument::input:
-            break;
-        }
-        return in.at(k);
+        if (moved && moved->argument == argument && moved->index == index) return *moved->value;
+        const std::vector<numeric>& array = arguments_[static_cast<std::size_t>(argument)];
+        return array.at(argument == Argument::time ? 0 : static_cast<std::size_t>(index));
       },
       [&](const Node& n, const numeric& a, const numeric& b) {
         return evaluate_in<numeric>(
@@ -139,10 +181,6 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric&
             },
             [](Op f, const numeric& x) { return apply_function(*function_of(f), x); });
       });
-  std::vector<numeric> out;
-  out.reserve(outputs_.size());
-  for (int o : outputs_) out.push_back(values_[static_cast<std::size_t>(o)]);
-  return out;
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -151,76 +189,111 @@ void HighPrecisionExpressionEvaluator::assign(const std::map<ex, numeric, GiNaC:
   const DigitsGuard digits(digits_);
   values_.clear();
   for (const auto& [symbol, v] : values) values_[symbol] = to_float(v);
-  memo_[0].clear();
-  memo_[1].clear();
+  ++generation_;
 }
 
 void HighPrecisionExpressionEvaluator::define(const Intermediates& intermediates) {
   for (const Intermediates::Definition& d : intermediates.definitions()) definitions_[d.symbol] = d.value;
-  memo_[0].clear();
-  memo_[1].clear();
+  number_.clear();  // compiled symbols may now be intermediates
+  nodes_.clear();
+  ++generation_;
 }
 
 GiNaC::numeric HighPrecisionExpressionEvaluator::value(const ex& e) {
+  const int node = compile(e);
   const DigitsGuard digits(digits_);
-  return eval(e, false);
+  return eval(node, false);
 }
 
 GiNaC::numeric HighPrecisionExpressionEvaluator::magnitude(const ex& e) {
+  const int node = compile(e);
   const DigitsGuard digits(digits_);
-  return eval(e, true);
+  return eval(node, true);
 }
 
-numeric HighPrecisionExpressionEvaluator::eval(const ex& e, bool absolute) {
+int HighPrecisionExpressionEvaluator::compile(const ex& e) {
+  if (auto it = number_.find(e); it != number_.end()) return it->second;
+  Node node{Kind::number, {}, e};
   if (is_a<numeric>(e)) {
-    const numeric& v = ex_to<numeric>(e);
-    if (!v.is_real()) throw std::logic_error("high precision: complex number in an expression");
-    return absolute ? GiNaC::abs(v) : v;
-  }
-  auto& memo = memo_[absolute ? 1 : 0];
-  if (auto it = memo.find(e); it != memo.end()) return it->second;
-  numeric v;
-  if (is_a<GiNaC::symbol>(e)) {
-    auto it = values_.find(e);
-    if (it != values_.end()) {
-      v = absolute ? GiNaC::abs(it->second) : it->second;
-    } else if (auto def = definitions_.find(e); def != definitions_.end()) {
-      v = eval(def->second, absolute);  // an intermediate: the size of its definition, like the graph's node
-    } else {
-      throw std::logic_error("high precision: no value for symbol '" + ex_to<GiNaC::symbol>(e).get_name() + "'");
+    if (!ex_to<numeric>(e).is_real()) throw std::logic_error("high precision: complex number in an expression");
+  } else if (is_a<GiNaC::symbol>(e)) {
+    // An intermediate is its definition's node: the size of its definition, like the graph's node.
+    if (auto def = definitions_.find(e); def != definitions_.end()) {
+      const int n = compile(def->second);
+      number_.emplace(e, n);
+      return n;
     }
+    node.kind = Kind::symbol;
   } else if (is_a<GiNaC::constant>(e)) {
-    v = ex_to<numeric>(e.evalf());
-    if (absolute) v = GiNaC::abs(v);
-  } else if (is_a<GiNaC::add>(e)) {
-    v = 0;
-    for (std::size_t i = 0; i < e.nops(); ++i) v += eval(e.op(i), absolute);
-  } else if (is_a<GiNaC::mul>(e)) {
-    v = 1;
-    for (std::size_t i = 0; i < e.nops(); ++i) v *= eval(e.op(i), absolute);
-  } else if (is_a<GiNaC::power>(e)) {
-    const ex exponent = e.op(1);
-    if (!is_a<numeric>(exponent)) {
-      const numeric base = eval(e.op(0), false), y = eval(exponent, false);
-      v = power(base, y);
-      if (absolute) v = GiNaC::abs(v);
-    } else {
-      const numeric& y = ex_to<numeric>(exponent);
-      // A divisor enters at its true value: |1/x| is not bounded by 1/magnitude(x).
-      const numeric base = eval(e.op(0), absolute && y.is_positive());
-      v = power(base, y);
-      if (absolute) v = GiNaC::abs(v);
-    }
+    node.kind = Kind::constant;
+  } else if (is_a<GiNaC::add>(e) || is_a<GiNaC::mul>(e) || is_a<GiNaC::power>(e)) {
+    node.kind = is_a<GiNaC::add>(e) ? Kind::add : is_a<GiNaC::mul>(e) ? Kind::mul : Kind::power;
+    for (std::size_t i = 0; i < e.nops(); ++i) node.operands.push_back(compile(e.op(i)));
   } else if (is_a<GiNaC::function>(e)) {
     const std::string name = ex_to<GiNaC::function>(e).get_name();
     const Function* f = function_named(name);
     if (e.nops() != 1 || !f) throw std::logic_error("high precision: function '" + name + "' is not supported");
-    v = apply_function(*f, eval(e.op(0), false));
-    if (absolute) v = GiNaC::abs(v);
+    node.kind = Kind::function;
+    node.function = f;
+    node.operands.push_back(compile(e.op(0)));
   } else {
     throw std::logic_error("high precision: unsupported expression type");
   }
-  memo.emplace(e, v);
+  nodes_.push_back(std::move(node));
+  const int n = static_cast<int>(nodes_.size()) - 1;
+  number_.emplace(e, n);
+  return n;
+}
+
+numeric HighPrecisionExpressionEvaluator::eval(int index, bool absolute) {
+  const std::size_t k = static_cast<std::size_t>(index);
+  std::vector<numeric>& computed = computed_[absolute ? 1 : 0];
+  std::vector<unsigned>& stamp = stamp_[absolute ? 1 : 0];
+  if (stamp.size() < nodes_.size()) stamp.resize(nodes_.size(), 0), computed.resize(nodes_.size());
+  if (stamp[k] == generation_) return computed[k];
+  const Node& node = nodes_[k];
+  numeric v;
+  switch (node.kind) {
+    case Kind::number:
+      v = ex_to<numeric>(node.expression);
+      break;
+    case Kind::symbol: {
+      const auto it = values_.find(node.expression);
+      if (it == values_.end())
+        throw std::logic_error("high precision: no value for symbol '" +
+                               ex_to<GiNaC::symbol>(node.expression).get_name() + "'");
+      v = it->second;
+      break;
+    }
+    case Kind::constant:
+      v = ex_to<numeric>(node.expression.evalf());
+      break;
+    case Kind::add:
+      v = 0;
+      for (int o : node.operands) v += eval(o, absolute);
+      break;
+    case Kind::mul:
+      v = 1;
+      for (int o : node.operands) v *= eval(o, absolute);
+      break;
+    case Kind::power: {
+      const ex& exponent = nodes_[static_cast<std::size_t>(node.operands[1])].expression;
+      if (nodes_[static_cast<std::size_t>(node.operands[1])].kind != Kind::number) {
+        v = power(eval(node.operands[0], false), eval(node.operands[1], false));
+      } else {
+        const numeric& y = ex_to<numeric>(exponent);
+        // A divisor enters at its true value: |1/x| is not bounded by 1/magnitude(x).
+        v = power(eval(node.operands[0], absolute && y.is_positive()), y);
+      }
+      break;
+    }
+    case Kind::function:
+      v = apply_function(*node.function, eval(node.operands[0], false));
+      break;
+  }
+  if (absolute) v = GiNaC::abs(v);
+  computed[k] = v;
+  stamp[k] = generation_;
   return v;
 }
 
@@ -330,13 +403,20 @@ ReferenceSet references(const Model& model, const Derivation& derivation) {
   r.forcing_by_x.resize(r.nx);
   r.mass_by_x.resize(r.nx);
   r.intermediates = eq.intermediates;
-  for (std::size_t k = 0; k < r.nx; ++k) {
-    for (const ex& e : r.kinematics) r.kinematics_by_x[k].push_back(r.intermediates.diff(e, state[k]));
-    for (const ex& e : r.forcing) r.forcing_by_x[k].push_back(r.intermediates.diff(e, state[k]));
-    r.mass_by_x[k].assign(r.d, std::vector<ex>(r.d));
-    for (std::size_t i = 0; i < r.d; ++i)
-      for (std::size_t j = 0; j < r.d; ++j) r.mass_by_x[k][i][j] = r.intermediates.diff(r.mass[i][j], state[k]);
+  for (std::size_t k = 0; k < r.nx; ++k) r.mass_by_x[k].assign(r.d, std::vector<ex>(r.d));
+  for (const ex& e : r.kinematics) {
+    const std::vector<ex> by_x = r.intermediates.diff(e, state);
+    for (std::size_t k = 0; k < r.nx; ++k) r.kinematics_by_x[k].push_back(by_x[k]);
   }
+  for (const ex& e : r.forcing) {
+    const std::vector<ex> by_x = r.intermediates.diff(e, state);
+    for (std::size_t k = 0; k < r.nx; ++k) r.forcing_by_x[k].push_back(by_x[k]);
+  }
+  for (std::size_t i = 0; i < r.d; ++i)
+    for (std::size_t j = 0; j < r.d; ++j) {
+      const std::vector<ex> by_x = r.intermediates.diff(r.mass[i][j], state);
+      for (std::size_t k = 0; k < r.nx; ++k) r.mass_by_x[k][i][j] = by_x[k];
+    }
   r.kernels["jacobian"] = {Kind::jacobian, {}};
   return r;
 }
@@ -353,7 +433,10 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
                                                     const AccuracySettings& settings, const std::string& label) {
   const HamelEquations& eq = derivation.equations;
   const HamelSystem& sys = derivation.system;
-  const ReferenceSet refs = references(model, derivation);
+  const ReferenceSet refs = [&] {
+    progress::Step step("forming the 50-digit references of " + model.name + " (the jacobian's by the chain rule)");
+    return references(model, derivation);
+  }();
   const std::size_t n = refs.n, d = refs.d, nx = refs.nx;
   if (p.size() != model.parameters.size()) throw std::logic_error("measure_kernel_accuracy: wrong parameter count");
 
@@ -417,11 +500,25 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
     result.push_back(a);
   }
 
+  // The 50-digit graph of every measured kernel at once: kernels share most of their nodes (the jacobian holds
+  // the rhs), so one evaluation per point and moved argument serves all; `first` is each kernel's first output.
+  std::vector<int> all_outputs;
+  std::vector<std::size_t> first;
+  for (const Measured& km : measured) {
+    first.push_back(all_outputs.size());
+    all_outputs.insert(all_outputs.end(), km.kernel->outputs.begin(), km.kernel->outputs.end());
+  }
+  HighPrecisionGraphEvaluator joint(kernels.graph, all_outputs, settings.digits);
+
   HighPrecisionExpressionEvaluator exact(settings.digits);
   exact.define(refs.intermediates);
   const DigitsGuard digits(settings.digits);
   const numeric step = GiNaC::pow(numeric(10), numeric(-(settings.digits / 2)));
+  progress::Step evaluating("evaluating " + std::to_string(measured.size()) + " kernels of " + model.name + " at " +
+                            std::to_string(settings.points) + " points in " + std::to_string(settings.digits) +
+                            " digits" + (label.empty() || label == "base" ? "" : " (" + label + ")"));
   for (int point = 0; point < settings.points; ++point) {
+    evaluating.detail("point " + std::to_string(point + 1) + " of " + std::to_string(settings.points));
     const Point pt = sample();
     std::map<ex, numeric, GiNaC::ex_is_less> values;
     values[model.time] = exact_rational(pt.t);
@@ -453,6 +550,31 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       }
       return accel;
     };
+
+    // The arguments the condition numbers move (t, x, in; nonzero ones), their steps, and the joint graph's
+    // outputs at the point and with each moved. A pole anywhere in it: every kernel on its own (below).
+    struct Move {
+      Argument argument;
+      int index;
+      numeric value, h;
+    };
+    std::vector<Move> moves;
+    const auto add_move = [&](Argument argument, int index, const numeric& v) {
+      if (!v.is_zero()) moves.push_back({argument, index, v, GiNaC::abs(v) * step});
+    };
+    add_move(Argument::time, 0, T);
+    for (std::size_t k = 0; k < X.size(); ++k) add_move(Argument::state, static_cast<int>(k), X[k]);
+    for (std::size_t k = 0; k < IN.size(); ++k) add_move(Argument::input, static_cast<int>(k), IN[k]);
+    std::vector<numeric> joint_base;
+    std::vector<std::vector<numeric>> joint_moved;
+    try {
+      joint_base = joint.evaluate(T, X, P, IN);
+      if (settings.condition)
+        for (const Move& mv : moves)
+          joint_moved.push_back(joint.evaluate_moved(mv.argument, mv.index, mv.value + mv.h));
+    } catch (const std::exception&) {
+      joint_base.clear();
+    }
 
     for (std::size_t m = 0; m < measured.size(); ++m) {
       Measured& km = measured[m];
@@ -495,11 +617,29 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       }
       std::vector<double> computed(outputs);
       km.fast.evaluate(pt.t, pt.x.data(), p.data(), in, computed.data());
+      // This kernel's 50-digit graph values, and with each argument moved (empty where that fails).
       std::vector<numeric> graph50;
-      try {
-        graph50 = km.slow.evaluate(T, X, P, IN);
-      } catch (const std::exception&) {
-        graph50.clear();
+      std::vector<std::vector<numeric>> moved(moves.size());
+      const auto slice = [&](const std::vector<numeric>& all) {
+        const auto begin = all.begin() + static_cast<std::ptrdiff_t>(first[m]);
+        return std::vector<numeric>(begin, begin + static_cast<std::ptrdiff_t>(outputs));
+      };
+      if (!joint_base.empty()) {
+        graph50 = slice(joint_base);
+        for (std::size_t a = 0; a < joint_moved.size(); ++a) moved[a] = slice(joint_moved[a]);
+      } else {
+        try {
+          graph50 = km.slow.evaluate(T, X, P, IN);
+        } catch (const std::exception&) {
+          graph50.clear();
+        }
+        for (std::size_t a = 0; a < moves.size() && settings.condition && !graph50.empty(); ++a) {
+          try {
+            moved[a] = km.slow.evaluate_moved(moves[a].argument, moves[a].index, moves[a].value + moves[a].h);
+          } catch (const std::exception&) {
+            moved[a].clear();
+          }
+        }
       }
 
       double scale = 0;
@@ -520,24 +660,9 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       std::vector<double> condition(outputs, 0.0);
       if (settings.condition && !graph50.empty()) {
         std::vector<numeric> sensitivity(outputs, numeric(0));
-        const auto perturbed = [&](numeric& argument) {
-          if (argument.is_zero()) return;
-          const numeric saved = argument, h = GiNaC::abs(argument) * step;
-          argument = saved + h;
-          std::vector<numeric> moved;
-          try {
-            moved = km.slow.evaluate(T, X, P, IN);
-          } catch (const std::exception&) {
-            moved.clear();
-          }
-          argument = saved;
-          if (moved.empty()) return;
-          for (std::size_t i = 0; i < outputs; ++i)
-            sensitivity[i] += GiNaC::abs(moved[i] - graph50[i]) / h * GiNaC::abs(saved);
-        };
-        perturbed(T);
-        for (numeric& v : X) perturbed(v);
-        for (numeric& v : IN) perturbed(v);
+        for (std::size_t a = 0; a < moves.size(); ++a)
+          for (std::size_t i = 0; i < moved[a].size(); ++i)
+            sensitivity[i] += GiNaC::abs(moved[a][i] - graph50[i]) / moves[a].h * GiNaC::abs(moves[a].value);
         for (std::size_t i = 0; i < outputs; ++i)
           condition[i] = sensitivity[i].to_double() / std::max(GiNaC::abs(ref[i]).to_double(), floor);
       }

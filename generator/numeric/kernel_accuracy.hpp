@@ -23,6 +23,7 @@
 
 #include "algebra/digits_guard.hpp"
 #include "algebra/intermediates.hpp"
+#include "algebra/operations.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/model.hpp"
@@ -30,6 +31,7 @@
 
 #include <ginac/ginac.h>
 
+#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
@@ -59,23 +61,39 @@ class HighPrecisionGraphEvaluator {
   /// The same at arbitrary (high-precision) arguments: x, p and in must have the kernel ABI's lengths.
   std::vector<GiNaC::numeric> evaluate(const GiNaC::numeric& t, const std::vector<GiNaC::numeric>& x,
                                        const std::vector<GiNaC::numeric>& p, const std::vector<GiNaC::numeric>& in);
+  /// After an evaluate() that returned: the outputs with one argument element changed to `value`, the others as
+  /// that call had them. Only the nodes that depend on the element are evaluated again (the same operations on
+  /// the same operands as a whole evaluation, so the same results); the evaluator then holds the last
+  /// evaluate()'s values again, also when this throws.
+  std::vector<GiNaC::numeric> evaluate_moved(Argument argument, int index, const GiNaC::numeric& value);
 
  private:
+  struct Moved {
+    Argument argument;
+    int index;
+    const GiNaC::numeric* value;
+  };
+  void run(const std::vector<int>& schedule, const Moved* moved);
+  std::vector<GiNaC::numeric> outputs() const;
   const ExpressionGraph& graph_;
   std::vector<int> outputs_;
   std::vector<int> schedule_;
   int digits_;
   std::vector<GiNaC::numeric> values_;
+  std::array<std::vector<GiNaC::numeric>, 4> arguments_;  ///< of the last evaluate(), by Argument
+  std::map<std::pair<Argument, int>, std::vector<int>> dependents_;
 };
 
-/// Evaluates GiNaC expressions numerically with `digits` decimal digits at given symbol values. Shared
-/// subexpressions are evaluated once per set of values. Understands numbers, symbols, constants (Pi),
-/// sums, products, powers and the functions the emitter knows (sin … tanh, abs, sqrt); throws
-/// std::domain_error at a pole and std::logic_error for anything else.
+/// Evaluates GiNaC expressions numerically with `digits` decimal digits at given symbol values. Understands
+/// numbers, symbols, constants (Pi), sums, products, powers and the functions the emitter knows (sin … tanh,
+/// abs, sqrt); throws std::domain_error at a pole and std::logic_error for anything else.
+/// An expression is compiled once, when first asked for, into numbered nodes (one per distinct
+/// subexpression, intermediates through their definitions); each set of values then evaluates every node it
+/// needs once, by number, so repeated points cost arithmetic only, not hashing and comparing expressions.
 class HighPrecisionExpressionEvaluator {
  public:
   explicit HighPrecisionExpressionEvaluator(int digits = 50) : digits_(digits) {}
-  /// Sets symbol values (numbers converted to floats at the evaluator's precision); forgets cached values.
+  /// Sets symbol values (numbers converted to floats at the evaluator's precision); forgets computed values.
   void assign(const std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less>& values);
   /// Intermediate symbols (algebra/intermediates.hpp) are evaluated through their definitions.
   void define(const Intermediates& intermediates);
@@ -86,14 +104,26 @@ class HighPrecisionExpressionEvaluator {
   GiNaC::numeric magnitude(const GiNaC::ex& e);
 
  private:
-  GiNaC::numeric eval(const GiNaC::ex& e, bool absolute);
+  enum class Kind { number, symbol, constant, add, mul, power, function };
+  struct Node {
+    Kind kind;
+    std::vector<int> operands;  ///< node numbers (power: base, exponent)
+    GiNaC::ex expression;       ///< number, symbol, constant, or the function (for its name)
+    const Function* function = nullptr;
+  };
+  int compile(const GiNaC::ex& e);
+  GiNaC::numeric eval(int node, bool absolute);
   struct Hash {
     std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
   };
   int digits_;
   std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less> values_;
   std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> definitions_;
-  std::unordered_map<GiNaC::ex, GiNaC::numeric, Hash, GiNaC::ex_is_equal> memo_[2];
+  std::unordered_map<GiNaC::ex, int, Hash, GiNaC::ex_is_equal> number_;  ///< compiled expressions
+  std::vector<Node> nodes_;
+  std::vector<GiNaC::numeric> computed_[2];  ///< per node: true value, magnitude
+  std::vector<unsigned> stamp_[2];           ///< computed_ holds this set of values' result when == generation_
+  unsigned generation_ = 1;
 };
 
 struct AccuracySettings {

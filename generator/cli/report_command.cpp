@@ -21,6 +21,7 @@ struct ReportOptions {
   std::string model, out = ".", form, fold;
   double t_end = 0;  // 0: the scene's t_end, else 10
   std::vector<std::string> params, init, inputs, integrators;
+  long max_steps = WorkPrecisionRequest{}.max_steps, reference_steps = WorkPrecisionRequest{}.reference_steps;
 };
 
 void run(const ReportOptions& opt) {
@@ -45,6 +46,10 @@ void run(const ReportOptions& opt) {
   req.t_end = t_end;
   req.parameters = p;
   req.integrators = opt.integrators;
+  if (opt.max_steps < 0) throw InputError("--max-steps: expected a number of steps (0: no limit of the study's own)");
+  req.max_steps = opt.max_steps;
+  if (opt.reference_steps < 1) throw InputError("--reference-steps: expected a positive number of steps");
+  req.reference_steps = opt.reference_steps;
   std::vector<std::string> names;
   for (const auto& q : d.system.coordinates) names.push_back(q.get_name());
   for (int I : d.equations.independent) names.push_back(d.system.velocities[static_cast<std::size_t>(I)].get_name());
@@ -95,6 +100,14 @@ Run add_report_command(CLI::App& app) {
   cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum");
   cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "Folder for <model>_work_precision.csv, .md and .svg")->capture_default_str();
+  cmd->add_option("--max-steps", opt->max_steps,
+                  "Step attempts per adaptive run of the sweep; a run beyond it reports too many steps (0: the "
+                  "integrators' own limits)")
+      ->capture_default_str();
+  cmd->add_option("--reference-steps", opt->reference_steps,
+                  "The reference run's budget: more than this many steps within a hundredth of the horizon shortens "
+                  "the horizon to there (stated in the report); for motions that pass near a singular configuration")
+      ->capture_default_str();
   return [opt] { run(*opt); };
 }
 

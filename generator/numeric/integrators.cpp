@@ -31,7 +31,7 @@ const IntegratorInfo& find_integrator(const std::string& name) {
 
 runtime::IntegrationResult integrate(const std::string& name, double setting, const RhsFunction& rhs,
                                      const JacobianFunction& jacobian, std::vector<double> x0, double t0, double t_end,
-                                     double sample_dt, const ObserveFunction& observe) {
+                                     double sample_dt, const ObserveFunction& observe, long max_steps) {
   const IntegratorInfo& info = find_integrator(name);
   if (!(setting > 0) || !std::isfinite(setting))
     throw InputError(std::string(info.adaptive ? "--tol" : "--dt") + ": expected a positive finite number");
@@ -40,15 +40,18 @@ runtime::IntegrationResult integrate(const std::string& name, double setting, co
   if (info.name == "dopri5") {
     runtime::Dopri5Options o;
     o.rtol = o.atol = setting;
+    if (max_steps > 0) o.max_steps = max_steps;
     return runtime::integrate_dopri5(rhs, std::move(x0), t0, t_end, o, sample_dt, observe);
   }
   if (info.name == "dop853") {
     runtime::Dop853Options o;
     o.rtol = o.atol = setting;
+    if (max_steps > 0) o.max_steps = max_steps;
     return runtime::integrate_dop853(rhs, std::move(x0), t0, t_end, o, sample_dt, observe);
   }
   runtime::Radau5Options o;
   o.rtol = o.atol = setting;
+  if (max_steps > 0) o.max_steps = max_steps;
   return runtime::integrate_radau5(rhs, jacobian, std::move(x0), t0, t_end, o, sample_dt, observe);
 }
 

@@ -29,9 +29,10 @@ using JacobianFunction = std::function<void(double, const double*, double*)>;  /
 using ObserveFunction = std::function<void(double, const double*)>;
 
 /// Integrates x' = rhs(t, x) from t0 to t_end with `name` at `setting` (tolerance, used as rtol and atol,
-/// or step). sample_dt > 0 observes at t0 + k sample_dt, else every step.
+/// or step). sample_dt > 0 observes at t0 + k sample_dt, else every step. max_steps > 0 limits the step attempts of
+/// the adaptive integrators (status too_many_steps beyond; 0: their own limits); fixed-step runs take t_end / step.
 runtime::IntegrationResult integrate(const std::string& name, double setting, const RhsFunction& rhs,
                                      const JacobianFunction& jacobian, std::vector<double> x0, double t0, double t_end,
-                                     double sample_dt, const ObserveFunction& observe);
+                                     double sample_dt, const ObserveFunction& observe, long max_steps = 0);
 
 }  // namespace hamel

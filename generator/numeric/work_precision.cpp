@@ -1,13 +1,15 @@
 #include "numeric/work_precision.hpp"
 
 #include "model/input_error.hpp"
-#include "numeric/integrators.hpp"
-#include "report/svg_plot.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "numeric/integrators.hpp"
+#include "report/progress.hpp"
+#include "report/svg_plot.hpp"
 
 #include <hamel/runtime/monitor.hpp>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <ctime>
 #include <iomanip>
@@ -61,17 +63,53 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
   const std::size_t n = req.x0.size();
 
   WorkPrecisionStudy study;
-  study.t_end = req.t_end;
   study.x0 = req.x0;
   for (const auto& q : d.system.coordinates) study.state_names.push_back(q.get_name());
   for (int I : d.equations.independent)
     study.state_names.push_back(d.system.velocities[static_cast<std::size_t>(I)].get_name());
 
-  const runtime::IntegrationResult ref =
-      integrate("dop853", 1e-14, rhs, jac, req.x0, 0.0, req.t_end, 0.0, [](double, const double*) {});
+  // The reference. A motion that passes near a singular configuration can need ever smaller steps at 1e-14, and
+  // the interpreted rhs of a large model makes that minutes: when the reference spends more than
+  // req.reference_steps steps' worth of evaluations within one hundredth of the horizon, the study stops
+  // it and runs over the horizon up to the start of that hundredth instead (the same run, cut short there).
+  double t_end = req.t_end;
+  struct Stalled {
+    double t;
+  };
+  const double window = req.t_end / 100;
+  const long evaluations_per_window = 12 * req.reference_steps;  // dop853: 12 evaluations per step
+  double window_start = 0;
+  long evaluations = 0;
+  const RhsFunction watched = [&](double t, const double* x, double* xdot) {
+    if (t >= window_start + window) window_start = std::floor(t / window) * window, evaluations = 0;
+    if (++evaluations > evaluations_per_window) throw Stalled{window_start};
+    rhs(t, x, xdot);
+  };
+  const auto reference_run = [&](double until, const RhsFunction& f) {
+    progress::Step step("reference run of the study: dop853 at rtol = atol = 1e-14 over t = 0 .. " + number(until));
+    return integrate("dop853", 1e-14, f, jac, req.x0, 0.0, until, 0.0, [](double, const double*) {});
+  };
+  runtime::IntegrationResult ref;
+  try {
+    ref = reference_run(t_end, watched);
+  } catch (const Stalled& stalled) {
+    if (!(stalled.t > 0))
+      throw InputError("report: the reference run (dop853, tolerance 1e-14) took more than " +
+                       std::to_string(req.reference_steps) + " steps without getting past t = " + number(window) +
+                       ", a hundredth of the horizon: the motion from this state is too hard to " +
+                       "resolve there; choose --init or a shorter --t-end");
+    t_end = stalled.t;
+    study.horizon_note = "horizon shortened from " + number(req.t_end) + " to " + number(t_end) +
+                         ": the reference run took more than " + std::to_string(req.reference_steps) +
+                         " steps within the next hundredth of it (the motion from this state is hard to resolve "
+                         "there; --t-end or --init change it)";
+    ref = reference_run(t_end, rhs);
+  }
   if (ref.status != runtime::Status::ok)
     throw InputError("report: the reference run (dop853, tolerance 1e-14) failed at t = " + std::to_string(ref.t) +
                      ": " + runtime::describe(ref.status));
+  study.t_end = t_end;
+  if (progress && !study.horizon_note.empty()) *progress << "hamel: " << study.horizon_note << "\n";
   study.reference = "reference run: dop853 at rtol = atol = 1e-14 (" + std::to_string(ref.stats.steps) +
                     " steps); no analytic solution is used";
   double ref_scale = 1;
@@ -81,7 +119,7 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
   if (names.empty()) names = {"rk4", "dopri5", "dop853", "radau5"};
   for (const std::string& name : names) {
     const IntegratorInfo& info = find_integrator(name);
-    for (double setting : sweep(info, req.t_end)) {
+    for (double setting : sweep(info, t_end)) {
       WorkPrecisionRun run;
       run.integrator = info.name;
       run.setting = setting;
@@ -100,13 +138,15 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
           for (double v : r) residual = std::max(residual, std::fabs(v));
         }
       };
-      runtime::IntegrationResult result = integrate(info.name, setting, rhs, jac, req.x0, 0.0, req.t_end, 0.0, observe);
+      runtime::IntegrationResult result =
+          integrate(info.name, setting, rhs, jac, req.x0, 0.0, t_end, 0.0, observe, req.max_steps);
       // CPU time: repeat the run without observer until min_cpu_s has passed, and take the mean.
       int repeats = 0;
       const double start = cpu_seconds();
       double elapsed = 0;
       do {
-        result = integrate(info.name, setting, rhs, jac, req.x0, 0.0, req.t_end, 0.0, [](double, const double*) {});
+        result = integrate(
+            info.name, setting, rhs, jac, req.x0, 0.0, t_end, 0.0, [](double, const double*) {}, req.max_steps);
         ++repeats;
         elapsed = cpu_seconds() - start;
       } while (elapsed < req.min_cpu_s && repeats < 1000);
@@ -149,7 +189,11 @@ std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy
     << "Horizon t = 0 … " << number(study.t_end) << "; initial state";
   for (std::size_t k = 0; k < study.x0.size(); ++k)
     s << (k ? ", " : " ") << study.state_names[k] << " = " << number(study.x0[k]);
-  s << ".\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
+  s << ".";
+  if (!study.horizon_note.empty())
+    s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(study.horizon_note[0])))
+      << study.horizon_note.substr(1) << ".";
+  s << "\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
     << ". CPU time: one run, mean of repeats, right-hand side evaluated by the kernel interpreter (the graph `hamel "
        "emit` prints; compiled kernels are faster). Drift: max relative energy deviation along the run (nan when the "
        "model is not conservative).\n\n"

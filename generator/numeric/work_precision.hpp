@@ -27,7 +27,8 @@ struct WorkPrecisionRun {
 
 struct WorkPrecisionStudy {
   std::string reference;  ///< how the error was measured
-  double t_end = 0;
+  double t_end = 0;       ///< the horizon studied (below the requested one when the reference could not reach it)
+  std::string horizon_note;  ///< why the horizon is shorter than requested; empty when it is not
   std::vector<std::string> state_names;
   std::vector<double> x0;
   std::vector<WorkPrecisionRun> runs;
@@ -40,9 +41,15 @@ struct WorkPrecisionRequest {
   std::vector<double> inputs;
   std::vector<std::string> integrators;  ///< empty: all of rk4, dopri5, dop853, radau5
   double min_cpu_s = 0.02;               ///< repeat a run until this much CPU time has passed, report the mean
+  /// Step attempts per adaptive run of the sweep (beyond: status "too many steps"); 0: the integrators' own limits.
+  long max_steps = 0;
+  /// The reference run's budget: more than this many steps' worth of rhs evaluations within one hundredth of the
+  /// horizon shortens the horizon to the start of that hundredth (WorkPrecisionStudy::horizon_note says so).
+  long reference_steps = 10000;
 };
 
-/// Runs the study; progress goes to `progress` (one line per run) when non-null.
+/// Runs the study; progress goes to `progress` (one line per run) when non-null. Throws InputError when the
+/// reference run fails, or stalls (above) in the first hundredth of the horizon.
 WorkPrecisionStudy work_precision(const Model& model, const Derivation& derivation, const KernelSet& kernels,
                                   const WorkPrecisionRequest& request, std::ostream* progress);
 

@@ -3,6 +3,7 @@
 // errors follow their tolerance, and only the implicit method evaluates Jacobians.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -88,6 +89,46 @@ TEST(ReportCommand, WritesCsvMarkdownAndPlotWithMeaningfulNumbers) {
   const std::string text((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
   EXPECT_NE(text.find("<svg"), std::string::npos);
   EXPECT_NE(text.find("radau5"), std::string::npos);
+  fs::remove_all(out);
+}
+
+// A reference run that stalls (more than --reference-steps steps within a hundredth of the horizon: here the
+// double pendulum released near the top, slow at first, then whipping round) shortens the horizon to the start of
+// that hundredth, says so in the Markdown, and the study runs over the shorter horizon: RK4's finest step agrees
+// with that reference (an integrator the reference does not share) to 1e-9, which it would not if the reference
+// ended elsewhere. A reference that stalls in the first hundredth is a clear error (exit status 2).
+TEST(ReportCommand, AStalledReferenceShortensTheHorizon) {
+  const fs::path out = fs::temp_directory_path() / ("hamel_report_budget_test_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  const std::string base = std::string(HAMEL_BINARY) + " report " + source_dir() +
+                           "/models/double_pendulum.yaml --t-end 10 --init theta1=3.1,theta2=0,omega1=0,omega2=0 "
+                           "--integrators rk4 dop853 --out " +
+                           out.string();
+  const std::string cmd = base + " --reference-steps 8 > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream md(out / "double_pendulum_work_precision.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("Horizon shortened from 10 to "), std::string::npos) << text;
+
+  std::vector<std::string> header;
+  const auto rows = read_csv(out / "double_pendulum_work_precision.csv", header);
+  ASSERT_FALSE(rows.empty());
+  double coarsest = 0, finest_error = 1;
+  for (const auto& r : rows) {
+    if (r.at("integrator") != "rk4") continue;
+    coarsest = std::max(coarsest, std::stod(r.at("setting")));
+    finest_error = std::min(finest_error, std::stod(r.at("error")));
+  }
+  const double horizon = 25 * coarsest;  // the sweep's steps are horizon / (25 · 2^k)
+  EXPECT_GT(horizon, 0.1);
+  EXPECT_LT(horizon, 10.0);
+  EXPECT_NEAR(horizon / 0.1, std::round(horizon / 0.1), 1e-9);  // a hundredth's start
+  EXPECT_LT(finest_error, 1e-9);
+  fs::remove_all(out);
+
+  const std::string none = base + " --reference-steps 1 > /dev/null 2>&1";
+  EXPECT_EQ(WEXITSTATUS(std::system(none.c_str())), 2) << none;
+  EXPECT_FALSE(fs::exists(out / "double_pendulum_work_precision.csv"));
   fs::remove_all(out);
 }
 

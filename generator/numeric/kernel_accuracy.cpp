@@ -404,14 +404,14 @@ ReferenceSet references(const Model& model, const Derivation& derivation) {
   r.mass_by_x.resize(r.nx);
   r.intermediates = eq.intermediates;
   for (std::size_t k = 0; k < r.nx; ++k) r.mass_by_x[k].assign(r.d, std::vector<ex>(r.d));
-  for (const ex& e : r.kinematics) {
-    const std::vector<ex> by_x = r.intermediates.diff(e, state);
-    for (std::size_t k = 0; k < r.nx; ++k) r.kinematics_by_x[k].push_back(by_x[k]);
-  }
-  for (const ex& e : r.forcing) {
-    const std::vector<ex> by_x = r.intermediates.diff(e, state);
-    for (std::size_t k = 0; k < r.nx; ++k) r.forcing_by_x[k].push_back(by_x[k]);
-  }
+  const auto differentiate = [&](const std::vector<ex>& expressions, std::vector<std::vector<ex>>& by_x) {
+    for (const ex& e : expressions) {
+      const std::vector<ex> d = r.intermediates.diff(e, state);
+      for (std::size_t k = 0; k < r.nx; ++k) by_x[k].push_back(d[k]);
+    }
+  };
+  differentiate(r.kinematics, r.kinematics_by_x);
+  differentiate(r.forcing, r.forcing_by_x);
   for (std::size_t i = 0; i < r.d; ++i)
     for (std::size_t j = 0; j < r.d; ++j) {
       const std::vector<ex> by_x = r.intermediates.diff(r.mass[i][j], state);

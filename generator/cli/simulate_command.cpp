@@ -55,14 +55,17 @@ std::string number_text(double v) {
   return s.str();
 }
 
-void run(const SimulateOptions& given) {
-  Target target = resolve_target(given.model, given.params, given.fold, given.form, "none");
-  target.settings.dynamics = given.dynamics;
-  const Model& model = target.model;
-  const std::vector<double>& p = target.parameters;
-  // Command-line values win over the scene's, which win over the defaults.
-  SimulateOptions opt = given;
+// The run's options: the command line's values over the scene's over the defaults, checked before any work.
+struct Settled {
+  SimulateOptions opt;
   std::map<std::string, double> init, scene_inputs;
+  const IntegratorInfo* info = nullptr;
+};
+
+Settled settle(const SimulateOptions& given, const Target& target) {
+  Settled s;
+  SimulateOptions& opt = s.opt;
+  opt = given;
   if (target.scene) {
     const Scene& scene = *target.scene;
     if (opt.integrator.empty()) opt.integrator = scene.integrator;
@@ -70,8 +73,8 @@ void run(const SimulateOptions& given) {
     if (opt.dt == 0 && scene.dt) opt.dt = *scene.dt;
     if (opt.tol == 0 && scene.tol) opt.tol = *scene.tol;
     if (opt.sample == 0 && scene.sample) opt.sample = *scene.sample;
-    init = scene.initial;
-    scene_inputs = scene.inputs;
+    s.init = scene.initial;
+    s.scene_inputs = scene.inputs;
   }
   if (opt.integrator.empty()) opt.integrator = "dopri5";
   // A value given as 0 or below is an error, not "use the default"; a value the chosen integrator does not
@@ -85,10 +88,10 @@ void run(const SimulateOptions& given) {
     throw InputError("--sample: expected a positive finite output interval, got " + number_text(given.sample));
   if (opt.dt == 0) opt.dt = 1e-3;
   if (opt.tol == 0) opt.tol = 1e-8;
-  for (const auto& [k, v] : parse_assignments(opt.init, "--init")) init[k] = v;
+  for (const auto& [k, v] : parse_assignments(opt.init, "--init")) s.init[k] = v;
   if (!(opt.t_end > 0) || !std::isfinite(opt.t_end))
     throw InputError("--t-end: expected a positive finite time (required unless the scene gives t_end)");
-  const IntegratorInfo& info = find_integrator(opt.integrator);
+  const IntegratorInfo& info = *(s.info = &find_integrator(opt.integrator));
   if (!info.adaptive && !(opt.dt > 0)) throw InputError("--dt: expected a positive step");
   if (info.adaptive && !(opt.tol > 0)) throw InputError("--tol: expected a positive tolerance");
   if (info.adaptive && given.dt_given)
@@ -106,180 +109,100 @@ void run(const SimulateOptions& given) {
     throw InputError(std::string(opt.sample > 0 ? "--sample" : "--dt") + ": " + number_text(rows) +
                      " output rows, more than the limit of " + number_text(kMaxOutputRows) +
                      "; expected a larger --sample (output interval)");
+  return s;
+}
 
-  const Derivation derivation = derive(model, target.settings);
-  // --monitors: extra CSV columns evaluated at every output row.
-  bool monitor_energy = false, monitor_residual = false, monitor_momentum = false;
-  for (std::size_t start = 0; !opt.monitors.empty() && start <= opt.monitors.size();) {
-    const std::size_t comma = std::min(opt.monitors.find(',', start), opt.monitors.size());
-    const std::string m = opt.monitors.substr(start, comma - start);
-    if (m == "energy")
-      monitor_energy = true;
-    else if (m == "constraint_residual")
-      monitor_residual = true;
-    else if (m == "momentum")
-      monitor_momentum = true;
+// --monitors: extra CSV columns evaluated at every output row.
+struct Monitors {
+  bool energy = false, residual = false, momentum = false;
+};
+
+Monitors parse_monitors(const std::string& list) {
+  Monitors m;
+  for (std::size_t start = 0; !list.empty() && start <= list.size();) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    const std::string name = list.substr(start, comma - start);
+    if (name == "energy")
+      m.energy = true;
+    else if (name == "constraint_residual")
+      m.residual = true;
+    else if (name == "momentum")
+      m.momentum = true;
     else
-      throw InputError("--monitors: unknown monitor " + quote(m) +
+      throw InputError("--monitors: unknown monitor " + quote(name) +
                        "; expected a comma-separated list of: energy, constraint_residual, momentum");
     start = comma + 1;
   }
-  std::set<std::string> needed = {"kinematics", "rhs", "energy", "constraint_residual", "group_velocity"};
-  if (monitor_momentum) needed.insert("mass_matrix");
-  if (info.uses_jacobian) needed.insert("jacobian");
-  KernelSet kernels = build_kernels(model, derivation, needed);
-  drop_unrepresentable(kernels, true, printable(given.model));  // it evaluates every kernel it asked for
-  const HamelSystem& sys = derivation.system;
-  const std::vector<int>& independent = derivation.equations.independent;
+  return m;
+}
 
-  std::vector<std::string> columns{"t"};
-  for (const auto& q : sys.coordinates) columns.push_back(q.get_name());
-  for (int I : independent) columns.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
-  const std::size_t n_x = columns.size() - 1;
-
-  std::vector<double> x0(n_x, 0.0);
+// x(0): zero but for --init and the scene's initial values, which must name state variables (`columns` after "t").
+std::vector<double> initial_state(const std::vector<std::string>& columns, const std::map<std::string, double>& init,
+                                  const std::string& model_name) {
+  std::vector<double> x0(columns.size() - 1, 0.0);
   for (const auto& [name, v] : init) {
     auto it = std::find(columns.begin() + 1, columns.end(), name);
     if (it == columns.end()) {
       std::string list;
       for (std::size_t k = 1; k < columns.size(); ++k) list += (k > 1 ? ", " : "") + columns[k];
-      throw InputError("--init: " + quote(name) + " is not a state variable of model '" + model.name +
+      throw InputError("--init: " + quote(name) + " is not a state variable of model '" + model_name +
                        "' (coordinates and independent quasi-velocities: " + list + ")");
     }
     x0[static_cast<std::size_t>(it - columns.begin() - 1)] = v;
   }
-  // Inputs: the scene's constants, then --input-file (tables) and --input (constants or laws in t and the
-  // state), each input set once on the command line.
-  InputSources sources(model, std::vector<std::string>(columns.begin() + 1, columns.end()), p);
-  for (const auto& [name, v] : scene_inputs) sources.set_constant(name, v, "scene");
-  if (!opt.input_file.empty()) sources.load_csv(opt.input_file);
-  sources.add_assignments(opt.inputs, "--input");
-  std::vector<double> in(model.inputs.size(), 0.0);
-  sources.evaluate(0.0, x0.data(), in.data());
+  return x0;
+}
 
-  GraphEvaluator rhs_kernel(kernels.graph, kernels.get("rhs").outputs);
-  GraphEvaluator energy_kernel(kernels.graph, kernels.get("energy").outputs);
-  const bool constrained = !derivation.equations.constraint_residual.empty();
-  GraphEvaluator residual_kernel(kernels.graph,
-                                 constrained ? kernels.get("constraint_residual").outputs : std::vector<int>{});
-  const double* in_ptr = in.empty() ? nullptr : in.data();
-
-  const bool varying = sources.varying();
-  auto rhs = [&](double t, const double* x, double* xdot) {
-    if (varying) sources.evaluate(t, x, in.data());
-    rhs_kernel.evaluate(t, x, p.data(), in_ptr, xdot);
-  };
-  auto energy_at = [&](double t, const double* x) {
-    if (varying) sources.evaluate(t, x, in.data());
-    double e = 0;
-    energy_kernel.evaluate(t, x, p.data(), in_ptr, &e);
-    return e;
-  };
-  runtime::DriftMonitor energy(energy_at(0.0, x0.data()));
-  double residual_max = 0;
-  std::vector<double> residual(derivation.equations.constraint_residual.size());
-
-  // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
-  // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
-  // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
-  OutputFile output(opt.out, "--out");
-  std::ostream& os = output.stream();
-  const bool reconstruct = model.bundle && info.name == "rkmk4";
-  GroupPose pose;
-  std::vector<std::string> header = columns;
-  if (reconstruct) {
-    pose = with_group(model.bundle->group, [](auto tag) {
-      using G = typename decltype(tag)::type;
-      return pose_of(0.0, G::identity());
-    });
-    for (const std::string& c : pose_columns(pose)) header.push_back(c);
-  }
-  const std::size_t n_q = sys.coordinates.size(), n_u = independent.size();
-  if (monitor_energy) header.push_back("energy");
-  if (monitor_residual) {
-    const std::vector<int>& held = derivation.system.constrained;
+// The CSV's columns after t and the state: the pose (when reconstructed), then the monitors'.
+std::vector<std::string> monitor_columns(const Derivation& derivation, const Monitors& monitors) {
+  const HamelSystem& sys = derivation.system;
+  std::vector<std::string> header;
+  if (monitors.energy) header.push_back("energy");
+  if (monitors.residual) {
+    const std::vector<int>& held = sys.constrained;
     const std::size_t n_res = derivation.equations.constraint_residual.size();
     for (std::size_t k = 0; k < n_res; ++k)
       header.push_back("residual_" + (held.size() == n_res
                                           ? sys.velocities[static_cast<std::size_t>(held[k])].get_name()
                                           : std::to_string(k)));
   }
-  if (monitor_momentum)
-    for (int I : independent) header.push_back("p_" + sys.velocities[static_cast<std::size_t>(I)].get_name());
-  GraphEvaluator mass_kernel(kernels.graph, monitor_momentum ? kernels.get("mass_matrix").outputs : std::vector<int>{});
-  std::vector<double> mass(monitor_momentum ? n_u * n_u : 0);
-  runtime::CsvWriter csv(os, header);
-  std::vector<double> row(header.size());
-  auto observe = [&](double t, const double* x) {
-    row[0] = t;
-    std::copy(x, x + n_x, row.begin() + 1);
-    if (reconstruct) {
-      const std::vector<double> v = pose_values(pose);
-      std::copy(v.begin(), v.end(), row.begin() + 1 + static_cast<std::ptrdiff_t>(n_x));
-    }
-    const double e = energy_at(t, x);
-    energy.update(e);
-    if (constrained) {
-      residual_kernel.evaluate(t, x, p.data(), in_ptr, residual.data());
-      for (double r : residual) residual_max = std::max(residual_max, std::fabs(r));
-    }
-    std::size_t col = 1 + n_x + (reconstruct ? pose_columns(pose).size() : 0);
-    if (monitor_energy) row[col++] = e;
-    if (monitor_residual)
-      for (double r : residual) row[col++] = r;
-    if (monitor_momentum) {
-      // p = M u: the momenta conjugate to the independent quasi-velocities (∂T/∂u for T quadratic in u).
-      mass_kernel.evaluate(t, x, p.data(), in_ptr, mass.data());
-      for (std::size_t I = 0; I < n_u; ++I) {
-        double s = 0;
-        for (std::size_t J = 0; J < n_u; ++J) s += mass[I * n_u + J] * x[n_q + J];
-        row[col++] = s;
-      }
-    }
-    csv.row(row.data(), row.size());
-    output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
-  };
+  if (monitors.momentum)
+    for (int I : derivation.equations.independent)
+      header.push_back("p_" + sys.velocities[static_cast<std::size_t>(I)].get_name());
+  return header;
+}
 
-  GraphEvaluator jacobian_kernel(kernels.graph,
-                                 info.uses_jacobian ? kernels.get("jacobian").outputs : std::vector<int>{});
-  // With a feedback law the Jacobian leaves out d(in)/dx: implicit integrators then iterate Newton with an
-  // approximate Jacobian (their result is unaffected, only their convergence).
-  auto jacobian = [&](double t, const double* x, double* J) {
-    if (varying) sources.evaluate(t, x, in.data());
-    jacobian_kernel.evaluate(t, x, p.data(), in_ptr, J);
-  };
-  runtime::IntegrationResult result;
-  if (reconstruct) {
-    // Bundle models with rkmk4: the reduced state and g together (RKMK4 on G x R^n), g(0) = identity.
-    GraphEvaluator xi_kernel(kernels.graph, kernels.get("group_velocity").outputs);
-    result = with_group(model.bundle->group, [&](auto tag) {
-      using G = typename decltype(tag)::type;
-      auto f = [&](double t, const double* x, double* xdot) { rhs(t, x, xdot); };
-      auto xi = [&](double t, const double* x, double* out) {
-        if (varying) sources.evaluate(t, x, in.data());
-        xi_kernel.evaluate(t, x, p.data(), in_ptr, out);
-      };
-      auto observe_pose = [&](double t, const double* x, const typename G::Element& g) {
-        pose = pose_of(t, g);
-        observe(t, x);
-      };
-      const auto r = runtime::lie::integrate_rkmk4_coupled<G>(
-          model.bundle->right ? runtime::lie::Trivialization::right : runtime::lie::Trivialization::left, f, xi,
-          G::identity(), x0, 0.0, opt.t_end, opt.dt, opt.sample, observe_pose);
-      runtime::IntegrationResult out;
-      out.status = r.status;
-      out.t = r.t;
-      out.stats = r.stats;
-      out.x = r.x;
-      return out;
-    });
-  } else {
-    result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
-                       observe);
-  }
-  if (result.status == runtime::Status::ok) output.commit();
+// Bundle models with rkmk4: the reduced state and g together (RKMK4 on G × ℝⁿ), g(0) = identity; `pose` holds
+// g at every output row when `observe` is called.
+template <class Rhs, class Xi, class Observe>
+runtime::IntegrationResult integrate_with_pose(const Model& model, const SimulateOptions& opt,
+                                               const std::vector<double>& x0, Rhs& rhs, Xi& xi, GroupPose& pose,
+                                               Observe& observe) {
+  return with_group(model.bundle->group, [&](auto tag) {
+    using G = typename decltype(tag)::type;
+    auto f = [&](double t, const double* x, double* xdot) { rhs(t, x, xdot); };
+    auto observe_pose = [&](double t, const double* x, const typename G::Element& g) {
+      pose = pose_of(t, g);
+      observe(t, x);
+    };
+    const auto r = runtime::lie::integrate_rkmk4_coupled<G>(
+        model.bundle->right ? runtime::lie::Trivialization::right : runtime::lie::Trivialization::left, f, xi,
+        G::identity(), x0, 0.0, opt.t_end, opt.dt, opt.sample, observe_pose);
+    runtime::IntegrationResult out;
+    out.status = r.status;
+    out.t = r.t;
+    out.stats = r.stats;
+    out.x = r.x;
+    return out;
+  });
+}
+
+// The run's summary on stderr, or, when the integration failed, where it failed (then RunFailed).
+void print_outcome(const Model& model, const SimulateOptions& opt, const Derivation& derivation,
+                   const std::vector<std::string>& columns, const runtime::IntegrationResult& result,
+                   const runtime::DriftMonitor& energy, const double* residual_max) {
   std::ostringstream state;
-  for (std::size_t k = 0; k < n_x; ++k) state << (k ? ", " : "") << columns[k + 1] << "=" << result.x[k];
+  for (std::size_t k = 0; k + 1 < columns.size(); ++k) state << (k ? ", " : "") << columns[k + 1] << "=" << result.x[k];
   if (result.status != runtime::Status::ok) {
     std::cerr << "hamel: simulation failed at t = " << result.t << ": " << runtime::describe(result.status)
               << "\n  state: " << state.str() << "\n";
@@ -294,8 +217,133 @@ void run(const SimulateOptions& given) {
                     ? ""
                     : " (an invariant only while the model's forces vanish and L has no explicit t)")
             << "\n";
-  if (constrained) std::cerr << "  constraint residual |A_alpha(q) q_dot|: max " << residual_max << "\n";
+  if (residual_max) std::cerr << "  constraint residual |A_alpha(q) q_dot|: max " << *residual_max << "\n";
   std::cerr << "  final state: " << state.str() << "\n";
+}
+
+void run(const SimulateOptions& given) {
+  Target target = resolve_target(given.model, given.params, given.fold, given.form, "none");
+  target.settings.dynamics = given.dynamics;
+  const Model& model = target.model;
+  const std::vector<double>& p = target.parameters;
+  const Settled settled = settle(given, target);
+  const SimulateOptions& opt = settled.opt;
+  const IntegratorInfo& info = *settled.info;
+
+  const Derivation derivation = derive(model, target.settings);
+  const Monitors monitors = parse_monitors(opt.monitors);
+  std::set<std::string> needed = {"kinematics", "rhs", "energy", "constraint_residual", "group_velocity"};
+  if (monitors.momentum) needed.insert("mass_matrix");
+  if (info.uses_jacobian) needed.insert("jacobian");
+  KernelSet kernels = build_kernels(model, derivation, needed);
+  drop_unrepresentable(kernels, true, printable(given.model));  // it evaluates every kernel it asked for
+  const HamelSystem& sys = derivation.system;
+  const std::vector<int>& independent = derivation.equations.independent;
+
+  std::vector<std::string> columns{"t"};
+  for (const auto& q : sys.coordinates) columns.push_back(q.get_name());
+  for (int I : independent) columns.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
+  const std::size_t n_x = columns.size() - 1;
+  const std::vector<double> x0 = initial_state(columns, settled.init, model.name);
+
+  // Inputs: the scene's constants, then --input-file (tables) and --input (constants or laws in t and the
+  // state), each input set once on the command line.
+  InputSources sources(model, std::vector<std::string>(columns.begin() + 1, columns.end()), p);
+  for (const auto& [name, v] : settled.scene_inputs) sources.set_constant(name, v, "scene");
+  if (!opt.input_file.empty()) sources.load_csv(opt.input_file);
+  sources.add_assignments(opt.inputs, "--input");
+  std::vector<double> in(model.inputs.size(), 0.0);
+  sources.evaluate(0.0, x0.data(), in.data());
+
+  const bool constrained = !derivation.equations.constraint_residual.empty();
+  const auto evaluator = [&](const char* name, bool wanted) {
+    return GraphEvaluator(kernels.graph, wanted ? kernels.get(name).outputs : std::vector<int>{});
+  };
+  GraphEvaluator rhs_kernel = evaluator("rhs", true), energy_kernel = evaluator("energy", true),
+                 residual_kernel = evaluator("constraint_residual", constrained),
+                 mass_kernel = evaluator("mass_matrix", monitors.momentum),
+                 jacobian_kernel = evaluator("jacobian", info.uses_jacobian);
+  const double* in_ptr = in.empty() ? nullptr : in.data();
+  // Every kernel is evaluated with the inputs at (t, x): a feedback law or a table is evaluated first.
+  const bool varying = sources.varying();
+  const auto evaluate = [&](GraphEvaluator& kernel, double t, const double* x, double* out) {
+    if (varying) sources.evaluate(t, x, in.data());
+    kernel.evaluate(t, x, p.data(), in_ptr, out);
+  };
+  auto rhs = [&](double t, const double* x, double* xdot) { evaluate(rhs_kernel, t, x, xdot); };
+  auto energy_at = [&](double t, const double* x) {
+    double e = 0;
+    evaluate(energy_kernel, t, x, &e);
+    return e;
+  };
+  runtime::DriftMonitor energy(energy_at(0.0, x0.data()));
+  double residual_max = 0;
+  std::vector<double> residual(derivation.equations.constraint_residual.size());
+
+  // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
+  // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
+  // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
+  OutputFile output(opt.out, "--out");
+  const bool reconstruct = model.bundle && info.name == "rkmk4";
+  GroupPose pose;
+  std::vector<std::string> header = columns;
+  if (reconstruct) {
+    pose = with_group(model.bundle->group, [](auto tag) {
+      using G = typename decltype(tag)::type;
+      return pose_of(0.0, G::identity());
+    });
+    for (const std::string& c : pose_columns(pose)) header.push_back(c);
+  }
+  const std::size_t first_monitor = header.size();
+  for (const std::string& c : monitor_columns(derivation, monitors)) header.push_back(c);
+  const std::size_t n_q = sys.coordinates.size(), n_u = independent.size();
+  std::vector<double> mass(monitors.momentum ? n_u * n_u : 0);
+  runtime::CsvWriter csv(output.stream(), header);
+  std::vector<double> row(header.size());
+  auto observe = [&](double t, const double* x) {
+    row[0] = t;
+    std::copy(x, x + n_x, row.begin() + 1);
+    if (reconstruct) {
+      const std::vector<double> v = pose_values(pose);
+      std::copy(v.begin(), v.end(), row.begin() + 1 + static_cast<std::ptrdiff_t>(n_x));
+    }
+    const double e = energy_at(t, x);
+    energy.update(e);
+    if (constrained) {
+      residual_kernel.evaluate(t, x, p.data(), in_ptr, residual.data());
+      for (double r : residual) residual_max = std::max(residual_max, std::fabs(r));
+    }
+    std::size_t col = first_monitor;
+    if (monitors.energy) row[col++] = e;
+    if (monitors.residual)
+      for (double r : residual) row[col++] = r;
+    if (monitors.momentum) {
+      // p = M u: the momenta conjugate to the independent quasi-velocities (∂T/∂u for T quadratic in u).
+      mass_kernel.evaluate(t, x, p.data(), in_ptr, mass.data());
+      for (std::size_t I = 0; I < n_u; ++I) {
+        double s = 0;
+        for (std::size_t J = 0; J < n_u; ++J) s += mass[I * n_u + J] * x[n_q + J];
+        row[col++] = s;
+      }
+    }
+    csv.row(row.data(), row.size());
+    output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
+  };
+
+  // With a feedback law the Jacobian leaves out d(in)/dx: implicit integrators then iterate Newton with an
+  // approximate Jacobian (their result is unaffected, only their convergence).
+  auto jacobian = [&](double t, const double* x, double* J) { evaluate(jacobian_kernel, t, x, J); };
+  runtime::IntegrationResult result;
+  if (reconstruct) {
+    GraphEvaluator xi_kernel = evaluator("group_velocity", true);
+    auto xi = [&](double t, const double* x, double* out) { evaluate(xi_kernel, t, x, out); };
+    result = integrate_with_pose(model, opt, x0, rhs, xi, pose, observe);
+  } else {
+    result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
+                       observe);
+  }
+  if (result.status == runtime::Status::ok) output.commit();
+  print_outcome(model, opt, derivation, columns, result, energy, constrained ? &residual_max : nullptr);
 }
 
 }  // namespace

@@ -93,6 +93,220 @@ nlohmann::json eigenvalues_json(const Spectrum& s) {
   return j;
 }
 
+// The names of the state (coordinates, then independent quasi-velocities) and of the inputs, in kernel order.
+struct Names {
+  std::vector<std::string> state, inputs;
+  std::string model;
+  int nx() const { return static_cast<int>(state.size()); }
+  int ni() const { return static_cast<int>(inputs.size()); }
+  int state_index(const std::string& name, const std::string& option) const {
+    for (int k = 0; k < nx(); ++k)
+      if (state[static_cast<std::size_t>(k)] == name) return k;
+    throw InputError(option + ": " + quote(name) + " is not a state variable of model '" + model +
+                     "' (coordinates and independent quasi-velocities: " + join(state) + ")");
+  }
+};
+
+// The point x₀ and the inputs in₀: zero but for the scene's values and --at / --input over them.
+void set_point(const LinearizeOptions& opt, const Target& target, const Names& names, std::vector<double>& x,
+               std::vector<double>& in) {
+  std::map<std::string, double> initial = target.scene ? target.scene->initial : std::map<std::string, double>{};
+  for (const auto& [k, v] : parse_assignments(opt.at, "--at")) initial[k] = v;
+  for (const auto& [name, v] : initial) x[static_cast<std::size_t>(names.state_index(name, "--at"))] = v;
+  std::map<std::string, double> input_values = target.scene ? target.scene->inputs : std::map<std::string, double>{};
+  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
+  for (const auto& [name, v] : input_values) {
+    const auto it = std::find(names.inputs.begin(), names.inputs.end(), name);
+    if (it == names.inputs.end())
+      throw InputError("--input: " + quote(name) + " is not an input of model '" + names.model + "'" +
+                       (names.inputs.empty() ? " (it has none)" : " (inputs: " + join(names.inputs) + ")"));
+    in[static_cast<std::size_t>(it - names.inputs.begin())] = v;
+  }
+}
+
+// --sweep's quantity: a state component or a parameter (index ≥ 0 in one of them).
+struct SweepTarget {
+  SweepSpec spec;
+  int state = -1, parameter = -1;
+};
+
+SweepTarget sweep_target(const std::string& text, const Names& names, const Model& model) {
+  SweepTarget s{parse_sweep(text)};
+  for (int k = 0; k < names.nx(); ++k)
+    if (names.state[static_cast<std::size_t>(k)] == s.spec.name) s.state = k;
+  for (std::size_t k = 0; k < model.parameters.size(); ++k)
+    if (model.parameters[k].symbol.get_name() == s.spec.name) s.parameter = static_cast<int>(k);
+  if (s.state < 0 && s.parameter < 0) {
+    std::vector<std::string> all = names.state;
+    for (const Parameter& par : model.parameters) all.push_back(par.symbol.get_name());
+    throw InputError("--sweep: " + quote(s.spec.name) + " is neither a state variable nor a parameter of model '" +
+                     model.name + "'" + " (expected one of: " + join(all) +
+                     "; a parameter folded by --fold cannot be swept)");
+  }
+  return s;
+}
+
+// --steady and --hold: the coordinates that advance at a constant rate, and the components Newton's method may
+// change (all but those and the held ones, the swept state among them).
+struct SteadyComponents {
+  std::vector<int> moving, free;
+};
+
+SteadyComponents steady_components(const LinearizeOptions& opt, const Names& names, std::size_t n_coordinates,
+                                   int swept_state) {
+  SteadyComponents c;
+  if (opt.steady.empty()) {
+    if (!opt.hold.empty()) throw InputError("--hold: goes with --steady (the components Newton's method keeps fixed)");
+    return c;
+  }
+  for (const std::string& name : split_names(opt.steady)) {
+    const int k = names.state_index(name, "--steady");
+    if (k >= static_cast<int>(n_coordinates))
+      throw InputError("--steady: " + quote(name) +
+                       " is a quasi-velocity; expected the coordinates that advance at a "
+                       "constant rate in the steady motion (cyclic coordinates, e.g. a wheel angle or the heading)");
+    c.moving.push_back(k);
+  }
+  std::vector<int> held;
+  for (const std::string& name : split_names(opt.hold)) held.push_back(names.state_index(name, "--hold"));
+  if (swept_state >= 0) held.push_back(swept_state);
+  for (int k = 0; k < names.nx(); ++k)
+    if (std::find(c.moving.begin(), c.moving.end(), k) == c.moving.end() &&
+        std::find(held.begin(), held.end(), k) == held.end())
+      c.free.push_back(k);
+  return c;
+}
+
+// A sweep's spectra as JSON or CSV (one row per value: re1,im1,re2,im2,...).
+void write_sweep(std::ostream& os, bool json, const Names& names, const std::string& swept, const Sweep& result) {
+  if (json) {
+    nlohmann::json j;
+    j["model"] = names.model;
+    j["state"] = names.state;
+    j["sweep"] = swept;
+    j["values"] = result.values;
+    nlohmann::json all = nlohmann::json::array();
+    for (const Spectrum& s : result.spectra) all.push_back(eigenvalues_json(s));
+    j["eigenvalues"] = all;
+    nlohmann::json crossings = nlohmann::json::array();
+    for (const Crossing& c : result.crossings)
+      crossings.push_back({{"value", c.value},
+                           {"kind", c.complex ? "complex pair" : "real"},
+                           {"frequency", c.frequency},
+                           {"direction", c.to_unstable ? "to unstable" : "to stable"}});
+    j["crossings"] = crossings;
+    os << j.dump(2) << "\n";
+    return;
+  }
+  os << swept;
+  for (int k = 0; k < names.nx(); ++k) os << ",re" << k + 1 << ",im" << k + 1;
+  os << "\n";
+  for (std::size_t i = 0; i < result.values.size(); ++i) {
+    char buf[40];
+    std::snprintf(buf, sizeof buf, "%.17g", result.values[i]);
+    os << buf;
+    for (const Eigenvalue& e : result.spectra[i].values) {
+      std::snprintf(buf, sizeof buf, ",%.17g", e.re);
+      os << buf;
+      std::snprintf(buf, sizeof buf, ",%.17g", e.im);
+      os << buf;
+    }
+    os << "\n";
+  }
+}
+
+// The sweep's stability boundaries on stderr.
+void print_crossings(const std::string& swept, const Sweep& result) {
+  std::cerr << "hamel: swept " << swept << " over " << result.values.size() << " points"
+            << (result.crossings.empty() ? "; no eigenvalue crosses the imaginary axis" : "; stability boundaries:")
+            << "\n";
+  for (const Crossing& c : result.crossings)
+    std::cerr << "  " << swept << " = " << number(c.value) << ": "
+              << (c.complex ? "a complex pair (frequency " + number(c.frequency) + " rad/s)"
+                            : std::string("a real eigenvalue"))
+              << " crosses "
+              << (c.to_unstable ? "into the right half-plane (loss of stability)"
+                                : "into the left half-plane (gain of stability)")
+              << "\n";
+}
+
+// --plot: the eigenvalues against the swept quantity as SVG.
+void plot_sweep(const std::string& path, const std::string& model_name, const std::string& swept, const Sweep& result) {
+  PlotSpec spec;
+  spec.title = model_name + ": eigenvalues against " + swept;
+  spec.x_label = swept;
+  spec.y_label = "eigenvalues [1/s]";
+  // All real parts as one series of points, the positive imaginary parts as another (as in Meijaard et
+  // al.'s Fig. 3); exact zeros of decoupled components are left out.
+  PlotSeries re{"real parts", {}, {}, false, true, false}, im{"imaginary parts (> 0)", {}, {}, false, true, false};
+  for (std::size_t i = 0; i < result.values.size(); ++i)
+    for (const Eigenvalue& e : result.spectra[i].values) {
+      if (e.re == 0 && e.im == 0) continue;
+      re.x.push_back(result.values[i]);
+      re.y.push_back(e.re);
+      if (e.im > 0) im.x.push_back(result.values[i]), im.y.push_back(e.im);
+    }
+  spec.series = {re, im};
+  write_file_atomically(path, render_svg(spec), "--plot");
+  std::cerr << "hamel: wrote " << path << "\n";
+}
+
+// One linearization as JSON or text: the point, A, B, c and A's eigenvalues.
+void write_linearization(std::ostream& os, bool json, const Model& model, const Names& names,
+                         const std::vector<double>& x, const LinearSystem& s, const std::vector<int>* moving,
+                         const SteadyResult& found) {
+  const int nx = names.nx(), ni = names.ni();
+  const std::vector<std::string>& state = names.state;
+  const Spectrum spec = spectrum(s);
+  std::vector<std::string> decoupled;
+  for (int k : spec.decoupled) decoupled.push_back(state[static_cast<std::size_t>(k)]);
+  if (json) {
+    nlohmann::json j;
+    j["model"] = model.name;
+    j["state"] = state;
+    j["inputs"] = names.inputs;
+    nlohmann::json point = nlohmann::json::object();
+    for (int k = 0; k < nx; ++k) point[state[static_cast<std::size_t>(k)]] = x[static_cast<std::size_t>(k)];
+    j["point"] = point;
+    j["A"] = matrix_json(s.A, nx, nx);
+    j["B"] = matrix_json(s.B, nx, ni);
+    j["residual"] = s.residual;
+    j["eigenvalues"] = eigenvalues_json(spec);
+    j["decoupled"] = decoupled;
+    if (moving) {
+      std::vector<std::string> moving_names;
+      for (int k : *moving) moving_names.push_back(state[static_cast<std::size_t>(k)]);
+      j["steady"] = {{"moving", moving_names}, {"iterations", found.iterations}, {"residual", found.residual}};
+    }
+    os << j.dump(2) << "\n";
+    return;
+  }
+  os << "linearization of " << model.name << " (" << model.source_path << "): x' ~ A (x - x0) + B (in - in0) + c\n";
+  os << (moving ? "steady motion (Newton, " + std::to_string(found.iterations) +
+                      " steps, max |x'| = " + number(found.residual) + ") x0:\n"
+                : "point x0:\n");
+  for (int k = 0; k < nx; ++k)
+    os << "  " << state[static_cast<std::size_t>(k)] << " = " << number(x[static_cast<std::size_t>(k)]) << "\n";
+  const auto print_matrix = [&](const std::string& title, const std::vector<double>& m, int cols,
+                                const std::vector<std::string>& col_names) {
+    os << "\n" << title << " (rows: x' of " << join(state) << "; columns: " << join(col_names) << "):\n";
+    for (int i = 0; i < nx; ++i) {
+      os << "  " << state[static_cast<std::size_t>(i)] << "':";
+      for (int k = 0; k < cols; ++k) os << " " << number(m[static_cast<std::size_t>(i * cols + k)]);
+      os << "\n";
+    }
+  };
+  print_matrix("A = d x'/d x", s.A, nx, state);
+  if (ni > 0) print_matrix("B = d x'/d in", s.B, ni, names.inputs);
+  os << "\nc = x' at x0:";
+  for (double v : s.residual) os << " " << number(v);
+  os << "\n\neigenvalues of A, by real part:\n";
+  for (const Eigenvalue& e : spec.values) os << "  " << eigenvalue_text(e) << "\n";
+  if (!decoupled.empty())
+    os << "of which " << decoupled.size() << " exactly zero: at this point no other rate depends on " << join(decoupled)
+       << " (cyclic coordinates of a symmetry, or quantities conserved to first order)\n";
+}
+
 void run(const LinearizeOptions& opt) {
   Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
   target.settings.dynamics = opt.dynamics;
@@ -100,68 +314,20 @@ void run(const LinearizeOptions& opt) {
   std::vector<double> p = target.parameters;
   const Derivation derivation = derive(model, target.settings);
   const HamelSystem& sys = derivation.system;
-  std::vector<std::string> state;
-  for (const auto& q : sys.coordinates) state.push_back(q.get_name());
-  for (int I : derivation.equations.independent) state.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
-  std::vector<std::string> inputs;
-  for (const auto& u : model.inputs) inputs.push_back(u.get_name());
-  const int nx = static_cast<int>(state.size()), ni = static_cast<int>(inputs.size());
+  Names names;
+  names.model = model.name;
+  for (const auto& q : sys.coordinates) names.state.push_back(q.get_name());
+  for (int I : derivation.equations.independent)
+    names.state.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
+  for (const auto& u : model.inputs) names.inputs.push_back(u.get_name());
+  const int nx = names.nx(), ni = names.ni();
 
-  const auto state_index = [&](const std::string& name, const std::string& option) {
-    for (int k = 0; k < nx; ++k)
-      if (state[static_cast<std::size_t>(k)] == name) return k;
-    throw InputError(option + ": " + quote(name) + " is not a state variable of model '" + model.name +
-                     "' (coordinates and independent quasi-velocities: " + join(state) + ")");
-  };
   std::vector<double> x(static_cast<std::size_t>(nx), 0.0), in(static_cast<std::size_t>(ni), 0.0);
-  std::map<std::string, double> initial = target.scene ? target.scene->initial : std::map<std::string, double>{};
-  for (const auto& [k, v] : parse_assignments(opt.at, "--at")) initial[k] = v;
-  for (const auto& [name, v] : initial) x[static_cast<std::size_t>(state_index(name, "--at"))] = v;
-  std::map<std::string, double> input_values = target.scene ? target.scene->inputs : std::map<std::string, double>{};
-  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
-  for (const auto& [name, v] : input_values) {
-    const auto it = std::find(inputs.begin(), inputs.end(), name);
-    if (it == inputs.end())
-      throw InputError("--input: " + quote(name) + " is not an input of model '" + model.name + "'" +
-                       (inputs.empty() ? " (it has none)" : " (inputs: " + join(inputs) + ")"));
-    in[static_cast<std::size_t>(it - inputs.begin())] = v;
-  }
-  std::optional<SweepSpec> sweep_spec;
-  int swept_state = -1, swept_param = -1;
-  if (!opt.sweep.empty()) {
-    sweep_spec = parse_sweep(opt.sweep);
-    for (int k = 0; k < nx; ++k)
-      if (state[static_cast<std::size_t>(k)] == sweep_spec->name) swept_state = k;
-    for (std::size_t k = 0; k < model.parameters.size(); ++k)
-      if (model.parameters[k].symbol.get_name() == sweep_spec->name) swept_param = static_cast<int>(k);
-    if (swept_state < 0 && swept_param < 0) {
-      std::vector<std::string> names = state;
-      for (const Parameter& par : model.parameters) names.push_back(par.symbol.get_name());
-      throw InputError("--sweep: " + quote(sweep_spec->name) + " is neither a state variable nor a parameter of model '" +
-                       model.name + "'" +
-                       " (expected one of: " + join(names) + "; a parameter folded by --fold cannot be swept)");
-    }
-  }
-  std::vector<int> moving, free;
+  set_point(opt, target, names, x, in);
+  const std::optional<SweepTarget> swept =
+      opt.sweep.empty() ? std::nullopt : std::optional<SweepTarget>(sweep_target(opt.sweep, names, model));
   const bool steady = !opt.steady.empty();
-  if (steady) {
-    for (const std::string& name : split_names(opt.steady)) {
-      const int k = state_index(name, "--steady");
-      if (k >= static_cast<int>(sys.coordinates.size()))
-        throw InputError("--steady: " + quote(name) + " is a quasi-velocity; expected the coordinates that advance at a "
-                         "constant rate in the steady motion (cyclic coordinates, e.g. a wheel angle or the heading)");
-      moving.push_back(k);
-    }
-    std::vector<int> held;
-    for (const std::string& name : split_names(opt.hold)) held.push_back(state_index(name, "--hold"));
-    if (swept_state >= 0) held.push_back(swept_state);
-    for (int k = 0; k < nx; ++k)
-      if (std::find(moving.begin(), moving.end(), k) == moving.end() &&
-          std::find(held.begin(), held.end(), k) == held.end())
-        free.push_back(k);
-  } else if (!opt.hold.empty()) {
-    throw InputError("--hold: goes with --steady (the components Newton's method keeps fixed)");
-  }
+  const SteadyComponents components = steady_components(opt, names, sys.coordinates.size(), swept ? swept->state : -1);
 
   const KernelSet kernels = [&] {
     progress::Step step("building the rhs program and its forward-mode derivatives (A, B)");
@@ -173,148 +339,41 @@ void run(const LinearizeOptions& opt) {
   const auto steady_point = [&](std::vector<double> start) {
     if (!steady) return start;
     try {
-      found = find_steady_motion(linearize_at, start, free, moving);
+      found = find_steady_motion(linearize_at, start, components.free, components.moving);
     } catch (const std::runtime_error& e) {
       throw RunFailed(e.what());
     }
     return found.x;
   };
 
-  if (sweep_spec) {
+  if (swept) {
+    const SweepSpec& spec = swept->spec;
     std::vector<double> last = x;
     const auto spectrum_at = [&](double v) {
       std::vector<double> point = last;
-      if (swept_state >= 0) point[static_cast<std::size_t>(swept_state)] = v;
-      if (swept_param >= 0) p[static_cast<std::size_t>(swept_param)] = v;
+      if (swept->state >= 0) point[static_cast<std::size_t>(swept->state)] = v;
+      if (swept->parameter >= 0) p[static_cast<std::size_t>(swept->parameter)] = v;
       point = steady_point(point);
       if (steady) last = point;
       return spectrum(linearize_at(point));
     };
     Sweep result;
     {
-      progress::Step step("sweeping " + sweep_spec->name + " from " + number(sweep_spec->from) + " to " +
-                          number(sweep_spec->to));
-      result = sweep(spectrum_at, sweep_spec->from, sweep_spec->to, sweep_spec->step);
+      progress::Step step("sweeping " + spec.name + " from " + number(spec.from) + " to " + number(spec.to));
+      result = sweep(spectrum_at, spec.from, spec.to, spec.step);
     }
     OutputFile out(opt.out, "--out");
-    if (opt.json) {
-      nlohmann::json j;
-      j["model"] = model.name;
-      j["state"] = state;
-      j["sweep"] = sweep_spec->name;
-      j["values"] = result.values;
-      nlohmann::json all = nlohmann::json::array();
-      for (const Spectrum& s : result.spectra) all.push_back(eigenvalues_json(s));
-      j["eigenvalues"] = all;
-      nlohmann::json crossings = nlohmann::json::array();
-      for (const Crossing& c : result.crossings)
-        crossings.push_back({{"value", c.value},
-                             {"kind", c.complex ? "complex pair" : "real"},
-                             {"frequency", c.frequency},
-                             {"direction", c.to_unstable ? "to unstable" : "to stable"}});
-      j["crossings"] = crossings;
-      out.stream() << j.dump(2) << "\n";
-    } else {
-      std::ostream& os = out.stream();
-      os << sweep_spec->name;
-      for (int k = 0; k < nx; ++k) os << ",re" << k + 1 << ",im" << k + 1;
-      os << "\n";
-      for (std::size_t i = 0; i < result.values.size(); ++i) {
-        char buf[40];
-        std::snprintf(buf, sizeof buf, "%.17g", result.values[i]);
-        os << buf;
-        for (const Eigenvalue& e : result.spectra[i].values) {
-          std::snprintf(buf, sizeof buf, ",%.17g", e.re);
-          os << buf;
-          std::snprintf(buf, sizeof buf, ",%.17g", e.im);
-          os << buf;
-        }
-        os << "\n";
-      }
-    }
+    write_sweep(out.stream(), opt.json, names, spec.name, result);
     out.commit();
-    std::cerr << "hamel: swept " << sweep_spec->name << " over " << result.values.size() << " points"
-              << (result.crossings.empty() ? "; no eigenvalue crosses the imaginary axis" : "; stability boundaries:")
-              << "\n";
-    for (const Crossing& c : result.crossings)
-      std::cerr << "  " << sweep_spec->name << " = " << number(c.value) << ": "
-                << (c.complex ? "a complex pair (frequency " + number(c.frequency) + " rad/s)" : std::string("a real eigenvalue"))
-                << " crosses " << (c.to_unstable ? "into the right half-plane (loss of stability)"
-                                                 : "into the left half-plane (gain of stability)")
-                << "\n";
-    if (!opt.plot.empty()) {
-      PlotSpec spec;
-      spec.title = model.name + ": eigenvalues against " + sweep_spec->name;
-      spec.x_label = sweep_spec->name;
-      spec.y_label = "eigenvalues [1/s]";
-      // All real parts as one series of points, the positive imaginary parts as another (as in Meijaard et
-      // al.'s Fig. 3); exact zeros of decoupled components are left out.
-      PlotSeries re{"real parts", {}, {}, false, true, false}, im{"imaginary parts (> 0)", {}, {}, false, true, false};
-      for (std::size_t i = 0; i < result.values.size(); ++i)
-        for (const Eigenvalue& e : result.spectra[i].values) {
-          if (e.re == 0 && e.im == 0) continue;
-          re.x.push_back(result.values[i]);
-          re.y.push_back(e.re);
-          if (e.im > 0) im.x.push_back(result.values[i]), im.y.push_back(e.im);
-        }
-      spec.series = {re, im};
-      write_file_atomically(opt.plot, render_svg(spec), "--plot");
-      std::cerr << "hamel: wrote " << opt.plot << "\n";
-    }
+    print_crossings(spec.name, result);
+    if (!opt.plot.empty()) plot_sweep(opt.plot, model.name, spec.name, result);
     return;
   }
 
   x = steady_point(x);
   const LinearSystem s = linearize_at(x);
-  const Spectrum spec = spectrum(s);
-  std::vector<std::string> decoupled;
-  for (int k : spec.decoupled) decoupled.push_back(state[static_cast<std::size_t>(k)]);
   OutputFile out(opt.out, "--out");
-  std::ostream& os = out.stream();
-  if (opt.json) {
-    nlohmann::json j;
-    j["model"] = model.name;
-    j["state"] = state;
-    j["inputs"] = inputs;
-    nlohmann::json point = nlohmann::json::object();
-    for (int k = 0; k < nx; ++k) point[state[static_cast<std::size_t>(k)]] = x[static_cast<std::size_t>(k)];
-    j["point"] = point;
-    j["A"] = matrix_json(s.A, nx, nx);
-    j["B"] = matrix_json(s.B, nx, ni);
-    j["residual"] = s.residual;
-    j["eigenvalues"] = eigenvalues_json(spec);
-    j["decoupled"] = decoupled;
-    if (steady) {
-      std::vector<std::string> moving_names;
-      for (int k : moving) moving_names.push_back(state[static_cast<std::size_t>(k)]);
-      j["steady"] = {{"moving", moving_names}, {"iterations", found.iterations}, {"residual", found.residual}};
-    }
-    os << j.dump(2) << "\n";
-  } else {
-    os << "linearization of " << model.name << " (" << model.source_path << "): x' ~ A (x - x0) + B (in - in0) + c\n";
-    os << (steady ? "steady motion (Newton, " + std::to_string(found.iterations) + " steps, max |x'| = " +
-                        number(found.residual) + ") x0:\n"
-                  : "point x0:\n");
-    for (int k = 0; k < nx; ++k) os << "  " << state[static_cast<std::size_t>(k)] << " = " << number(x[static_cast<std::size_t>(k)]) << "\n";
-    const auto print_matrix = [&](const std::string& title, const std::vector<double>& m, int cols,
-                                  const std::vector<std::string>& col_names) {
-      os << "\n" << title << " (rows: x' of " << join(state) << "; columns: " << join(col_names) << "):\n";
-      for (int i = 0; i < nx; ++i) {
-        os << "  " << state[static_cast<std::size_t>(i)] << "':";
-        for (int k = 0; k < cols; ++k) os << " " << number(m[static_cast<std::size_t>(i * cols + k)]);
-        os << "\n";
-      }
-    };
-    print_matrix("A = d x'/d x", s.A, nx, state);
-    if (ni > 0) print_matrix("B = d x'/d in", s.B, ni, inputs);
-    os << "\nc = x' at x0:";
-    for (double v : s.residual) os << " " << number(v);
-    os << "\n\neigenvalues of A, by real part:\n";
-    for (const Eigenvalue& e : spec.values) os << "  " << eigenvalue_text(e) << "\n";
-    if (!decoupled.empty())
-      os << "of which " << decoupled.size() << " exactly zero: at this point no other rate depends on "
-         << join(decoupled) << " (cyclic coordinates of a symmetry, or quantities conserved to first order)\n";
-  }
+  write_linearization(out.stream(), opt.json, model, names, x, s, steady ? &components.moving : nullptr, found);
   out.commit();
 }
 

@@ -415,36 +415,14 @@ void print_latex(std::ostream& out, const Model& model, const Derivation& d, Cur
   }
 }
 
-void run(const DeriveOptions& opt) {
-  if (opt.latex && (opt.json || opt.riemann || !opt.at.empty()))
-    throw InputError(std::string("--latex: cannot be combined with ") + (opt.json ? "--json"
-                                                                         : opt.riemann
-                                                                             ? "--riemann (text and JSON only)"
-                                                                             : "--at (values are text and JSON only)"));
-  const Model model = load_model(opt.model);
-  const std::vector<double> params = parameter_values(model, parse_assignments(opt.params, "--param"));
-  const std::map<std::string, double> at = parse_assignments(opt.at, "--at");
-
-  if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
-    throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
-                     opt.curvature_sign + "'");
-  const Model folded = apply_fold(model, params, opt.fold);
-  const Derivation d = derive(folded, DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
+// The values --at gives, as exact numbers, with the parameters' and every intermediate's that follows from them
+// (empty when --at is not given: the output is then symbolic but for the parameters). --at takes every name the
+// output lists as coordinate or quasi-velocity (for bundle models the shape rates r_dot and the shifted group
+// velocities of the form), inputs, the group velocity and t.
+GiNaC::exmap values_at(const Model& model, const std::vector<double>& params, const std::map<std::string, double>& at,
+                       const Derivation& d, const Intermediates& program, bool riemann) {
   const HamelSystem& sys = d.system;
   const HamelEquations& eq = d.equations;
-  // With --riemann the program grows by the Riemannian quantities (a copy: eq's stays as derived).
-  Intermediates riemann_program = opt.riemann ? eq.intermediates : Intermediates{};
-  std::optional<RiemannGeometry> riemann;
-  if (opt.riemann) riemann = derive_riemann(folded, riemann_program);
-  const Intermediates& program = opt.riemann ? riemann_program : eq.intermediates;
-  if (opt.inline_all) inline_through = &program;
-  if (opt.latex) {
-    print_latex(std::cout, model, d, opt.curvature_sign == "gauge" ? CurvatureSign::gauge : CurvatureSign::paper);
-    return;
-  }
-
-  // --at takes every name the output lists as coordinate or quasi-velocity (for bundle models the shape
-  // rates r_dot and the shifted group velocities of the form), inputs, the group velocity and t.
   GiNaC::exmap values;
   for (std::size_t k = 0; k < model.parameters.size(); ++k)
     values[model.parameters[k].symbol] = exact_number(params[k]);
@@ -465,6 +443,14 @@ void run(const DeriveOptions& opt) {
     for (std::size_t a = 0; a < model.rates.size(); ++a) values[model.rates[a]] = eq.kinematics[a].subs(values).evalf();
     values = program.evaluate(values);
   }
+  return values;
+}
+
+// Everything derive prints, as the JSON document --json writes (the text output is read from it).
+nlohmann::json derivation_json(const Model& model, const Derivation& d, const GiNaC::exmap& values,
+                               const RiemannGeometry* riemann, const Intermediates& program, CurvatureSign sign) {
+  const HamelSystem& sys = d.system;
+  const HamelEquations& eq = d.equations;
   const auto u_name = [&](int a) { return sys.velocities[static_cast<std::size_t>(a)].get_name(); };
   const auto q_name = [&](std::size_t a) { return sys.coordinates[a].get_name(); };
   const auto is_independent = [&](int a) {
@@ -502,8 +488,7 @@ void run(const DeriveOptions& opt) {
     j["hamel"].push_back(e);
   }
   j["equations"] = sys.form;
-  if (d.bundle)
-    add_bundle_json(j, model, d, values, opt.curvature_sign == "gauge" ? CurvatureSign::gauge : CurvatureSign::paper);
+  if (d.bundle) add_bundle_json(j, model, d, values, sign);
   const std::size_t m = eq.independent.size();
   for (std::size_t r = 0; r < m; ++r) {
     for (std::size_t c = 0; c < m; ++c) {
@@ -538,10 +523,15 @@ void run(const DeriveOptions& opt) {
   j["conservative"] = eq.conservative;
   if (riemann) j["riemann"] = riemann_json(*riemann, program, eq.intermediates.size(), values);
 
-  if (opt.json) {
-    std::cout << j.dump(2) << "\n";
-    return;
-  }
+  return j;
+}
+
+// The text output: the JSON document's entries with their equation labels (j by value: operator[] makes a missing
+// list an empty one, as for a model without coordinates).
+void print_text(nlohmann::json j, const Model& model, const Derivation& d) {
+  const HamelSystem& sys = d.system;
+  const HamelEquations& eq = d.equations;
+  const std::size_t n = sys.coordinates.size(), m = eq.independent.size();
   auto show = [](const nlohmann::json& e) {
     std::string s = e["expr"].get<std::string>();
     if (e.contains("value")) s += "   = " + nlohmann::json(e["value"]).dump();
@@ -607,7 +597,44 @@ void run(const DeriveOptions& opt) {
   std::cout << "\nkinematics, eq. (qadot):\n";
   for (const auto& e : j["kinematics"]) std::cout << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
   std::cout << "\nenergy E = " << show(j["energy"]) << (eq.conservative ? "   (conserved)" : "") << "\n";
-  if (riemann) print_riemann(j["riemann"], show);
+  if (j.contains("riemann")) print_riemann(j["riemann"], show);
+}
+
+void run(const DeriveOptions& opt) {
+  if (opt.latex && (opt.json || opt.riemann || !opt.at.empty()))
+    throw InputError(std::string("--latex: cannot be combined with ") + (opt.json ? "--json"
+                                                                         : opt.riemann
+                                                                             ? "--riemann (text and JSON only)"
+                                                                             : "--at (values are text and JSON only)"));
+  const Model model = load_model(opt.model);
+  const std::vector<double> params = parameter_values(model, parse_assignments(opt.params, "--param"));
+  const std::map<std::string, double> at = parse_assignments(opt.at, "--at");
+
+  if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
+    throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
+                     opt.curvature_sign + "'");
+  const Model folded = apply_fold(model, params, opt.fold);
+  const Derivation d = derive(folded, DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
+  const HamelEquations& eq = d.equations;
+  // With --riemann the program grows by the Riemannian quantities (a copy: eq's stays as derived).
+  Intermediates riemann_program = opt.riemann ? eq.intermediates : Intermediates{};
+  std::optional<RiemannGeometry> riemann;
+  if (opt.riemann) riemann = derive_riemann(folded, riemann_program);
+  const Intermediates& program = opt.riemann ? riemann_program : eq.intermediates;
+  if (opt.inline_all) inline_through = &program;
+  const CurvatureSign sign = opt.curvature_sign == "gauge" ? CurvatureSign::gauge : CurvatureSign::paper;
+  if (opt.latex) {
+    print_latex(std::cout, model, d, sign);
+    return;
+  }
+
+  const GiNaC::exmap values = values_at(model, params, at, d, program, opt.riemann);
+  nlohmann::json j = derivation_json(model, d, values, riemann ? &*riemann : nullptr, program, sign);
+  if (opt.json) {
+    std::cout << j.dump(2) << "\n";
+    return;
+  }
+  print_text(std::move(j), model, d);
 }
 
 }  // namespace

@@ -1,4 +1,5 @@
 #include "model/load_model.hpp"
+#include "model/body_energy.hpp"
 #include "model/physical_checks.hpp"
 
 #include "algebra/expression_text.hpp"
@@ -302,10 +303,10 @@ class Loader {
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
                        const std::vector<std::string>& keys, const std::string& allowed,
                        const std::vector<std::string>& optional = {});
-  GiNaC::ex posed_body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
-                                      const GiNaC::symtab& table, std::string& name);
-  GiNaC::ex body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
-                                const GiNaC::symtab& geometric, const GiNaC::symtab& velocities, std::string& name);
+  GiNaC::ex load_posed_body(Model& model, const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
+                            std::string& name);
+  GiNaC::ex load_twist_body(Model& model, const YAML::Node& body, const std::string& key,
+                            const GiNaC::symtab& geometric, const GiNaC::symtab& velocities, std::string& name);
   std::vector<GiNaC::ex> vector_of(const YAML::Node& node, const std::string& key, std::size_t size,
                                    const GiNaC::symtab& table, const std::string& allowed) const {
     if (!node.IsSequence() || node.size() != size)
@@ -523,7 +524,7 @@ void Loader::load_core(Model& model) {
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       const std::string key = "bodies[" + std::to_string(i) + "]";
       std::string body_name;
-      model.lagrangian += posed_body_kinetic_energy(model, bodies[i], key, pose_table, body_name);
+      model.lagrangian += load_posed_body(model, bodies[i], key, pose_table, body_name);
       if (std::find(names.begin(), names.end(), body_name) != names.end())
         fail(bodies[i]["name"], key + ".name", "the body '" + body_name + "' is listed twice");
       names.push_back(body_name);
@@ -671,7 +672,7 @@ void Loader::load_bundle(Model& model) {
     for (std::size_t i = 0; i < bodies.size(); ++i) {
       std::string body_name;
       b.kinetic +=
-          body_kinetic_energy(model, bodies[i], "bodies[" + std::to_string(i) + "]", geometric, velocities, body_name);
+          load_twist_body(model, bodies[i], "bodies[" + std::to_string(i) + "]", geometric, velocities, body_name);
       if (std::find(b.bodies.begin(), b.bodies.end(), body_name) != b.bodies.end())
         fail(bodies[i]["name"], "bodies[" + std::to_string(i) + "].name",
              "the body '" + body_name + "' is listed twice");
@@ -723,16 +724,12 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
 }
 
 // A rigid body of a model in general coordinates (key `bodies` beside `coordinates`): inertial data in its
-// own frame and its pose (R(q, t), p(q, t)) as expressions. Its kinetic energy T = ½ m |ṗ_c|² + ½ ωᵀΘω with
-// p_c = p + R c and ω̂ = RᵀṘ (body frame) is built through named intermediates: the entries of R, the body
-// angular velocity and the centre-of-mass velocity are definitions of the model's program, and Ṙ, ṗ follow
-// by the chain rule through them (Intermediates::diff), so nothing is expanded.
-GiNaC::ex Loader::posed_body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
-                                            const GiNaC::symtab& table, std::string& name) {
+// own frame and its pose (R(q, t), p(q, t)) as expressions; its kinetic energy (model/body_energy.hpp).
+GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const std::string& key,
+                                  const GiNaC::symtab& table, std::string& name) {
   const std::string allowed = "a body's pose and inertia may use coordinates, parameters, t and definitions of these";
   const RigidBody rb = rigid_body(body, key, table, {"name", "mass", "com", "inertia", "position"}, allowed, {"rotation"});
   name = rb.name;
-  Intermediates& program = model.definitions;
   // R: a 3x3 matrix, or a product of elementary rotations [[axis, angle], ...] applied left to right.
   GiNaC::matrix R = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
   const YAML::Node rot = body["rotation"];
@@ -746,11 +743,7 @@ GiNaC::ex Loader::posed_body_kinetic_energy(Model& model, const YAML::Node& body
       if (axis != "x" && axis != "y" && axis != "z")
         fail(rot[k][0], item + "[0]", "expected the axis x, y or z, got " + quote(axis));
       const GiNaC::ex angle = expression(rot[k][1], item + "[1]", table, allowed);
-      const GiNaC::ex c = GiNaC::cos(angle), s = GiNaC::sin(angle);
-      GiNaC::matrix E = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
-      const unsigned a = axis == "x" ? 0 : axis == "y" ? 1 : 2, i = (a + 1) % 3, j = (a + 2) % 3;
-      E(i, i) = c, E(i, j) = -s, E(j, i) = s, E(j, j) = c;
-      R = R.mul(E);
+      R = R.mul(rotation_about(axis == "x" ? 0 : axis == "y" ? 1 : 2, angle));
     }
   } else {
     const std::vector<std::vector<GiNaC::ex>> rows = [&] {
@@ -764,64 +757,20 @@ GiNaC::ex Loader::posed_body_kinetic_energy(Model& model, const YAML::Node& body
       for (unsigned j = 0; j < 3; ++j) R(i, j) = rows[i][j];
   }
   const std::vector<GiNaC::ex> position = vector_of(body["position"], key + ".position", 3, table, allowed);
-
-  const auto rate = [&](const GiNaC::ex& e) {  // d/dt along q̇, by the chain rule through the program
-    GiNaC::ex out = program.diff(e, model.time);
-    for (std::size_t a = 0; a < model.coordinates.size(); ++a) out += program.diff(e, model.coordinates[a]) * model.rates[a];
-    return out;
-  };
-  const std::string prefix = "_" + name + "_";
-  GiNaC::matrix Rs(3, 3), Rdot(3, 3);
-  for (unsigned i = 0; i < 3; ++i)
-    for (unsigned j = 0; j < 3; ++j)
-      Rs(i, j) = GiNaC::is_a<GiNaC::numeric>(R(i, j)) ? R(i, j)
-                                                      : GiNaC::ex(program.define_named(prefix + "R" + std::to_string(i) + std::to_string(j), R(i, j)));
-  for (unsigned i = 0; i < 3; ++i)
-    for (unsigned j = 0; j < 3; ++j) Rdot(i, j) = rate(Rs(i, j));
-  // ω̂ = RᵀṘ: ω = ((RᵀṘ)_21, (RᵀṘ)_02, (RᵀṘ)_10).
-  const GiNaC::matrix W = Rs.transpose().mul(Rdot);
-  const GiNaC::ex omega_entries[3] = {W(2, 1), W(0, 2), W(1, 0)};
-  GiNaC::ex omega[3], velocity[3];
-  for (unsigned i = 0; i < 3; ++i) {
-    omega[i] = program.define_named(prefix + "w" + std::to_string(i), omega_entries[i]);
-    GiNaC::ex centre = position[i];
-    for (unsigned j = 0; j < 3; ++j) centre += Rs(i, j) * rb.com[j];
-    velocity[i] = program.define_named(prefix + "v" + std::to_string(i), rate(centre));
-  }
-  GiNaC::ex T = 0;
-  for (unsigned i = 0; i < 3; ++i) {
-    T += rb.mass * velocity[i] * velocity[i] / 2;
-    for (unsigned j = 0; j < 3; ++j) T += omega[i] * rb.inertia[i][j] * omega[j] / 2;
-  }
-  return T;
+  return posed_body_kinetic_energy(model, rb, R, position);
 }
 
-GiNaC::ex Loader::body_kinetic_energy(Model& model, const YAML::Node& body, const std::string& key,
-                                      const GiNaC::symtab& geometric, const GiNaC::symtab& velocities,
-                                      std::string& name) {
+// A rigid body of a bundle model (key `bodies`): inertial data and its twist; its kinetic energy
+// (model/body_energy.hpp).
+GiNaC::ex Loader::load_twist_body(Model& model, const YAML::Node& body, const std::string& key,
+                                  const GiNaC::symtab& geometric, const GiNaC::symtab& velocities, std::string& name) {
   const RigidBody rb = rigid_body(body, key, geometric, {"name", "mass", "com", "inertia", "twist"},
                                   "mass, com and inertia may use shape coordinates and parameters only");
   name = rb.name;
   const std::vector<GiNaC::ex> twist =
       vector_of(body["twist"], key + ".twist", 6, velocities,
                 "the twist may use the group velocity, shape coordinates, their _dot rates and parameters");
-  // T = ½ m |v + ω × c|² + ½ ωᵀ Θ ω, with (ω, v) = twist and c = com, all resolved in the body's frame; ω
-  // and the centre-of-mass velocity are intermediates of the model's program (T stays a short expression).
-  const auto named = [&](const std::string& what, const GiNaC::ex& e) -> GiNaC::ex {
-    if (GiNaC::is_a<GiNaC::symbol>(e) || GiNaC::is_a<GiNaC::numeric>(e)) return e;
-    return model.definitions.define_named("_" + name + "_" + what, e);
-  };
-  const GiNaC::ex w[3] = {named("w0", twist[0]), named("w1", twist[1]), named("w2", twist[2])};
-  const GiNaC::ex* com = rb.com;
-  const GiNaC::ex vc[3] = {named("v0", twist[3] + w[1] * com[2] - w[2] * com[1]),
-                           named("v1", twist[4] + w[2] * com[0] - w[0] * com[2]),
-                           named("v2", twist[5] + w[0] * com[1] - w[1] * com[0])};
-  GiNaC::ex t = 0;
-  for (int i = 0; i < 3; ++i) {
-    t += rb.mass * vc[i] * vc[i] / 2;
-    for (int j = 0; j < 3; ++j) t += w[i] * rb.inertia[i][j] * w[j] / 2;
-  }
-  return t;
+  return twist_body_kinetic_energy(model, rb, twist);
 }
 
 void Loader::declare_joints(const YAML::Node& tree, Model& model) {

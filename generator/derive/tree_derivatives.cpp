@@ -26,14 +26,17 @@ Inertia common_frame_inertia(const RigidBody& b, const Mat3& R, const Vec3& p, N
   return name(I);
 }
 
-// Q = [v ×*] 𝕀 as a matrix: column k is v ×* (𝕀 e_k).
-Mat6 velocity_times_inertia(const Vec6& v, const Inertia& I) {
+// Q + Qᵀ for Q = [v ×*] 𝕀 (column k of Q is v ×* (𝕀 e_k)): symmetric, and all the derivatives need of Q.
+Mat6 velocity_times_inertia_symmetrized(const Vec6& v, const Inertia& I) {
   Mat6 Q;
   for (int k = 0; k < 6; ++k) {
     const Vec6 column = coadjoint_term(v, I(unit6(k)));
     for (std::size_t r = 0; r < 6; ++r) Q[r][static_cast<std::size_t>(k)] = column[r];
   }
-  return Q;
+  Mat6 S;
+  for (std::size_t r = 0; r < 6; ++r)
+    for (std::size_t k = r; k < 6; ++k) S[r][k] = S[k][r] = Q[r][k] + Q[k][r];
+  return S;
 }
 
 }  // namespace
@@ -157,7 +160,7 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
   const std::vector<Inertia>& I = t.frame.inertia;
   const std::vector<Inertia>& Ic = t.frame.composite;
   std::vector<Vec6> v(N), a(N), psi(N), c(N), h(N), f(N);
-  std::vector<Mat6> Q(N);
+  std::vector<Mat6> S(N);  // Q_i + Q_iᵀ
   v[0] = zero6();
   a[0] = t.base_acceleration;
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
@@ -174,25 +177,25 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
     }
     h[i] = name(I[i](v[i]));
     f[i] = I[i](a[i]) + coadjoint_term(v[i], h[i]);
-    Q[i] = velocity_times_inertia(v[i], I[i]);
+    S[i] = velocity_times_inertia_symmetrized(v[i], I[i]);
   }
 
-  // Backward: composite wrenches, momenta and Q over each subtree (plain sums), named once per body.
+  // Backward: composite wrenches, momenta and Q + Qᵀ over each subtree (plain sums), named once per body.
   std::vector<Vec6> Fc = f, Hc = h;
-  std::vector<Mat6> Qc = Q;
+  std::vector<Mat6> Sc = S;
   for (std::size_t i = N; i-- > 0;) {
     if (i == 0 && m == 0) break;  // a fixed base's composites are not used
     Fc[i] = name(Fc[i]);
     Hc[i] = name(Hc[i]);
-    Qc[i] = name(Qc[i]);
+    Sc[i] = name.symmetric(Sc[i]);
     if (i == 0) break;
     const std::size_t l = static_cast<std::size_t>(t.parent[i]);
     Fc[l] = Fc[l] + Fc[i];
     Hc[l] = Hc[l] + Hc[i];
-    Qc[l] = Qc[l] + Qc[i];
+    Sc[l] = Sc[l] + Sc[i];
   }
-  // Bᶜ_i x = Qᶜ x + Qᶜᵀ x + x ×* hᶜ.
-  const auto B = [&](std::size_t i, const Vec6& x) { return times(Qc[i], x) + times_transposed(Qc[i], x) + coadjoint_term(x, Hc[i]); };
+  // Bᶜ_i x = (Qᶜ + Qᶜᵀ) x + x ×* hᶜ.
+  const auto B = [&](std::size_t i, const Vec6& x) { return times(Sc[i], x) + coadjoint_term(x, Hc[i]); };
 
   // Per joint: u = 𝕀ᶜ s, b = Bᶜᵀ s = Qᶜ s + Qᶜᵀ s − s ×* hᶜ, and what an ancestor's row sees of the subtree:
   // Δ (for r_i) and Δ' (for ṙ_i).
@@ -202,7 +205,7 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
   std::vector<Vec6> delta(N), delta_rate(N);
   for (std::size_t i = 1; i < N; ++i) {
     out.u[i] = name(Ic[i](s[i]));
-    const Vec6 Qs = name(times(Qc[i], s[i]) + times_transposed(Qc[i], s[i]));
+    const Vec6 Qs = name(times(Sc[i], s[i]));
     const Vec6 sh = name(coadjoint_term(s[i], Hc[i]));
     out.b[i] = name(Qs - sh);
     delta[i] = name(coadjoint_term(s[i], Fc[i]) + Ic[i](c[i]) + B(i, psi[i]));

@@ -97,6 +97,86 @@ ex joint_springs(const Model& model, const KinematicTree& tree) {
   return v;
 }
 
+// The mass matrix by composite rigid bodies in the common frame: M_αβ = ⟨e_α, 𝕀ᶜ_0 e_β⟩, and with
+// U_I = 𝕀ᶜ_I s_I, M_JI = ⟨s_J, U_I⟩ for J = I (plus the armature) and every ancestor J, M_αI = ⟨e_α, U_I⟩.
+// One dot product per pair; nothing is carried between frames.
+GiNaC::matrix composite_mass_matrix(const CommonFrame& frame, const std::vector<int>& parent,
+                                    const std::vector<Vec6>& base, const KinematicTree& tree, TreeProgram& prog) {
+  const std::size_t m = base.size(), N = parent.size(), d = m + N - 1;
+  GiNaC::matrix M(static_cast<unsigned>(d), static_cast<unsigned>(d));
+  auto set = [&](std::size_t r, std::size_t c, const ex& v) {
+    M(static_cast<unsigned>(r), static_cast<unsigned>(c)) = v;
+    M(static_cast<unsigned>(c), static_cast<unsigned>(r)) = v;
+  };
+  for (std::size_t alpha = 0; alpha < m; ++alpha)
+    for (std::size_t beta = alpha; beta < m; ++beta) set(alpha, beta, dot(base[alpha], frame.composite[0](base[beta])));
+  for (std::size_t i = 1; i < N; ++i) {
+    const Vec6 U = prog.name(frame.composite[i](frame.axis[i]));
+    set(m + i - 1, m + i - 1, dot(frame.axis[i], U) + tree.bodies[i - 1].armature);
+    for (std::size_t j = static_cast<std::size_t>(parent[i]); j != 0; j = static_cast<std::size_t>(parent[j]))
+      set(m + j - 1, m + i - 1, dot(frame.axis[j], U));
+    for (std::size_t alpha = 0; alpha < m; ++alpha) set(alpha, m + i - 1, dot(base[alpha], U));
+  }
+  return M;
+}
+
+// The blocks of M = [[L, K], [Kᵀ, S]] (group, shape) that the bundle kernels read; S alone on a fixed base.
+void split_mass_matrix(const GiNaC::matrix& M, unsigned m, bool fixed, BundleGeometry& geo) {
+  const unsigned n = M.rows() - m;
+  if (!fixed) geo.L = GiNaC::matrix(m, m);
+  if (!fixed) geo.K = GiNaC::matrix(m, n);
+  geo.S = GiNaC::matrix(n, n);
+  for (unsigned r = 0; r < m + n && !fixed; ++r)
+    for (unsigned c = 0; c < m + n; ++c) {
+      const ex& v = M(r, c);
+      if (r < m && c < m)
+        geo.L(r, c) = v;
+      else if (r < m)
+        geo.K(r, c - m) = v;
+      else if (c >= m)
+        geo.S(r - m, c - m) = v;
+    }
+}
+
+// The system the recursion stands for: velocities (ξ, ṙ), q̇ = ṙ, the Lagrangian and forces, and as Hamel
+// coefficients the group's structure constants.
+HamelSystem tree_system(const Model& model, bool fixed, const std::vector<GiNaC::realsymbol>& group_velocity,
+                        const BundleGeometry& geo, const HamelEquations& eq) {
+  HamelSystem sys;
+  const unsigned um = static_cast<unsigned>(group_velocity.size()), un = static_cast<unsigned>(model.rates.size());
+  sys.form = fixed ? "Euler-Lagrange, recursive over the kinematic tree on a fixed base"
+                   : "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
+  sys.coordinates = model.coordinates;
+  sys.velocities = group_velocity;
+  sys.velocities.insert(sys.velocities.end(), model.rates.begin(), model.rates.end());
+  sys.B = GiNaC::matrix(un, um + un);
+  for (unsigned I = 0; I < un; ++I) sys.B(I, um + I) = 1;
+  sys.lagrangian = eq.reduced_lagrangian;
+  sys.forces = model.forces;
+  for (const StructureConstant& s : geo.structure_constants)
+    sys.gamma.push_back({s.upper, s.lower_a, s.lower_b, s.value});
+  const char* where = fixed ? "lagrangian" : "kinetic";
+  sys.where = model.locations.count(where) ? model.locations.at(where) : SourceLocation{model.source_path, 0, 0};
+  return sys;
+}
+
+// The weight's potential −Σ m_i g·c_i, c_i the centres of mass in the world (common frame); named when not 0.
+ex weight_potential(const KinematicTree& tree, const CommonFrame& frame, TreeProgram& prog) {
+  if (tree.gravity[0].is_zero() && tree.gravity[1].is_zero() && tree.gravity[2].is_zero()) return 0;
+  ex weight = 0;
+  for (const Inertia& I : frame.inertia)
+    for (std::size_t r = 0; r < 3; ++r) weight -= tree.gravity[r] * I.h[r];  // h = m c in the world
+  return prog.name(weight);
+}
+
+// Whether forces or joint dampers act (the energy is then not an invariant).
+bool forced(const Model& model, const KinematicTree& tree) {
+  bool any = false;
+  for (const ex& q : model.forces) any = any || !q.is_zero();
+  for (const TreeBody& body : tree.bodies) any = any || !body.damping.is_zero();
+  return any;
+}
+
 }  // namespace
 
 TreeDerivation derive_tree(const Model& model, bool articulated) {
@@ -194,24 +274,8 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   }
   sum_inward(F);
 
-  // The mass matrix by composite rigid bodies in the common frame: M_αβ = ⟨e_α, 𝕀ᶜ_0 e_β⟩, and with
-  // U_I = 𝕀ᶜ_I s_I, M_JI = ⟨s_J, U_I⟩ for J = I (plus the armature) and every ancestor J, M_αI = ⟨e_α, U_I⟩.
-  // One dot product per pair; nothing is carried between frames.
   const std::size_t d = m + n;
-  eq.mass_matrix = GiNaC::matrix(static_cast<unsigned>(d), static_cast<unsigned>(d));
-  auto set = [&](std::size_t r, std::size_t c, const ex& v) {
-    eq.mass_matrix(static_cast<unsigned>(r), static_cast<unsigned>(c)) = v;
-    eq.mass_matrix(static_cast<unsigned>(c), static_cast<unsigned>(r)) = v;
-  };
-  for (std::size_t alpha = 0; alpha < m; ++alpha)
-    for (std::size_t beta = alpha; beta < m; ++beta) set(alpha, beta, dot(base[alpha], frame.composite[0](base[beta])));
-  for (std::size_t i = 1; i < N; ++i) {
-    const Vec6 U = prog.name(frame.composite[i](frame.axis[i]));
-    set(m + i - 1, m + i - 1, dot(frame.axis[i], U) + tree.bodies[i - 1].armature);
-    for (std::size_t j = static_cast<std::size_t>(parent[i]); j != 0; j = static_cast<std::size_t>(parent[j]))
-      set(m + j - 1, m + i - 1, dot(frame.axis[j], U));
-    for (std::size_t alpha = 0; alpha < m; ++alpha) set(alpha, m + i - 1, dot(base[alpha], U));
-  }
+  eq.mass_matrix = composite_mass_matrix(frame, parent, base, tree, prog);
 
   // Symbols for u̇ at which the Jacobian differentiates the inverse dynamics (TreeRecursion::accelerations).
   for (std::size_t k = 0; k < m + n; ++k)
@@ -244,45 +308,13 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
   const ex T = prog.name(kinetic);
-  // The weight's potential −Σ m_i g·c_i, c_i the centres of mass in the world (common frame).
-  ex weight = 0;
-  if (!(tree.gravity[0].is_zero() && tree.gravity[1].is_zero() && tree.gravity[2].is_zero())) {
-    for (std::size_t i = 0; i < N; ++i)
-      for (std::size_t r = 0; r < 3; ++r) weight -= tree.gravity[r] * frame.inertia[i].h[r];  // h = m c in the world
-    weight = prog.name(weight);
-  }
+  const ex weight = weight_potential(tree, frame, prog);
   eq.reduced_lagrangian = T - base_potential - springs - weight;
   eq.energy_terms = {T + base_potential + springs + weight};
-  bool forced = false;
-  for (const ex& q : model.forces) forced = forced || !q.is_zero();
-  for (const TreeBody& body : tree.bodies) forced = forced || !body.damping.is_zero();
-  eq.conservative = !forced;
+  eq.conservative = !forced(model, tree);
 
-  const unsigned um = static_cast<unsigned>(m), un = static_cast<unsigned>(n);
-  if (!fixed) geo.L = GiNaC::matrix(um, um);
-  if (!fixed) geo.K = GiNaC::matrix(um, un);
-  geo.S = GiNaC::matrix(un, un);
-  for (unsigned r = 0; r < um + un && !fixed; ++r)
-    for (unsigned c = 0; c < um + un; ++c) {
-      const ex& v = eq.mass_matrix(r, c);
-      if (r < um && c < um) geo.L(r, c) = v;
-      else if (r < um) geo.K(r, c - um) = v;
-      else if (c >= um) geo.S(r - um, c - um) = v;
-    }
-
-  HamelSystem& sys = out.system;
-  sys.form = fixed ? "Euler-Lagrange, recursive over the kinematic tree on a fixed base"
-                   : "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
-  sys.coordinates = model.coordinates;
-  sys.velocities = group_velocity;
-  sys.velocities.insert(sys.velocities.end(), model.rates.begin(), model.rates.end());
-  sys.B = GiNaC::matrix(un, um + un);
-  for (unsigned I = 0; I < un; ++I) sys.B(I, um + I) = 1;
-  sys.lagrangian = eq.reduced_lagrangian;
-  sys.forces = model.forces;
-  for (const StructureConstant& s : geo.structure_constants) sys.gamma.push_back({s.upper, s.lower_a, s.lower_b, s.value});
-  const char* where = fixed ? "lagrangian" : "kinetic";
-  sys.where = model.locations.count(where) ? model.locations.at(where) : SourceLocation{model.source_path, 0, 0};
+  split_mass_matrix(eq.mass_matrix, static_cast<unsigned>(m), fixed, geo);
+  out.system = tree_system(model, fixed, group_velocity, geo, eq);
   return out;
 }
 

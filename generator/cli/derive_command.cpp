@@ -249,16 +249,35 @@ void print_riemann(const nlohmann::json& r, const std::function<std::string(cons
 }
 
 // `--latex`: the quantities of the text output as a LaTeX fragment in the paper's notation (amsmath).
-void print_latex(std::ostream& out, const Model& model, const Derivation& d, CurvatureSign sign) {
-  const HamelSystem& sys = d.system;
-  const HamelEquations& eq = d.equations;
-  LatexPrinter tex;
-  const auto u = [&](int a) { return tex.name(sys.velocities[static_cast<std::size_t>(a)].get_name()); };
-  const auto q = [&](std::size_t a) { return tex.name(sys.coordinates[a].get_name()); };
-  const auto math = [&](const GiNaC::ex& e) { return tex.expr(displayed(e)); };
+// `derive --latex`: the text output's quantities as a LaTeX fragment in the paper's notation, section by section.
+class LatexWriter {
+ public:
+  LatexWriter(std::ostream& out, const Model& model, const Derivation& d)
+      : out(out), model(model), d(d), sys(d.system), eq(d.equations) {
+    for (std::size_t a = 0; a < sys.coordinates.size(); ++a) qs.push_back(q(a));
+    for (std::size_t a = 0; a < sys.velocities.size(); ++a) us.push_back(u(static_cast<int>(a)));
+  }
+
+  void write(CurvatureSign sign) {
+    header();
+    if (d.bundle)
+      bundle(sign);
+    else
+      quasi_velocities();
+    hamel_coefficients();
+    equations_of_motion();
+    kinematics_and_energy();
+    where();
+  }
+
+ private:
   using Rows = std::vector<std::pair<std::string, std::string>>;
+
+  std::string u(int a) { return tex.name(sys.velocities[static_cast<std::size_t>(a)].get_name()); }
+  std::string q(std::size_t a) { return tex.name(sys.coordinates[a].get_name()); }
+  std::string math(const GiNaC::ex& e) { return tex.expr(displayed(e)); }
   // One align* of `lhs &= rhs` rows, or `none` (an empty align* does not compile).
-  const auto block = [&](const Rows& rows, const std::string& none) {
+  void block(const Rows& rows, const std::string& none) {
     if (rows.empty()) {
       out << none << "\n\n";
       return;
@@ -267,30 +286,31 @@ void print_latex(std::ostream& out, const Model& model, const Derivation& d, Cur
     for (std::size_t k = 0; k < rows.size(); ++k)
       out << "  " << rows[k].first << " &= " << rows[k].second << (k + 1 < rows.size() ? " \\\\\n" : "\n");
     out << "\\end{align*}\n\n";
-  };
-  const auto tuple = [](const std::vector<std::string>& names) {
+  }
+  static std::string tuple(const std::vector<std::string>& names) {
     std::string s = "(";
     for (std::size_t k = 0; k < names.size(); ++k) s += (k ? ", " : "") + names[k];
     return s + ")";
-  };
-  std::string path;
-  for (char c : model.source_path) path += static_cast<unsigned char>(c) < 0x20 ? '?' : c;
-  out << "% hamel derive --latex: model " << model.name << " (" << path << ", fnv1a64 " << model.source_hash
-      << ")\n% A LaTeX fragment in the notation of the paper (Mueller 2023); it needs \\usepackage{amsmath}.\n";
-  std::vector<std::string> qs, us, independent;
-  for (std::size_t a = 0; a < sys.coordinates.size(); ++a) qs.push_back(q(a));
-  for (std::size_t a = 0; a < sys.velocities.size(); ++a) us.push_back(u(static_cast<int>(a)));
-  for (int a : eq.independent) independent.push_back(u(a));
-  out << "\\paragraph{Model \\texttt{" << latex_text(model.name) << "}.}\nCoordinates $q = " << tuple(qs)
-      << "$, quasi-velocities $u = " << tuple(us) << "$";
-  if (!sys.constrained.empty()) {
-    out << ", constraints $";
-    for (std::size_t k = 0; k < sys.constrained.size(); ++k) out << u(sys.constrained[k]) << " = ";
-    out << "0$";
   }
-  out << "; independent quasi-velocities $" << tuple(independent) << "$.\n\n";
 
-  if (d.bundle) {
+  void header() {
+    std::string path;
+    for (char c : model.source_path) path += static_cast<unsigned char>(c) < 0x20 ? '?' : c;
+    out << "% hamel derive --latex: model " << model.name << " (" << path << ", fnv1a64 " << model.source_hash
+        << ")\n% A LaTeX fragment in the notation of the paper (Mueller 2023); it needs \\usepackage{amsmath}.\n";
+    std::vector<std::string> independent;
+    for (int a : eq.independent) independent.push_back(u(a));
+    out << "\\paragraph{Model \\texttt{" << latex_text(model.name) << "}.}\nCoordinates $q = " << tuple(qs)
+        << "$, quasi-velocities $u = " << tuple(us) << "$";
+    if (!sys.constrained.empty()) {
+      out << ", constraints $";
+      for (std::size_t k = 0; k < sys.constrained.size(); ++k) out << u(sys.constrained[k]) << " = ";
+      out << "0$";
+    }
+    out << "; independent quasi-velocities $" << tuple(independent) << "$.\n\n";
+  }
+
+  void bundle(CurvatureSign sign) {
     const Bundle& b = *model.bundle;
     const BundleGeometry& g = *d.bundle;
     std::vector<std::string> xi;
@@ -339,7 +359,9 @@ void print_latex(std::ostream& out, const Model& model, const Derivation& d, Cur
     rows.clear();
     for (std::size_t a = 0; a < xi.size(); ++a) rows.emplace_back(xi[a], math(d.group_velocity[a]));
     block(rows, "none.");
-  } else {
+  }
+
+  void quasi_velocities() {
     out << "\\paragraph{Quasi-velocities.} $\\dot{q} = B(q)\\,u$, eq.~(u2); non-zero entries $B^{a}_{b}$:\n";
     Rows rows;
     for (unsigned r = 0; r < qs.size(); ++r)
@@ -350,69 +372,91 @@ void print_latex(std::ostream& out, const Model& model, const Derivation& d, Cur
     block(rows, "none.");
   }
 
-  out << "\\paragraph{Hamel coefficients.} Non-zero $\\gamma^{c}_{ab}$, eq.~(gamma), $a$ before $b$ in $u$ "
-         "($\\gamma^{c}_{ba} = -\\gamma^{c}_{ab}$)"
-      << (sys.constrained.empty() ? "" : "; $\\star$ marks $\\gamma^{a}_{IJ}$ of eq.~(gammaNH)") << ":\n";
-  {
-    std::set<std::array<int, 3>> present;
-    for (const HamelCoefficient& h : sys.gamma) present.insert({h.upper, h.lower_a, h.lower_b});
-    const auto is_independent = [&](int a) {
-      return std::find(eq.independent.begin(), eq.independent.end(), a) != eq.independent.end();
-    };
-    Rows rows;
-    for (const HamelCoefficient& h : sys.gamma) {
-      if (h.lower_a > h.lower_b && present.count({h.upper, h.lower_b, h.lower_a})) continue;
-      const bool star = !sys.constrained.empty() && is_independent(h.lower_a) && is_independent(h.lower_b);
-      rows.emplace_back(std::string(star ? "\\star\\ " : "") + "\\gamma^{" + u(h.upper) + "}_{" + u(h.lower_a) + "," +
-                            u(h.lower_b) + "}",
-                        math(h.value));
-    }
-    block(rows, "none: the quasi-velocities are holonomic.");
-  }
-
-  const std::size_t m = eq.independent.size();
-  bool symmetric = true;
-  for (unsigned r = 0; r < m && symmetric; ++r)
-    for (unsigned c = r + 1; c < m && symmetric; ++c) symmetric = eq.mass_matrix(r, c).is_equal(eq.mass_matrix(c, r));
-  out << "\\paragraph{Equations of motion.} " << latex_text(sys.form)
-      << ": $M\\dot{u} = f$ in the independent quasi-velocities; non-zero entries of $M$"
-      << (symmetric ? " (symmetric), $a$ before $b$" : "") << ", and $f$:\n";
-  {
-    Rows rows;
-    for (unsigned r = 0; r < m; ++r)
-      for (unsigned c = symmetric ? r : 0; c < m; ++c) {
-        const GiNaC::ex e = displayed(eq.mass_matrix(r, c));
-        if (!e.is_zero())
-          rows.emplace_back("M_{" + u(eq.independent[r]) + "," + u(eq.independent[c]) + "}", tex.expr(e));
+  void hamel_coefficients() {
+    out << "\\paragraph{Hamel coefficients.} Non-zero $\\gamma^{c}_{ab}$, eq.~(gamma), $a$ before $b$ in $u$ "
+           "($\\gamma^{c}_{ba} = -\\gamma^{c}_{ab}$)"
+        << (sys.constrained.empty() ? "" : "; $\\star$ marks $\\gamma^{a}_{IJ}$ of eq.~(gammaNH)") << ":\n";
+    {
+      std::set<std::array<int, 3>> present;
+      for (const HamelCoefficient& h : sys.gamma) present.insert({h.upper, h.lower_a, h.lower_b});
+      const auto is_independent = [&](int a) {
+        return std::find(eq.independent.begin(), eq.independent.end(), a) != eq.independent.end();
+      };
+      Rows rows;
+      for (const HamelCoefficient& h : sys.gamma) {
+        if (h.lower_a > h.lower_b && present.count({h.upper, h.lower_b, h.lower_a})) continue;
+        const bool star = !sys.constrained.empty() && is_independent(h.lower_a) && is_independent(h.lower_b);
+        rows.emplace_back(std::string(star ? "\\star\\ " : "") + "\\gamma^{" + u(h.upper) + "}_{" + u(h.lower_a) + "," +
+                              u(h.lower_b) + "}",
+                          math(h.value));
       }
-    for (std::size_t r = 0; r < m; ++r) rows.emplace_back("f_{" + u(eq.independent[r]) + "}", math(eq.forcing[r]));
-    block(rows, "none.");
+      block(rows, "none: the quasi-velocities are holonomic.");
+    }
   }
-  out << "\\paragraph{Kinematics.} Eq.~(qadot):\n";
-  {
-    Rows rows;
-    for (std::size_t a = 0; a < qs.size(); ++a)
-      rows.emplace_back(tex.name(sys.coordinates[a].get_name() + "_dot"), math(eq.kinematics[a]));
-    block(rows, "none.");
-  }
-  out << "\\paragraph{Energy.}" << (eq.conservative ? " Conserved:" : "") << "\n";
-  block({{"E", math(eq.energy_terms.at(0))}}, "");
 
-  // The model's own definitions come first in the program, then the intermediates the derivation named.
-  const std::size_t user_definitions = model.definitions.size();
-  Rows definitions, intermediates;
-  for (std::size_t k = 0; k < eq.intermediates.size(); ++k) {
-    const Intermediates::Definition& def = eq.intermediates.definitions()[k];
-    (k < user_definitions ? definitions : intermediates).emplace_back(tex.name(def.symbol.get_name()), math(def.value));
+  void equations_of_motion() {
+    const std::size_t m = eq.independent.size();
+    bool symmetric = true;
+    for (unsigned r = 0; r < m && symmetric; ++r)
+      for (unsigned c = r + 1; c < m && symmetric; ++c) symmetric = eq.mass_matrix(r, c).is_equal(eq.mass_matrix(c, r));
+    out << "\\paragraph{Equations of motion.} " << latex_text(sys.form)
+        << ": $M\\dot{u} = f$ in the independent quasi-velocities; non-zero entries of $M$"
+        << (symmetric ? " (symmetric), $a$ before $b$" : "") << ", and $f$:\n";
+    {
+      Rows rows;
+      for (unsigned r = 0; r < m; ++r)
+        for (unsigned c = symmetric ? r : 0; c < m; ++c) {
+          const GiNaC::ex e = displayed(eq.mass_matrix(r, c));
+          if (!e.is_zero())
+            rows.emplace_back("M_{" + u(eq.independent[r]) + "," + u(eq.independent[c]) + "}", tex.expr(e));
+        }
+      for (std::size_t r = 0; r < m; ++r) rows.emplace_back("f_{" + u(eq.independent[r]) + "}", math(eq.forcing[r]));
+      block(rows, "none.");
+    }
   }
-  if (!definitions.empty()) {
-    out << "\\paragraph{Where} (the model's definitions):\n";
-    block(definitions, "");
+
+  void kinematics_and_energy() {
+    out << "\\paragraph{Kinematics.} Eq.~(qadot):\n";
+    {
+      Rows rows;
+      for (std::size_t a = 0; a < qs.size(); ++a)
+        rows.emplace_back(tex.name(sys.coordinates[a].get_name() + "_dot"), math(eq.kinematics[a]));
+      block(rows, "none.");
+    }
+    out << "\\paragraph{Energy.}" << (eq.conservative ? " Conserved:" : "") << "\n";
+    block({{"E", math(eq.energy_terms.at(0))}}, "");
   }
-  if (!intermediates.empty()) {
-    out << "\\paragraph{Where} (intermediate symbols, in evaluation order):\n";
-    block(intermediates, "");
+
+  void where() {
+    // The model's own definitions come first in the program, then the intermediates the derivation named.
+    const std::size_t user_definitions = model.definitions.size();
+    Rows definitions, intermediates;
+    for (std::size_t k = 0; k < eq.intermediates.size(); ++k) {
+      const Intermediates::Definition& def = eq.intermediates.definitions()[k];
+      (k < user_definitions ? definitions : intermediates)
+          .emplace_back(tex.name(def.symbol.get_name()), math(def.value));
+    }
+    if (!definitions.empty()) {
+      out << "\\paragraph{Where} (the model's definitions):\n";
+      block(definitions, "");
+    }
+    if (!intermediates.empty()) {
+      out << "\\paragraph{Where} (intermediate symbols, in evaluation order):\n";
+      block(intermediates, "");
+    }
   }
+
+  std::ostream& out;
+  const Model& model;
+  const Derivation& d;
+  const HamelSystem& sys;
+  const HamelEquations& eq;
+  LatexPrinter tex;
+  std::vector<std::string> qs, us;
+};
+
+void print_latex(std::ostream& out, const Model& model, const Derivation& d, CurvatureSign sign) {
+  LatexWriter(out, model, d).write(sign);
 }
 
 // The values --at gives, as exact numbers, with the parameters' and every intermediate's that follows from them

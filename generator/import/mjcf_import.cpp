@@ -25,6 +25,70 @@ std::string element(const char* kind, const std::string& name, int id) {
   return std::string(kind) + " " + (name.empty() ? "#" + std::to_string(id) : "'" + name + "'");
 }
 
+// What hamel's tree format has no place for: tendons, equality constraints, contacts, fluid forces. Each is an
+// error, or left out with a warning when its category is in --ignore.
+template <class At>
+void check_unsupported(const mjModel* m, Gate& gate, const At& at, const std::string& path) {
+  for (int i = 0; i < m->ntendon; ++i) {
+    const std::string n = mj_name(m, mjOBJ_TENDON, i);
+    gate.check("tendons", at(n), element("tendon", n, i), "tendons are not part of hamel's tree format");
+  }
+  for (int i = 0; i < m->neq; ++i) {
+    const std::string n = mj_name(m, mjOBJ_EQUALITY, i);
+    gate.check("equality", at(n), element("equality constraint", n, i),
+               "equality constraints (closed loops, welds) are not part of hamel's tree format");
+  }
+  if (!(m->opt.disableflags & mjDSBL_CONTACT))
+    for (int i = 0; i < m->ngeom; ++i)
+      if (m->geom_contype[i] || m->geom_conaffinity[i]) {
+        const std::string n = mj_name(m, mjOBJ_GEOM, i);
+        gate.check("contacts", at(n), element("geom", n, i) + " (contacts)",
+                   "it can collide (contype/conaffinity), and hamel's trees have no contact model");
+        break;
+      }
+  if (m->opt.density != 0 || m->opt.viscosity != 0 || m->opt.wind[0] != 0 || m->opt.wind[1] != 0 || m->opt.wind[2] != 0)
+    gate.check("fluid", SourceLocation{path, 0, 0}, "option density/viscosity/wind",
+               "fluid forces are not part of hamel's tree format");
+}
+
+// Gravity: on a fixed base the tree's; on a floating base only left out (--ignore gravity).
+void set_gravity(const mjModel* m, Gate& gate, const std::string& path, ImportedTree& t) {
+  const double* g = m->opt.gravity;
+  const bool gravity = !(m->opt.disableflags & mjDSBL_GRAVITY) && (g[0] != 0 || g[1] != 0 || g[2] != 0);
+  if (gravity && t.floating)
+    gate.check("gravity", SourceLocation{path, 0, 0}, "option gravity",
+               "gravity on a floating base needs the base's orientation, which the Euler-Poincare state (r, xi, "
+               "r_dot) does not hold; without contacts it only adds the free fall of the whole system, so the "
+               "joint motion and the base's angular velocity do not change");
+  if (gravity && !t.floating)
+    for (int c = 0; c < 3; ++c) t.gravity[c] = g[c];
+}
+
+// Actuators: motors on joints (force = gear · gain · ctrl) become inputs driving their joint's body.
+template <class At>
+void add_motors(const mjModel* m, Gate& gate, const At& at, const Warn& warn,
+                const std::map<int, std::size_t>& body_of_joint, std::set<std::string>& symbols, ImportedTree& t) {
+  for (int a = 0; a < m->nu; ++a) {
+    const std::string aname = mj_name(m, mjOBJ_ACTUATOR, a);
+    const int j = m->actuator_trnid[2 * a];
+    const bool motor = m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_dyntype[a] == mjDYN_NONE &&
+                       m->actuator_gaintype[a] == mjGAIN_FIXED && m->actuator_biastype[a] == mjBIAS_NONE &&
+                       m->jnt_type[j] != mjJNT_FREE;
+    if (!motor) {
+      gate.check("actuators", at(aname), element("actuator", aname, a),
+                 "only motors on hinge or slide joints (force = gear * gain * ctrl) become inputs");
+      continue;
+    }
+    const std::string jname = mj_name(m, mjOBJ_JOINT, j);
+    const std::size_t body = body_of_joint.at(j);
+    std::string input = identifier("u_" + (aname.empty() ? jname : aname), "u" + std::to_string(a), symbols);
+    t.inputs.push_back(input);
+    t.bodies[body].drives.emplace_back(input, m->actuator_gear[6 * a] * m->actuator_gainprm[mjNGAIN * a]);
+    if (m->actuator_ctrllimited[a] && a == 0)
+      warn("actuator control ranges (ctrlrange) are not applied: hamel's inputs are used as given");
+  }
+}
+
 }  // namespace
 
 ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, const Warn& warn) {
@@ -53,26 +117,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
     throw InputError(SourceLocation{path, 0, 0}, "--name", quote(model_name) + ": " + why + "; choose one with --name");
   t.name = model_name;
 
-  for (int i = 0; i < m->ntendon; ++i) {
-    const std::string n = mj_name(m, mjOBJ_TENDON, i);
-    gate.check("tendons", at(n), element("tendon", n, i), "tendons are not part of hamel's tree format");
-  }
-  for (int i = 0; i < m->neq; ++i) {
-    const std::string n = mj_name(m, mjOBJ_EQUALITY, i);
-    gate.check("equality", at(n), element("equality constraint", n, i),
-               "equality constraints (closed loops, welds) are not part of hamel's tree format");
-  }
-  if (!(m->opt.disableflags & mjDSBL_CONTACT))
-    for (int i = 0; i < m->ngeom; ++i)
-      if (m->geom_contype[i] || m->geom_conaffinity[i]) {
-        const std::string n = mj_name(m, mjOBJ_GEOM, i);
-        gate.check("contacts", at(n), element("geom", n, i) + " (contacts)",
-                   "it can collide (contype/conaffinity), and hamel's trees have no contact model");
-        break;
-      }
-  if (m->opt.density != 0 || m->opt.viscosity != 0 || m->opt.wind[0] != 0 || m->opt.wind[1] != 0 || m->opt.wind[2] != 0)
-    gate.check("fluid", SourceLocation{path, 0, 0}, "option density/viscosity/wind",
-               "fluid forces are not part of hamel's tree format");
+  check_unsupported(m, gate, at, path);
 
   // Per MuJoCo body: the tree body it rides on (−1 base, −2 world) and its frame in that tree body's frame.
   std::vector<int> host(static_cast<std::size_t>(m->nbody), -2);
@@ -165,36 +210,9 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
   if (t.bodies.empty())
     throw InputError(SourceLocation{path, 0, 0}, "", "the model has no hinge or slide joints; nothing to import");
 
-  const double* g = m->opt.gravity;
-  const bool gravity = !(m->opt.disableflags & mjDSBL_GRAVITY) && (g[0] != 0 || g[1] != 0 || g[2] != 0);
-  if (gravity && t.floating)
-    gate.check("gravity", SourceLocation{path, 0, 0}, "option gravity",
-               "gravity on a floating base needs the base's orientation, which the Euler-Poincare state (r, xi, "
-               "r_dot) does not hold; without contacts it only adds the free fall of the whole system, so the "
-               "joint motion and the base's angular velocity do not change");
-  if (gravity && !t.floating)
-    for (int c = 0; c < 3; ++c) t.gravity[c] = g[c];
+  set_gravity(m, gate, path, t);
 
-  // Actuators: motors on joints (force = gear · gain · ctrl) become inputs.
-  for (int a = 0; a < m->nu; ++a) {
-    const std::string aname = mj_name(m, mjOBJ_ACTUATOR, a);
-    const int j = m->actuator_trnid[2 * a];
-    const bool motor = m->actuator_trntype[a] == mjTRN_JOINT && m->actuator_dyntype[a] == mjDYN_NONE &&
-                       m->actuator_gaintype[a] == mjGAIN_FIXED && m->actuator_biastype[a] == mjBIAS_NONE &&
-                       m->jnt_type[j] != mjJNT_FREE;
-    if (!motor) {
-      gate.check("actuators", at(aname), element("actuator", aname, a),
-                 "only motors on hinge or slide joints (force = gear * gain * ctrl) become inputs");
-      continue;
-    }
-    const std::string jname = mj_name(m, mjOBJ_JOINT, j);
-    const std::size_t body = body_of_joint.at(j);
-    std::string input = identifier("u_" + (aname.empty() ? jname : aname), "u" + std::to_string(a), symbols);
-    t.inputs.push_back(input);
-    t.bodies[body].drives.emplace_back(input, m->actuator_gear[6 * a] * m->actuator_gainprm[mjNGAIN * a]);
-    if (m->actuator_ctrllimited[a] && a == 0)
-      warn("actuator control ranges (ctrlrange) are not applied: hamel's inputs are used as given");
-  }
+  add_motors(m, gate, at, warn, body_of_joint, symbols, t);
   return t;
 }
 

@@ -9,6 +9,7 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 
 namespace hamel::import_detail {
@@ -98,15 +99,30 @@ inline SourceLocation locate(const std::string& path, const std::string& text, c
   return loc;
 }
 
-/// A C++ identifier made from a name in a robot file (other characters become '_'), unique among `taken`.
+/// A C++ identifier made from a name in a robot file, unique among `taken`: other characters become '_', but never
+/// a leading '_' or a run of them, which C++ reserves and which no suffix repairs (names such as "_", "a::b" or the
+/// "_" of an unnamed body's unnamed joint once looped forever here); `fallback` (valid) when nothing is left. A
+/// keyword, a reserved name or a name ending in "_dot" gets '_' appended; duplicates get "_2", "_3", ... (just the
+/// number after a trailing '_').
 inline std::string identifier(const std::string& raw, const std::string& fallback, std::set<std::string>& taken) {
   std::string s;
-  for (char c : raw) s += (std::isalnum(static_cast<unsigned char>(c)) || c == '_') ? c : '_';
+  for (char c : raw) {
+    if (std::isalnum(static_cast<unsigned char>(c)))
+      s += c;
+    else if (!s.empty() && s.back() != '_')
+      s += '_';
+  }
   if (s.empty()) s = fallback;
   if (std::isdigit(static_cast<unsigned char>(s[0]))) s = "j" + s;
   if (!is_valid_identifier(s)) s += "_";
+  if (!is_valid_identifier(s)) s = fallback;
+  const std::string separator = s.back() == '_' ? "" : "_";
   std::string out = s;
-  for (int k = 2; taken.count(out) || !is_valid_identifier(out); ++k) out = s + "_" + std::to_string(k);
+  for (std::size_t k = 2; taken.count(out) || !is_valid_identifier(out); ++k) {
+    if (k > taken.size() + 2)  // one of k = 2 ... |taken| + 2 is free, and every candidate is valid
+      throw std::logic_error("import: no identifier for " + quote(raw) + " from " + quote(s));
+    out = s + separator + std::to_string(k);
+  }
   taken.insert(out);
   return out;
 }

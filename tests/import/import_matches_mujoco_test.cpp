@@ -16,6 +16,7 @@
 #include "arm7_fixed.hpp"
 #include "humanoid.hpp"
 #include "import/tree_import.hpp"
+#include "model/expression_parser.hpp"
 #include "model/load_model.hpp"
 
 #include <gtest/gtest.h>
@@ -23,6 +24,7 @@
 
 #include <cmath>
 #include <random>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -300,6 +302,49 @@ TEST(ImportErrors, UrdfPlanarJointIsRefused) {
   const std::string e = import_error(path, {}, true);
   EXPECT_NE(e.find(path + ":4:"), std::string::npos) << e;
   EXPECT_NE(e.find("'joint 'slider''"), std::string::npos) << e;
+}
+
+// Names a robot file leaves empty or gives in characters C++ does not take: an unnamed body with several unnamed
+// joints (as in MuJoCo's composite/particle.xml) asks for the body name "_", which looped forever; "_x", "a::b"
+// and a repeated keyword had no valid form either. Every body, joint and input gets a valid, distinct name, and
+// the written model loads.
+TEST(ImportNames, UnnamedAndUnusableNamesBecomeDistinctIdentifiers) {
+  const std::string path = write_temp("names.xml", R"(<mujoco model="names">
+  <option gravity="0 0 0"/>
+  <worldbody>
+    <body pos="0 0 0"><joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/><joint type="slide" axis="0 0 1"/>
+      <geom type="sphere" size=".1" contype="0" conaffinity="0"/></body>
+    <body pos="1 0 0"><joint type="slide" axis="1 0 0"/><joint type="slide" axis="0 1 0"/><joint type="slide" axis="0 0 1"/>
+      <geom type="sphere" size=".1" contype="0" conaffinity="0"/></body>
+    <body name="_x" pos="2 0 0"><joint name="a::b" type="hinge" axis="0 0 1"/>
+      <geom type="sphere" size=".1" contype="0" conaffinity="0"/>
+      <body name="int" pos="0 0 1"><joint name="int" type="hinge" axis="1 0 0"/>
+        <geom type="sphere" size=".1" contype="0" conaffinity="0"/>
+        <body name="int_" pos="0 0 1"><joint name="x_dot" type="hinge" axis="0 1 0"/>
+          <geom type="sphere" size=".1" contype="0" conaffinity="0"/></body></body></body>
+  </worldbody>
+  <actuator><motor joint="int"/><motor name="__" joint="x_dot"/></actuator>
+</mujoco>
+)");
+  const hamel::ImportedTree t = hamel::import_mjcf(path, {}, [](const std::string&) {});
+  ASSERT_EQ(t.bodies.size(), 9u);
+  std::set<std::string> bodies, symbols;
+  for (const hamel::ImportedBody& b : t.bodies) {
+    EXPECT_TRUE(hamel::is_valid_identifier(b.name)) << b.name;
+    EXPECT_TRUE(hamel::is_valid_identifier(b.joint)) << b.joint;
+    EXPECT_TRUE(bodies.insert(b.name).second) << b.name;
+    EXPECT_TRUE(symbols.insert(b.joint).second) << b.joint;
+  }
+  ASSERT_EQ(t.inputs.size(), 2u);
+  for (const std::string& u : t.inputs) {
+    EXPECT_TRUE(hamel::is_valid_identifier(u)) << u;
+    EXPECT_TRUE(symbols.insert(u).second) << u;
+  }
+  EXPECT_TRUE(bodies.count("x")) << "'_x' keeps its letters";
+  EXPECT_TRUE(symbols.count("a_b")) << "'a::b' becomes a_b";
+  EXPECT_TRUE(bodies.count("int_") && bodies.count("int_2")) << "a keyword, then its twin";
+  EXPECT_TRUE(symbols.count("x_dot_")) << "'_dot' is reserved for rates";
+  EXPECT_NO_THROW(hamel::load_model_from_text(hamel::tree_model_yaml(t), path));
 }
 
 }  // namespace

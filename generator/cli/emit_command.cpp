@@ -26,14 +26,10 @@ struct EmitOptions {
 // --kernels a,b,c: the kernels to build, each a known name.
 std::set<std::string> parse_kernels(const std::string& list) {
   std::set<std::string> out;
-  std::size_t start = 0;
-  while (start <= list.size()) {
-    const std::size_t comma = std::min(list.find(',', start), list.size());
-    const std::string name = list.substr(start, comma - start);
+  for (const std::string& name : split_list(list)) {
     if (!is_kernel_name(name))
       throw InputError("--kernels: unknown kernel '" + name + "'; expected a comma-separated list of: " + kernel_names());
     out.insert(name);
-    start = comma + 1;
   }
   return out;
 }

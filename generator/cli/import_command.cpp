@@ -1,5 +1,6 @@
 // `hamel import FILE.urdf|FILE.xml -o MODEL.yaml`: a robot description as a hamel kinematic-tree model.
 #include "cli/commands.hpp"
+#include "cli/options.hpp"
 #include "import/tree_import.hpp"
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
@@ -42,10 +43,7 @@ void run(const ImportCliOptions& opt) {
   ImportOptions options;
   options.floating = opt.floating;
   options.name = opt.name;
-  std::size_t start = 0;
-  while (!opt.ignore.empty() && start <= opt.ignore.size()) {
-    const std::size_t comma = std::min(opt.ignore.find(',', start), opt.ignore.size());
-    const std::string c = opt.ignore.substr(start, comma - start);
+  for (const std::string& c : opt.ignore.empty() ? std::vector<std::string>{} : split_list(opt.ignore)) {
     const auto& known = ignorable_categories();
     if (std::find(known.begin(), known.end(), c) == known.end()) {
       std::string list;
@@ -53,7 +51,6 @@ void run(const ImportCliOptions& opt) {
       throw InputError("--ignore: unknown category " + quote(c) + "; expected a comma-separated list of: " + list);
     }
     options.ignore.insert(c);
-    start = comma + 1;
   }
   const Warn warn = [](const std::string& w) { std::cerr << "hamel: warning: " << w << "\n"; };
   const ImportedTree tree =

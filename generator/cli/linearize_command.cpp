@@ -71,8 +71,7 @@ SweepSpec parse_sweep(const std::string& text) {
 
 std::vector<std::string> split_names(const std::string& list) {
   std::vector<std::string> out;
-  std::stringstream s(list);
-  for (std::string item; std::getline(s, item, ',');)
+  for (const std::string& item : split_list(list))
     if (!item.empty()) out.push_back(item);
   return out;
 }

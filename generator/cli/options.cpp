@@ -10,15 +10,20 @@
 
 namespace hamel::cli {
 
+std::vector<std::string> split_list(const std::string& list) {
+  std::vector<std::string> out;
+  for (std::size_t start = 0; start <= list.size();) {
+    const std::size_t comma = std::min(list.find(',', start), list.size());
+    out.push_back(list.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return out;
+}
+
 std::map<std::string, double> parse_assignments(const std::vector<std::string>& items, const std::string& option) {
   std::map<std::string, double> out;
   for (const std::string& item : items) {
-    std::size_t start = 0;
-    while (start <= item.size()) {
-      std::size_t end = item.find(',', start);
-      if (end == std::string::npos) end = item.size();
-      const std::string part = item.substr(start, end - start);
-      start = end + 1;
+    for (const std::string& part : split_list(item)) {
       if (part.empty()) continue;
       const std::size_t eq = part.find('=');
       if (eq == std::string::npos || eq == 0) throw InputError(option + ": expected name=value, got " + quote(part));
@@ -72,12 +77,7 @@ Model apply_fold(const Model& model, const std::vector<double>& values, const st
   if (spec == "all") {
     for (std::size_t k = 0; k < model.parameters.size(); ++k) fold[model.parameters[k].symbol.get_name()] = values[k];
   } else {
-    std::size_t start = 0;
-    while (start <= spec.size()) {
-      std::size_t end = spec.find(',', start);
-      if (end == std::string::npos) end = spec.size();
-      const std::string name = spec.substr(start, end - start);
-      start = end + 1;
+    for (const std::string& name : split_list(spec)) {
       if (name.empty()) continue;
       bool found = false;
       for (std::size_t k = 0; k < model.parameters.size(); ++k)

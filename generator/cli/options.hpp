@@ -11,6 +11,9 @@
 
 namespace hamel::cli {
 
+/// The items of a comma-separated option value, empty ones included ("a,,b" has three; "" has one, empty).
+std::vector<std::string> split_list(const std::string& list);
+
 /// Parses "a=1,b=2.5" (and repeated occurrences) into a map; throws InputError naming `option`.
 std::map<std::string, double> parse_assignments(const std::vector<std::string>& items, const std::string& option);
 

@@ -119,9 +119,7 @@ struct Monitors {
 
 Monitors parse_monitors(const std::string& list) {
   Monitors m;
-  for (std::size_t start = 0; !list.empty() && start <= list.size();) {
-    const std::size_t comma = std::min(list.find(',', start), list.size());
-    const std::string name = list.substr(start, comma - start);
+  for (const std::string& name : list.empty() ? std::vector<std::string>{} : split_list(list)) {
     if (name == "energy")
       m.energy = true;
     else if (name == "constraint_residual")
@@ -131,7 +129,6 @@ Monitors parse_monitors(const std::string& list) {
     else
       throw InputError("--monitors: unknown monitor " + quote(name) +
                        "; expected a comma-separated list of: energy, constraint_residual, momentum");
-    start = comma + 1;
   }
   return m;
 }

@@ -14,6 +14,7 @@ studies=(
   "models/chaplygin_sleigh.yaml --t-end 10 --init v=1,omega=2"
   "scenes/rolling_ball.yaml"
   "scenes/satellite_dynamics.yaml --t-end 5"
+  "models/satellite_compliant_rotor.yaml --t-end 1"
 )
 section=$(mktemp)
 {

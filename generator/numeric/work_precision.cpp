@@ -8,6 +8,8 @@
 
 #include <hamel/runtime/monitor.hpp>
 
+#include <Eigen/Dense>
+
 #include <algorithm>
 #include <cctype>
 #include <cmath>
@@ -27,15 +29,36 @@ double cpu_seconds() {
   return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
 }
 
-// Settings per integrator: steps as fractions of the horizon for fixed-step methods, tolerances otherwise.
-std::vector<double> sweep(const IntegratorInfo& info, double t_end) {
+// The fixed-step sweep: 8 steps halving from the horizon / 25, or from 2.5 / ρ when that is smaller, where ρ is the
+// largest |eigenvalue| of the Jacobian along the reference: explicit RK4 is stable for |h λ| up to about 2.8 (2.785
+// on the negative real axis, 2.828 on the imaginary one), so on a stiff model steps from the horizon / 25 would all
+// blow up and say nothing. Steps that would need more than fixed_step_limit steps over the horizon are left out.
+constexpr double rk4_stability_margin = 2.5;
+constexpr double fixed_step_limit = 1e5;
+
+std::vector<double> fixed_steps(double t_end, double stiffness) {
+  double h = t_end / 25.0;
+  if (stiffness > 0 && std::isfinite(stiffness)) h = std::min(h, rk4_stability_margin / stiffness);
   std::vector<double> s;
-  if (info.adaptive) {
-    for (int k = 3; k <= 11; ++k) s.push_back(std::pow(10.0, -k));
-  } else {
-    for (int k = 0; k < 8; ++k) s.push_back(t_end / (25.0 * std::pow(2.0, k)));
-  }
+  for (int k = 0; k < 8 && t_end / h <= fixed_step_limit; ++k, h /= 2) s.push_back(h);
   return s;
+}
+
+// Settings per integrator: steps (above) for fixed-step methods, tolerances otherwise.
+std::vector<double> sweep(const IntegratorInfo& info, double t_end, double stiffness) {
+  if (!info.adaptive) return fixed_steps(t_end, stiffness);
+  std::vector<double> s;
+  for (int k = 3; k <= 11; ++k) s.push_back(std::pow(10.0, -k));
+  return s;
+}
+
+// The largest |eigenvalue| of the n × n Jacobian at (t, x); 0 when it is not finite.
+double spectral_radius(const JacobianFunction& jac, double t, const double* x, std::size_t n) {
+  const auto size = static_cast<Eigen::Index>(n);
+  Eigen::MatrixXd a(size, size);
+  jac(t, x, a.data());  // row- or column-major alike: a matrix and its transpose have the same eigenvalues
+  if (!a.allFinite()) return 0;
+  return Eigen::EigenSolver<Eigen::MatrixXd>(a, false).eigenvalues().cwiseAbs().maxCoeff();
 }
 
 std::string number(double v) {
@@ -86,8 +109,11 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
     if (++evaluations > evaluations_per_window) throw Stalled{window_start};
     rhs(t, x, xdot);
   };
-  const ObserveFunction accepted = [&](double t, const double*) {
+  // The reference's states every hundredth of the horizon, where the stiffness of the fixed-step sweep is measured.
+  std::vector<std::pair<double, std::vector<double>>> visited{{0.0, req.x0}};
+  const ObserveFunction accepted = [&](double t, const double* x) {
     if (t >= window_start + window) window_start = std::floor(t / window) * window, evaluations = 0;
+    if (t >= visited.back().first + window) visited.emplace_back(t, std::vector<double>(x, x + n));
   };
   const auto reference_run = [&](double until, const RhsFunction& f, const ObserveFunction& observe) {
     progress::Step step("reference run of the study: dop853 at rtol = atol = 1e-14 over t = 0 .. " + number(until));
@@ -121,9 +147,28 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
 
   std::vector<std::string> names = req.integrators;
   if (names.empty()) names = {"rk4", "dopri5", "dop853", "radau5"};
+  double stiffness = 0;
+  for (const auto& [t, x] : visited)
+    if (t <= t_end) stiffness = std::max(stiffness, spectral_radius(jac, t, x.data(), n));
+  study.stiffness = stiffness;
+  const std::vector<double> steps = fixed_steps(t_end, stiffness);
+  const std::string rho = "ρ = " + number(stiffness) +
+                          ", the largest |eigenvalue| of the Jacobian at the reference's states every hundredth of "
+                          "the horizon";
+  const std::string limit = "more than " + number(fixed_step_limit) + " steps over the horizon";
+  if (steps.empty())
+    study.sweep_note = "fixed-step methods left out: steps below their stability bound 2.5/ρ = " +
+                       number(rk4_stability_margin / stiffness) + " (" + rho + ") need " + limit;
+  else if (steps.front() < t_end / 25.0)
+    study.sweep_note = "fixed steps from 2.5/ρ = " + number(steps.front()) + " (the stability bound of RK4; " + rho +
+                       ") instead of the horizon / 25";
+  if (!steps.empty() && steps.size() < 8)
+    study.sweep_note +=
+        "; " + std::to_string(8 - steps.size()) + " finer steps would need " + limit + " and are left out";
+  if (progress && !study.sweep_note.empty()) *progress << "hamel: " << study.sweep_note << "\n";
   for (const std::string& name : names) {
     const IntegratorInfo& info = find_integrator(name);
-    for (double setting : sweep(info, t_end)) {
+    for (double setting : sweep(info, t_end, stiffness)) {
       WorkPrecisionRun run;
       run.integrator = info.name;
       run.setting = setting;
@@ -194,9 +239,9 @@ std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy
   for (std::size_t k = 0; k < study.x0.size(); ++k)
     s << (k ? ", " : " ") << study.state_names[k] << " = " << number(study.x0[k]);
   s << ".";
-  if (!study.horizon_note.empty())
-    s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(study.horizon_note[0])))
-      << study.horizon_note.substr(1) << ".";
+  for (const std::string& note : {study.horizon_note, study.sweep_note})
+    if (!note.empty())
+      s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(note[0]))) << note.substr(1) << ".";
   s << "\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
     << ". CPU time: one run, mean of repeats, right-hand side evaluated by the kernel interpreter (the graph `hamel "
        "emit` prints; compiled kernels are faster). Drift: max relative energy deviation along the run (nan when the "

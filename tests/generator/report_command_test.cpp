@@ -1,6 +1,7 @@
 // `hamel report`: the three files of a work-precision study on a small scene, the CSV contract, and that
 // the numbers mean something: RK4's error falls at order 4 against the reference, the adaptive methods'
-// errors follow their tolerance, and only the implicit method evaluates Jacobians.
+// errors follow their tolerance, and only the implicit method evaluates Jacobians; on a stiff model RK4's
+// steps start at its stability bound.
 #include <gtest/gtest.h>
 
 #include <sys/wait.h>
@@ -129,6 +130,54 @@ TEST(ReportCommand, AStalledReferenceShortensTheHorizon) {
   const std::string none = base + " --reference-steps 1 > /dev/null 2>&1";
   EXPECT_EQ(WEXITSTATUS(std::system(none.c_str())), 2) << none;
   EXPECT_FALSE(fs::exists(out / "double_pendulum_work_precision.csv"));
+  fs::remove_all(out);
+}
+
+// On a stiff model the fixed-step sweep starts at RK4's stability bound. A spring of stiffness k = 10⁶ on a unit
+// mass oscillates at ω = √(k/m) = 1000 rad/s, so the Jacobian's eigenvalues are ±1000 i (an analytic value the
+// report does not share): the steps start at 2.5/ω = 2.5e-3 instead of the horizon / 25 = 0.04, where every RK4
+// run would blow up (|h λ| = 40 against a stability bound of about 2.8), and halve from there. Every RK4 run is
+// then stable, and its error falls at order 4 once the step resolves the oscillation.
+TEST(ReportCommand, FixedStepsStartAtTheStabilityBoundOfAStiffModel) {
+  const fs::path out = fs::temp_directory_path() / ("hamel_report_stiff_test_" + std::to_string(::getpid()));
+  fs::remove_all(out);
+  fs::create_directories(out);
+  const fs::path model = out / "stiff_spring.yaml";
+  std::ofstream(model) << "schema: 1\n"
+                          "name: stiff_spring\n"
+                          "parameters:\n  m: 1.0\n  k: 1.0e6\n"
+                          "coordinates: [x]\n"
+                          "quasi_velocities:\n  names: [v]\n  A:\n    - [1]\n"
+                          "lagrangian: \"1/2*m*x_dot^2 - 1/2*k*x^2\"\n";
+  const std::string cmd = std::string(HAMEL_BINARY) + " report " + model.string() +
+                          " --t-end 1 --init x=0.001,v=0 --integrators rk4 --out " + out.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  std::ifstream md(out / "stiff_spring_work_precision.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  EXPECT_NE(text.find("Fixed steps from 2.5/ρ = 0.0025"), std::string::npos) << text;
+  EXPECT_NE(text.find("ρ = 1000,"), std::string::npos) << text;
+
+  std::vector<std::string> header;
+  const auto rows = read_csv(out / "stiff_spring_work_precision.csv", header);
+  ASSERT_EQ(rows.size(), 8u);
+  EXPECT_NEAR(std::stod(rows.front().at("setting")), 2.5e-3, 1e-12);
+  std::vector<double> errors;
+  double previous = 0;
+  for (const auto& r : rows) {
+    const double setting = std::stod(r.at("setting")), error = std::stod(r.at("error"));
+    EXPECT_EQ(r.at("status"), "ok") << setting;
+    EXPECT_TRUE(std::isfinite(error)) << setting;
+    if (previous > 0) {
+      EXPECT_NEAR(setting, previous / 2, 1e-15);
+    }
+    previous = setting;
+    errors.push_back(error);
+  }
+  // Stable but too coarse at first (the fast oscillation damped away: an error of order one), then fourth order:
+  // each halving divides the error by about 16.
+  for (std::size_t i = errors.size() - 4; i < errors.size(); ++i) EXPECT_LT(errors[i], errors[i - 1] / 10) << i;
+  const double last_error = errors.back();
+  EXPECT_LT(last_error, 1e-6);
   fs::remove_all(out);
 }
 

@@ -566,16 +566,26 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
     for (std::size_t k = 0; k < X.size(); ++k) add_move(Argument::state, static_cast<int>(k), X[k]);
     for (std::size_t k = 0; k < IN.size(); ++k) add_move(Argument::input, static_cast<int>(k), IN[k]);
     std::vector<numeric> joint_base;
-    std::vector<std::vector<numeric>> joint_moved;
     try {
       joint_base = joint.evaluate(T, X, P, IN);
-      if (settings.condition)
-        for (const Move& mv : moves)
-          joint_moved.push_back(joint.evaluate_moved(mv.argument, mv.index, mv.value + mv.h));
     } catch (const std::exception&) {
       joint_base.clear();
     }
 
+    // First every kernel's errors at the point. A condition number only matters where it can change what is
+    // reported: for an output whose error sets a new worst (its condition is reported with it), or whose
+    // eval-only error exceeds the largest eval/cond so far (eval/cond ≤ eval-only). At other points the moved
+    // evaluations, most of the work, are skipped; the results are the same as with them.
+    struct Errors {
+      Measured* km = nullptr;
+      std::size_t m = 0;  ///< position in `measured` (and `first`)
+      std::vector<numeric> ref, graph50;
+      std::vector<double> computed, ulps, evaluation;
+      double floor = 0;
+      bool own_graph = false;  ///< graph50 from the kernel's own evaluator (a pole in the joint graph)
+      bool needs_condition = false;
+    };
+    std::vector<Errors> errors;
     for (std::size_t m = 0; m < measured.size(); ++m) {
       Measured& km = measured[m];
       KernelAccuracy& acc = result[km.result];
@@ -615,36 +625,28 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
         ++acc.skipped;
         continue;
       }
-      std::vector<double> computed(outputs);
-      km.fast.evaluate(pt.t, pt.x.data(), p.data(), in, computed.data());
-      // This kernel's 50-digit graph values, and with each argument moved (empty where that fails).
-      std::vector<numeric> graph50;
-      std::vector<std::vector<numeric>> moved(moves.size());
-      const auto slice = [&](const std::vector<numeric>& all) {
-        const auto begin = all.begin() + static_cast<std::ptrdiff_t>(first[m]);
-        return std::vector<numeric>(begin, begin + static_cast<std::ptrdiff_t>(outputs));
-      };
+      Errors e;
+      e.km = &km;
+      e.m = m;
+      e.ref = std::move(ref);
+      e.computed.resize(outputs);
+      km.fast.evaluate(pt.t, pt.x.data(), p.data(), in, e.computed.data());
+      // This kernel's 50-digit graph values (empty where that fails).
       if (!joint_base.empty()) {
-        graph50 = slice(joint_base);
-        for (std::size_t a = 0; a < joint_moved.size(); ++a) moved[a] = slice(joint_moved[a]);
+        const auto begin = joint_base.begin() + static_cast<std::ptrdiff_t>(first[m]);
+        e.graph50.assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
       } else {
+        e.own_graph = true;
         try {
-          graph50 = km.slow.evaluate(T, X, P, IN);
+          e.graph50 = km.slow.evaluate(T, X, P, IN);
         } catch (const std::exception&) {
-          graph50.clear();
-        }
-        for (std::size_t a = 0; a < moves.size() && settings.condition && !graph50.empty(); ++a) {
-          try {
-            moved[a] = km.slow.evaluate_moved(moves[a].argument, moves[a].index, moves[a].value + moves[a].h);
-          } catch (const std::exception&) {
-            moved[a].clear();
-          }
+          e.graph50.clear();
         }
       }
 
       double scale = 0;
       bool zero_kernel = false;
-      for (const numeric& r : ref) scale = std::max(scale, GiNaC::abs(r).to_double());
+      for (const numeric& r : e.ref) scale = std::max(scale, GiNaC::abs(r).to_double());
       if (km.ref->kind == ReferenceSet::Kind::direct) {
         // A kernel that is zero here (the constraint residual is zero everywhere): its reference is 50-digit
         // noise, and the scale is the size of the terms that cancel.
@@ -653,37 +655,89 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
           terms = std::max(terms, exact.magnitude(km.ref->expressions[i]).to_double());
         if (scale <= 1e-30 * terms) zero_kernel = true, scale = terms;
       }
-      const double floor = zero_kernel ? scale : settings.floor_fraction * scale;
+      e.floor = zero_kernel ? scale : settings.floor_fraction * scale;
+      for (std::size_t i = 0; i < outputs; ++i) {
+        const double ulps = ulp_error(e.computed[i], e.ref[i], e.floor);
+        e.ulps.push_back(ulps);
+        if (ulps > acc.worst_ulps || (std::isinf(ulps) && !std::isinf(acc.worst_ulps))) e.needs_condition = true;
+        if (!e.graph50.empty()) {
+          e.evaluation.push_back(ulp_error(e.computed[i], e.graph50[i], e.floor));
+          if (e.evaluation.back() > acc.worst_excess) e.needs_condition = true;
+        }
+      }
+      e.needs_condition =
+          (e.needs_condition || settings.condition_at_every_point) && settings.condition && !e.graph50.empty();
+      errors.push_back(std::move(e));
+    }
 
+    // The joint graph with each argument moved, once for all kernels that need it; a pole in it: those kernels'
+    // own graphs (below).
+    std::vector<std::vector<numeric>> joint_moved;
+    if (!joint_base.empty() &&
+        std::any_of(errors.begin(), errors.end(), [](const Errors& e) { return e.needs_condition && !e.own_graph; })) {
+      try {
+        for (const Move& mv : moves)
+          joint_moved.push_back(joint.evaluate_moved(mv.argument, mv.index, mv.value + mv.h));
+      } catch (const std::exception&) {
+        joint_moved.clear();
+        for (Errors& e : errors) {
+          if (!e.needs_condition || e.own_graph) continue;
+          e.own_graph = true;
+          try {
+            e.km->slow.evaluate(T, X, P, IN);  // the base that evaluate_moved moves from
+          } catch (const std::exception&) {
+            e.needs_condition = false;
+          }
+        }
+      }
+    }
+
+    for (Errors& e : errors) {
+      Measured& km = *e.km;
+      KernelAccuracy& acc = result[km.result];
+      const std::size_t outputs = e.ref.size();
       // κ_i = Σ_k |∂f_i/∂a_k| |a_k| / max(|f_i|, floor) over the arguments a = (t, x, in), by forward
       // differences of the 50-digit graph with relative steps of 1e-25 (exact to about 20 digits).
       std::vector<double> condition(outputs, 0.0);
-      if (settings.condition && !graph50.empty()) {
+      if (e.needs_condition) {
+        std::vector<std::vector<numeric>> moved(moves.size());
+        for (std::size_t a = 0; a < moves.size(); ++a) {
+          if (!e.own_graph) {
+            const auto begin = joint_moved[a].begin() + static_cast<std::ptrdiff_t>(first[e.m]);
+            moved[a].assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
+            continue;
+          }
+          try {
+            moved[a] = km.slow.evaluate_moved(moves[a].argument, moves[a].index, moves[a].value + moves[a].h);
+          } catch (const std::exception&) {
+            moved[a].clear();
+          }
+        }
         std::vector<numeric> sensitivity(outputs, numeric(0));
         for (std::size_t a = 0; a < moves.size(); ++a)
           for (std::size_t i = 0; i < moved[a].size(); ++i)
-            sensitivity[i] += GiNaC::abs(moved[a][i] - graph50[i]) / moves[a].h * GiNaC::abs(moves[a].value);
+            sensitivity[i] += GiNaC::abs(moved[a][i] - e.graph50[i]) / moves[a].h * GiNaC::abs(moves[a].value);
         for (std::size_t i = 0; i < outputs; ++i)
-          condition[i] = sensitivity[i].to_double() / std::max(GiNaC::abs(ref[i]).to_double(), floor);
+          condition[i] = sensitivity[i].to_double() / std::max(GiNaC::abs(e.ref[i]).to_double(), e.floor);
       }
 
       ++acc.points;
       for (std::size_t i = 0; i < outputs; ++i) {
-        const double e = ulp_error(computed[i], ref[i], floor);
+        const double ulps = e.ulps[i];
         ++acc.values;
-        acc.sum_ulps += e;
-        if (e > acc.worst_ulps || (std::isinf(e) && !std::isinf(acc.worst_ulps))) {
-          acc.worst_ulps = e;
+        acc.sum_ulps += ulps;
+        if (ulps > acc.worst_ulps || (std::isinf(ulps) && !std::isinf(acc.worst_ulps))) {
+          acc.worst_ulps = ulps;
           acc.worst_output = km.kernel->output_names[i];
           acc.worst_setting = label;
           acc.worst_time = pt.t;
           acc.worst_state = pt.x;
-          acc.worst_double = computed[i];
-          acc.worst_reference = ref[i].to_double();
+          acc.worst_double = e.computed[i];
+          acc.worst_reference = e.ref[i].to_double();
           acc.condition_at_worst = condition[i];
         }
-        if (!graph50.empty()) {
-          const double ev = ulp_error(computed[i], graph50[i], floor);
+        if (!e.graph50.empty()) {
+          const double ev = e.evaluation[i];
           acc.worst_evaluation_ulps = std::max(acc.worst_evaluation_ulps, ev);
           const double excess = ev / std::max(1.0, condition[i]);
           if (settings.condition && excess > acc.worst_excess) {

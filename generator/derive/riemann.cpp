@@ -35,20 +35,11 @@ SourceLocation location_of(const Model& model, const std::string& key) {
   return it != model.locations.end() ? it->second : SourceLocation{model.source_path, 0, 0};
 }
 
-}  // namespace
+// Γ[a][b][c], symmetric in b, c (0 where shown zero).
+using Symbols = std::vector<std::vector<std::vector<ex>>>;
 
-ex curvature_component(const RiemannGeometry& geometry, int a, int b, int c, int d) {
-  if (a == b || c == d) return 0;
-  int sign = 1;
-  if (a > b) std::swap(a, b), sign = -sign;
-  if (c > d) std::swap(c, d), sign = -sign;
-  if (a > c || (a == c && b > d)) std::swap(a, c), std::swap(b, d);
-  for (const CurvatureComponent& r : geometry.curvature)
-    if (r.a == a && r.b == b && r.c == c && r.d == d) return sign * r.value;
-  return 0;
-}
-
-RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
+// Only holonomic models in general coordinates with a Lagrangian of their own have this view.
+void check_applicable(const Model& model) {
   if (model.bundle)
     throw InputError(location_of(model, "group"), "group",
                      std::string(purpose) +
@@ -68,40 +59,46 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
                      std::string(purpose) +
                          " applies to unconstrained models: with constraints the motion is not "
                          "geodesic for the metric of the configuration space");
-  progress::Step step("deriving the Riemannian view of " + model.name + " (metric, Christoffel symbols, curvature)");
-  const std::size_t program_size = program.size();
-  const unsigned n = static_cast<unsigned>(model.n());
-  const SourceLocation where = location_of(model, "lagrangian");
-  RiemannGeometry r;
-  r.coordinates = model.coordinates;
-  r.rates = model.rates;
-  const std::vector<GiNaC::realsymbol>& q = r.coordinates;
-  const std::vector<GiNaC::realsymbol>& rate = r.rates;
+}
 
-  // L(q, q̇, t): a quasi-velocity the Lagrangian or a force uses by name stands for uᵃ = Aᵃ_b q̇ᵇ (u2).
+// L(q, q̇, t) and the forces in the rates: a quasi-velocity the Lagrangian or a force uses by name stands for
+// uᵃ = Aᵃ_b q̇ᵇ (u2). `at_rest` sets every rate to 0, through `rest_memo`.
+struct InRates {
+  ex lagrangian, lagrangian_at_rest;
+  std::vector<ex> applied;
+  GiNaC::exmap at_rest;
+  Intermediates::SubstitutionMemo rest_memo;
+};
+
+InRates in_rates(const Model& model, Intermediates& program, const std::vector<GiNaC::realsymbol>& rate) {
+  const auto n = static_cast<unsigned>(rate.size());
   GiNaC::exmap to_rates;
   for (unsigned a = 0; a < n; ++a) {
     ex u = 0;
     for (unsigned b = 0; b < n; ++b) u += model.A(a, b) * rate[b];
     to_rates[model.quasi_velocities[a]] = program.define(u);
   }
+  InRates l;
   Intermediates::SubstitutionMemo memo;
-  const ex lagrangian = program.substitute(model.lagrangian, to_rates, memo);
-  std::vector<ex> applied;
-  for (const ex& f : model.forces) applied.push_back(program.substitute(f, to_rates, memo));
-  GiNaC::exmap at_rest;
-  for (const auto& v : rate) at_rest[v] = 0;
-  Intermediates::SubstitutionMemo rest_memo;
-  const ex lagrangian_at_rest = program.substitute(lagrangian, at_rest, rest_memo);
+  l.lagrangian = program.substitute(model.lagrangian, to_rates, memo);
+  for (const ex& f : model.forces) l.applied.push_back(program.substitute(f, to_rates, memo));
+  for (const auto& v : rate) l.at_rest[v] = 0;
+  l.lagrangian_at_rest = program.substitute(l.lagrangian, l.at_rest, l.rest_memo);
+  return l;
+}
 
-  // g_ab = ∂²L/∂q̇ᵃ∂q̇ᵇ, and L − L(q, 0, t) must be exactly ½ g_ab q̇ᵃq̇ᵇ (third derivatives zero, nothing
-  // linear left): the metric of a natural system.
+// g_ab = ∂²L/∂q̇ᵃ∂q̇ᵇ, and L − L(q, 0, t) must be exactly ½ g_ab q̇ᵃq̇ᵇ (third derivatives zero, nothing linear
+// left): the metric of a natural system; V = −L(q, 0, t).
+void metric_and_potential(const Model& model, Intermediates& program, InRates& l, RiemannGeometry& r) {
+  const std::vector<GiNaC::realsymbol>& rate = r.rates;
+  const auto n = static_cast<unsigned>(rate.size());
+  const SourceLocation where = location_of(model, "lagrangian");
   matrix hessian(n, n);
   for (unsigned a = 0; a < n; ++a) {
-    const ex dL = program.diff(lagrangian, rate[a]);
+    const ex dL = program.diff(l.lagrangian, rate[a]);
     for (unsigned b = 0; b <= a; ++b) hessian(a, b) = hessian(b, a) = program.keep(program.diff(dL, rate[b]), 400);
   }
-  if (!is_quadratic_form(lagrangian - lagrangian_at_rest, rate, hessian, program))
+  if (!is_quadratic_form(l.lagrangian - l.lagrangian_at_rest, rate, hessian, program))
     throw InputError(where, "lagrangian",
                      std::string(purpose) +
                          " needs L = 1/2 g_ab(q) q_dot^a q_dot^b - V(q, t); this Lagrangian is not quadratic in the "
@@ -109,7 +106,7 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
   r.metric = matrix(n, n);
   for (unsigned a = 0; a < n; ++a)
     for (unsigned b = 0; b <= a; ++b) {
-      r.metric(a, b) = r.metric(b, a) = program.keep(program.substitute(hessian(a, b), at_rest, rest_memo), 400);
+      r.metric(a, b) = r.metric(b, a) = program.keep(program.substitute(hessian(a, b), l.at_rest, l.rest_memo), 400);
       if (!shown_zero(program.diff(r.metric(a, b), model.time), program))
         throw InputError(where, "lagrangian",
                          std::string(purpose) + " needs a metric g_ab(q) that does not depend on t; d2L/d" +
@@ -121,28 +118,36 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
                      std::string(purpose) +
                          ": the metric d2L/dq_dot dq_dot is identically singular; every "
                          "coordinate must carry kinetic energy");
-  r.potential = program.keep(-lagrangian_at_rest);
+  r.potential = program.keep(-l.lagrangian_at_rest);
+}
 
-  // Q_a = (forces)_a − ∂V/∂qᵃ, which must not depend on the velocities.
+// Q_a = (forces)_a − ∂V/∂qᵃ, which must not depend on the velocities.
+void generalized_forces(const Model& model, Intermediates& program, InRates& l, RiemannGeometry& r) {
+  const auto n = static_cast<unsigned>(r.rates.size());
   for (unsigned a = 0; a < n; ++a) {
     const std::string key = "forces[" + std::to_string(a) + "]";
     for (unsigned b = 0; b < n; ++b)
-      if (!shown_zero(program.diff(applied[a], rate[b]), program))
+      if (!shown_zero(program.diff(l.applied[a], r.rates[b]), program))
         throw InputError(location_of(model, key), key,
                          std::string(purpose) + " takes forces Q_a(q, t, inputs); this one depends on " +
-                             rate[b].get_name() +
+                             r.rates[b].get_name() +
                              " (velocity-dependent forces add a damping term to the linearization)");
-    r.forces.push_back(
-        program.keep(program.substitute(applied[a], at_rest, rest_memo) + program.diff(lagrangian_at_rest, q[a])));
+    r.forces.push_back(program.keep(program.substitute(l.applied[a], l.at_rest, l.rest_memo) +
+                                    program.diff(l.lagrangian_at_rest, r.coordinates[a])));
   }
+}
 
-  // ∂_c g_ab, then Γ_a,bc = ½ (∂_b g_ac + ∂_c g_ab − ∂_a g_bc).
+// Γ_a,bc = ½ (∂_b g_ac + ∂_c g_ab − ∂_a g_bc) from ∂_c g_ab, then Γᵃ_bc = g^ad Γ_d,bc, all columns (b, c) through
+// one symbolic LDLᵀ of g. Returns (first kind, second kind) and lists the non-zero ones in r.
+std::pair<Symbols, Symbols> christoffel_symbols(Intermediates& program, RiemannGeometry& r) {
+  const std::vector<GiNaC::realsymbol>& q = r.coordinates;
+  const auto n = static_cast<unsigned>(q.size());
   std::vector<matrix> metric_derivative(n, matrix(n, n));
   for (unsigned c = 0; c < n; ++c)
     for (unsigned a = 0; a < n; ++a)
       for (unsigned b = 0; b <= a; ++b)
         metric_derivative[c](a, b) = metric_derivative[c](b, a) = program.keep(program.diff(r.metric(a, b), q[c]));
-  std::vector<std::vector<std::vector<ex>>> first(n, std::vector<std::vector<ex>>(n, std::vector<ex>(n)));
+  Symbols first(n, std::vector<std::vector<ex>>(n, std::vector<ex>(n)));
   std::vector<std::pair<unsigned, unsigned>> pairs;  // (b, c), b ≤ c: the columns of the solve below
   for (unsigned b = 0; b < n; ++b)
     for (unsigned c = b; c < n; ++c) pairs.emplace_back(b, c);
@@ -157,9 +162,8 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
         r.first_kind.push_back({static_cast<int>(a), static_cast<int>(b), static_cast<int>(c), kept});
     }
 
-  // Γᵃ_bc = g^ad Γ_d,bc: all columns (b, c) through one symbolic LDLᵀ of g.
   const matrix second_columns = solve_positive_definite(r.metric, first_columns, program);
-  std::vector<std::vector<std::vector<ex>>> second(n, std::vector<std::vector<ex>>(n, std::vector<ex>(n)));
+  Symbols second(n, std::vector<std::vector<ex>>(n, std::vector<ex>(n)));
   for (unsigned a = 0; a < n; ++a)
     for (unsigned k = 0; k < pairs.size(); ++k) {
       const auto [b, c] = pairs[k];
@@ -171,8 +175,13 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
   std::sort(r.second_kind.begin(), r.second_kind.end(), [](const ChristoffelSymbol& x, const ChristoffelSymbol& y) {
     return std::tie(x.index, x.b, x.c) < std::tie(y.index, y.b, y.c);
   });
+  return {std::move(first), std::move(second)};
+}
 
-  // R_abcd for a < b, c < d, (a, b) ≤ (c, d).
+// R_abcd for a < b, c < d, (a, b) ≤ (c, d), from first-kind symbols (file comment).
+void curvature(Intermediates& program, const Symbols& first, const Symbols& second, RiemannGeometry& r) {
+  const std::vector<GiNaC::realsymbol>& q = r.coordinates;
+  const auto n = static_cast<unsigned>(q.size());
   for (unsigned a = 0; a < n; ++a)
     for (unsigned b = a + 1; b < n; ++b)
       for (unsigned c = a; c < n; ++c)
@@ -187,8 +196,13 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
           r.curvature.push_back(
               {static_cast<int>(a), static_cast<int>(b), static_cast<int>(c), static_cast<int>(d), program.keep(e)});
         }
+}
 
-  // Gᵃ_c = Γᵃ_bc q̇ᵇ; ∇_b Q_a = ∂_b Q_a − Γᶜ_ba Q_c; K_ab = R_cbda q̇ᶜq̇ᵈ − ∇_b Q_a.
+// Gᵃ_c = Γᵃ_bc q̇ᵇ; ∇_b Q_a = ∂_b Q_a − Γᶜ_ba Q_c; K_ab = R_cbda q̇ᶜq̇ᵈ − ∇_b Q_a.
+void linearization_blocks(Intermediates& program, const Symbols& second, RiemannGeometry& r) {
+  const std::vector<GiNaC::realsymbol>& q = r.coordinates;
+  const std::vector<GiNaC::realsymbol>& rate = r.rates;
+  const auto n = static_cast<unsigned>(q.size());
   r.connection_rate = matrix(n, n);
   r.force_gradient = matrix(n, n);
   r.stiffness = matrix(n, n);
@@ -213,6 +227,34 @@ RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
         }
       r.stiffness(a, b) = shown_zero(k, program) ? ex(0) : program.keep(k);
     }
+}
+
+}  // namespace
+
+ex curvature_component(const RiemannGeometry& geometry, int a, int b, int c, int d) {
+  if (a == b || c == d) return 0;
+  int sign = 1;
+  if (a > b) std::swap(a, b), sign = -sign;
+  if (c > d) std::swap(c, d), sign = -sign;
+  if (a > c || (a == c && b > d)) std::swap(a, c), std::swap(b, d);
+  for (const CurvatureComponent& r : geometry.curvature)
+    if (r.a == a && r.b == b && r.c == c && r.d == d) return sign * r.value;
+  return 0;
+}
+
+RiemannGeometry derive_riemann(const Model& model, Intermediates& program) {
+  check_applicable(model);
+  progress::Step step("deriving the Riemannian view of " + model.name + " (metric, Christoffel symbols, curvature)");
+  const std::size_t program_size = program.size();
+  RiemannGeometry r;
+  r.coordinates = model.coordinates;
+  r.rates = model.rates;
+  InRates l = in_rates(model, program, r.rates);
+  metric_and_potential(model, program, l, r);
+  generalized_forces(model, program, l, r);
+  const auto [first, second] = christoffel_symbols(program, r);
+  curvature(program, first, second, r);
+  linearization_blocks(program, second, r);
   step.detail(std::to_string(r.curvature.size()) + " non-zero curvature components, " +
               std::to_string(program.size() - program_size) + " intermediates");
   return r;

@@ -228,37 +228,52 @@ ex as_ex(const Fourier& f, const Angles& angles) {
   return out;
 }
 
-// A sum (or one term): each group of terms (same angle symbols) written as it is, with the coefficients of equal
-// monomials collected (m cos²θ − n cos²θ → (m − n) cos²θ), or linearized, whichever choice gives the fewest nodes;
-// linearized groups are collected together with the terms free of trigonometric factors, so that their constants
-// and shared modes cancel.
-ex contract_sum(const ex& e) {
+// The terms of a sum (or the one term).
+std::vector<ex> terms_of(const ex& e) {
   std::vector<ex> terms;
   if (is_a<GiNaC::add>(e))
     for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(e.op(i));
   else
     terms.push_back(e);
-  {  // Fast exit for the common case: terms of degree at most 1 with distinct trigonometric factors.
-    bool may_change = false;
-    std::set<ex, GiNaC::ex_is_less> factors;
-    for (const ex& t : terms) {
-      const long degree = trig_degree(t);
-      if (degree >= 2) {
-        may_change = true;
-        break;
-      }
-      if (degree == 0) continue;
-      ex factor = t;
-      if (is_a<GiNaC::mul>(t))
-        for (std::size_t i = 0; i < t.nops(); ++i)
-          if (trig_kind(t.op(i))) factor = t.op(i);
-      if (!factors.insert(factor).second) {
-        may_change = true;
-        break;
-      }
-    }
-    if (!may_change) return e;
+  return terms;
+}
+
+// False in the common case where nothing can contract: terms of degree at most 1 with distinct trigonometric
+// factors.
+bool may_contract(const std::vector<ex>& terms) {
+  std::set<ex, GiNaC::ex_is_less> factors;
+  for (const ex& t : terms) {
+    const long degree = trig_degree(t);
+    if (degree >= 2) return true;
+    if (degree == 0) continue;
+    ex factor = t;
+    if (is_a<GiNaC::mul>(t))
+      for (std::size_t i = 0; i < t.nops(); ++i)
+        if (trig_kind(t.op(i))) factor = t.op(i);
+    if (!factors.insert(factor).second) return true;
   }
+  return false;
+}
+
+// The nodes of a sum are 1 + those of its terms: the nodes its terms add to another sum.
+std::size_t terms_size(const ex& x) {
+  if (x.is_zero()) return 0;
+  const std::size_t n = node_count(x, unlimited);
+  return is_a<GiNaC::add>(x) ? n - 1 : n;
+}
+
+// One sum's terms grouped by the angle symbols of their trigonometric factors, and the search for the form of
+// each group (contract_sum).
+class SumContraction {
+ public:
+  explicit SumContraction(const std::vector<ex>& terms);
+  /// False when no group can change: every monomial of degree 1 (they linearize to themselves) and none repeated.
+  bool may_change() const { return may_change_; }
+  /// The shortest form found, or e (the sum of the terms) when none is shorter.
+  ex best(const ex& e);
+
+ private:
+  enum Form { original, collected, linearized };
   struct Group {
     ex original = 0, collected = 0;
     std::size_t terms = 0;
@@ -268,18 +283,37 @@ ex contract_sum(const ex& e) {
     std::map<ex, ex, GiNaC::ex_is_less> by_monomial;
     Fourier linear;
   };
-  ex fixed = 0;
-  std::size_t fixed_size = 0;
-  Angles angles;
-  std::map<std::vector<std::size_t>, Group> by_atoms;
+  /// Each group's collected and linear forms, formed once the sum may change.
+  void complete_groups();
+  /// The fixed terms plus the linearized groups' modes, merged.
+  ex linear_part(const std::vector<Form>& form);
+  /// The estimated nodes of the sum in `form` (merges of the linear part with the fixed terms aside).
+  std::size_t size_of(const std::vector<Form>& form);
+  /// Each group's shortest form on its own.
+  std::vector<Form> locally_best();
+  /// The best estimate among: the local choice, all groups collected, all linearizable groups linearized, and
+  /// for a few groups, changes of one group at a time.
+  std::vector<Form> search(const std::vector<Form>& local);
+  ex built(const std::vector<Form>& form);
+
+  ex fixed_ = 0;  // terms that do not linearize
+  std::size_t fixed_size_ = 0;
+  Angles angles_;
+  std::map<std::vector<std::size_t>, Group> by_atoms_;
+  std::vector<Group> groups_;
+  bool may_change_ = false;
+  std::map<std::vector<bool>, std::size_t> linear_sizes_;  // by the set of linearized groups
+};
+
+SumContraction::SumContraction(const std::vector<ex>& terms) {
   for (const ex& t : terms) {
-    std::optional<LinearTerm> l = linearize_term(t, angles);
+    std::optional<LinearTerm> l = linearize_term(t, angles_);
     if (!l) {
-      fixed += t;
-      fixed_size += node_count(t, unlimited);
+      fixed_ += t;
+      fixed_size_ += node_count(t, unlimited);
       continue;
     }
-    Group& g = by_atoms[l->bases];
+    Group& g = by_atoms_[l->bases];
     g.original += t;
     g.original_size += node_count(t, unlimited);
     ++g.terms;
@@ -287,12 +321,11 @@ ex contract_sum(const ex& e) {
     g.by_monomial[l->monomial] += l->coefficient;
     for (auto& [m, c] : l->linear) add_mode(g.linear, m.kind, m.angle, c);
   }
-  // Monomials of degree 1 linearize to themselves: a group of those can only change by collecting.
-  bool any = false;
-  for (const auto& [bases, g] : by_atoms) any = any || g.degree >= 2 || g.by_monomial.size() < g.terms;
-  if (!any) return e;
-  std::vector<Group> groups;
-  for (auto& [bases, g] : by_atoms) {
+  for (const auto& [bases, g] : by_atoms_) may_change_ = may_change_ || g.degree >= 2 || g.by_monomial.size() < g.terms;
+}
+
+void SumContraction::complete_groups() {
+  for (auto& [bases, g] : by_atoms_) {
     tidy(g.linear);
     // Linearizing pays off only when modes cancel: a linear form with more modes than the group has monomials
     // (plus the constant) is longer in practice (cos²a cos²b has 5), and is not tried. Groups of degree 1 are
@@ -303,48 +336,56 @@ ex contract_sum(const ex& e) {
       g.collected += term;
       g.collected_size += node_count(term, unlimited);
     }
-    groups.push_back(std::move(g));
+    groups_.push_back(std::move(g));
   }
-  // The nodes of a sum are 1 + those of its terms. Terms of different groups have different monomials and do not
-  // merge; linearized groups are merged with each other and the fixed terms. (The size of the chosen form is
-  // checked on the built expression at the end.)
-  const auto terms_size = [](const ex& x) {
-    if (x.is_zero()) return std::size_t{0};
-    const std::size_t n = node_count(x, unlimited);
-    return is_a<GiNaC::add>(x) ? n - 1 : n;
-  };
-  enum Form { original, collected, linearized };
-  const auto linear_part = [&](const std::vector<Form>& form) {
-    Fourier pool;
-    std::map<Mode, int> contributions;
-    for (std::size_t i = 0; i < groups.size(); ++i)
-      if (form[i] == linearized)
-        for (const auto& [m, c] : groups[i].linear) {
-          add_mode(pool, m.kind, m.angle, c);
-          ++contributions[m];
-        }
-    // Each group's coefficients are collected already: only modes shared by groups need it again.
-    for (auto it = pool.begin(); it != pool.end();) {
-      if (contributions[it->first] > 1 && node_count(it->second, 200) <= 200) it->second = it->second.expand();
-      it = it->second.is_zero() ? pool.erase(it) : std::next(it);
-    }
-    return fixed + as_ex(pool, angles);
-  };
-  std::map<std::vector<bool>, std::size_t> linear_sizes;  // by the set of linearized groups
-  const auto size_of = [&](const std::vector<Form>& form) {
-    std::size_t n = 1;
-    std::vector<bool> linear(groups.size(), false);
-    for (std::size_t i = 0; i < groups.size(); ++i) {
-      if (form[i] == original) n += groups[i].original_size;
-      if (form[i] == collected) n += groups[i].collected_size;
-      linear[i] = form[i] == linearized;
-    }
-    if (std::none_of(linear.begin(), linear.end(), [](bool b) { return b; })) return n + fixed_size;
-    auto it = linear_sizes.find(linear);
-    if (it == linear_sizes.end()) it = linear_sizes.emplace(linear, terms_size(linear_part(form))).first;
-    return n + it->second;
-  };
-  std::vector<Form> choice(groups.size(), original);
+  by_atoms_.clear();
+}
+
+ex SumContraction::linear_part(const std::vector<Form>& form) {
+  Fourier pool;
+  std::map<Mode, int> contributions;
+  for (std::size_t i = 0; i < groups_.size(); ++i)
+    if (form[i] == linearized)
+      for (const auto& [m, c] : groups_[i].linear) {
+        add_mode(pool, m.kind, m.angle, c);
+        ++contributions[m];
+      }
+  // Each group's coefficients are collected already: only modes shared by groups need it again.
+  for (auto it = pool.begin(); it != pool.end();) {
+    if (contributions[it->first] > 1 && node_count(it->second, 200) <= 200) it->second = it->second.expand();
+    it = it->second.is_zero() ? pool.erase(it) : std::next(it);
+  }
+  return fixed_ + as_ex(pool, angles_);
+}
+
+// Terms of different groups have different monomials and do not merge; linearized groups are merged with each
+// other and the fixed terms. (The size of the chosen form is checked on the built expression at the end.)
+std::size_t SumContraction::size_of(const std::vector<Form>& form) {
+  std::size_t n = 1;
+  std::vector<bool> linear(groups_.size(), false);
+  for (std::size_t i = 0; i < groups_.size(); ++i) {
+    if (form[i] == original) n += groups_[i].original_size;
+    if (form[i] == collected) n += groups_[i].collected_size;
+    linear[i] = form[i] == linearized;
+  }
+  if (std::none_of(linear.begin(), linear.end(), [](bool b) { return b; })) return n + fixed_size_;
+  auto it = linear_sizes_.find(linear);
+  if (it == linear_sizes_.end()) it = linear_sizes_.emplace(linear, terms_size(linear_part(form))).first;
+  return n + it->second;
+}
+
+std::vector<SumContraction::Form> SumContraction::locally_best() {
+  std::vector<Form> local(groups_.size(), original);
+  for (std::size_t i = 0; i < groups_.size(); ++i) {
+    std::size_t size = groups_[i].original_size;
+    if (groups_[i].collected_size < size) local[i] = collected, size = groups_[i].collected_size;
+    if (groups_[i].linearizable && terms_size(as_ex(groups_[i].linear, angles_)) < size) local[i] = linearized;
+  }
+  return local;
+}
+
+std::vector<SumContraction::Form> SumContraction::search(const std::vector<Form>& local) {
+  std::vector<Form> choice(groups_.size(), original);
   std::size_t best_size = size_of(choice);
   const auto consider = [&](const std::vector<Form>& c) {
     const std::size_t size = size_of(c);
@@ -353,27 +394,20 @@ ex contract_sum(const ex& e) {
     choice = c;
     return true;
   };
-  // Each group's shortest form on its own, then all groups collected or all linearized (constants and modes cancel
-  // across linearized groups); a few groups are also improved one at a time.
-  std::vector<Form> local(groups.size(), original);
-  for (std::size_t i = 0; i < groups.size(); ++i) {
-    std::size_t size = groups[i].original_size;
-    if (groups[i].collected_size < size) local[i] = collected, size = groups[i].collected_size;
-    if (groups[i].linearizable && terms_size(as_ex(groups[i].linear, angles)) < size) local[i] = linearized;
-  }
   consider(local);
-  consider(std::vector<Form>(groups.size(), collected));
+  consider(std::vector<Form>(groups_.size(), collected));
+  // All linearized together: constants and modes cancel across linearized groups.
   std::vector<Form> all_linear = local;
-  for (std::size_t i = 0; i < groups.size(); ++i)
-    if (groups[i].linearizable) all_linear[i] = linearized;
+  for (std::size_t i = 0; i < groups_.size(); ++i)
+    if (groups_[i].linearizable) all_linear[i] = linearized;
   consider(all_linear);
   constexpr std::size_t few = 6;
-  for (int pass = 0; pass < 2 && groups.size() <= few; ++pass) {
+  for (int pass = 0; pass < 2 && groups_.size() <= few; ++pass) {
     bool improved = false;
-    for (std::size_t i = 0; i < groups.size(); ++i)
+    for (std::size_t i = 0; i < groups_.size(); ++i)
       for (Form f : {original, collected, linearized}) {
-        if (f == choice[i] || (f == collected && groups[i].by_monomial.size() == groups[i].terms) ||
-            (f == linearized && !groups[i].linearizable))
+        if (f == choice[i] || (f == collected && groups_[i].by_monomial.size() == groups_[i].terms) ||
+            (f == linearized && !groups_[i].linearizable))
           continue;
         std::vector<Form> c = choice;
         c[i] = f;
@@ -381,16 +415,24 @@ ex contract_sum(const ex& e) {
       }
     if (!improved) break;
   }
-  // The estimate above ignores merges of the linear part with the fixed terms: the choice and each group's own
-  // best are built and counted.
-  const auto built = [&](const std::vector<Form>& form) {
-    ex out = linear_part(form);
-    for (std::size_t i = 0; i < groups.size(); ++i) {
-      if (form[i] == original) out += groups[i].original;
-      if (form[i] == collected) out += groups[i].collected;
-    }
-    return out;
-  };
+  return choice;
+}
+
+ex SumContraction::built(const std::vector<Form>& form) {
+  ex out = linear_part(form);
+  for (std::size_t i = 0; i < groups_.size(); ++i) {
+    if (form[i] == original) out += groups_[i].original;
+    if (form[i] == collected) out += groups_[i].collected;
+  }
+  return out;
+}
+
+ex SumContraction::best(const ex& e) {
+  complete_groups();
+  const std::vector<Form> local = locally_best();
+  const std::vector<Form> choice = search(local);
+  // The estimate ignores merges of the linear part with the fixed terms: the choice and each group's own best are
+  // built and counted.
   ex best = e;
   std::size_t size = node_count(e, unlimited);
   for (const std::vector<Form>& form : {choice, local}) {
@@ -400,6 +442,17 @@ ex contract_sum(const ex& e) {
     if (n < size) best = x, size = n;
   }
   return best;
+}
+
+// A sum (or one term): each group of terms (same angle symbols) written as it is, with the coefficients of equal
+// monomials collected (m cos²θ − n cos²θ → (m − n) cos²θ), or linearized, whichever choice gives the fewest nodes;
+// linearized groups are collected together with the terms free of trigonometric factors, so that their constants
+// and shared modes cancel.
+ex contract_sum(const ex& e) {
+  const std::vector<ex> terms = terms_of(e);
+  if (!may_contract(terms)) return e;
+  SumContraction contraction(terms);
+  return contraction.may_change() ? contraction.best(e) : e;
 }
 
 struct Contract : GiNaC::map_function {

@@ -297,6 +297,11 @@ class Loader {
 
   void load_core(Model& model);
   void load_bundle(Model& model);
+  unsigned load_group(Model& model, Bundle& b);
+  void load_shape(const YAML::Node& tree, Model& model, const Bundle& b);
+  void load_connection(Model& model, Bundle& b, unsigned dim, const GiNaC::symtab& geometric);
+  void load_bundle_lagrangian(const YAML::Node& tree, Model& model, Bundle& b, const GiNaC::symtab& geometric,
+                              const GiNaC::symtab& velocities);
   void load_fixed_tree(Model& model);
   void declare_joints(const YAML::Node& tree, Model& model);
   KinematicTree load_tree(const YAML::Node& tree, const Model& model);
@@ -548,8 +553,39 @@ void Loader::load_core(Model& model) {
   load_forces(model, all, "forces may use coordinates, _dot rates, quasi-velocities, parameters, inputs and t");
 }
 
+// A bundle model: the group and its velocity, the shape (or a tree's joints), the connection, the Lagrangian and
+// the forces on the shape.
 void Loader::load_bundle(Model& model) {
   Bundle b;
+  const unsigned dim = load_group(model, b);
+  const YAML::Node tree = root_["tree"];
+  load_shape(tree, model, b);
+  if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
+
+  GiNaC::symtab geometric;  // parameters and shape: what inertia data and the connection may use
+  for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
+  for (const auto& r : model.coordinates) geometric[r.get_name()] = r;
+  GiNaC::symtab velocities = geometric;  // plus ξ and ṙ: what the kinetic energy and twists may use
+  for (const auto& r : model.rates) velocities[r.get_name()] = r;
+  for (const auto& x : b.group_velocity) velocities[x.get_name()] = x;
+  GiNaC::symtab force_table = velocities;
+  force_table["t"] = model.time;
+  for (const auto& u : model.inputs) force_table[u.get_name()] = u;
+  load_definitions(model, force_table);
+  geometric = with_definitions(geometric);
+  velocities = with_definitions(velocities);
+  force_table = with_definitions(force_table);
+
+  load_connection(model, b, dim, geometric);
+  load_bundle_lagrangian(tree, model, b, geometric, velocities);
+  model.bundle = b;
+  load_forces(model, force_table,
+              "forces on the shape may use shape coordinates, their _dot rates, the group velocity, parameters, "
+              "inputs and t");
+}
+
+// 'group', 'trivialization' and 'group_velocity'; returns the group's dimension.
+unsigned Loader::load_group(Model& model, Bundle& b) {
   YAML::Node group = require("group", YAML::NodeType::Scalar, "a group name");
   model.locations["group"] = where(group);
   b.group = group.Scalar();
@@ -573,8 +609,12 @@ void Loader::load_bundle(Model& model) {
     fail(gv, "group_velocity",
          "expected " + std::to_string(dim) + " names for " + b.group + " (basis order: angular before linear), got " +
              std::to_string(b.group_velocity.size()));
+  return dim;
+}
 
-  const YAML::Node tree = root_["tree"];
+// The shape coordinates ('shape', or the joints of 'tree') and their rates.
+void Loader::load_shape(const YAML::Node& tree, Model& model, const Bundle& b) {
+  YAML::Node group = root_["group"];
   if (tree) {
     for (const char* other : {"shape", "kinetic", "bodies"})
       if (YAML::Node o = root_[other])
@@ -606,23 +646,11 @@ void Loader::load_bundle(Model& model) {
                it->second + "'");
     model.rates.emplace_back(rate);
   }
+}
+
+// 'connection': mechanical (the default) or kinematic rows A^alpha_I(r).
+void Loader::load_connection(Model& model, Bundle& b, unsigned dim, const GiNaC::symtab& geometric) {
   const std::size_t n = model.coordinates.size();
-  if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
-
-  GiNaC::symtab geometric;  // parameters and shape: what inertia data and the connection may use
-  for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
-  for (const auto& r : model.coordinates) geometric[r.get_name()] = r;
-  GiNaC::symtab velocities = geometric;  // plus ξ and ṙ: what the kinetic energy and twists may use
-  for (const auto& r : model.rates) velocities[r.get_name()] = r;
-  for (const auto& x : b.group_velocity) velocities[x.get_name()] = x;
-  GiNaC::symtab force_table = velocities;
-  force_table["t"] = model.time;
-  for (const auto& u : model.inputs) force_table[u.get_name()] = u;
-  load_definitions(model, force_table);
-  geometric = with_definitions(geometric);
-  velocities = with_definitions(velocities);
-  force_table = with_definitions(force_table);
-
   if (YAML::Node conn = root_["connection"]) {
     model.locations["connection"] = where(conn);
     if (conn.IsScalar()) {
@@ -649,7 +677,11 @@ void Loader::load_bundle(Model& model) {
       fail(conn, "connection", "expected 'mechanical' or a map {kinematic: [[...]]}");
     }
   }
+}
 
+// The kinetic energy ('kinetic', 'bodies', or a tree's bodies in the derivation) and 'potential'.
+void Loader::load_bundle_lagrangian(const YAML::Node& tree, Model& model, Bundle& b, const GiNaC::symtab& geometric,
+                                    const GiNaC::symtab& velocities) {
   YAML::Node kinetic = root_["kinetic"];
   YAML::Node bodies = root_["bodies"];
   if (!tree && static_cast<bool>(kinetic) == static_cast<bool>(bodies))
@@ -686,11 +718,6 @@ void Loader::load_bundle(Model& model) {
   }
   model.lagrangian = b.kinetic - b.potential;
   model.locations["lagrangian"] = model.locations["kinetic"];
-
-  model.bundle = b;
-  load_forces(model, force_table,
-              "forces on the shape may use shape coordinates, their _dot rates, the group velocity, parameters, "
-              "inputs and t");
 }
 
 RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,

@@ -583,7 +583,9 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       std::vector<double> computed, ulps, evaluation;
       double floor = 0;
       bool own_graph = false;  ///< graph50 from the kernel's own evaluator (a pole in the joint graph)
+      bool new_worst = false;  ///< an output's error beats the worst so far: its κ is reported, all of it is needed
       bool needs_condition = false;
+      std::vector<numeric> sensitivity;  ///< Σ over the moved arguments so far (below)
     };
     std::vector<Errors> errors;
     for (std::size_t m = 0; m < measured.size(); ++m) {
@@ -659,36 +661,78 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       for (std::size_t i = 0; i < outputs; ++i) {
         const double ulps = ulp_error(e.computed[i], e.ref[i], e.floor);
         e.ulps.push_back(ulps);
-        if (ulps > acc.worst_ulps || (std::isinf(ulps) && !std::isinf(acc.worst_ulps))) e.needs_condition = true;
+        if (ulps > acc.worst_ulps || (std::isinf(ulps) && !std::isinf(acc.worst_ulps))) e.new_worst = true;
         if (!e.graph50.empty()) {
           e.evaluation.push_back(ulp_error(e.computed[i], e.graph50[i], e.floor));
           if (e.evaluation.back() > acc.worst_excess) e.needs_condition = true;
         }
       }
-      e.needs_condition =
-          (e.needs_condition || settings.condition_at_every_point) && settings.condition && !e.graph50.empty();
+      e.new_worst = e.new_worst || settings.condition_at_every_point;
+      e.needs_condition = (e.needs_condition || e.new_worst) && settings.condition && !e.graph50.empty();
+      e.sensitivity.assign(e.needs_condition ? outputs : 0, numeric(0));
       errors.push_back(std::move(e));
     }
 
-    // The joint graph with each argument moved, once for all kernels that need it; a pole in it: those kernels'
-    // own graphs (below).
-    std::vector<std::vector<numeric>> joint_moved;
-    if (!joint_base.empty() &&
-        std::any_of(errors.begin(), errors.end(), [](const Errors& e) { return e.needs_condition && !e.own_graph; })) {
-      try {
-        for (const Move& mv : moves)
-          joint_moved.push_back(joint.evaluate_moved(mv.argument, mv.index, mv.value + mv.h));
-      } catch (const std::exception&) {
-        joint_moved.clear();
-        for (Errors& e : errors) {
-          if (!e.needs_condition || e.own_graph) continue;
-          e.own_graph = true;
+    // κ_i = Σ_k |∂f_i/∂a_k| |a_k| / max(|f_i|, floor) over the arguments a = (t, x, in), by forward differences of
+    // the 50-digit graph with relative steps of 1e-25 (exact to about 20 digits), one moved argument at a time: the
+    // joint graph once for all kernels that need it, a kernel's own graph after a pole in the joint one. A kernel
+    // with a new worst error needs every argument (its κ is reported). One that needs κ only for eval/cond is done
+    // as soon as the partial sum, a lower bound of κ, shows that none of its eval/cond beats the largest so far;
+    // its κ then stays partial, which changes nothing reported.
+    const auto condition_of = [&](const Errors& e, std::size_t i) {
+      return e.sensitivity[i].to_double() / std::max(GiNaC::abs(e.ref[i]).to_double(), e.floor);
+    };
+    const auto settled = [&](const Errors& e) {
+      if (e.new_worst) return false;
+      const double largest = result[e.km->result].worst_excess;
+      for (std::size_t i = 0; i < e.evaluation.size(); ++i)
+        if (e.evaluation[i] / std::max(1.0, condition_of(e, i)) > largest) return false;
+      return true;
+    };
+    std::vector<char> active(errors.size());
+    for (std::size_t k = 0; k < errors.size(); ++k) active[k] = errors[k].needs_condition;
+    bool joint_usable = !joint_base.empty();
+    for (std::size_t a = 0; a < moves.size(); ++a) {
+      if (std::none_of(active.begin(), active.end(), [](char c) { return c != 0; })) break;
+      const Move& mv = moves[a];
+      std::vector<numeric> joint_moved;
+      bool joint_wanted = false;
+      for (std::size_t k = 0; k < errors.size(); ++k)
+        joint_wanted = joint_wanted || (active[k] && !errors[k].own_graph);
+      if (joint_wanted && joint_usable) {
+        try {
+          joint_moved = joint.evaluate_moved(mv.argument, mv.index, mv.value + mv.h);
+        } catch (const std::exception&) {
+          joint_usable = false;
+        }
+      }
+      for (std::size_t k = 0; k < errors.size(); ++k) {
+        Errors& e = errors[k];
+        if (!active[k]) continue;
+        const std::size_t outputs = e.ref.size();
+        std::vector<numeric> moved;
+        if (!e.own_graph && joint_usable) {
+          const auto begin = joint_moved.begin() + static_cast<std::ptrdiff_t>(first[e.m]);
+          moved.assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
+        } else {
+          if (!e.own_graph) {  // the joint graph has a pole here: from now on the kernel's own graph
+            e.own_graph = true;
+            try {
+              e.km->slow.evaluate(T, X, P, IN);  // the base that evaluate_moved moves from
+            } catch (const std::exception&) {
+              active[k] = 0;
+              continue;
+            }
+          }
           try {
-            e.km->slow.evaluate(T, X, P, IN);  // the base that evaluate_moved moves from
+            moved = e.km->slow.evaluate_moved(mv.argument, mv.index, mv.value + mv.h);
           } catch (const std::exception&) {
-            e.needs_condition = false;
+            moved.clear();
           }
         }
+        for (std::size_t i = 0; i < moved.size(); ++i)
+          e.sensitivity[i] += GiNaC::abs(moved[i] - e.graph50[i]) / mv.h * GiNaC::abs(mv.value);
+        if (settled(e)) active[k] = 0;
       }
     }
 
@@ -696,30 +740,8 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       Measured& km = *e.km;
       KernelAccuracy& acc = result[km.result];
       const std::size_t outputs = e.ref.size();
-      // κ_i = Σ_k |∂f_i/∂a_k| |a_k| / max(|f_i|, floor) over the arguments a = (t, x, in), by forward
-      // differences of the 50-digit graph with relative steps of 1e-25 (exact to about 20 digits).
       std::vector<double> condition(outputs, 0.0);
-      if (e.needs_condition) {
-        std::vector<std::vector<numeric>> moved(moves.size());
-        for (std::size_t a = 0; a < moves.size(); ++a) {
-          if (!e.own_graph) {
-            const auto begin = joint_moved[a].begin() + static_cast<std::ptrdiff_t>(first[e.m]);
-            moved[a].assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
-            continue;
-          }
-          try {
-            moved[a] = km.slow.evaluate_moved(moves[a].argument, moves[a].index, moves[a].value + moves[a].h);
-          } catch (const std::exception&) {
-            moved[a].clear();
-          }
-        }
-        std::vector<numeric> sensitivity(outputs, numeric(0));
-        for (std::size_t a = 0; a < moves.size(); ++a)
-          for (std::size_t i = 0; i < moved[a].size(); ++i)
-            sensitivity[i] += GiNaC::abs(moved[a][i] - e.graph50[i]) / moves[a].h * GiNaC::abs(moves[a].value);
-        for (std::size_t i = 0; i < outputs; ++i)
-          condition[i] = sensitivity[i].to_double() / std::max(GiNaC::abs(e.ref[i]).to_double(), e.floor);
-      }
+      for (std::size_t i = 0; i < e.sensitivity.size(); ++i) condition[i] = condition_of(e, i);
 
       ++acc.points;
       for (std::size_t i = 0; i < outputs; ++i) {

@@ -134,8 +134,9 @@ struct AccuracySettings {
   double floor_fraction = 1e-3;   ///< φ in the definition above
   int digits = 50;                ///< of the reference
   bool condition = true;          ///< also compute κ (one more 50-digit graph evaluation per argument)
-  /// κ at every point; by default only at points where it can change what is reported (a new worst error, or an
-  /// eval-only error above the largest eval/cond so far), with the same results: for tests of that claim.
+  /// κ in full at every point; by default only at points where it can change what is reported (a new worst error,
+  /// or an eval-only error above the largest eval/cond so far, and then only until a partial κ shows that no
+  /// eval/cond beats the largest), with the same results: for tests of that claim.
   bool condition_at_every_point = false;
   /// Pinned values of state variables (coordinate or independent velocity names), inputs or "t".
   std::map<std::string, double> fixed;

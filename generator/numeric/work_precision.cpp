@@ -35,18 +35,19 @@ double cpu_seconds() {
 // blow up and say nothing. Steps that would need more than fixed_step_limit steps over the horizon are left out.
 constexpr double rk4_stability_margin = 2.5;
 constexpr double fixed_step_limit = 1e5;
+constexpr std::size_t fixed_step_count = 8;
 
 std::vector<double> fixed_steps(double t_end, double stiffness) {
   double h = t_end / 25.0;
   if (stiffness > 0 && std::isfinite(stiffness)) h = std::min(h, rk4_stability_margin / stiffness);
   std::vector<double> s;
-  for (int k = 0; k < 8 && t_end / h <= fixed_step_limit; ++k, h /= 2) s.push_back(h);
+  while (s.size() < fixed_step_count && t_end / h <= fixed_step_limit) s.push_back(h), h /= 2;
   return s;
 }
 
-// Settings per integrator: steps (above) for fixed-step methods, tolerances otherwise.
-std::vector<double> sweep(const IntegratorInfo& info, double t_end, double stiffness) {
-  if (!info.adaptive) return fixed_steps(t_end, stiffness);
+// Settings per integrator: `steps` (above) for fixed-step methods, tolerances otherwise.
+std::vector<double> sweep(const IntegratorInfo& info, const std::vector<double>& steps) {
+  if (!info.adaptive) return steps;
   std::vector<double> s;
   for (int k = 3; k <= 11; ++k) s.push_back(std::pow(10.0, -k));
   return s;
@@ -150,7 +151,6 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
   double stiffness = 0;
   for (const auto& [t, x] : visited)
     if (t <= t_end) stiffness = std::max(stiffness, spectral_radius(jac, t, x.data(), n));
-  study.stiffness = stiffness;
   const std::vector<double> steps = fixed_steps(t_end, stiffness);
   const std::string rho = "ρ = " + number(stiffness) +
                           ", the largest |eigenvalue| of the Jacobian at the reference's states every hundredth of "
@@ -162,13 +162,13 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
   else if (steps.front() < t_end / 25.0)
     study.sweep_note = "fixed steps from 2.5/ρ = " + number(steps.front()) + " (the stability bound of RK4; " + rho +
                        ") instead of the horizon / 25";
-  if (!steps.empty() && steps.size() < 8)
-    study.sweep_note +=
-        "; " + std::to_string(8 - steps.size()) + " finer steps would need " + limit + " and are left out";
+  if (!steps.empty() && steps.size() < fixed_step_count)
+    study.sweep_note += "; " + std::to_string(fixed_step_count - steps.size()) + " finer steps would need " + limit +
+                        " and are left out";
   if (progress && !study.sweep_note.empty()) *progress << "hamel: " << study.sweep_note << "\n";
   for (const std::string& name : names) {
     const IntegratorInfo& info = find_integrator(name);
-    for (double setting : sweep(info, t_end, stiffness)) {
+    for (double setting : sweep(info, steps)) {
       WorkPrecisionRun run;
       run.integrator = info.name;
       run.setting = setting;

@@ -29,8 +29,6 @@ struct WorkPrecisionStudy {
   std::string reference;  ///< how the error was measured
   double t_end = 0;       ///< the horizon studied (below the requested one when the reference could not reach it)
   std::string horizon_note;  ///< why the horizon is shorter than requested; empty when it is not
-  /// ρ: the largest |eigenvalue| of the Jacobian at x0 and at the reference's states every hundredth of the horizon.
-  double stiffness = 0;
   std::string sweep_note;  ///< how the fixed steps follow from ρ when they start below the horizon / 25; else empty
   std::vector<std::string> state_names;
   std::vector<double> x0;

@@ -53,9 +53,10 @@ void run(const ReportOptions& opt) {
   std::vector<std::string> names;
   for (const auto& q : d.system.coordinates) names.push_back(q.get_name());
   for (int I : d.equations.independent) names.push_back(d.system.velocities[static_cast<std::size_t>(I)].get_name());
-  // Default initial state: away from equilibria (coordinates 0.1 k, velocities 0.5), stated in the report.
+  // Default initial state: away from equilibria (coordinates 0.1 k, velocities 0.5), stated in the report; k / 10
+  // is the double the report prints (0.1 * 3 is not 0.3).
   for (std::size_t k = 0; k < names.size(); ++k)
-    req.x0.push_back(k < d.system.coordinates.size() ? 0.1 * static_cast<double>(k + 1) : 0.5);
+    req.x0.push_back(k < d.system.coordinates.size() ? static_cast<double>(k + 1) / 10 : 0.5);
   for (const auto& [name, v] : init) {
     const auto it = std::find(names.begin(), names.end(), name);
     if (it == names.end()) throw InputError("--init: '" + name + "' is not a state variable of " + model.name);

@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <chrono>
 #include <cmath>
 #include <ctime>
 #include <iomanip>
@@ -172,33 +173,46 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
       WorkPrecisionRun run;
       run.integrator = info.name;
       run.setting = setting;
-      // Invariants along one run (observed at every step).
+      // Invariants along one run (observed at every step): the energy when it is conserved, the constraint
+      // residual when there are constraints. The observer's own time is measured (steady clock, about 30 ns a
+      // reading against about 600 ns for a CPU-time reading here) and taken off the run's.
       double e0 = 0;
       energy_kernel.evaluate(0.0, req.x0.data(), p, in, &e0);
       runtime::DriftMonitor energy(e0);
-      double residual = 0;
+      double residual = 0, observer_s = 0;
       std::vector<double> r(d.equations.constraint_residual.size());
+      const bool observed = d.equations.conservative || constrained;
       const ObserveFunction observe = [&](double t, const double* x) {
-        double e = 0;
-        energy_kernel.evaluate(t, x, p, in, &e);
-        energy.update(e);
+        if (!observed) return;
+        const auto begin = std::chrono::steady_clock::now();
+        if (d.equations.conservative) {
+          double e = 0;
+          energy_kernel.evaluate(t, x, p, in, &e);
+          energy.update(e);
+        }
         if (constrained) {
           residual_kernel.evaluate(t, x, p, in, r.data());
           for (double v : r) residual = std::max(residual, std::fabs(v));
         }
+        observer_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - begin).count();
       };
+      const double start = cpu_seconds();
       runtime::IntegrationResult result =
           integrate(info.name, setting, rhs, jac, req.x0, 0.0, t_end, 0.0, observe, req.max_steps);
-      // CPU time: repeat the run without observer until min_cpu_s has passed, and take the mean.
-      int repeats = 0;
-      const double start = cpu_seconds();
-      double elapsed = 0;
-      do {
-        result = integrate(
-            info.name, setting, rhs, jac, req.x0, 0.0, t_end, 0.0, [](double, const double*) {}, req.max_steps);
-        ++repeats;
-        elapsed = cpu_seconds() - start;
-      } while (elapsed < req.min_cpu_s && repeats < 1000);
+      // CPU time: a run that took at least min_cpu_s (less its observer's time) is its own measurement; a shorter
+      // one is repeated without observer until min_cpu_s has passed, and the mean taken.
+      double elapsed = cpu_seconds() - start - observer_s;
+      int repeats = 1;
+      if (elapsed < req.min_cpu_s) {
+        repeats = 0;
+        const double again = cpu_seconds();
+        do {
+          result = integrate(
+              info.name, setting, rhs, jac, req.x0, 0.0, t_end, 0.0, [](double, const double*) {}, req.max_steps);
+          ++repeats;
+          elapsed = cpu_seconds() - again;
+        } while (elapsed < req.min_cpu_s && repeats < 1000);
+      }
       run.cpu_s = elapsed / repeats;
       run.status = result.status == runtime::Status::ok ? "ok" : runtime::describe(result.status);
       run.steps = result.stats.steps;
@@ -243,8 +257,11 @@ std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy
     if (!note.empty())
       s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(note[0]))) << note.substr(1) << ".";
   s << "\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
-    << ". CPU time: one run, mean of repeats, right-hand side evaluated by the kernel interpreter (the graph `hamel "
-       "emit` prints; compiled kernels are faster). Drift: max relative energy deviation along the run (nan when the "
+    << ". CPU time: one run less the time spent observing it (energy and constraint residual at "
+       "every step), or the mean of repeats without observer for runs shorter than 0.02 s; right-hand side evaluated "
+       "by "
+       "the kernel interpreter (the graph `hamel emit` prints; compiled kernels are faster). Drift: max relative "
+       "energy deviation along the run (nan when the "
        "model is not conservative).\n\n"
     << "| integrator | setting | error | CPU [s] | CPU per simulated s | steps | rhs | Jacobians | drift | constraint "
        "residual | status |\n|---|---|---|---|---|---|---|---|---|---|---|\n";

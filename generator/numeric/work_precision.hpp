@@ -41,7 +41,9 @@ struct WorkPrecisionRequest {
   std::vector<double> parameters;
   std::vector<double> inputs;
   std::vector<std::string> integrators;  ///< empty: all of rk4, dopri5, dop853, radau5
-  double min_cpu_s = 0.02;               ///< repeat a run until this much CPU time has passed, report the mean
+  /// A run shorter than this (CPU seconds, less the time its observer took) is repeated without observer until this
+  /// much CPU time has passed, and the mean reported; a longer one is its own measurement.
+  double min_cpu_s = 0.02;
   /// Step attempts per adaptive run of the sweep (beyond: status "too many steps"); 0: the integrators' own limits.
   long max_steps = 0;
   /// The reference run's budget: more than this many steps' worth of rhs evaluations within one hundredth of the

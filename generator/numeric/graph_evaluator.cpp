@@ -2,7 +2,6 @@
 
 #include "algebra/operations.hpp"
 
-#include <cmath>
 #include <unordered_map>
 
 namespace hamel {

@@ -257,12 +257,10 @@ std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy
     if (!note.empty())
       s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(note[0]))) << note.substr(1) << ".";
   s << "\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
-    << ". CPU time: one run less the time spent observing it (energy and constraint residual at "
-       "every step), or the mean of repeats without observer for runs shorter than 0.02 s; right-hand side evaluated "
-       "by "
-       "the kernel interpreter (the graph `hamel emit` prints; compiled kernels are faster). Drift: max relative "
-       "energy deviation along the run (nan when the "
-       "model is not conservative).\n\n"
+    << ". CPU time: one run less the time spent observing it (energy and constraint residual at every step), or "
+       "the mean of repeats without observer for runs shorter than 0.02 s; right-hand side evaluated by the kernel "
+       "interpreter (the graph `hamel emit` prints; compiled kernels are faster). Drift: max relative energy "
+       "deviation along the run (nan when the model is not conservative).\n\n"
     << "| integrator | setting | error | CPU [s] | CPU per simulated s | steps | rhs | Jacobians | drift | constraint "
        "residual | status |\n|---|---|---|---|---|---|---|---|---|---|---|\n";
   for (const WorkPrecisionRun& r : study.runs)

@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <random>
 #include <stdexcept>
+#include <tuple>
 
 namespace hamel {
 
@@ -517,6 +519,120 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
   progress::Step evaluating("evaluating " + std::to_string(measured.size()) + " kernels of " + model.name + " at " +
                             std::to_string(settings.points) + " points in " + std::to_string(settings.digits) +
                             " digits" + (label.empty() || label == "base" ? "" : " (" + label + ")"));
+  std::vector<numeric> P;
+  for (double v : p) P.push_back(high_precision(v));
+  // The arguments the condition numbers move (t, x, in; nonzero ones) and their steps.
+  struct Move {
+    Argument argument;
+    int index;
+    numeric value, h;
+  };
+  const auto moves_at = [&](const numeric& T, const std::vector<numeric>& X, const std::vector<numeric>& IN) {
+    std::vector<Move> moves;
+    const auto add_move = [&](Argument argument, int index, const numeric& v) {
+      if (!v.is_zero()) moves.push_back({argument, index, v, GiNaC::abs(v) * step});
+    };
+    add_move(Argument::time, 0, T);
+    for (std::size_t k = 0; k < X.size(); ++k) add_move(Argument::state, static_cast<int>(k), X[k]);
+    for (std::size_t k = 0; k < IN.size(); ++k) add_move(Argument::input, static_cast<int>(k), IN[k]);
+    return moves;
+  };
+  const auto high_precision_point = [](const Point& pt) {
+    std::vector<numeric> X, IN;
+    for (double v : pt.x) X.push_back(high_precision(v));
+    for (double v : pt.in) IN.push_back(high_precision(v));
+    return std::make_tuple(high_precision(pt.t), X, IN);
+  };
+  // Unless settings.condition_at_every_point, κ is formed after all points, and only where it can change what is
+  // reported (below): at each kernel's worst error, and for eval/cond at the points whose eval-only errors could
+  // beat the largest eval/cond.
+  const bool deferred = settings.condition && !settings.condition_at_every_point;
+  struct Candidate {  ///< a kernel's eval-only errors at a point, for eval/cond
+    int point;
+    Point pt;
+    std::vector<double> evaluation, scale;  ///< scale: max(|ref|, floor), κ's denominator
+    double largest = 0;                     ///< of evaluation: eval/cond ≤ eval-only (κ ≥ 0)
+  };
+  struct WorstPoint {
+    bool set = false;
+    Point pt;
+    std::size_t output = 0;
+    double scale = 0;
+  };
+  std::vector<std::vector<Candidate>> candidates(measured.size());
+  std::vector<WorstPoint> worst_at(measured.size());
+  // κ of kernel km's outputs at pt, on its own 50-digit graph (the same operations as the joint graph's, so the same
+  // values), moving one argument at a time until done(κ so far), a lower bound of κ, says enough; empty at a pole.
+  const auto condition_numbers = [&](Measured& km, const Point& pt, const std::vector<double>& scale,
+                                     const std::function<bool(const std::vector<double>&)>& done) {
+    const auto [T, X, IN] = high_precision_point(pt);
+    std::vector<numeric> base;
+    try {
+      base = km.slow.evaluate(T, X, P, IN);
+    } catch (const std::exception&) {
+      return std::vector<double>{};
+    }
+    std::vector<numeric> sensitivity(base.size(), numeric(0));
+    std::vector<double> kappa(base.size(), 0.0);
+    for (const Move& mv : moves_at(T, X, IN)) {
+      std::vector<numeric> moved;
+      try {
+        moved = km.slow.evaluate_moved(mv.argument, mv.index, mv.value + mv.h);
+      } catch (const std::exception&) {
+        moved.clear();
+      }
+      for (std::size_t i = 0; i < moved.size(); ++i) {
+        sensitivity[i] += GiNaC::abs(moved[i] - base[i]) / mv.h * GiNaC::abs(mv.value);
+        kappa[i] = sensitivity[i].to_double() / scale[i];
+      }
+      if (done(kappa)) break;
+    }
+    return kappa;
+  };
+  // After all points: κ at each kernel's worst error, in full, and eval/cond = max over the values of eval-only /
+  // max(1, κ). Since κ ≥ 0, a point's eval-only errors bound what it can give: the points are taken largest bound
+  // first, each only until its partial κ shows it cannot beat the largest so far, and none once the bound is below
+  // it. Ties go to the earlier point and output, as in point order. The same table as κ at every point.
+  const auto deferred_condition_numbers = [&] {
+    for (std::size_t m = 0; m < measured.size(); ++m) {
+      KernelAccuracy& acc = result[measured[m].result];
+      const WorstPoint& w = worst_at[m];
+      evaluating.detail("condition numbers of " + measured[m].kernel->name);
+      if (w.set) {
+        std::vector<double> scale(measured[m].kernel->outputs.size(), 1.0);
+        scale[w.output] = w.scale;
+        const std::vector<double> kappa =
+            condition_numbers(measured[m], w.pt, scale, [](const auto&) { return false; });
+        acc.condition_at_worst = kappa.empty() ? 0.0 : kappa[w.output];
+      }
+      std::vector<Candidate>& list = candidates[m];
+      std::stable_sort(list.begin(), list.end(),
+                       [](const Candidate& a, const Candidate& b) { return a.largest > b.largest; });
+      double best = 0;
+      std::pair<int, std::size_t> best_at{-1, 0};  // (point, output); -1: none yet
+      const auto beats = [&](double excess, int point, std::size_t i) {
+        return excess > best || (excess == best && best_at.first >= 0 && std::make_pair(point, i) < best_at);
+      };
+      for (const Candidate& c : list) {
+        if (c.largest < best) break;
+        const auto excesses = [&](const std::vector<double>& kappa, auto&& visit) {
+          for (std::size_t i = 0; i < c.evaluation.size(); ++i) visit(c.evaluation[i] / std::max(1.0, kappa[i]), i);
+        };
+        const std::vector<double> kappa = condition_numbers(measured[m], c.pt, c.scale, [&](const auto& partial) {
+          bool open = false;
+          excesses(partial, [&](double excess, std::size_t i) { open = open || beats(excess, c.point, i); });
+          return !open;
+        });
+        if (kappa.empty()) continue;
+        excesses(kappa, [&](double excess, std::size_t i) {
+          if (beats(excess, c.point, i)) best = excess, best_at = {c.point, i};
+        });
+      }
+      acc.worst_excess = best;
+      acc.worst_excess_output = best_at.first >= 0 ? measured[m].kernel->output_names[best_at.second] : "";
+    }
+  };
+
   for (int point = 0; point < settings.points; ++point) {
     evaluating.detail("point " + std::to_string(point + 1) + " of " + std::to_string(settings.points));
     const Point pt = sample();
@@ -530,11 +646,7 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
     for (std::size_t k = 0; k < model.inputs.size(); ++k) values[model.inputs[k]] = exact_rational(pt.in[k]);
     exact.assign(values);
     const double* in = pt.in.empty() ? nullptr : pt.in.data();
-    numeric T = high_precision(pt.t);
-    std::vector<numeric> X, P, IN;
-    for (double v : pt.x) X.push_back(high_precision(v));
-    for (double v : p) P.push_back(high_precision(v));
-    for (double v : pt.in) IN.push_back(high_precision(v));
+    const auto [T, X, IN] = high_precision_point(pt);
 
     // The accelerations in 50 digits, shared by rhs and jacobian.
     std::vector<numeric> accel;
@@ -551,20 +663,7 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       return accel;
     };
 
-    // The arguments the condition numbers move (t, x, in; nonzero ones), their steps, and the joint graph's
-    // outputs at the point and with each moved. A pole anywhere in it: every kernel on its own (below).
-    struct Move {
-      Argument argument;
-      int index;
-      numeric value, h;
-    };
-    std::vector<Move> moves;
-    const auto add_move = [&](Argument argument, int index, const numeric& v) {
-      if (!v.is_zero()) moves.push_back({argument, index, v, GiNaC::abs(v) * step});
-    };
-    add_move(Argument::time, 0, T);
-    for (std::size_t k = 0; k < X.size(); ++k) add_move(Argument::state, static_cast<int>(k), X[k]);
-    for (std::size_t k = 0; k < IN.size(); ++k) add_move(Argument::input, static_cast<int>(k), IN[k]);
+    // The joint graph's outputs at the point. A pole anywhere in it: every kernel on its own (below).
     std::vector<numeric> joint_base;
     try {
       joint_base = joint.evaluate(T, X, P, IN);
@@ -572,20 +671,14 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       joint_base.clear();
     }
 
-    // First every kernel's errors at the point. A condition number only matters where it can change what is
-    // reported: for an output whose error sets a new worst (its condition is reported with it), or whose
-    // eval-only error exceeds the largest eval/cond so far (eval/cond ≤ eval-only). At other points the moved
-    // evaluations, most of the work, are skipped; the results are the same as with them.
+    // First every kernel's errors at the point.
     struct Errors {
       Measured* km = nullptr;
       std::size_t m = 0;  ///< position in `measured` (and `first`)
       std::vector<numeric> ref, graph50;
       std::vector<double> computed, ulps, evaluation;
       double floor = 0;
-      bool own_graph = false;  ///< graph50 from the kernel's own evaluator (a pole in the joint graph)
-      bool new_worst = false;  ///< an output's error beats the worst so far: its κ is reported, all of it is needed
-      bool needs_condition = false;
-      std::vector<numeric> sensitivity;  ///< Σ over the moved arguments so far (below)
+      std::vector<double> scale;  ///< max(|ref|, floor): κ's denominators
     };
     std::vector<Errors> errors;
     for (std::size_t m = 0; m < measured.size(); ++m) {
@@ -638,7 +731,6 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
         const auto begin = joint_base.begin() + static_cast<std::ptrdiff_t>(first[m]);
         e.graph50.assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
       } else {
-        e.own_graph = true;
         try {
           e.graph50 = km.slow.evaluate(T, X, P, IN);
         } catch (const std::exception&) {
@@ -661,87 +753,21 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
       for (std::size_t i = 0; i < outputs; ++i) {
         const double ulps = ulp_error(e.computed[i], e.ref[i], e.floor);
         e.ulps.push_back(ulps);
-        if (ulps > acc.worst_ulps || (std::isinf(ulps) && !std::isinf(acc.worst_ulps))) e.new_worst = true;
-        if (!e.graph50.empty()) {
-          e.evaluation.push_back(ulp_error(e.computed[i], e.graph50[i], e.floor));
-          if (e.evaluation.back() > acc.worst_excess) e.needs_condition = true;
-        }
+        if (!e.graph50.empty()) e.evaluation.push_back(ulp_error(e.computed[i], e.graph50[i], e.floor));
+        e.scale.push_back(std::max(GiNaC::abs(e.ref[i]).to_double(), e.floor));
       }
-      e.new_worst = e.new_worst || settings.condition_at_every_point;
-      e.needs_condition = (e.needs_condition || e.new_worst) && settings.condition && !e.graph50.empty();
-      e.sensitivity.assign(e.needs_condition ? outputs : 0, numeric(0));
       errors.push_back(std::move(e));
-    }
-
-    // κ_i = Σ_k |∂f_i/∂a_k| |a_k| / max(|f_i|, floor) over the arguments a = (t, x, in), by forward differences of
-    // the 50-digit graph with relative steps of 1e-25 (exact to about 20 digits), one moved argument at a time: the
-    // joint graph once for all kernels that need it, a kernel's own graph after a pole in the joint one. A kernel
-    // with a new worst error needs every argument (its κ is reported). One that needs κ only for eval/cond is done
-    // as soon as the partial sum, a lower bound of κ, shows that none of its eval/cond beats the largest so far;
-    // its κ then stays partial, which changes nothing reported.
-    const auto condition_of = [&](const Errors& e, std::size_t i) {
-      return e.sensitivity[i].to_double() / std::max(GiNaC::abs(e.ref[i]).to_double(), e.floor);
-    };
-    const auto settled = [&](const Errors& e) {
-      if (e.new_worst) return false;
-      const double largest = result[e.km->result].worst_excess;
-      for (std::size_t i = 0; i < e.evaluation.size(); ++i)
-        if (e.evaluation[i] / std::max(1.0, condition_of(e, i)) > largest) return false;
-      return true;
-    };
-    std::vector<char> active(errors.size());
-    for (std::size_t k = 0; k < errors.size(); ++k) active[k] = errors[k].needs_condition;
-    bool joint_usable = !joint_base.empty();
-    for (std::size_t a = 0; a < moves.size(); ++a) {
-      if (std::none_of(active.begin(), active.end(), [](char c) { return c != 0; })) break;
-      const Move& mv = moves[a];
-      std::vector<numeric> joint_moved;
-      bool joint_wanted = false;
-      for (std::size_t k = 0; k < errors.size(); ++k)
-        joint_wanted = joint_wanted || (active[k] && !errors[k].own_graph);
-      if (joint_wanted && joint_usable) {
-        try {
-          joint_moved = joint.evaluate_moved(mv.argument, mv.index, mv.value + mv.h);
-        } catch (const std::exception&) {
-          joint_usable = false;
-        }
-      }
-      for (std::size_t k = 0; k < errors.size(); ++k) {
-        Errors& e = errors[k];
-        if (!active[k]) continue;
-        const std::size_t outputs = e.ref.size();
-        std::vector<numeric> moved;
-        if (!e.own_graph && joint_usable) {
-          const auto begin = joint_moved.begin() + static_cast<std::ptrdiff_t>(first[e.m]);
-          moved.assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
-        } else {
-          if (!e.own_graph) {  // the joint graph has a pole here: from now on the kernel's own graph
-            e.own_graph = true;
-            try {
-              e.km->slow.evaluate(T, X, P, IN);  // the base that evaluate_moved moves from
-            } catch (const std::exception&) {
-              active[k] = 0;
-              continue;
-            }
-          }
-          try {
-            moved = e.km->slow.evaluate_moved(mv.argument, mv.index, mv.value + mv.h);
-          } catch (const std::exception&) {
-            moved.clear();
-          }
-        }
-        for (std::size_t i = 0; i < moved.size(); ++i)
-          e.sensitivity[i] += GiNaC::abs(moved[i] - e.graph50[i]) / mv.h * GiNaC::abs(mv.value);
-        if (settled(e)) active[k] = 0;
-      }
     }
 
     for (Errors& e : errors) {
       Measured& km = *e.km;
       KernelAccuracy& acc = result[km.result];
       const std::size_t outputs = e.ref.size();
+      // κ at every point (for the test of the deferred κ below): all arguments moved.
       std::vector<double> condition(outputs, 0.0);
-      for (std::size_t i = 0; i < e.sensitivity.size(); ++i) condition[i] = condition_of(e, i);
+      if (settings.condition && !deferred && !e.graph50.empty())
+        condition = condition_numbers(km, pt, e.scale, [](const auto&) { return false; });
+      if (condition.empty()) condition.assign(outputs, 0.0);
 
       ++acc.points;
       for (std::size_t i = 0; i < outputs; ++i) {
@@ -756,20 +782,27 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
           acc.worst_state = pt.x;
           acc.worst_double = e.computed[i];
           acc.worst_reference = e.ref[i].to_double();
-          acc.condition_at_worst = condition[i];
+          acc.condition_at_worst = condition[i];  // 0 here when deferred (below)
+          worst_at[e.m] = {true, pt, i, e.scale[i]};
         }
         if (!e.graph50.empty()) {
           const double ev = e.evaluation[i];
           acc.worst_evaluation_ulps = std::max(acc.worst_evaluation_ulps, ev);
           const double excess = ev / std::max(1.0, condition[i]);
-          if (settings.condition && excess > acc.worst_excess) {
+          if (settings.condition && !deferred && excess > acc.worst_excess) {
             acc.worst_excess = excess;
             acc.worst_excess_output = km.kernel->output_names[i];
           }
         }
       }
+      if (deferred && !e.graph50.empty()) {
+        Candidate c{point, pt, e.evaluation, e.scale, 0};
+        for (double ev : e.evaluation) c.largest = std::max(c.largest, ev);
+        candidates[e.m].push_back(std::move(c));
+      }
     }
   }
+  if (deferred) deferred_condition_numbers();
   return result;
 }
 

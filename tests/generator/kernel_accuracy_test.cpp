@@ -214,9 +214,10 @@ void expect_accurate(const Measured& m, const char* model) {
   }
 }
 
-// Condition numbers are formed only at points where they can change the report (a regression guard of that
-// shortcut): the same tables as with κ at every point, field for field, on a model whose kernels have poles
-// (the rolling ball's 1/cos θ) and one with inputs and a floating base.
+// Condition numbers are formed after all points, only where they can change the report (the worst errors, and
+// eval/cond at the points whose eval-only errors could beat the largest, largest first): a regression guard of
+// that shortcut, the same tables as with κ formed at every point in the point loop, field for field, on a model
+// whose kernels have poles (the rolling ball's 1/cos θ) and one with inputs and a floating base.
 TEST(KernelAccuracy, ConditionNumbersOnlyWhereTheyMatterGiveTheSameReport) {
   for (const char* file : {"rolling_ball.yaml", "planar_space_robot.yaml"}) {
     SCOPED_TRACE(file);

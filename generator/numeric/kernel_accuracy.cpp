@@ -8,9 +8,9 @@
 #include <cmath>
 #include <functional>
 #include <limits>
+#include <memory>
 #include <random>
 #include <stdexcept>
-#include <tuple>
 
 namespace hamel {
 
@@ -428,130 +428,44 @@ struct Point {
   std::vector<double> x, in;
 };
 
-}  // namespace
-
-std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const Derivation& derivation,
-                                                    const KernelSet& kernels, const std::vector<double>& p,
-                                                    const AccuracySettings& settings, const std::string& label) {
-  const HamelEquations& eq = derivation.equations;
-  const HamelSystem& sys = derivation.system;
-  const ReferenceSet refs = [&] {
-    progress::Step step("forming the 50-digit references of " + model.name + " (the jacobian's by the chain rule)");
-    return references(model, derivation);
-  }();
-  const std::size_t n = refs.n, d = refs.d, nx = refs.nx;
-  if (p.size() != model.parameters.size()) throw std::logic_error("measure_kernel_accuracy: wrong parameter count");
-
-  // State and input names, for pinned values and reports.
-  std::vector<std::string> state_names;
-  for (const auto& q : sys.coordinates) state_names.push_back(q.get_name());
-  for (int I : eq.independent) state_names.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
-  for (const auto& [name, v] : settings.fixed) {
-    bool known = name == "t";
-    for (const auto& s : state_names) known = known || s == name;
-    for (const auto& u : model.inputs) known = known || u.get_name() == name;
-    if (!known) throw std::invalid_argument("'" + name + "' is not a state variable, input or t of the model");
-    (void)v;
+// A point's arguments in high precision.
+struct HighPrecisionPoint {
+  numeric t;
+  std::vector<numeric> x, in;
+  explicit HighPrecisionPoint(const Point& pt) : t(high_precision(pt.t)) {
+    for (double v : pt.x) x.push_back(high_precision(v));
+    for (double v : pt.in) in.push_back(high_precision(v));
   }
+};
 
-  std::mt19937_64 rng(settings.seed);
-  std::uniform_real_distribution<double> unit(-1.0, 1.0);
-  const auto sample = [&]() {
-    Point pt;
-    pt.t = 0.5 * (1 + unit(rng));
-    pt.x.resize(nx);
-    for (std::size_t k = 0; k < nx; ++k)
-      pt.x[k] = unit(rng) * (k < n ? settings.coordinate_range : settings.velocity_range);
-    pt.in.resize(model.inputs.size());
-    for (double& v : pt.in) v = unit(rng) * settings.velocity_range;
-    for (std::size_t k = 0; k < nx; ++k)
-      if (auto it = settings.fixed.find(state_names[k]); it != settings.fixed.end()) pt.x[k] = it->second;
-    for (std::size_t k = 0; k < model.inputs.size(); ++k)
-      if (auto it = settings.fixed.find(model.inputs[k].get_name()); it != settings.fixed.end()) pt.in[k] = it->second;
-    if (auto it = settings.fixed.find("t"); it != settings.fixed.end()) pt.t = it->second;
-    return pt;
-  };
+// One measurement (measure_kernel_accuracy): the references, the kernels measured, and what is kept across points.
+class AccuracyRun {
+ public:
+  AccuracyRun(const Model& model, const Derivation& derivation, const KernelSet& kernels, const std::vector<double>& p,
+              const AccuracySettings& settings, const std::string& label);
+  std::vector<KernelAccuracy> run();
 
+ private:
   struct Measured {
     const Kernel* kernel;
     const ReferenceSet::Entry* ref;
     GraphEvaluator fast;
     HighPrecisionGraphEvaluator slow;
-    std::size_t result;  ///< index into `result`
+    std::size_t result;  ///< index into `result_`
   };
-  std::vector<Measured> measured;
-  std::vector<KernelAccuracy> result;
-  for (const Kernel& k : kernels.kernels) {
-    KernelAccuracy a;
-    a.kernel = k.name;
-    a.outputs = k.outputs.size();
-    auto it = refs.kernels.find(k.name);
-    if (it == refs.kernels.end()) {  // a kernel this module does not know yet: reported, not measured
-      a.has_reference = false;
-      result.push_back(a);
-      continue;
-    }
-    const std::size_t want = it->second.kind == ReferenceSet::Kind::direct ? it->second.expressions.size()
-                             : it->second.kind == ReferenceSet::Kind::rhs  ? n + d
-                                                                           : nx * nx;
-    if (want != k.outputs.size())
-      throw std::logic_error("kernel accuracy: reference of " + k.name + " has " + std::to_string(want) +
-                             " entries, the kernel " + std::to_string(k.outputs.size()));
-    measured.push_back({&k, &it->second, GraphEvaluator(kernels.graph, k.outputs),
-                        HighPrecisionGraphEvaluator(kernels.graph, k.outputs, settings.digits), result.size()});
-    result.push_back(a);
-  }
-
-  // The 50-digit graph of every measured kernel at once: kernels share most of their nodes (the jacobian holds
-  // the rhs), so one evaluation per point and moved argument serves all; `first` is each kernel's first output.
-  std::vector<int> all_outputs;
-  std::vector<std::size_t> first;
-  for (const Measured& km : measured) {
-    first.push_back(all_outputs.size());
-    all_outputs.insert(all_outputs.end(), km.kernel->outputs.begin(), km.kernel->outputs.end());
-  }
-  HighPrecisionGraphEvaluator joint(kernels.graph, all_outputs, settings.digits);
-
-  HighPrecisionExpressionEvaluator exact(settings.digits);
-  exact.define(refs.intermediates);
-  const DigitsGuard digits(settings.digits);
-  const numeric step = GiNaC::pow(numeric(10), numeric(-(settings.digits / 2)));
-  progress::Step evaluating("evaluating " + std::to_string(measured.size()) + " kernels of " + model.name + " at " +
-                            std::to_string(settings.points) + " points in " + std::to_string(settings.digits) +
-                            " digits" + (label.empty() || label == "base" ? "" : " (" + label + ")"));
-  std::vector<numeric> P;
-  for (double v : p) P.push_back(high_precision(v));
-  // The arguments the condition numbers move (t, x, in; nonzero ones) and their steps.
-  struct Move {
-    Argument argument;
-    int index;
-    numeric value, h;
+  // A kernel's errors at one point.
+  struct Errors {
+    std::size_t m = 0;  ///< position in `measured_` (and `first_`)
+    std::vector<numeric> ref, graph50;
+    std::vector<double> computed, ulps, evaluation;
+    double floor = 0;
+    std::vector<double> scale;  ///< max(|ref|, floor): κ's denominators
   };
-  const auto moves_at = [&](const numeric& T, const std::vector<numeric>& X, const std::vector<numeric>& IN) {
-    std::vector<Move> moves;
-    const auto add_move = [&](Argument argument, int index, const numeric& v) {
-      if (!v.is_zero()) moves.push_back({argument, index, v, GiNaC::abs(v) * step});
-    };
-    add_move(Argument::time, 0, T);
-    for (std::size_t k = 0; k < X.size(); ++k) add_move(Argument::state, static_cast<int>(k), X[k]);
-    for (std::size_t k = 0; k < IN.size(); ++k) add_move(Argument::input, static_cast<int>(k), IN[k]);
-    return moves;
-  };
-  const auto high_precision_point = [](const Point& pt) {
-    std::vector<numeric> X, IN;
-    for (double v : pt.x) X.push_back(high_precision(v));
-    for (double v : pt.in) IN.push_back(high_precision(v));
-    return std::make_tuple(high_precision(pt.t), X, IN);
-  };
-  // Unless settings.condition_at_every_point, κ is formed after all points, and only where it can change what is
-  // reported (below): at each kernel's worst error, and for eval/cond at the points whose eval-only errors could
-  // beat the largest eval/cond.
-  const bool deferred = settings.condition && !settings.condition_at_every_point;
   struct Candidate {  ///< a kernel's eval-only errors at a point, for eval/cond
     int point;
     Point pt;
-    std::vector<double> evaluation, scale;  ///< scale: max(|ref|, floor), κ's denominator
-    double largest = 0;                     ///< of evaluation: eval/cond ≤ eval-only (κ ≥ 0)
+    std::vector<double> evaluation, scale;
+    double largest = 0;  ///< of evaluation: eval/cond ≤ eval-only (κ ≥ 0)
   };
   struct WorstPoint {
     bool set = false;
@@ -559,251 +473,392 @@ std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const De
     std::size_t output = 0;
     double scale = 0;
   };
-  std::vector<std::vector<Candidate>> candidates(measured.size());
-  std::vector<WorstPoint> worst_at(measured.size());
-  // κ of kernel km's outputs at pt, on its own 50-digit graph (the same operations as the joint graph's, so the same
-  // values), moving one argument at a time until done(κ so far), a lower bound of κ, says enough; empty at a pole.
-  const auto condition_numbers = [&](Measured& km, const Point& pt, const std::vector<double>& scale,
-                                     const std::function<bool(const std::vector<double>&)>& done) {
-    const auto [T, X, IN] = high_precision_point(pt);
-    std::vector<numeric> base;
+
+  Point sample();
+  std::vector<Errors> errors_at(const Point& pt);
+  void record(int point, const Point& pt, const Errors& e);
+  std::vector<double> condition_numbers(Measured& km, const Point& pt, const std::vector<double>& scale,
+                                        const std::function<bool(const std::vector<double>&)>& done);
+  void deferred_condition_numbers();
+
+  const Model& model_;
+  const HamelEquations& eq_;
+  const HamelSystem& sys_;
+  const std::vector<double>& p_;
+  const AccuracySettings& settings_;
+  const std::string& label_;
+  const ReferenceSet refs_;
+  const std::size_t n_, d_, nx_;
+  std::vector<std::string> state_names_;
+  std::mt19937_64 rng_;
+  std::uniform_real_distribution<double> unit_{-1.0, 1.0};
+  std::vector<Measured> measured_;
+  std::vector<KernelAccuracy> result_;
+  // The 50-digit graph of every measured kernel at once: kernels share most of their nodes (the jacobian holds the
+  // rhs), so one evaluation per point serves all; `first_` is each kernel's first output.
+  std::vector<std::size_t> first_;
+  std::unique_ptr<HighPrecisionGraphEvaluator> joint_;
+  HighPrecisionExpressionEvaluator exact_;
+  DigitsGuard digits_;
+  numeric step_;
+  std::vector<numeric> P_;
+  // Unless settings.condition_at_every_point, κ is formed after all points, and only where it can change what is
+  // reported: at each kernel's worst error, and for eval/cond at the points whose eval-only errors could beat the
+  // largest eval/cond (deferred_condition_numbers).
+  bool deferred_;
+  std::vector<std::vector<Candidate>> candidates_;
+  std::vector<WorstPoint> worst_at_;
+};
+
+AccuracyRun::AccuracyRun(const Model& model, const Derivation& derivation, const KernelSet& kernels,
+                         const std::vector<double>& p, const AccuracySettings& settings, const std::string& label)
+    : model_(model),
+      eq_(derivation.equations),
+      sys_(derivation.system),
+      p_(p),
+      settings_(settings),
+      label_(label),
+      refs_([&] {
+        progress::Step step("forming the 50-digit references of " + model.name + " (the jacobian's by the chain rule)");
+        return references(model, derivation);
+      }()),
+      n_(refs_.n),
+      d_(refs_.d),
+      nx_(refs_.nx),
+      rng_(settings.seed),
+      exact_(settings.digits),
+      digits_(settings.digits),
+      deferred_(settings.condition && !settings.condition_at_every_point) {
+  if (p.size() != model.parameters.size()) throw std::logic_error("measure_kernel_accuracy: wrong parameter count");
+
+  // State and input names, for pinned values and reports.
+  for (const auto& q : sys_.coordinates) state_names_.push_back(q.get_name());
+  for (int I : eq_.independent) state_names_.push_back(sys_.velocities[static_cast<std::size_t>(I)].get_name());
+  for (const auto& [name, v] : settings.fixed) {
+    bool known = name == "t";
+    for (const auto& s : state_names_) known = known || s == name;
+    for (const auto& u : model.inputs) known = known || u.get_name() == name;
+    if (!known) throw std::invalid_argument("'" + name + "' is not a state variable, input or t of the model");
+    (void)v;
+  }
+
+  for (const Kernel& k : kernels.kernels) {
+    KernelAccuracy a;
+    a.kernel = k.name;
+    a.outputs = k.outputs.size();
+    auto it = refs_.kernels.find(k.name);
+    if (it == refs_.kernels.end()) {  // a kernel this module does not know yet: reported, not measured
+      a.has_reference = false;
+      result_.push_back(a);
+      continue;
+    }
+    const std::size_t want = it->second.kind == ReferenceSet::Kind::direct ? it->second.expressions.size()
+                             : it->second.kind == ReferenceSet::Kind::rhs  ? n_ + d_
+                                                                           : nx_ * nx_;
+    if (want != k.outputs.size())
+      throw std::logic_error("kernel accuracy: reference of " + k.name + " has " + std::to_string(want) +
+                             " entries, the kernel " + std::to_string(k.outputs.size()));
+    measured_.push_back({&k, &it->second, GraphEvaluator(kernels.graph, k.outputs),
+                         HighPrecisionGraphEvaluator(kernels.graph, k.outputs, settings.digits), result_.size()});
+    result_.push_back(a);
+  }
+  std::vector<int> all_outputs;
+  for (const Measured& km : measured_) {
+    first_.push_back(all_outputs.size());
+    all_outputs.insert(all_outputs.end(), km.kernel->outputs.begin(), km.kernel->outputs.end());
+  }
+  joint_ = std::make_unique<HighPrecisionGraphEvaluator>(kernels.graph, all_outputs, settings.digits);
+  exact_.define(refs_.intermediates);
+  step_ = GiNaC::pow(numeric(10), numeric(-(settings.digits / 2)));
+  for (double v : p) P_.push_back(high_precision(v));
+  candidates_.resize(measured_.size());
+  worst_at_.resize(measured_.size());
+}
+
+Point AccuracyRun::sample() {
+  Point pt;
+  pt.t = 0.5 * (1 + unit_(rng_));
+  pt.x.resize(nx_);
+  for (std::size_t k = 0; k < nx_; ++k)
+    pt.x[k] = unit_(rng_) * (k < n_ ? settings_.coordinate_range : settings_.velocity_range);
+  pt.in.resize(model_.inputs.size());
+  for (double& v : pt.in) v = unit_(rng_) * settings_.velocity_range;
+  for (std::size_t k = 0; k < nx_; ++k)
+    if (auto it = settings_.fixed.find(state_names_[k]); it != settings_.fixed.end()) pt.x[k] = it->second;
+  for (std::size_t k = 0; k < model_.inputs.size(); ++k)
+    if (auto it = settings_.fixed.find(model_.inputs[k].get_name()); it != settings_.fixed.end()) pt.in[k] = it->second;
+  if (auto it = settings_.fixed.find("t"); it != settings_.fixed.end()) pt.t = it->second;
+  return pt;
+}
+
+std::vector<AccuracyRun::Errors> AccuracyRun::errors_at(const Point& pt) {
+  const std::size_t n = n_, d = d_, nx = nx_;
+  std::map<ex, numeric, GiNaC::ex_is_less> values;
+  values[model_.time] = exact_rational(pt.t);
+  for (std::size_t a = 0; a < n; ++a) values[sys_.coordinates[a]] = exact_rational(pt.x[a]);
+  for (std::size_t i = 0; i < d; ++i)
+    values[sys_.velocities[static_cast<std::size_t>(eq_.independent[i])]] = exact_rational(pt.x[n + i]);
+  for (int alpha : sys_.constrained) values[sys_.velocities[static_cast<std::size_t>(alpha)]] = 0;
+  for (std::size_t k = 0; k < model_.parameters.size(); ++k)
+    values[model_.parameters[k].symbol] = exact_rational(p_[k]);
+  for (std::size_t k = 0; k < model_.inputs.size(); ++k) values[model_.inputs[k]] = exact_rational(pt.in[k]);
+  exact_.assign(values);
+  const double* in = pt.in.empty() ? nullptr : pt.in.data();
+  const HighPrecisionPoint hp(pt);
+
+  // The accelerations in 50 digits, shared by rhs and jacobian.
+  std::vector<numeric> accel;
+  std::vector<std::vector<numeric>> M(d, std::vector<numeric>(d));
+  const auto accelerations = [&]() -> const std::vector<numeric>& {
+    if (accel.empty() && d > 0) {
+      std::vector<numeric> f(d);
+      for (std::size_t i = 0; i < d; ++i) {
+        f[i] = exact_.value(refs_.forcing[i]);
+        for (std::size_t j = 0; j < d; ++j) M[i][j] = exact_.value(refs_.mass[i][j]);
+      }
+      accel = solve(M, f);
+    }
+    return accel;
+  };
+
+  // The joint graph's outputs at the point. A pole anywhere in it: every kernel on its own (below).
+  std::vector<numeric> joint_base;
+  try {
+    joint_base = joint_->evaluate(hp.t, hp.x, P_, hp.in);
+  } catch (const std::exception&) {
+    joint_base.clear();
+  }
+
+  std::vector<Errors> errors;
+  for (std::size_t m = 0; m < measured_.size(); ++m) {
+    Measured& km = measured_[m];
+    KernelAccuracy& acc = result_[km.result];
+    const std::size_t outputs = km.kernel->outputs.size();
+    if (outputs == 0) continue;
+    std::vector<numeric> ref(outputs);
     try {
-      base = km.slow.evaluate(T, X, P, IN);
-    } catch (const std::exception&) {
-      return std::vector<double>{};
-    }
-    std::vector<numeric> sensitivity(base.size(), numeric(0));
-    std::vector<double> kappa(base.size(), 0.0);
-    for (const Move& mv : moves_at(T, X, IN)) {
-      std::vector<numeric> moved;
-      try {
-        moved = km.slow.evaluate_moved(mv.argument, mv.index, mv.value + mv.h);
-      } catch (const std::exception&) {
-        moved.clear();
-      }
-      for (std::size_t i = 0; i < moved.size(); ++i) {
-        sensitivity[i] += GiNaC::abs(moved[i] - base[i]) / mv.h * GiNaC::abs(mv.value);
-        kappa[i] = sensitivity[i].to_double() / scale[i];
-      }
-      if (done(kappa)) break;
-    }
-    return kappa;
-  };
-  // After all points: κ at each kernel's worst error, in full, and eval/cond = max over the values of eval-only /
-  // max(1, κ). Since κ ≥ 0, a point's eval-only errors bound what it can give: the points are taken largest bound
-  // first, each only until its partial κ shows it cannot beat the largest so far, and none once the bound is below
-  // it. Ties go to the earlier point and output, as in point order. The same table as κ at every point.
-  const auto deferred_condition_numbers = [&] {
-    for (std::size_t m = 0; m < measured.size(); ++m) {
-      KernelAccuracy& acc = result[measured[m].result];
-      const WorstPoint& w = worst_at[m];
-      evaluating.detail("condition numbers of " + measured[m].kernel->name);
-      if (w.set) {
-        std::vector<double> scale(measured[m].kernel->outputs.size(), 1.0);
-        scale[w.output] = w.scale;
-        const std::vector<double> kappa =
-            condition_numbers(measured[m], w.pt, scale, [](const auto&) { return false; });
-        acc.condition_at_worst = kappa.empty() ? 0.0 : kappa[w.output];
-      }
-      std::vector<Candidate>& list = candidates[m];
-      std::stable_sort(list.begin(), list.end(),
-                       [](const Candidate& a, const Candidate& b) { return a.largest > b.largest; });
-      double best = 0;
-      std::pair<int, std::size_t> best_at{-1, 0};  // (point, output); -1: none yet
-      const auto beats = [&](double excess, int point, std::size_t i) {
-        return excess > best || (excess == best && best_at.first >= 0 && std::make_pair(point, i) < best_at);
-      };
-      for (const Candidate& c : list) {
-        if (c.largest < best) break;
-        const auto excesses = [&](const std::vector<double>& kappa, auto&& visit) {
-          for (std::size_t i = 0; i < c.evaluation.size(); ++i) visit(c.evaluation[i] / std::max(1.0, kappa[i]), i);
-        };
-        const std::vector<double> kappa = condition_numbers(measured[m], c.pt, c.scale, [&](const auto& partial) {
-          bool open = false;
-          excesses(partial, [&](double excess, std::size_t i) { open = open || beats(excess, c.point, i); });
-          return !open;
-        });
-        if (kappa.empty()) continue;
-        excesses(kappa, [&](double excess, std::size_t i) {
-          if (beats(excess, c.point, i)) best = excess, best_at = {c.point, i};
-        });
-      }
-      acc.worst_excess = best;
-      acc.worst_excess_output = best_at.first >= 0 ? measured[m].kernel->output_names[best_at.second] : "";
-    }
-  };
-
-  for (int point = 0; point < settings.points; ++point) {
-    evaluating.detail("point " + std::to_string(point + 1) + " of " + std::to_string(settings.points));
-    const Point pt = sample();
-    std::map<ex, numeric, GiNaC::ex_is_less> values;
-    values[model.time] = exact_rational(pt.t);
-    for (std::size_t a = 0; a < n; ++a) values[sys.coordinates[a]] = exact_rational(pt.x[a]);
-    for (std::size_t i = 0; i < d; ++i)
-      values[sys.velocities[static_cast<std::size_t>(eq.independent[i])]] = exact_rational(pt.x[n + i]);
-    for (int alpha : sys.constrained) values[sys.velocities[static_cast<std::size_t>(alpha)]] = 0;
-    for (std::size_t k = 0; k < model.parameters.size(); ++k) values[model.parameters[k].symbol] = exact_rational(p[k]);
-    for (std::size_t k = 0; k < model.inputs.size(); ++k) values[model.inputs[k]] = exact_rational(pt.in[k]);
-    exact.assign(values);
-    const double* in = pt.in.empty() ? nullptr : pt.in.data();
-    const auto [T, X, IN] = high_precision_point(pt);
-
-    // The accelerations in 50 digits, shared by rhs and jacobian.
-    std::vector<numeric> accel;
-    std::vector<std::vector<numeric>> M(d, std::vector<numeric>(d));
-    const auto accelerations = [&]() -> const std::vector<numeric>& {
-      if (accel.empty() && d > 0) {
-        std::vector<numeric> f(d);
-        for (std::size_t i = 0; i < d; ++i) {
-          f[i] = exact.value(refs.forcing[i]);
-          for (std::size_t j = 0; j < d; ++j) M[i][j] = exact.value(refs.mass[i][j]);
+      switch (km.ref->kind) {
+        case ReferenceSet::Kind::direct:
+          for (std::size_t i = 0; i < outputs; ++i) ref[i] = exact_.value(km.ref->expressions[i]);
+          break;
+        case ReferenceSet::Kind::rhs: {
+          for (std::size_t a = 0; a < n; ++a) ref[a] = exact_.value(refs_.kinematics[a]);
+          const std::vector<numeric>& u = accelerations();
+          for (std::size_t i = 0; i < d; ++i) ref[n + i] = u[i];
+          break;
         }
-        accel = solve(M, f);
-      }
-      return accel;
-    };
-
-    // The joint graph's outputs at the point. A pole anywhere in it: every kernel on its own (below).
-    std::vector<numeric> joint_base;
-    try {
-      joint_base = joint.evaluate(T, X, P, IN);
-    } catch (const std::exception&) {
-      joint_base.clear();
-    }
-
-    // First every kernel's errors at the point.
-    struct Errors {
-      Measured* km = nullptr;
-      std::size_t m = 0;  ///< position in `measured` (and `first`)
-      std::vector<numeric> ref, graph50;
-      std::vector<double> computed, ulps, evaluation;
-      double floor = 0;
-      std::vector<double> scale;  ///< max(|ref|, floor): κ's denominators
-    };
-    std::vector<Errors> errors;
-    for (std::size_t m = 0; m < measured.size(); ++m) {
-      Measured& km = measured[m];
-      KernelAccuracy& acc = result[km.result];
-      const std::size_t outputs = km.kernel->outputs.size();
-      if (outputs == 0) continue;
-      std::vector<numeric> ref(outputs);
-      try {
-        switch (km.ref->kind) {
-          case ReferenceSet::Kind::direct:
-            for (std::size_t i = 0; i < outputs; ++i) ref[i] = exact.value(km.ref->expressions[i]);
-            break;
-          case ReferenceSet::Kind::rhs: {
-            for (std::size_t a = 0; a < n; ++a) ref[a] = exact.value(refs.kinematics[a]);
-            const std::vector<numeric>& u = accelerations();
-            for (std::size_t i = 0; i < d; ++i) ref[n + i] = u[i];
-            break;
-          }
-          case ReferenceSet::Kind::jacobian: {
-            const std::vector<numeric>& u = accelerations();
-            for (std::size_t k = 0; k < nx; ++k) {
-              for (std::size_t a = 0; a < n; ++a) ref[a * nx + k] = exact.value(refs.kinematics_by_x[k][a]);
-              std::vector<numeric> b(d);
-              for (std::size_t i = 0; i < d; ++i) {
-                b[i] = exact.value(refs.forcing_by_x[k][i]);
-                for (std::size_t j = 0; j < d; ++j) b[i] -= exact.value(refs.mass_by_x[k][i][j]) * u[j];
-              }
-              const std::vector<numeric> du = d > 0 ? solve(M, b) : std::vector<numeric>{};
-              for (std::size_t i = 0; i < d; ++i) ref[(n + i) * nx + k] = du[i];
+        case ReferenceSet::Kind::jacobian: {
+          const std::vector<numeric>& u = accelerations();
+          for (std::size_t k = 0; k < nx; ++k) {
+            for (std::size_t a = 0; a < n; ++a) ref[a * nx + k] = exact_.value(refs_.kinematics_by_x[k][a]);
+            std::vector<numeric> b(d);
+            for (std::size_t i = 0; i < d; ++i) {
+              b[i] = exact_.value(refs_.forcing_by_x[k][i]);
+              for (std::size_t j = 0; j < d; ++j) b[i] -= exact_.value(refs_.mass_by_x[k][i][j]) * u[j];
             }
-            break;
+            const std::vector<numeric> du = d > 0 ? solve(M, b) : std::vector<numeric>{};
+            for (std::size_t i = 0; i < d; ++i) ref[(n + i) * nx + k] = du[i];
           }
-        }
-      } catch (const std::domain_error&) {
-        ++acc.skipped;
-        continue;
-      } catch (const std::runtime_error&) {  // CLN: division by an inexact zero
-        ++acc.skipped;
-        continue;
-      }
-      Errors e;
-      e.km = &km;
-      e.m = m;
-      e.ref = std::move(ref);
-      e.computed.resize(outputs);
-      km.fast.evaluate(pt.t, pt.x.data(), p.data(), in, e.computed.data());
-      // This kernel's 50-digit graph values (empty where that fails).
-      if (!joint_base.empty()) {
-        const auto begin = joint_base.begin() + static_cast<std::ptrdiff_t>(first[m]);
-        e.graph50.assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
-      } else {
-        try {
-          e.graph50 = km.slow.evaluate(T, X, P, IN);
-        } catch (const std::exception&) {
-          e.graph50.clear();
+          break;
         }
       }
-
-      double scale = 0;
-      bool zero_kernel = false;
-      for (const numeric& r : e.ref) scale = std::max(scale, GiNaC::abs(r).to_double());
-      if (km.ref->kind == ReferenceSet::Kind::direct) {
-        // A kernel that is zero here (the constraint residual is zero everywhere): its reference is 50-digit
-        // noise, and the scale is the size of the terms that cancel.
-        double terms = 0;
-        for (std::size_t i = 0; i < outputs; ++i)
-          terms = std::max(terms, exact.magnitude(km.ref->expressions[i]).to_double());
-        if (scale <= 1e-30 * terms) zero_kernel = true, scale = terms;
+    } catch (const std::domain_error&) {
+      ++acc.skipped;
+      continue;
+    } catch (const std::runtime_error&) {  // CLN: division by an inexact zero
+      ++acc.skipped;
+      continue;
+    }
+    Errors e;
+    e.m = m;
+    e.ref = std::move(ref);
+    e.computed.resize(outputs);
+    km.fast.evaluate(pt.t, pt.x.data(), p_.data(), in, e.computed.data());
+    // This kernel's 50-digit graph values (empty where that fails).
+    if (!joint_base.empty()) {
+      const auto begin = joint_base.begin() + static_cast<std::ptrdiff_t>(first_[m]);
+      e.graph50.assign(begin, begin + static_cast<std::ptrdiff_t>(outputs));
+    } else {
+      try {
+        e.graph50 = km.slow.evaluate(hp.t, hp.x, P_, hp.in);
+      } catch (const std::exception&) {
+        e.graph50.clear();
       }
-      e.floor = zero_kernel ? scale : settings.floor_fraction * scale;
-      for (std::size_t i = 0; i < outputs; ++i) {
-        const double ulps = ulp_error(e.computed[i], e.ref[i], e.floor);
-        e.ulps.push_back(ulps);
-        if (!e.graph50.empty()) e.evaluation.push_back(ulp_error(e.computed[i], e.graph50[i], e.floor));
-        e.scale.push_back(std::max(GiNaC::abs(e.ref[i]).to_double(), e.floor));
-      }
-      errors.push_back(std::move(e));
     }
 
-    for (Errors& e : errors) {
-      Measured& km = *e.km;
-      KernelAccuracy& acc = result[km.result];
-      const std::size_t outputs = e.ref.size();
-      // κ at every point (for the test of the deferred κ below): all arguments moved.
-      std::vector<double> condition(outputs, 0.0);
-      if (settings.condition && !deferred && !e.graph50.empty())
-        condition = condition_numbers(km, pt, e.scale, [](const auto&) { return false; });
-      if (condition.empty()) condition.assign(outputs, 0.0);
+    double scale = 0;
+    bool zero_kernel = false;
+    for (const numeric& r : e.ref) scale = std::max(scale, GiNaC::abs(r).to_double());
+    if (km.ref->kind == ReferenceSet::Kind::direct) {
+      // A kernel that is zero here (the constraint residual is zero everywhere): its reference is 50-digit
+      // noise, and the scale is the size of the terms that cancel.
+      double terms = 0;
+      for (std::size_t i = 0; i < outputs; ++i)
+        terms = std::max(terms, exact_.magnitude(km.ref->expressions[i]).to_double());
+      if (scale <= 1e-30 * terms) zero_kernel = true, scale = terms;
+    }
+    e.floor = zero_kernel ? scale : settings_.floor_fraction * scale;
+    for (std::size_t i = 0; i < outputs; ++i) {
+      const double ulps = ulp_error(e.computed[i], e.ref[i], e.floor);
+      e.ulps.push_back(ulps);
+      if (!e.graph50.empty()) e.evaluation.push_back(ulp_error(e.computed[i], e.graph50[i], e.floor));
+      e.scale.push_back(std::max(GiNaC::abs(e.ref[i]).to_double(), e.floor));
+    }
+    errors.push_back(std::move(e));
+  }
+  return errors;
+}
 
-      ++acc.points;
-      for (std::size_t i = 0; i < outputs; ++i) {
-        const double ulps = e.ulps[i];
-        ++acc.values;
-        acc.sum_ulps += ulps;
-        if (ulps > acc.worst_ulps || (std::isinf(ulps) && !std::isinf(acc.worst_ulps))) {
-          acc.worst_ulps = ulps;
-          acc.worst_output = km.kernel->output_names[i];
-          acc.worst_setting = label;
-          acc.worst_time = pt.t;
-          acc.worst_state = pt.x;
-          acc.worst_double = e.computed[i];
-          acc.worst_reference = e.ref[i].to_double();
-          acc.condition_at_worst = condition[i];  // 0 here when deferred (below)
-          worst_at[e.m] = {true, pt, i, e.scale[i]};
-        }
-        if (!e.graph50.empty()) {
-          const double ev = e.evaluation[i];
-          acc.worst_evaluation_ulps = std::max(acc.worst_evaluation_ulps, ev);
-          const double excess = ev / std::max(1.0, condition[i]);
-          if (settings.condition && !deferred && excess > acc.worst_excess) {
-            acc.worst_excess = excess;
-            acc.worst_excess_output = km.kernel->output_names[i];
-          }
-        }
-      }
-      if (deferred && !e.graph50.empty()) {
-        Candidate c{point, pt, e.evaluation, e.scale, 0};
-        for (double ev : e.evaluation) c.largest = std::max(c.largest, ev);
-        candidates[e.m].push_back(std::move(c));
+void AccuracyRun::record(int point, const Point& pt, const Errors& e) {
+  Measured& km = measured_[e.m];
+  KernelAccuracy& acc = result_[km.result];
+  const std::size_t outputs = e.ref.size();
+  // κ at every point (for the test of the deferred κ below): all arguments moved.
+  std::vector<double> condition;
+  if (settings_.condition && !deferred_ && !e.graph50.empty())
+    condition = condition_numbers(km, pt, e.scale, [](const auto&) { return false; });
+  if (condition.empty()) condition.assign(outputs, 0.0);
+
+  ++acc.points;
+  for (std::size_t i = 0; i < outputs; ++i) {
+    const double ulps = e.ulps[i];
+    ++acc.values;
+    acc.sum_ulps += ulps;
+    if (ulps > acc.worst_ulps || (std::isinf(ulps) && !std::isinf(acc.worst_ulps))) {
+      acc.worst_ulps = ulps;
+      acc.worst_output = km.kernel->output_names[i];
+      acc.worst_setting = label_;
+      acc.worst_time = pt.t;
+      acc.worst_state = pt.x;
+      acc.worst_double = e.computed[i];
+      acc.worst_reference = e.ref[i].to_double();
+      acc.condition_at_worst = condition[i];  // 0 here when deferred (below)
+      worst_at_[e.m] = {true, pt, i, e.scale[i]};
+    }
+    if (!e.graph50.empty()) {
+      const double ev = e.evaluation[i];
+      acc.worst_evaluation_ulps = std::max(acc.worst_evaluation_ulps, ev);
+      const double excess = ev / std::max(1.0, condition[i]);
+      if (settings_.condition && !deferred_ && excess > acc.worst_excess) {
+        acc.worst_excess = excess;
+        acc.worst_excess_output = km.kernel->output_names[i];
       }
     }
   }
-  if (deferred) deferred_condition_numbers();
-  return result;
+  if (deferred_ && !e.graph50.empty()) {
+    Candidate c{point, pt, e.evaluation, e.scale, 0};
+    for (double ev : e.evaluation) c.largest = std::max(c.largest, ev);
+    candidates_[e.m].push_back(std::move(c));
+  }
+}
+
+// κ_i = Σ_k |∂f_i/∂a_k| |a_k| / max(|f_i|, floor) over the arguments a = (t, x, in; the nonzero ones), by forward
+// differences of the kernel's own 50-digit graph (the same operations as the joint graph's, so the same values)
+// with relative steps of 1e-25 (exact to about 20 digits), one moved argument at a time until done(κ so far), a
+// lower bound of κ, says enough; empty at a pole.
+std::vector<double> AccuracyRun::condition_numbers(Measured& km, const Point& pt, const std::vector<double>& scale,
+                                                   const std::function<bool(const std::vector<double>&)>& done) {
+  const HighPrecisionPoint hp(pt);
+  std::vector<numeric> base;
+  try {
+    base = km.slow.evaluate(hp.t, hp.x, P_, hp.in);
+  } catch (const std::exception&) {
+    return {};
+  }
+  struct Move {
+    Argument argument;
+    int index;
+    numeric value;
+  };
+  std::vector<Move> moves;
+  if (!hp.t.is_zero()) moves.push_back({Argument::time, 0, hp.t});
+  for (std::size_t k = 0; k < hp.x.size(); ++k)
+    if (!hp.x[k].is_zero()) moves.push_back({Argument::state, static_cast<int>(k), hp.x[k]});
+  for (std::size_t k = 0; k < hp.in.size(); ++k)
+    if (!hp.in[k].is_zero()) moves.push_back({Argument::input, static_cast<int>(k), hp.in[k]});
+  std::vector<numeric> sensitivity(base.size(), numeric(0));
+  std::vector<double> kappa(base.size(), 0.0);
+  for (const Move& mv : moves) {
+    const numeric h = GiNaC::abs(mv.value) * step_;
+    std::vector<numeric> moved;
+    try {
+      moved = km.slow.evaluate_moved(mv.argument, mv.index, mv.value + h);
+    } catch (const std::exception&) {
+      moved.clear();
+    }
+    for (std::size_t i = 0; i < moved.size(); ++i) {
+      sensitivity[i] += GiNaC::abs(moved[i] - base[i]) / h * GiNaC::abs(mv.value);
+      kappa[i] = sensitivity[i].to_double() / scale[i];
+    }
+    if (done(kappa)) break;
+  }
+  return kappa;
+}
+
+// After all points: κ at each kernel's worst error, in full, and eval/cond = max over the values of eval-only /
+// max(1, κ). Since κ ≥ 0, a point's eval-only errors bound what it can give: the points are taken largest bound
+// first, each only until its partial κ shows it cannot beat the largest so far, and none once the bound is below
+// it. Ties go to the earlier point and output, as in point order. The same table as κ at every point.
+void AccuracyRun::deferred_condition_numbers() {
+  for (std::size_t m = 0; m < measured_.size(); ++m) {
+    KernelAccuracy& acc = result_[measured_[m].result];
+    const WorstPoint& w = worst_at_[m];
+    if (w.set) {
+      std::vector<double> scale(measured_[m].kernel->outputs.size(), 1.0);
+      scale[w.output] = w.scale;
+      const std::vector<double> kappa = condition_numbers(measured_[m], w.pt, scale, [](const auto&) { return false; });
+      acc.condition_at_worst = kappa.empty() ? 0.0 : kappa[w.output];
+    }
+    std::vector<Candidate>& list = candidates_[m];
+    std::stable_sort(list.begin(), list.end(),
+                     [](const Candidate& a, const Candidate& b) { return a.largest > b.largest; });
+    double best = 0;
+    std::pair<int, std::size_t> best_at{-1, 0};  // (point, output); -1: none yet
+    const auto beats = [&](double excess, int point, std::size_t i) {
+      return excess > best || (excess == best && best_at.first >= 0 && std::make_pair(point, i) < best_at);
+    };
+    for (const Candidate& c : list) {
+      if (c.largest < best) break;
+      const auto excesses = [&](const std::vector<double>& kappa, auto&& visit) {
+        for (std::size_t i = 0; i < c.evaluation.size(); ++i) visit(c.evaluation[i] / std::max(1.0, kappa[i]), i);
+      };
+      const std::vector<double> kappa = condition_numbers(measured_[m], c.pt, c.scale, [&](const auto& partial) {
+        bool open = false;
+        excesses(partial, [&](double excess, std::size_t i) { open = open || beats(excess, c.point, i); });
+        return !open;
+      });
+      if (kappa.empty()) continue;
+      excesses(kappa, [&](double excess, std::size_t i) {
+        if (beats(excess, c.point, i)) best = excess, best_at = {c.point, i};
+      });
+    }
+    acc.worst_excess = best;
+    acc.worst_excess_output = best_at.first >= 0 ? measured_[m].kernel->output_names[best_at.second] : "";
+  }
+}
+
+std::vector<KernelAccuracy> AccuracyRun::run() {
+  progress::Step evaluating("evaluating " + std::to_string(measured_.size()) + " kernels of " + model_.name + " at " +
+                            std::to_string(settings_.points) + " points in " + std::to_string(settings_.digits) +
+                            " digits" + (label_.empty() || label_ == "base" ? "" : " (" + label_ + ")"));
+  for (int point = 0; point < settings_.points; ++point) {
+    evaluating.detail("point " + std::to_string(point + 1) + " of " + std::to_string(settings_.points));
+    const Point pt = sample();
+    for (const Errors& e : errors_at(pt)) record(point, pt, e);
+  }
+  if (deferred_) {
+    evaluating.detail("condition numbers");
+    deferred_condition_numbers();
+  }
+  return result_;
+}
+
+}  // namespace
+
+std::vector<KernelAccuracy> measure_kernel_accuracy(const Model& model, const Derivation& derivation,
+                                                    const KernelSet& kernels, const std::vector<double>& p,
+                                                    const AccuracySettings& settings, const std::string& label) {
+  return AccuracyRun(model, derivation, kernels, p, settings, label).run();
 }
 
 void merge_accuracy(std::vector<KernelAccuracy>& into, const std::vector<KernelAccuracy>& more) {

@@ -22,6 +22,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <random>
 #include <sstream>
 
@@ -218,6 +219,112 @@ void print_outcome(const Model& model, const SimulateOptions& opt, const Derivat
   std::cerr << "  final state: " << state.str() << "\n";
 }
 
+// The kernels a run evaluates, each at the inputs of (t, x): a feedback law or a table is evaluated first.
+class Evaluation {
+ public:
+  Evaluation(const KernelSet& kernels, const std::vector<double>& p, const InputSources& sources, std::size_t inputs)
+      : kernels_(kernels), p_(p), sources_(sources), in_(inputs, 0.0), varying_(sources.varying()) {}
+  /// The evaluator of kernel `name`, or of nothing when it is not wanted.
+  GraphEvaluator kernel(const char* name, bool wanted) const {
+    return GraphEvaluator(kernels_.graph, wanted ? kernels_.get(name).outputs : std::vector<int>{});
+  }
+  void inputs_at(double t, const double* x) { sources_.evaluate(t, x, in_.data()); }
+  void operator()(GraphEvaluator& kernel, double t, const double* x, double* out) {
+    if (varying_) inputs_at(t, x);
+    kernel.evaluate(t, x, p_.data(), in_.empty() ? nullptr : in_.data(), out);
+  }
+  /// With the inputs of the last evaluation (a monitor evaluated right after another at the same (t, x)).
+  void again(GraphEvaluator& kernel, double t, const double* x, double* out) {
+    kernel.evaluate(t, x, p_.data(), in_.empty() ? nullptr : in_.data(), out);
+  }
+
+ private:
+  const KernelSet& kernels_;
+  const std::vector<double>& p_;
+  const InputSources& sources_;
+  std::vector<double> in_;
+  bool varying_;
+};
+
+// What the run writes at every output row: t, the state, the pose (when reconstructed) and the monitors; it also
+// follows the energy and the constraint residual for the summary.
+class Recorder {
+ public:
+  Recorder(const Derivation& derivation, const Monitors& monitors, Evaluation& evaluate, std::ostream& out,
+           const std::vector<std::string>& columns, const std::optional<GroupPose>& pose, double e0)
+      : monitors_(monitors),
+        evaluate_(evaluate),
+        energy_kernel_(evaluate.kernel("energy", true)),
+        residual_kernel_(evaluate.kernel("constraint_residual", !derivation.equations.constraint_residual.empty())),
+        mass_kernel_(evaluate.kernel("mass_matrix", monitors.momentum)),
+        constrained_(!derivation.equations.constraint_residual.empty()),
+        n_x_(columns.size() - 1),
+        n_q_(derivation.system.coordinates.size()),
+        n_u_(derivation.equations.independent.size()),
+        energy_(e0),
+        residual_(derivation.equations.constraint_residual.size()),
+        mass_(monitors.momentum ? n_u_ * n_u_ : 0),
+        header_(columns) {
+    if (pose) {
+      pose_ = *pose;
+      for (const std::string& c : pose_columns(*pose_)) header_.push_back(c);
+    }
+    first_monitor_ = header_.size();
+    for (const std::string& c : monitor_columns(derivation, monitors)) header_.push_back(c);
+    row_.resize(header_.size());
+    csv_.emplace(out, header_);
+  }
+  /// The pose written with the next row (bundle models integrated with rkmk4).
+  GroupPose& pose() { return *pose_; }
+  const runtime::DriftMonitor& energy() const { return energy_; }
+  const double* residual_max() const { return constrained_ ? &residual_max_ : nullptr; }
+
+  void operator()(double t, const double* x) {
+    row_[0] = t;
+    std::copy(x, x + n_x_, row_.begin() + 1);
+    if (pose_) {
+      const std::vector<double> v = pose_values(*pose_);
+      std::copy(v.begin(), v.end(), row_.begin() + 1 + static_cast<std::ptrdiff_t>(n_x_));
+    }
+    double e = 0;
+    evaluate_(energy_kernel_, t, x, &e);
+    energy_.update(e);
+    if (constrained_) {
+      evaluate_.again(residual_kernel_, t, x, residual_.data());
+      for (double r : residual_) residual_max_ = std::max(residual_max_, std::fabs(r));
+    }
+    std::size_t col = first_monitor_;
+    if (monitors_.energy) row_[col++] = e;
+    if (monitors_.residual)
+      for (double r : residual_) row_[col++] = r;
+    if (monitors_.momentum) {
+      // p = M u: the momenta conjugate to the independent quasi-velocities (∂T/∂u for T quadratic in u).
+      evaluate_.again(mass_kernel_, t, x, mass_.data());
+      for (std::size_t I = 0; I < n_u_; ++I) {
+        double s = 0;
+        for (std::size_t J = 0; J < n_u_; ++J) s += mass_[I * n_u_ + J] * x[n_q_ + J];
+        row_[col++] = s;
+      }
+    }
+    csv_->row(row_.data(), row_.size());
+  }
+
+ private:
+  const Monitors& monitors_;
+  Evaluation& evaluate_;
+  GraphEvaluator energy_kernel_, residual_kernel_, mass_kernel_;
+  bool constrained_;
+  std::size_t n_x_, n_q_, n_u_;
+  runtime::DriftMonitor energy_;
+  double residual_max_ = 0;
+  std::vector<double> residual_, mass_;
+  std::optional<GroupPose> pose_;
+  std::vector<std::string> header_;
+  std::size_t first_monitor_ = 0;
+  std::vector<double> row_;
+  std::optional<runtime::CsvWriter> csv_;
+};
+
 void run(const SimulateOptions& given) {
   Target target = resolve_target(given.model, given.params, given.fold, given.form, "none");
   target.settings.dynamics = given.dynamics;
@@ -235,12 +342,11 @@ void run(const SimulateOptions& given) {
   KernelSet kernels = build_kernels(model, derivation, needed);
   drop_unrepresentable(kernels, true, printable(given.model));  // it evaluates every kernel it asked for
   const HamelSystem& sys = derivation.system;
-  const std::vector<int>& independent = derivation.equations.independent;
 
   std::vector<std::string> columns{"t"};
   for (const auto& q : sys.coordinates) columns.push_back(q.get_name());
-  for (int I : independent) columns.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
-  const std::size_t n_x = columns.size() - 1;
+  for (int I : derivation.equations.independent)
+    columns.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
   const std::vector<double> x0 = initial_state(columns, settled.init, model.name);
 
   // Inputs: the scene's constants, then --input-file (tables) and --input (constants or laws in t and the
@@ -249,81 +355,28 @@ void run(const SimulateOptions& given) {
   for (const auto& [name, v] : settled.scene_inputs) sources.set_constant(name, v, "scene");
   if (!opt.input_file.empty()) sources.load_csv(opt.input_file);
   sources.add_assignments(opt.inputs, "--input");
-  std::vector<double> in(model.inputs.size(), 0.0);
-  sources.evaluate(0.0, x0.data(), in.data());
-
-  const bool constrained = !derivation.equations.constraint_residual.empty();
-  const auto evaluator = [&](const char* name, bool wanted) {
-    return GraphEvaluator(kernels.graph, wanted ? kernels.get(name).outputs : std::vector<int>{});
-  };
-  GraphEvaluator rhs_kernel = evaluator("rhs", true), energy_kernel = evaluator("energy", true),
-                 residual_kernel = evaluator("constraint_residual", constrained),
-                 mass_kernel = evaluator("mass_matrix", monitors.momentum),
-                 jacobian_kernel = evaluator("jacobian", info.uses_jacobian);
-  const double* in_ptr = in.empty() ? nullptr : in.data();
-  // Every kernel is evaluated with the inputs at (t, x): a feedback law or a table is evaluated first.
-  const bool varying = sources.varying();
-  const auto evaluate = [&](GraphEvaluator& kernel, double t, const double* x, double* out) {
-    if (varying) sources.evaluate(t, x, in.data());
-    kernel.evaluate(t, x, p.data(), in_ptr, out);
-  };
+  Evaluation evaluate(kernels, p, sources, model.inputs.size());
+  evaluate.inputs_at(0.0, x0.data());
+  GraphEvaluator rhs_kernel = evaluate.kernel("rhs", true), energy_kernel = evaluate.kernel("energy", true),
+                 jacobian_kernel = evaluate.kernel("jacobian", info.uses_jacobian);
   auto rhs = [&](double t, const double* x, double* xdot) { evaluate(rhs_kernel, t, x, xdot); };
-  auto energy_at = [&](double t, const double* x) {
-    double e = 0;
-    evaluate(energy_kernel, t, x, &e);
-    return e;
-  };
-  runtime::DriftMonitor energy(energy_at(0.0, x0.data()));
-  double residual_max = 0;
-  std::vector<double> residual(derivation.equations.constraint_residual.size());
+  double e0 = 0;
+  evaluate(energy_kernel, 0.0, x0.data(), &e0);
 
   // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
   // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
   // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
   OutputFile output(opt.out, "--out");
   const bool reconstruct = model.bundle && info.name == "rkmk4";
-  GroupPose pose;
-  std::vector<std::string> header = columns;
-  if (reconstruct) {
+  std::optional<GroupPose> pose;
+  if (reconstruct)
     pose = with_group(model.bundle->group, [](auto tag) {
       using G = typename decltype(tag)::type;
       return pose_of(0.0, G::identity());
     });
-    for (const std::string& c : pose_columns(pose)) header.push_back(c);
-  }
-  const std::size_t first_monitor = header.size();
-  for (const std::string& c : monitor_columns(derivation, monitors)) header.push_back(c);
-  const std::size_t n_q = sys.coordinates.size(), n_u = independent.size();
-  std::vector<double> mass(monitors.momentum ? n_u * n_u : 0);
-  runtime::CsvWriter csv(output.stream(), header);
-  std::vector<double> row(header.size());
+  Recorder record(derivation, monitors, evaluate, output.stream(), columns, pose, e0);
   auto observe = [&](double t, const double* x) {
-    row[0] = t;
-    std::copy(x, x + n_x, row.begin() + 1);
-    if (reconstruct) {
-      const std::vector<double> v = pose_values(pose);
-      std::copy(v.begin(), v.end(), row.begin() + 1 + static_cast<std::ptrdiff_t>(n_x));
-    }
-    const double e = energy_at(t, x);
-    energy.update(e);
-    if (constrained) {
-      residual_kernel.evaluate(t, x, p.data(), in_ptr, residual.data());
-      for (double r : residual) residual_max = std::max(residual_max, std::fabs(r));
-    }
-    std::size_t col = first_monitor;
-    if (monitors.energy) row[col++] = e;
-    if (monitors.residual)
-      for (double r : residual) row[col++] = r;
-    if (monitors.momentum) {
-      // p = M u: the momenta conjugate to the independent quasi-velocities (∂T/∂u for T quadratic in u).
-      mass_kernel.evaluate(t, x, p.data(), in_ptr, mass.data());
-      for (std::size_t I = 0; I < n_u; ++I) {
-        double s = 0;
-        for (std::size_t J = 0; J < n_u; ++J) s += mass[I * n_u + J] * x[n_q + J];
-        row[col++] = s;
-      }
-    }
-    csv.row(row.data(), row.size());
+    record(t, x);
     output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
   };
 
@@ -332,15 +385,15 @@ void run(const SimulateOptions& given) {
   auto jacobian = [&](double t, const double* x, double* J) { evaluate(jacobian_kernel, t, x, J); };
   runtime::IntegrationResult result;
   if (reconstruct) {
-    GraphEvaluator xi_kernel = evaluator("group_velocity", true);
+    GraphEvaluator xi_kernel = evaluate.kernel("group_velocity", true);
     auto xi = [&](double t, const double* x, double* out) { evaluate(xi_kernel, t, x, out); };
-    result = integrate_with_pose(model, opt, x0, rhs, xi, pose, observe);
+    result = integrate_with_pose(model, opt, x0, rhs, xi, record.pose(), observe);
   } else {
     result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
                        observe);
   }
   if (result.status == runtime::Status::ok) output.commit();
-  print_outcome(model, opt, derivation, columns, result, energy, constrained ? &residual_max : nullptr);
+  print_outcome(model, opt, derivation, columns, result, record.energy(), record.residual_max());
 }
 
 }  // namespace

@@ -231,7 +231,7 @@ class Evaluation {
   void inputs_at(double t, const double* x) { sources_.evaluate(t, x, in_.data()); }
   void operator()(GraphEvaluator& kernel, double t, const double* x, double* out) {
     if (varying_) inputs_at(t, x);
-    kernel.evaluate(t, x, p_.data(), in_.empty() ? nullptr : in_.data(), out);
+    again(kernel, t, x, out);
   }
   /// With the inputs of the last evaluation (a monitor evaluated right after another at the same (t, x)).
   void again(GraphEvaluator& kernel, double t, const double* x, double* out) {
@@ -251,7 +251,7 @@ class Evaluation {
 class Recorder {
  public:
   Recorder(const Derivation& derivation, const Monitors& monitors, Evaluation& evaluate, std::ostream& out,
-           const std::vector<std::string>& columns, const std::optional<GroupPose>& pose, double e0)
+           const std::vector<std::string>& columns, const std::optional<GroupPose>& pose, const std::vector<double>& x0)
       : monitors_(monitors),
         evaluate_(evaluate),
         energy_kernel_(evaluate.kernel("energy", true)),
@@ -261,7 +261,7 @@ class Recorder {
         n_x_(columns.size() - 1),
         n_q_(derivation.system.coordinates.size()),
         n_u_(derivation.equations.independent.size()),
-        energy_(e0),
+        energy_(energy_at(0.0, x0.data())),
         residual_(derivation.equations.constraint_residual.size()),
         mass_(monitors.momentum ? n_u_ * n_u_ : 0),
         header_(columns) {
@@ -286,8 +286,7 @@ class Recorder {
       const std::vector<double> v = pose_values(*pose_);
       std::copy(v.begin(), v.end(), row_.begin() + 1 + static_cast<std::ptrdiff_t>(n_x_));
     }
-    double e = 0;
-    evaluate_(energy_kernel_, t, x, &e);
+    const double e = energy_at(t, x);
     energy_.update(e);
     if (constrained_) {
       evaluate_.again(residual_kernel_, t, x, residual_.data());
@@ -310,6 +309,12 @@ class Recorder {
   }
 
  private:
+  double energy_at(double t, const double* x) {
+    double e = 0;
+    evaluate_(energy_kernel_, t, x, &e);
+    return e;
+  }
+
   const Monitors& monitors_;
   Evaluation& evaluate_;
   GraphEvaluator energy_kernel_, residual_kernel_, mass_kernel_;
@@ -357,11 +362,9 @@ void run(const SimulateOptions& given) {
   sources.add_assignments(opt.inputs, "--input");
   Evaluation evaluate(kernels, p, sources, model.inputs.size());
   evaluate.inputs_at(0.0, x0.data());
-  GraphEvaluator rhs_kernel = evaluate.kernel("rhs", true), energy_kernel = evaluate.kernel("energy", true),
+  GraphEvaluator rhs_kernel = evaluate.kernel("rhs", true),
                  jacobian_kernel = evaluate.kernel("jacobian", info.uses_jacobian);
   auto rhs = [&](double t, const double* x, double* xdot) { evaluate(rhs_kernel, t, x, xdot); };
-  double e0 = 0;
-  evaluate(energy_kernel, 0.0, x0.data(), &e0);
 
   // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
   // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
@@ -374,7 +377,7 @@ void run(const SimulateOptions& given) {
       using G = typename decltype(tag)::type;
       return pose_of(0.0, G::identity());
     });
-  Recorder record(derivation, monitors, evaluate, output.stream(), columns, pose, e0);
+  Recorder record(derivation, monitors, evaluate, output.stream(), columns, pose, x0);
   auto observe = [&](double t, const double* x) {
     record(t, x);
     output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing

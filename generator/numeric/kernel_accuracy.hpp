@@ -134,9 +134,10 @@ struct AccuracySettings {
   double floor_fraction = 1e-3;   ///< φ in the definition above
   int digits = 50;                ///< of the reference
   bool condition = true;          ///< also compute κ (one more 50-digit graph evaluation per argument)
-  /// κ in full at every point; by default only at points where it can change what is reported (a new worst error,
-  /// or an eval-only error above the largest eval/cond so far, and then only until a partial κ shows that no
-  /// eval/cond beats the largest), with the same results: for tests of that claim.
+  /// κ in full at every point, as each point is measured; by default κ is formed after all points and only where it
+  /// can change what is reported (in full at each kernel's worst error; for eval/cond at the points whose eval-only
+  /// errors could beat the largest, largest first, each only until a partial κ shows it cannot), with the same
+  /// results: for tests of that claim.
   bool condition_at_every_point = false;
   /// Pinned values of state variables (coordinate or independent velocity names), inputs or "t".
   std::map<std::string, double> fixed;

@@ -89,6 +89,7 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
 
   WorkPrecisionStudy study;
   study.x0 = req.x0;
+  study.min_cpu_s = req.min_cpu_s;
   for (const auto& q : d.system.coordinates) study.state_names.push_back(q.get_name());
   for (int I : d.equations.independent)
     study.state_names.push_back(d.system.velocities[static_cast<std::size_t>(I)].get_name());
@@ -258,7 +259,9 @@ std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy
       s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(note[0]))) << note.substr(1) << ".";
   s << "\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
     << ". CPU time: one run less the time spent observing it (energy and constraint residual at every step), or "
-       "the mean of repeats without observer for runs shorter than 0.02 s; right-hand side evaluated by the kernel "
+       "the mean of repeats without observer for runs shorter than "
+    << number(study.min_cpu_s)
+    << " s; right-hand side evaluated by the kernel "
        "interpreter (the graph `hamel emit` prints; compiled kernels are faster). Drift: max relative energy "
        "deviation along the run (nan when the model is not conservative).\n\n"
     << "| integrator | setting | error | CPU [s] | CPU per simulated s | steps | rhs | Jacobians | drift | constraint "

@@ -32,6 +32,7 @@ struct WorkPrecisionStudy {
   std::string sweep_note;  ///< how the fixed steps follow from ρ when they start below the horizon / 25; else empty
   std::vector<std::string> state_names;
   std::vector<double> x0;
+  double min_cpu_s = 0;  ///< runs shorter than this were repeated for their CPU time (WorkPrecisionRequest)
   std::vector<WorkPrecisionRun> runs;
 };
 

@@ -9,7 +9,7 @@
 namespace hamel {
 
 /// `e` with its trigonometric polynomials contracted to multiple and sum angles where the result has fewer nodes
-/// (node_count). In every sum the terms are grouped by the angles of their sin/cos factors, and each group is
+/// (printed_size). In every sum the terms are grouped by the angles of their sin/cos factors, and each group is
 /// written as it is, with the coefficients of equal monomials collected, or linearized (product-to-sum:
 /// Σ c_k cos(k·θ) + s_k sin(k·θ) over integer combinations k·θ of the angles, collected with the terms free of
 /// sin/cos, so that sin²ψ + cos²ψ − 1 becomes 0), whichever gives the shortest sum; a single product only when

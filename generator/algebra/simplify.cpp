@@ -242,8 +242,23 @@ void collect_symbols(const ex& e, std::set<ex, GiNaC::ex_is_less>& out) {
 }  // namespace
 
 std::size_t node_count(const ex& e, std::size_t limit) {
+  if (is_a<GiNaC::mul>(e)) {  // a factor −1 is not counted, nor the product −x it leaves
+    std::size_t n = 0, kept = 0;
+    for (std::size_t i = 0; i < e.nops() && n <= limit; ++i) {
+      if (is_a<GiNaC::numeric>(e.op(i)) && e.op(i).is_equal(GiNaC::ex(-1))) continue;
+      n += node_count(e.op(i), limit - n);
+      ++kept;
+    }
+    return kept == 1 ? n : n + 1;
+  }
   std::size_t n = 1;
   for (std::size_t i = 0; i < e.nops() && n <= limit; ++i) n += node_count(e.op(i), limit - n);
+  return n;
+}
+
+std::size_t printed_size(const ex& e, std::size_t limit) {
+  std::size_t n = 1;
+  for (std::size_t i = 0; i < e.nops() && n <= limit; ++i) n += printed_size(e.op(i), limit - n);
   return n;
 }
 

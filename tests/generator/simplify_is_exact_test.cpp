@@ -65,4 +65,34 @@ TEST(ExactDecimals, DecimalsBecomeRationals) {
   EXPECT_EQ(hamel::exact_number(0.1), GiNaC::numeric(1, 10));
 }
 
+// The sizes the derivation's thresholds compare (simplify_bounded's 400 nodes, an intermediate kept inline up to 24)
+// must not depend on where GiNaC puts a sign: whether a normal form is N/D or (−N)/(−D), or a product carries a factor
+// −1 or a negated sum, follows GiNaC's term order, which follows symbol hashes and so addresses. Counted with signs,
+// whipple_bicycle emitted one of two packages depending on the run (address randomisation on).
+TEST_F(Simplify, NodeCountDoesNotCountSigns) {
+  using hamel::node_count;
+  const std::size_t any = 1000;
+  EXPECT_EQ(node_count(-a, any), node_count(a, any));
+  EXPECT_EQ(node_count(-a * b, any), node_count(a * b, any));
+  EXPECT_EQ(node_count(-2 * a * b, any), node_count(2 * a * b, any));
+  EXPECT_EQ(node_count((a - b) / (a + b), any), node_count((b - a) / (-a - b), any));
+  EXPECT_EQ(node_count(-a * (b + r), any), node_count(a * (-b - r), any));
+  EXPECT_EQ(node_count(a * b * r, any), 4u);  // the product and its three factors
+  EXPECT_EQ(node_count(-a * b * r, any), 4u);
+}
+
+TEST_F(Simplify, NodeCountPastTheLimitIsAboveIt) {
+  using hamel::node_count;
+  // Counted up to a limit, a larger expression must come out above the limit, also when a −1 is left out.
+  const ex negated = -a * b * r;  // 4 nodes
+  for (std::size_t limit = 0; limit < 4; ++limit) EXPECT_GT(node_count(negated, limit), limit) << limit;
+  EXPECT_EQ(node_count(negated, 4), 4u);
+  const ex nested = -a * (b + r) * (a - r);  // 1 + 1 + 3 + 3 nodes (a − r: the sum, a and r)
+  for (std::size_t limit = 0; limit < 8; ++limit) EXPECT_GT(node_count(nested, limit), limit) << limit;
+  EXPECT_EQ(node_count(nested, 8), 8u);
+  const ex square = -GiNaC::pow(a + b, 2);  // −1 times one factor: the power, its base (3) and exponent
+  for (std::size_t limit = 0; limit < 5; ++limit) EXPECT_GT(node_count(square, limit), limit) << limit;
+  EXPECT_EQ(node_count(square, 5), 5u);
+}
+
 }  // namespace

@@ -238,7 +238,12 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
     // The terms in structural order (not GiNaC's address-dependent one), each added or subtracted by its
     // sign, so no constant -1 multiplies remain; the first term is added, the sum's sign returned apart.
     std::vector<std::pair<int, int>> terms;  // node, sign
-    for (std::size_t i = 0; i < e.nops(); ++i) terms.push_back(signed_expression(e.op(i), leaves));
+    // Terms that are 0 in the graph (a factor is a constrained velocity) are left out: their sign, which
+    // depends on how GiNaC wrote them, would otherwise decide the sign of the sum when they sort first.
+    for (std::size_t i = 0; i < e.nops(); ++i) {
+      const std::pair<int, int> term = signed_expression(e.op(i), leaves);
+      if (!is_constant(term.first, 0)) terms.push_back(term);
+    }
     std::sort(terms.begin(), terms.end(), structural);
     // Terms GiNaC keeps apart that are the same node (the same value written differently, which depends
     // on GiNaC's term order in earlier steps) are collected: x − x vanishes, x + x becomes 2·x.
@@ -326,6 +331,7 @@ std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::m
   } else {
     throw std::logic_error("expression graph: unsupported expression type");
   }
+  if (is_constant(id, 0)) sign = 1;  // 0 has no sign to carry
   const std::pair<int, int> result{id, sign};
   memo_.emplace(e, result);
   return result;

@@ -155,6 +155,32 @@ TEST(CanonicalOrder, TermsThatAreTheSameNodeAreCollected) {
   EXPECT_EQ(g.from_expression(c - a - b, leaves), g.binary(Op::sub, x2, g.binary(Op::mul, g.constant(2), x0)));
 }
 
+TEST(CanonicalOrder, TermsThatAreZeroDoNotDecideTheSign) {
+  // A term with a factor the graph knows to be 0 (a constrained velocity) is nothing; GiNaC writes it +z·c or −z·c
+  // depending on its term order. Before such terms were left out, one sorting first gave the sum its sign, and a
+  // product holding the sum became (b − a)·d, negated, in one run and (a − b)·d in another (falling_cat's jacobian).
+  ExpressionGraph g;
+  const int zero = g.constant(0);
+  std::vector<int> inputs;  // two inputs that sort after the constant 0, so a zero term would come first
+  for (int k = 0; inputs.size() < 2 && k < 64; ++k) {
+    const int x = g.input(Argument::state, k);
+    if (g.structurally_less(zero, x)) inputs.push_back(x);
+  }
+  ASSERT_EQ(inputs.size(), 2u);
+  const GiNaC::realsymbol a("a"), b("b"), c("c"), d("d"), z("z");
+  const Leaves leaves{{a, inputs[0]},
+                      {b, inputs[1]},
+                      {c, g.input(Argument::parameter, 0)},
+                      {d, g.input(Argument::parameter, 1)},
+                      {z, zero}};
+  const int plain = g.from_expression((a - b) * d, leaves);
+  EXPECT_EQ(g.from_expression((a - b + z * c) * d, leaves), plain);
+  EXPECT_EQ(g.from_expression((a - b - z * c) * d, leaves), plain);
+  EXPECT_EQ(g.from_expression((a - b - 2 * z * c - z * d) * d, leaves), plain);
+  EXPECT_EQ(g.from_expression(GiNaC::sin(b - a - z * c), leaves), g.from_expression(GiNaC::sin(b - a), leaves));
+  EXPECT_EQ(g.from_expression(z * c - z * d, leaves), zero);
+}
+
 TEST(CanonicalOrder, ScheduleIsTopologicalAndComplete) {
   ExpressionGraph g;
   const Symbols v("abcd");

@@ -18,13 +18,12 @@
 
 namespace {
 
-// GiNaC orders terms by hash values that include the address of type information in libginac, so with
-// address-space randomisation the same model can print with terms in another order from run to run.
-// The emitted kernels no longer follow that order (emit/expression_graph.hpp orders structurally), but
-// the derivation's size-bounded simplification still sees it (docs/errors.md, "Canonical IR order").
-// Emitted files must be byte-identical on regeneration: run the generator with a fixed address layout
-// by re-executing once with randomisation off. Where the kernel refuses, we go on (output stays
-// correct, only possibly ordered differently).
+// GiNaC orders terms by hash values that include the address of type information, so with address-space
+// randomisation the same model can print with terms in another order from run to run. Emitted packages do not
+// follow that order (the expression graph orders structurally and the derivation's size tests ignore signs:
+// docs/errors.md, "Emission independent of the address layout"), but what `derive` prints is GiNaC's own printing.
+// For that text to be the same on every run, the generator re-executes once with randomisation off. Where the
+// kernel refuses, we go on (the output stays correct, only possibly printed in another term order).
 void fix_address_layout(char** argv) {
   const int persona = personality(0xffffffff);
   if (persona == -1 || (persona & ADDR_NO_RANDOMIZE) || std::getenv("HAMEL_NO_REEXEC")) return;

@@ -147,6 +147,21 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
                     " steps); no analytic solution is used";
   double ref_scale = 1;
   for (double v : ref.x) ref_scale = std::max(ref_scale, std::fabs(v));
+  // The error of run x(T) against the reference, relative (NaN when the run failed).
+  const auto error_of = [&](const runtime::IntegrationResult& run) {
+    if (run.status != runtime::Status::ok) return std::numeric_limits<double>::quiet_NaN();
+    double e = 0;
+    for (std::size_t k = 0; k < n; ++k) e = std::max(e, std::fabs(run.x[k] - ref.x[k]));
+    return e / ref_scale;
+  };
+  {
+    progress::Step step("check run of the reference: dop853 at rtol = atol = 1e-13 over t = 0 .. " + number(t_end));
+    study.reference_check =
+        error_of(integrate("dop853", 1e-13, rhs, jac, req.x0, 0.0, t_end, 0.0, [](double, const double*) {}));
+  }
+  if (progress)
+    *progress << "hamel: dop853 at rtol = atol = 1e-13 ends " << number(study.reference_check)
+              << " from the reference (an indication of the reference's own error)\n";
 
   std::vector<std::string> names = req.integrators;
   if (names.empty()) names = {"rk4", "dopri5", "dop853", "radau5"};
@@ -219,12 +234,7 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
       run.steps = result.stats.steps;
       run.rhs_evals = result.stats.rhs_evals;
       run.jac_evals = result.stats.jac_evals;
-      run.error = std::numeric_limits<double>::quiet_NaN();
-      if (result.status == runtime::Status::ok) {
-        double e = 0;
-        for (std::size_t k = 0; k < n; ++k) e = std::max(e, std::fabs(result.x[k] - ref.x[k]));
-        run.error = e / ref_scale;
-      }
+      run.error = error_of(result);
       run.drift = d.equations.conservative ? energy.max_relative_deviation() : std::numeric_limits<double>::quiet_NaN();
       run.constraint_residual = residual;
       if (progress)
@@ -258,7 +268,10 @@ std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy
     if (!note.empty())
       s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(note[0]))) << note.substr(1) << ".";
   s << "\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
-    << ". CPU time: one run less the time spent observing it (energy and constraint residual at every step), or "
+    << ". The reference's own error is not measured; as an indication, dop853 at rtol = atol = 1e-13 ends "
+    << number(study.reference_check)
+    << " from it, so errors of about that size or below may be the reference's. CPU time: one run less the time spent "
+       "observing it (energy and constraint residual at every step), or "
        "the mean of repeats without observer for runs shorter than "
     << number(study.min_cpu_s)
     << " s; right-hand side evaluated by the kernel "
@@ -285,6 +298,14 @@ std::string work_precision_svg(const Model& model, const WorkPrecisionStudy& stu
     // Errors at or below the reference's own accuracy are drawn at 1e-16.
     plot.series.back().x.push_back(r.cpu_s);
     plot.series.back().y.push_back(std::max(r.error, 1e-16));
+  }
+  // The reference check (dop853 at 1e-13 against the reference) as a dashed line across the plot.
+  double lo = std::numeric_limits<double>::infinity(), hi = 0;
+  for (const WorkPrecisionRun& r : study.runs)
+    if (r.cpu_s > 0) lo = std::min(lo, r.cpu_s), hi = std::max(hi, r.cpu_s);
+  if (hi > 0 && std::isfinite(study.reference_check)) {
+    const double y = std::max(study.reference_check, 1e-16);
+    plot.series.push_back({"dop853 1e-13 vs reference", {lo, hi}, {y, y}, true, false, true});
   }
   return render_svg(plot);
 }

@@ -181,6 +181,51 @@ TEST(ReportCommand, FixedStepsStartAtTheStabilityBoundOfAStiffModel) {
   fs::remove_all(out);
 }
 
+// The report states how far dop853 at 1e-13 ends from its reference (dop853 at 1e-14), as an indication of the
+// reference's own error. The number must be that distance: here recomputed from two `hamel simulate` runs (the final
+// rows of their CSVs, 17 digits), in the report's norm (max-norm relative to max(1, |x_ref|)).
+TEST(ReportCommand, StatesHowFarTheSameMethodAtTenTimesTheToleranceEndsFromTheReference) {
+  const fs::path out = fs::temp_directory_path() / ("hamel_report_check_test_" + std::to_string(::getpid()));
+  fs::create_directories(out);
+  const std::string model = source_dir() + "/models/double_pendulum.yaml";
+  const std::string init = " --t-end 2 --init theta1=0.1,theta2=0.2,omega1=0.5,omega2=0.5";
+  const std::string report = std::string(HAMEL_BINARY) + " report " + model + init + " --integrators dop853 --out " +
+                             out.string() + " > /dev/null 2>&1";
+  ASSERT_EQ(std::system(report.c_str()), 0) << report;
+  const auto final_state = [&](const std::string& tol) {
+    const fs::path csv = out / ("simulate_" + tol + ".csv");
+    const std::string cmd = std::string(HAMEL_BINARY) + " simulate " + model + init + " --integrator dop853 --tol " +
+                            tol + " --out " + csv.string() + " > /dev/null 2>&1";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+    std::vector<std::string> header;
+    const auto rows = read_csv(csv, header);
+    std::vector<double> x;
+    for (std::size_t k = 1; k < header.size(); ++k) x.push_back(std::stod(rows.back().at(header[k])));
+    EXPECT_EQ(std::stod(rows.back().at("t")), 2.0);
+    return x;
+  };
+  const std::vector<double> check = final_state("1e-13"), reference = final_state("1e-14");
+  ASSERT_EQ(check.size(), 4u);
+  double distance = 0, scale = 1;
+  for (std::size_t k = 0; k < check.size(); ++k) {
+    distance = std::max(distance, std::fabs(check[k] - reference[k]));
+    scale = std::max(scale, std::fabs(reference[k]));
+  }
+  distance /= scale;
+  ASSERT_GT(distance, 0.0);  // the two runs differ, so the comparison below means something
+  std::ifstream md(out / "double_pendulum_work_precision.md");
+  const std::string text((std::istreambuf_iterator<char>(md)), std::istreambuf_iterator<char>());
+  const std::string lead = "dop853 at rtol = atol = 1e-13 ends ";
+  const std::size_t at = text.find(lead);
+  ASSERT_NE(at, std::string::npos) << text;
+  const double stated = std::stod(text.substr(at + lead.size()));
+  EXPECT_NEAR(stated, distance, 1e-5 * distance) << text.substr(at, 120);
+  std::ifstream svg(out / "double_pendulum_work_precision.svg");
+  const std::string plot((std::istreambuf_iterator<char>(svg)), std::istreambuf_iterator<char>());
+  EXPECT_NE(plot.find("dop853 1e-13 vs reference"), std::string::npos);
+  fs::remove_all(out);
+}
+
 }  // namespace
 
 // The default initial state is the one the report prints (coordinates 0.1, 0.2, 0.3, ..., velocities 0.5): a study

@@ -70,6 +70,12 @@ std::string number(double v) {
   return s.str();
 }
 
+// The reference run's tolerance (rtol = atol), and that of the run whose distance from it indicates the reference's
+// own error: the same method at ten times the tolerance.
+constexpr double reference_tolerance = 1e-14;
+constexpr double check_tolerance = 1e-13;
+const std::string reference_method = "dop853";
+
 }  // namespace
 
 WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, const KernelSet& kernels,
@@ -119,17 +125,18 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
     if (t >= visited.back().first + window) visited.emplace_back(t, std::vector<double>(x, x + n));
   };
   const auto reference_run = [&](double until, const RhsFunction& f, const ObserveFunction& observe) {
-    progress::Step step("reference run of the study: dop853 at rtol = atol = 1e-14 over t = 0 .. " + number(until));
-    return integrate("dop853", 1e-14, f, jac, req.x0, 0.0, until, 0.0, observe);
+    progress::Step step("reference run of the study: " + reference_method +
+                        " at rtol = atol = " + number(reference_tolerance) + " over t = 0 .. " + number(until));
+    return integrate(reference_method, reference_tolerance, f, jac, req.x0, 0.0, until, 0.0, observe);
   };
   runtime::IntegrationResult ref;
   try {
     ref = reference_run(t_end, watched, accepted);
   } catch (const Stalled& stalled) {
     if (!(stalled.t > 0))
-      throw InputError("report: the reference run (dop853, tolerance 1e-14) took more than " +
-                       std::to_string(req.reference_steps) + " steps without getting past t = " + number(window) +
-                       ", a hundredth of the horizon: the motion from this state is too hard to " +
+      throw InputError("report: the reference run (" + reference_method + ", tolerance " + number(reference_tolerance) +
+                       ") took more than " + std::to_string(req.reference_steps) + " steps without getting past t = " +
+                       number(window) + ", a hundredth of the horizon: the motion from this state is too hard to " +
                        "resolve there; choose --init or a shorter --t-end");
     t_end = stalled.t;
     study.horizon_note = "horizon shortened from " + number(req.t_end) + " to " + number(t_end) +
@@ -139,12 +146,12 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
     ref = reference_run(t_end, rhs, [](double, const double*) {});
   }
   if (ref.status != runtime::Status::ok)
-    throw InputError("report: the reference run (dop853, tolerance 1e-14) failed at t = " + std::to_string(ref.t) +
-                     ": " + runtime::describe(ref.status));
+    throw InputError("report: the reference run (" + reference_method + ", tolerance " + number(reference_tolerance) +
+                     ") failed at t = " + std::to_string(ref.t) + ": " + runtime::describe(ref.status));
   study.t_end = t_end;
   if (progress && !study.horizon_note.empty()) *progress << "hamel: " << study.horizon_note << "\n";
-  study.reference = "reference run: dop853 at rtol = atol = 1e-14 (" + std::to_string(ref.stats.steps) +
-                    " steps); no analytic solution is used";
+  study.reference = "reference run: " + reference_method + " at rtol = atol = " + number(reference_tolerance) + " (" +
+                    std::to_string(ref.stats.steps) + " steps); no analytic solution is used";
   double ref_scale = 1;
   for (double v : ref.x) ref_scale = std::max(ref_scale, std::fabs(v));
   // The error of run x(T) against the reference, relative (NaN when the run failed).
@@ -155,13 +162,14 @@ WorkPrecisionStudy work_precision(const Model& /*model*/, const Derivation& d, c
     return e / ref_scale;
   };
   {
-    progress::Step step("check run of the reference: dop853 at rtol = atol = 1e-13 over t = 0 .. " + number(t_end));
-    study.reference_check =
-        error_of(integrate("dop853", 1e-13, rhs, jac, req.x0, 0.0, t_end, 0.0, [](double, const double*) {}));
+    progress::Step step("check run of the reference: " + reference_method +
+                        " at rtol = atol = " + number(check_tolerance) + " over t = 0 .. " + number(t_end));
+    study.reference_check = error_of(
+        integrate(reference_method, check_tolerance, rhs, jac, req.x0, 0.0, t_end, 0.0, [](double, const double*) {}));
   }
   if (progress)
-    *progress << "hamel: dop853 at rtol = atol = 1e-13 ends " << number(study.reference_check)
-              << " from the reference (an indication of the reference's own error)\n";
+    *progress << "hamel: " << reference_method << " at rtol = atol = " << number(check_tolerance) << " ends "
+              << number(study.reference_check) << " from the reference (an indication of the reference's own error)\n";
 
   std::vector<std::string> names = req.integrators;
   if (names.empty()) names = {"rk4", "dopri5", "dop853", "radau5"};
@@ -268,8 +276,8 @@ std::string work_precision_markdown(const Model& model, const WorkPrecisionStudy
     if (!note.empty())
       s << " " << static_cast<char>(std::toupper(static_cast<unsigned char>(note[0]))) << note.substr(1) << ".";
   s << "\n\nError: max-norm of x(T) − x_ref(T) relative to max(1, |x_ref(T)|); " << study.reference
-    << ". The reference's own error is not measured; as an indication, dop853 at rtol = atol = 1e-13 ends "
-    << number(study.reference_check)
+    << ". The reference's own error is not measured; as an indication, " << reference_method
+    << " at rtol = atol = " << number(check_tolerance) << " ends " << number(study.reference_check)
     << " from it, so errors of about that size or below may be the reference's. CPU time: one run less the time spent "
        "observing it (energy and constraint residual at every step), or "
        "the mean of repeats without observer for runs shorter than "
@@ -299,13 +307,14 @@ std::string work_precision_svg(const Model& model, const WorkPrecisionStudy& stu
     plot.series.back().x.push_back(r.cpu_s);
     plot.series.back().y.push_back(std::max(r.error, 1e-16));
   }
-  // The reference check (dop853 at 1e-13 against the reference) as a dashed line across the plot.
+  // The reference check (the reference's method at ten times its tolerance) as a dashed line across the plot.
   double lo = std::numeric_limits<double>::infinity(), hi = 0;
   for (const WorkPrecisionRun& r : study.runs)
     if (r.cpu_s > 0) lo = std::min(lo, r.cpu_s), hi = std::max(hi, r.cpu_s);
   if (hi > 0 && std::isfinite(study.reference_check)) {
     const double y = std::max(study.reference_check, 1e-16);
-    plot.series.push_back({"dop853 1e-13 vs reference", {lo, hi}, {y, y}, true, false, true});
+    plot.series.push_back(
+        {reference_method + " " + number(check_tolerance) + " vs reference", {lo, hi}, {y, y}, true, false, true});
   }
   return render_svg(plot);
 }

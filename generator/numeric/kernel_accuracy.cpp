@@ -75,11 +75,30 @@ numeric power(const numeric& base, const numeric& exponent) {
   return GiNaC::exp(to_float(exponent) * GiNaC::log(to_float(base)));
 }
 
-// An elementary function of the model language (algebra/operations.hpp) in high precision.
-numeric apply_function(const Function& f, const numeric& argument) { return f.evaluate_exactly(to_float(argument)); }
+// The evaluators compute on CLN's reals (what a real GiNaC::numeric holds) with the operations GiNaC::numeric calls
+// for +, −, ×, /, integer powers and abs; everything else goes through GiNaC::numeric.
+cln::cl_R real_of(const numeric& v) { return cln::the<cln::cl_R>(v.to_cl_N()); }
+numeric numeric_of(const cln::cl_R& v) { return numeric(cln::cl_N(v)); }
 
-numeric divide(const numeric& a, const numeric& b) {
-  if (b.is_zero()) throw std::domain_error("high precision: division by zero");
+// base^exponent for an exact exponent, as GiNaC::pow of numerics gives it.
+cln::cl_R power(const cln::cl_R& base, const numeric& exponent) {
+  if (!exponent.is_integer()) return real_of(power(numeric_of(base), exponent));
+  if (exponent.is_equal(1)) return base;
+  if (cln::zerop(base)) {
+    if (exponent.is_negative()) throw std::domain_error("high precision: 0 to a negative power");
+    if (exponent.is_zero()) return real_of(integer_power(numeric_of(base), exponent));  // GiNaC's own error
+    return 0;
+  }
+  return cln::expt(base, cln::the<cln::cl_I>(exponent.to_cl_N()));
+}
+
+// An elementary function of the model language (algebra/operations.hpp) in high precision.
+cln::cl_R apply_function(const Function& f, const cln::cl_R& argument) {
+  return real_of(f.evaluate_exactly(to_float(numeric_of(argument))));
+}
+
+cln::cl_R divide(const cln::cl_R& a, const cln::cl_R& b) {
+  if (cln::zerop(b)) throw std::domain_error("high precision: division by zero");
   return a / b;
 }
 
@@ -91,7 +110,13 @@ HighPrecisionGraphEvaluator::HighPrecisionGraphEvaluator(const ExpressionGraph& 
       outputs_(std::move(outputs)),
       schedule_(graph.schedule(outputs_)),
       digits_(digits),
-      values_(static_cast<std::size_t>(graph.size())) {}
+      values_(static_cast<std::size_t>(graph.size())),
+      constants_(static_cast<std::size_t>(graph.size())) {
+  const DigitsGuard guard(digits_);
+  for (int i : schedule_)
+    if (graph_.node(i).op == Op::constant)
+      constants_[static_cast<std::size_t>(i)] = real_of(high_precision(graph_.node(i).value));
+}
 
 std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, const double* x, const double* p,
                                                                   const double* in) {
@@ -115,7 +140,13 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, cons
 std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric& t, const std::vector<numeric>& x,
                                                                   const std::vector<numeric>& p,
                                                                   const std::vector<numeric>& in) {
-  arguments_ = {std::vector<numeric>{t}, x, p, in};
+  const auto reals = [](const std::vector<numeric>& v) {
+    std::vector<cln::cl_R> out;
+    out.reserve(v.size());
+    for (const numeric& e : v) out.push_back(real_of(e));
+    return out;
+  };
+  arguments_ = {std::vector<cln::cl_R>{real_of(t)}, reals(x), reals(p), reals(in)};
   run(schedule_, nullptr);
   return outputs();
 }
@@ -139,13 +170,14 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate_moved(Argument
     it = dependents_.emplace(key, std::move(list)).first;
   }
   const std::vector<int>& moved = it->second;
-  std::vector<numeric> saved;
+  std::vector<cln::cl_R> saved;
   saved.reserve(moved.size());
   for (int i : moved) saved.push_back(values_[static_cast<std::size_t>(i)]);
   const auto restore = [&] {
     for (std::size_t k = 0; k < moved.size(); ++k) values_[static_cast<std::size_t>(moved[k])] = saved[k];
   };
-  const Moved change{argument, index, &value};
+  const cln::cl_R moved_value = real_of(value);
+  const Moved change{argument, index, &moved_value};
   try {
     run(moved, &change);
   } catch (...) {
@@ -160,29 +192,38 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate_moved(Argument
 std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::outputs() const {
   std::vector<numeric> out;
   out.reserve(outputs_.size());
-  for (int o : outputs_) out.push_back(values_[static_cast<std::size_t>(o)]);
+  for (int o : outputs_) out.push_back(numeric_of(values_[static_cast<std::size_t>(o)]));
   return out;
 }
 
 void HighPrecisionGraphEvaluator::run(const std::vector<int>& schedule, const Moved* moved) {
   const DigitsGuard digits(digits_);
-  interpret(
-      graph_, schedule, values_, [](const Node& n) { return high_precision(n.value); },
-      [&](Argument argument, int index) -> const numeric& {
-        if (moved && moved->argument == argument && moved->index == index) return *moved->value;
-        const std::vector<numeric>& array = arguments_[static_cast<std::size_t>(argument)];
-        return array.at(argument == Argument::time ? 0 : static_cast<std::size_t>(index));
-      },
-      [&](const Node& n, const numeric& a, const numeric& b) {
-        return evaluate_in<numeric>(
-            n.op, a, b, [](const numeric& x, const numeric& y) { return divide(x, y); },
-            [&](const numeric& x, const numeric& y) {
-              // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
-              const Node& exponent = graph_.node(n.b);
-              return power(x, exponent.op == Op::constant ? exact_rational(exponent.value) : y);
-            },
-            [](Op f, const numeric& x) { return apply_function(*function_of(f), x); });
-      });
+  for (int i : schedule) {
+    const Node& n = graph_.node(i);
+    cln::cl_R& v = values_[static_cast<std::size_t>(i)];
+    if (n.op == Op::constant) {
+      v = constants_[static_cast<std::size_t>(i)];
+    } else if (n.op == Op::input) {
+      if (moved && moved->argument == n.argument && moved->index == n.index) {
+        v = *moved->value;
+      } else {
+        const std::vector<cln::cl_R>& array = arguments_[static_cast<std::size_t>(n.argument)];
+        v = array.at(n.argument == Argument::time ? 0 : static_cast<std::size_t>(n.index));
+      }
+    } else {
+      const cln::cl_R& a = values_[static_cast<std::size_t>(n.a)];
+      const cln::cl_R& b = n.b >= 0 ? values_[static_cast<std::size_t>(n.b)] : a;
+      v = evaluate_in<cln::cl_R>(
+          n.op, a, b, divide,
+          [&](const cln::cl_R& x, const cln::cl_R& y) {
+            // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
+            const Node& exponent = graph_.node(n.b);
+            return exponent.op == Op::constant ? power(x, exact_rational(exponent.value))
+                                               : real_of(power(numeric_of(x), numeric_of(y)));
+          },
+          [](Op f, const cln::cl_R& x) { return apply_function(*function_of(f), x); });
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------------------
@@ -190,7 +231,7 @@ void HighPrecisionGraphEvaluator::run(const std::vector<int>& schedule, const Mo
 void HighPrecisionExpressionEvaluator::assign(const std::map<ex, numeric, GiNaC::ex_is_less>& values) {
   const DigitsGuard digits(digits_);
   values_.clear();
-  for (const auto& [symbol, v] : values) values_[symbol] = to_float(v);
+  for (const auto& [symbol, v] : values) values_[symbol] = real_of(to_float(v));
   ++generation_;
 }
 
@@ -204,20 +245,21 @@ void HighPrecisionExpressionEvaluator::define(const Intermediates& intermediates
 GiNaC::numeric HighPrecisionExpressionEvaluator::value(const ex& e) {
   const int node = compile(e);
   const DigitsGuard digits(digits_);
-  return eval(node, false);
+  return numeric_of(eval(node, false));
 }
 
 GiNaC::numeric HighPrecisionExpressionEvaluator::magnitude(const ex& e) {
   const int node = compile(e);
   const DigitsGuard digits(digits_);
-  return eval(node, true);
+  return numeric_of(eval(node, true));
 }
 
 int HighPrecisionExpressionEvaluator::compile(const ex& e) {
   if (auto it = number_.find(e); it != number_.end()) return it->second;
-  Node node{Kind::number, {}, e};
+  Node node{Kind::number, {}, e, nullptr, 0};
   if (is_a<numeric>(e)) {
     if (!ex_to<numeric>(e).is_real()) throw std::logic_error("high precision: complex number in an expression");
+    node.number = real_of(ex_to<numeric>(e));
   } else if (is_a<GiNaC::symbol>(e)) {
     // An intermediate is its definition's node: the size of its definition, like the graph's node.
     if (auto def = definitions_.find(e); def != definitions_.end()) {
@@ -247,17 +289,17 @@ int HighPrecisionExpressionEvaluator::compile(const ex& e) {
   return n;
 }
 
-numeric HighPrecisionExpressionEvaluator::eval(int index, bool absolute) {
+const cln::cl_R& HighPrecisionExpressionEvaluator::eval(int index, bool absolute) {
   const std::size_t k = static_cast<std::size_t>(index);
-  std::vector<numeric>& computed = computed_[absolute ? 1 : 0];
+  std::vector<cln::cl_R>& computed = computed_[absolute ? 1 : 0];
   std::vector<unsigned>& stamp = stamp_[absolute ? 1 : 0];
   if (stamp.size() < nodes_.size()) stamp.resize(nodes_.size(), 0), computed.resize(nodes_.size());
   if (stamp[k] == generation_) return computed[k];
   const Node& node = nodes_[k];
-  numeric v;
+  cln::cl_R v;
   switch (node.kind) {
     case Kind::number:
-      v = ex_to<numeric>(node.expression);
+      v = node.number;
       break;
     case Kind::symbol: {
       const auto it = values_.find(node.expression);
@@ -268,22 +310,22 @@ numeric HighPrecisionExpressionEvaluator::eval(int index, bool absolute) {
       break;
     }
     case Kind::constant:
-      v = ex_to<numeric>(node.expression.evalf());
+      v = real_of(ex_to<numeric>(node.expression.evalf()));
       break;
     case Kind::add:
       v = 0;
-      for (int o : node.operands) v += eval(o, absolute);
+      for (int o : node.operands) v = v + eval(o, absolute);
       break;
     case Kind::mul:
       v = 1;
-      for (int o : node.operands) v *= eval(o, absolute);
+      for (int o : node.operands) v = v * eval(o, absolute);
       break;
     case Kind::power: {
-      const ex& exponent = nodes_[static_cast<std::size_t>(node.operands[1])].expression;
-      if (nodes_[static_cast<std::size_t>(node.operands[1])].kind != Kind::number) {
-        v = power(eval(node.operands[0], false), eval(node.operands[1], false));
+      const Node& exponent = nodes_[static_cast<std::size_t>(node.operands[1])];
+      if (exponent.kind != Kind::number) {
+        v = real_of(power(numeric_of(eval(node.operands[0], false)), numeric_of(eval(node.operands[1], false))));
       } else {
-        const numeric& y = ex_to<numeric>(exponent);
+        const numeric& y = ex_to<numeric>(exponent.expression);
         // A divisor enters at its true value: |1/x| is not bounded by 1/magnitude(x).
         v = power(eval(node.operands[0], absolute && y.is_positive()), y);
       }
@@ -293,10 +335,10 @@ numeric HighPrecisionExpressionEvaluator::eval(int index, bool absolute) {
       v = apply_function(*node.function, eval(node.operands[0], false));
       break;
   }
-  if (absolute) v = GiNaC::abs(v);
+  if (absolute) v = cln::abs(v);
   computed[k] = v;
   stamp[k] = generation_;
-  return v;
+  return computed[k];
 }
 
 // ---------------------------------------------------------------------------------------------------------

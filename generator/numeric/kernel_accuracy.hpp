@@ -29,6 +29,7 @@
 #include "model/model.hpp"
 #include "numeric/graph_evaluator.hpp"
 
+#include <cln/real.h>
 #include <ginac/ginac.h>
 
 #include <array>
@@ -52,8 +53,10 @@ double ulp_of(double y);
 /// |computed − reference| / ulp_of(max(|reference|, floor)); infinite when `computed` is not finite.
 double ulp_error(double computed, const GiNaC::numeric& reference, double floor);
 
-/// Evaluates nodes of an ExpressionGraph in CLN floating point (GiNaC::numeric) with `digits` decimal digits:
-/// the same operations as GraphEvaluator, constants and inputs converted exactly from their doubles.
+/// Evaluates nodes of an ExpressionGraph in CLN floating point with `digits` decimal digits: the same operations as
+/// GraphEvaluator, constants and inputs converted exactly from their doubles. It computes on CLN's reals
+/// (cln::cl_R) directly, with the operations GiNaC::numeric would call, so the results are those of GiNaC::numeric
+/// without its wrapping of every intermediate value.
 class HighPrecisionGraphEvaluator {
  public:
   HighPrecisionGraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs, int digits = 50);
@@ -71,7 +74,7 @@ class HighPrecisionGraphEvaluator {
   struct Moved {
     Argument argument;
     int index;
-    const GiNaC::numeric* value;
+    const cln::cl_R* value;
   };
   void run(const std::vector<int>& schedule, const Moved* moved);
   std::vector<GiNaC::numeric> outputs() const;
@@ -79,8 +82,9 @@ class HighPrecisionGraphEvaluator {
   std::vector<int> outputs_;
   std::vector<int> schedule_;
   int digits_;
-  std::vector<GiNaC::numeric> values_;
-  std::array<std::vector<GiNaC::numeric>, 4> arguments_;  ///< of the last evaluate(), by Argument
+  std::vector<cln::cl_R> values_;
+  std::vector<cln::cl_R> constants_;                 ///< per node: a constant's value at digits_ (others unused)
+  std::array<std::vector<cln::cl_R>, 4> arguments_;  ///< of the last evaluate(), by Argument
   std::map<std::pair<Argument, int>, std::vector<int>> dependents_;
 };
 
@@ -90,6 +94,7 @@ class HighPrecisionGraphEvaluator {
 /// An expression is compiled once, when first asked for, into numbered nodes (one per distinct
 /// subexpression, intermediates through their definitions); each set of values then evaluates every node it
 /// needs once, by number, so repeated points cost arithmetic only, not hashing and comparing expressions.
+/// Like HighPrecisionGraphEvaluator it computes on cln::cl_R with GiNaC::numeric's operations.
 class HighPrecisionExpressionEvaluator {
  public:
   explicit HighPrecisionExpressionEvaluator(int digits = 50) : digits_(digits) {}
@@ -110,18 +115,19 @@ class HighPrecisionExpressionEvaluator {
     std::vector<int> operands;  ///< node numbers (power: base, exponent)
     GiNaC::ex expression;       ///< number, symbol, constant, or the function (for its name)
     const Function* function = nullptr;
+    cln::cl_R number;  ///< a number's exact value
   };
   int compile(const GiNaC::ex& e);
-  GiNaC::numeric eval(int node, bool absolute);
+  const cln::cl_R& eval(int node, bool absolute);
   struct Hash {
     std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
   };
   int digits_;
-  std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less> values_;
+  std::map<GiNaC::ex, cln::cl_R, GiNaC::ex_is_less> values_;
   std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> definitions_;
   std::unordered_map<GiNaC::ex, int, Hash, GiNaC::ex_is_equal> number_;  ///< compiled expressions
   std::vector<Node> nodes_;
-  std::vector<GiNaC::numeric> computed_[2];  ///< per node: true value, magnitude
+  std::vector<cln::cl_R> computed_[2];       ///< per node: true value, magnitude
   std::vector<unsigned> stamp_[2];           ///< computed_ holds this set of values' result when == generation_
   unsigned generation_ = 1;
 };

@@ -97,6 +97,32 @@ Model apply_fold(const Model& model, const std::vector<double>& values, const st
 
 namespace hamel::cli {
 
+std::vector<double> initial_state(const Target& target, const std::vector<std::string>& names, std::vector<double> x0,
+                                  const std::map<std::string, double>& init) {
+  const Model& model = target.model;
+  const auto apply = [&](const std::map<std::string, double>& values, const auto& unknown) {
+    for (const auto& [name, v] : values) {
+      const auto it = std::find(names.begin(), names.end(), name);
+      if (it == names.end())
+        unknown(name, quote(name) + " is not a state variable of model '" + model.name +
+                          "' (coordinates and independent quasi-velocities: " + join(names) + ")");
+      x0[static_cast<std::size_t>(it - names.begin())] = v;
+    }
+  };
+  const auto located = [](const std::map<std::string, SourceLocation>& locations, const std::string& path) {
+    return [&locations, path](const std::string& name, const std::string& problem) {
+      const std::string key = "initial." + name;
+      const auto at = locations.find(key);
+      throw InputError(at != locations.end() ? at->second : SourceLocation{path, 0, 0}, key, problem);
+    };
+  };
+  if (!model.initial.empty()) x0.assign(names.size(), 0.0);  // the model's state in full: what it does not name is 0
+  apply(model.initial, located(model.locations, model.source_path));
+  if (target.scene) apply(target.scene->initial, located(target.scene->locations, target.scene->path));
+  apply(init, [](const std::string&, const std::string& problem) { throw InputError("--init: " + problem); });
+  return x0;
+}
+
 Target resolve_target(const std::string& file, const std::vector<std::string>& param_args,
                       const std::string& fold_option, const std::string& form_option, const std::string& default_fold) {
   Target target;

@@ -28,15 +28,14 @@ void run(const ReportOptions& opt) {
   const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
-  std::map<std::string, double> init, input_values;
+  std::map<std::string, double> input_values;
   double t_end = opt.t_end;
   if (target.scene) {
-    init = target.scene->initial;
     input_values = target.scene->inputs;
     if (t_end == 0 && target.scene->t_end) t_end = *target.scene->t_end;
   }
   if (t_end == 0) t_end = 10;
-  for (const auto& [k, v] : parse_assignments(opt.init, "--init")) init[k] = v;
+  const std::map<std::string, double> init = parse_assignments(opt.init, "--init");
   for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   const Derivation d = derive(model, target.settings);
@@ -54,14 +53,11 @@ void run(const ReportOptions& opt) {
   for (const auto& q : d.system.coordinates) names.push_back(q.get_name());
   for (int I : d.equations.independent) names.push_back(d.system.velocities[static_cast<std::size_t>(I)].get_name());
   // Default initial state: away from equilibria (coordinates 0.1 k, velocities 0.5), stated in the report; k / 10
-  // is the double the report prints (0.1 * 3 is not 0.3).
+  // is the double the report prints (0.1 * 3 is not 0.3). The model's `initial`, the scene's and --init override it.
+  std::vector<double> defaults;
   for (std::size_t k = 0; k < names.size(); ++k)
-    req.x0.push_back(k < d.system.coordinates.size() ? static_cast<double>(k + 1) / 10 : 0.5);
-  for (const auto& [name, v] : init) {
-    const auto it = std::find(names.begin(), names.end(), name);
-    if (it == names.end()) throw InputError("--init: '" + name + "' is not a state variable of " + model.name);
-    req.x0[static_cast<std::size_t>(it - names.begin())] = v;
-  }
+    defaults.push_back(k < d.system.coordinates.size() ? static_cast<double>(k + 1) / 10 : 0.5);
+  req.x0 = initial_state(target, names, defaults, init);
   req.inputs.assign(model.inputs.size(), 0.0);
   for (const auto& [name, v] : input_values) {
     std::size_t k = 0;
@@ -93,8 +89,10 @@ Run add_report_command(CLI::App& app) {
       "report", "Work-precision study: error against CPU time for every integrator over a sweep of settings");
   cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
   cmd->add_option("--t-end", opt->t_end, "Horizon (start is 0; default: the scene's t_end, else 10)");
-  cmd->add_option("--init", opt->init,
-                  "Initial values name=value,... (default: coordinates 0.1, 0.2, ..., velocities 0.5)");
+  cmd->add_option(
+      "--init", opt->init,
+      "Initial values name=value,... (default: the model's key initial, then the scene's; else coordinates 0.1, "
+      "0.2, ..., velocities 0.5)");
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--integrators", opt->integrators, "Integrators to compare (default rk4 dopri5 dop853 radau5)");

@@ -74,7 +74,6 @@ Settled settle(const SimulateOptions& given, const Target& target) {
     if (opt.dt == 0 && scene.dt) opt.dt = *scene.dt;
     if (opt.tol == 0 && scene.tol) opt.tol = *scene.tol;
     if (opt.sample == 0 && scene.sample) opt.sample = *scene.sample;
-    s.init = scene.initial;
     s.scene_inputs = scene.inputs;
   }
   if (opt.integrator.empty()) opt.integrator = "dopri5";
@@ -132,23 +131,6 @@ Monitors parse_monitors(const std::string& list) {
                        "; expected a comma-separated list of: energy, constraint_residual, momentum");
   }
   return m;
-}
-
-// x(0): zero but for --init and the scene's initial values, which must name state variables (`columns` after "t").
-std::vector<double> initial_state(const std::vector<std::string>& columns, const std::map<std::string, double>& init,
-                                  const std::string& model_name) {
-  std::vector<double> x0(columns.size() - 1, 0.0);
-  for (const auto& [name, v] : init) {
-    auto it = std::find(columns.begin() + 1, columns.end(), name);
-    if (it == columns.end()) {
-      std::string list;
-      for (std::size_t k = 1; k < columns.size(); ++k) list += (k > 1 ? ", " : "") + columns[k];
-      throw InputError("--init: " + quote(name) + " is not a state variable of model '" + model_name +
-                       "' (coordinates and independent quasi-velocities: " + list + ")");
-    }
-    x0[static_cast<std::size_t>(it - columns.begin() - 1)] = v;
-  }
-  return x0;
 }
 
 // The CSV's columns after t and the state: the pose (when reconstructed), then the monitors'.
@@ -352,7 +334,8 @@ void run(const SimulateOptions& given) {
   for (const auto& q : sys.coordinates) columns.push_back(q.get_name());
   for (int I : derivation.equations.independent)
     columns.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
-  const std::vector<double> x0 = initial_state(columns, settled.init, model.name);
+  const std::vector<double> x0 = initial_state(target, std::vector<std::string>(columns.begin() + 1, columns.end()),
+                                               std::vector<double>(columns.size() - 1, 0.0), settled.init);
 
   // Inputs: the scene's constants, then --input-file (tables) and --input (constants or laws in t and the
   // state), each input set once on the command line.
@@ -413,8 +396,10 @@ Run add_simulate_command(CLI::App& app) {
       cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of the adaptive integrators (default 1e-8)");
   dt->excludes(tol);
   cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
-  cmd->add_option("--init", opt->init,
-                  "Initial values name=value,... of coordinates and independent quasi-velocities (default 0)");
+  cmd->add_option(
+      "--init", opt->init,
+      "Initial values name=value,... of coordinates and independent quasi-velocities (default: the model's key "
+      "initial, then the scene's; else 0)");
   cmd->add_option("--input", opt->inputs,
                   "Inputs name=value or name=expression in t, the state's names and parameters (a feedback law, "
                   "e.g. tau=\"-4*(q-1)-2*q_dot\"), comma-separated (default 0)");

@@ -168,6 +168,21 @@ class Loader {
     return node.Scalar();
   }
 
+  double finite_number(const YAML::Node& node, const std::string& key) const {
+    const std::string value = scalar(node, key);
+    double v = 0;
+    try {
+      v = node.as<double>();  // YAML's own number syntax, including .inf and .nan
+    } catch (const YAML::Exception&) {
+      fail(node, key, "expected a number, got " + quote(value) + out_of_range(value));
+    }
+    if (!std::isfinite(v)) fail(node, key, "expected a finite number, got " + quote(value));
+    // yaml-cpp reads 1e-400 as 0 without a word; --param refuses it, so a file does too.
+    if (const std::string note = out_of_range(value); !note.empty())
+      fail(node, key, "expected a number, got " + quote(value) + note);
+    return v;
+  }
+
   void declare_name(const YAML::Node& node, const std::string& key, const std::string& name) {
     std::string why;
     if (!is_valid_identifier(name, &why)) fail(node, key, why);
@@ -344,13 +359,14 @@ Model Loader::load() {
   if (bundle_)
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs", "definitions"});
+                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs", "definitions", "initial"});
   else if (root_["tree"])
-    check_keys(root_, "", {"schema", "name", "description", "parameters", "tree", "forces", "inputs", "definitions"});
+    check_keys(root_, "",
+               {"schema", "name", "description", "parameters", "tree", "forces", "inputs", "definitions", "initial"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
-                "lagrangian", "forces", "inputs", "definitions", "bodies", "potential"});
+                "lagrangian", "forces", "inputs", "definitions", "initial", "bodies", "potential"});
 
   Model model;
   model.source_path = path_;
@@ -373,18 +389,17 @@ Model Loader::load() {
       const std::string pname = kv.first.as<std::string>();
       const std::string key = "parameters." + pname;
       declare_name(kv.first, key, pname);
-      const std::string value = scalar(kv.second, key);
-      double v = 0;
-      try {
-        v = kv.second.as<double>();  // YAML's own number syntax, including .inf and .nan
-      } catch (const YAML::Exception&) {
-        fail(kv.second, key, "expected a number, got " + quote(value) + out_of_range(value));
-      }
-      if (!std::isfinite(v)) fail(kv.second, key, "expected a finite number, got " + quote(value));
-      // yaml-cpp reads 1e-400 as 0 without a word; --param refuses it, so the default does too.
-      if (const std::string note = out_of_range(value); !note.empty())
-        fail(kv.second, key, "expected a number, got " + quote(value) + note);
-      model.parameters.push_back({GiNaC::realsymbol(pname), v});
+      model.parameters.push_back({GiNaC::realsymbol(pname), finite_number(kv.second, key)});
+    }
+  }
+  // A representative initial state (which a model with a holonomic condition in differential form needs for its
+  // studies to mean something): names are checked against the state when a verb uses them.
+  if (YAML::Node init = root_["initial"]) {
+    if (!init.IsMap()) fail(init, "initial", "expected a map of state variable: value");
+    for (const auto& kv : init) {
+      const std::string key = "initial." + scalar(kv.first, "initial");
+      model.initial[kv.first.Scalar()] = finite_number(kv.second, key);
+      model.locations[key] = where(kv.first);
     }
   }
 

@@ -101,6 +101,11 @@ struct Model {
   GiNaC::ex lagrangian;           ///< L(q, q̇, u, t); for bundle models l = T − V
   std::vector<GiNaC::ex> forces;  ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape
 
+  /// A representative initial state (key `initial`): state variable name → value, the others 0; the default of
+  /// `simulate` and `report`, which a scene's `initial` and --init override (cli/options.hpp: initial_state). Names
+  /// are checked when a verb uses them, against the state the derivation gives.
+  std::map<std::string, double> initial;
+
   /// Where each key stood in the file ("quasi_velocities.A", "lagrangian", ...), for later errors.
   std::map<std::string, SourceLocation> locations;
 

@@ -144,8 +144,11 @@ Scene load_scene(const std::string& path) {
       auto& target = std::string(key) == "parameters" ? s.parameters
                      : std::string(key) == "initial"  ? s.initial
                                                       : s.inputs;
-      for (const auto& kv : m)
-        target[kv.first.as<std::string>()] = number(kv.second, std::string(key) + "." + kv.first.as<std::string>());
+      for (const auto& kv : m) {
+        const std::string name = std::string(key) + "." + kv.first.as<std::string>();
+        target[kv.first.as<std::string>()] = number(kv.second, name);
+        s.locations[name] = where(path, kv.first);
+      }
     }
   }
   if (root["integrator"]) s.integrator = scalar("integrator");

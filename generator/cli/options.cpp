@@ -100,26 +100,25 @@ namespace hamel::cli {
 std::vector<double> initial_state(const Target& target, const std::vector<std::string>& names, std::vector<double> x0,
                                   const std::map<std::string, double>& init) {
   const Model& model = target.model;
-  const auto apply = [&](const std::map<std::string, double>& values, const auto& unknown) {
+  // `error(name, problem)`: the error for a name that is not a state variable, saying where it was given.
+  const auto apply = [&](const std::map<std::string, double>& values, const auto& error) {
     for (const auto& [name, v] : values) {
       const auto it = std::find(names.begin(), names.end(), name);
       if (it == names.end())
-        unknown(name, quote(name) + " is not a state variable of model '" + model.name +
-                          "' (coordinates and independent quasi-velocities: " + join(names) + ")");
+        throw error(name, quote(name) + " is not a state variable of model '" + model.name +
+                              "' (coordinates and independent quasi-velocities: " + join(names) + ")");
       x0[static_cast<std::size_t>(it - names.begin())] = v;
     }
   };
-  const auto located = [](const std::map<std::string, SourceLocation>& locations, const std::string& path) {
-    return [&locations, path](const std::string& name, const std::string& problem) {
-      const std::string key = "initial." + name;
-      const auto at = locations.find(key);
-      throw InputError(at != locations.end() ? at->second : SourceLocation{path, 0, 0}, key, problem);
+  const auto at_key = [](const std::map<std::string, SourceLocation>& locations) {  // the file's key initial.<name>
+    return [&locations](const std::string& name, const std::string& problem) {
+      return InputError(locations.at("initial." + name), "initial." + name, problem);
     };
   };
   if (!model.initial.empty()) x0.assign(names.size(), 0.0);  // the model's state in full: what it does not name is 0
-  apply(model.initial, located(model.locations, model.source_path));
-  if (target.scene) apply(target.scene->initial, located(target.scene->locations, target.scene->path));
-  apply(init, [](const std::string&, const std::string& problem) { throw InputError("--init: " + problem); });
+  apply(model.initial, at_key(model.locations));
+  if (target.scene) apply(target.scene->initial, at_key(target.scene->locations));
+  apply(init, [](const std::string&, const std::string& problem) { return InputError("--init: " + problem); });
   return x0;
 }
 

@@ -70,6 +70,17 @@ TEST(InitialState, ModelSceneAndCommandLineOverrideInTurn) {
   }
 }
 
+TEST(InitialState, AnUnknownNameInASceneIsReportedAtItsLine) {
+  const fs::path dir = scratch_dir("initial_state_scene_error");
+  spit(dir / "sleigh.yaml", sleigh);
+  spit(dir / "scene.yaml", "scene: run\nmodel: sleigh.yaml\ninitial:\n  v: 2\n  u_lat: 1\n");
+  const Outcome r = hamel("simulate " + shell_quote((dir / "scene.yaml").string()) + " --t-end 1", dir);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_NE(r.err.find("scene.yaml:5:3: error: 'initial.u_lat': 'u_lat' is not a state variable"), std::string::npos)
+      << r.err;
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
 TEST(InitialState, ReportStartsFromTheModelsStateWithTheRestZero) {
   const fs::path dir = scratch_dir("initial_state_report");
   spit(dir / "sleigh.yaml", sleigh);

@@ -48,9 +48,8 @@ struct Target {
 
 /// x(0) over the state variables `names` (coordinates, then independent quasi-velocities): the model's key `initial`
 /// when it has one (the variables it does not name 0), else `defaults`; overridden by the scene's `initial`, then by
-/// --init (`init`, parsed). A name that is not a state
-/// variable is an input error that says where it was given: file:line and key for the model's and the scene's
-/// values, the option for --init.
+/// --init (`init`, parsed). A name that is not a state variable is an input error that says where it was given:
+/// file:line and key for the model's and the scene's values, the option for --init.
 std::vector<double> initial_state(const Target& target, const std::vector<std::string>& names,
                                   std::vector<double> defaults, const std::map<std::string, double>& init);
 

@@ -106,28 +106,11 @@ cln::cl_R divide(const cln::cl_R& a, const cln::cl_R& b) {
 
 HighPrecisionGraphEvaluator::HighPrecisionGraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs,
                                                          int digits)
-    : graph_(graph), schedule_(graph.schedule(outputs)), digits_(digits) {
-  const std::size_t n = schedule_.size();
-  std::vector<int> position(static_cast<std::size_t>(graph.size()), -1);
-  for (std::size_t k = 0; k < n; ++k) position[static_cast<std::size_t>(schedule_[k])] = static_cast<int>(k);
-  steps_.resize(n);
-  all_.resize(n);
-  values_.resize(n);
-  constants_.resize(n);
-  const DigitsGuard guard(digits_);
-  for (std::size_t k = 0; k < n; ++k) {
-    const Node& node = graph_.node(schedule_[k]);
-    steps_[k].node = node;
-    all_[k] = static_cast<int>(k);
-    if (node.op == Op::constant) {
-      constants_[k] = real_of(high_precision(node.value));
-    } else if (node.op != Op::input) {
-      steps_[k].a = position[static_cast<std::size_t>(node.a)];
-      steps_[k].b = node.b >= 0 ? position[static_cast<std::size_t>(node.b)] : -1;
-    }
-  }
-  for (int o : outputs) outputs_.push_back(position[static_cast<std::size_t>(o)]);
-}
+    : graph_(graph),
+      outputs_(std::move(outputs)),
+      schedule_(graph.schedule(outputs_)),
+      digits_(digits),
+      values_(static_cast<std::size_t>(graph.size())) {}
 
 std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, const double* x, const double* p,
                                                                   const double* in) {
@@ -158,7 +141,7 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric&
     return out;
   };
   arguments_ = {std::vector<cln::cl_R>{real_of(t)}, reals(x), reals(p), reals(in)};
-  run(all_, nullptr);
+  run(schedule_, nullptr);
   return outputs();
 }
 
@@ -167,17 +150,16 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate_moved(Argument
   const auto key = std::make_pair(argument, index);
   auto it = dependents_.find(key);
   if (it == dependents_.end()) {
-    // The positions of the scheduled nodes that depend on this argument, in schedule order (operands before users).
+    // The scheduled nodes that depend on this argument, in schedule order (operands before users).
     std::vector<char> depends(values_.size(), 0);
     std::vector<int> list;
-    for (int k : all_) {
-      const Step& step = steps_[static_cast<std::size_t>(k)];
-      const Node& n = step.node;
+    for (int i : schedule_) {
+      const Node& n = graph_.node(i);
       const bool d = n.op == Op::input      ? n.argument == argument && n.index == index
                      : n.op == Op::constant ? false
-                                            : depends[static_cast<std::size_t>(step.a)] ||
-                                                  (step.b >= 0 && depends[static_cast<std::size_t>(step.b)]);
-      if (d) depends[static_cast<std::size_t>(k)] = 1, list.push_back(k);
+                                            : depends[static_cast<std::size_t>(n.a)] ||
+                                                  (n.b >= 0 && depends[static_cast<std::size_t>(n.b)]);
+      if (d) depends[static_cast<std::size_t>(i)] = 1, list.push_back(i);
     }
     it = dependents_.emplace(key, std::move(list)).first;
   }
@@ -208,35 +190,31 @@ std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::outputs() const {
   return out;
 }
 
-void HighPrecisionGraphEvaluator::run(const std::vector<int>& steps, const Moved* moved) {
+void HighPrecisionGraphEvaluator::run(const std::vector<int>& schedule, const Moved* moved) {
   const DigitsGuard digits(digits_);
-  for (int k : steps) {
-    const Step& step = steps_[static_cast<std::size_t>(k)];
-    const Node& n = step.node;
-    cln::cl_R& v = values_[static_cast<std::size_t>(k)];
-    if (n.op == Op::constant) {
-      v = constants_[static_cast<std::size_t>(k)];
-    } else if (n.op == Op::input) {
-      if (moved && moved->argument == n.argument && moved->index == n.index) {
-        v = *moved->value;
-      } else {
-        const std::vector<cln::cl_R>& array = arguments_[static_cast<std::size_t>(n.argument)];
-        v = array.at(n.argument == Argument::time ? 0 : static_cast<std::size_t>(n.index));
-      }
-    } else {
-      const cln::cl_R& a = values_[static_cast<std::size_t>(step.a)];
-      const cln::cl_R& b = step.b >= 0 ? values_[static_cast<std::size_t>(step.b)] : a;
-      v = evaluate_in<cln::cl_R>(
-          n.op, a, b, divide,
-          [&](const cln::cl_R& x, const cln::cl_R& y) {
-            // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
-            const Node& exponent = steps_[static_cast<std::size_t>(step.b)].node;
-            return exponent.op == Op::constant ? power(x, exact_rational(exponent.value))
-                                               : real_of(power(numeric_of(x), numeric_of(y)));
-          },
-          [](Op f, const cln::cl_R& x) { return apply_function(*function_of(f), x); });
-    }
-  }
+  interpret(
+      graph_, schedule, values_,
+      [&](const Node& n) -> const cln::cl_R& {
+        auto it = constants_.find(n.value);
+        if (it == constants_.end()) it = constants_.emplace(n.value, real_of(high_precision(n.value))).first;
+        return it->second;
+      },
+      [&](Argument argument, int index) -> const cln::cl_R& {
+        if (moved && moved->argument == argument && moved->index == index) return *moved->value;
+        const std::vector<cln::cl_R>& array = arguments_[static_cast<std::size_t>(argument)];
+        return array.at(argument == Argument::time ? 0 : static_cast<std::size_t>(index));
+      },
+      [&](const Node& n, const cln::cl_R& a, const cln::cl_R& b) {
+        return evaluate_in<cln::cl_R>(
+            n.op, a, b, divide,
+            [&](const cln::cl_R& x, const cln::cl_R& y) {
+              // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
+              const Node& exponent = graph_.node(n.b);
+              return exponent.op == Op::constant ? power(x, exact_rational(exponent.value))
+                                                 : real_of(power(numeric_of(x), numeric_of(y)));
+            },
+            [](Op f, const cln::cl_R& x) { return apply_function(*function_of(f), x); });
+      });
 }
 
 // ---------------------------------------------------------------------------------------------------------

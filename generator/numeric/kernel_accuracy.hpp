@@ -76,24 +76,16 @@ class HighPrecisionGraphEvaluator {
     int index;
     const cln::cl_R* value;
   };
-  /// One node of the schedule, its operands named by their positions in the schedule: values are kept in schedule
-  /// order, next to the values they are computed from (the graph's own numbering spreads them over all its nodes).
-  struct Step {
-    Node node;  ///< a copy: the graph may grow (and move its nodes) while the evaluator lives
-    int a = -1, b = -1;
-  };
-  void run(const std::vector<int>& steps, const Moved* moved);
+  void run(const std::vector<int>& schedule, const Moved* moved);
   std::vector<GiNaC::numeric> outputs() const;
   const ExpressionGraph& graph_;
-  std::vector<int> outputs_;  ///< positions in the schedule
+  std::vector<int> outputs_;
   std::vector<int> schedule_;
-  std::vector<Step> steps_;  ///< per position in the schedule
-  std::vector<int> all_;     ///< every position
   int digits_;
-  std::vector<cln::cl_R> values_;                    ///< per position
-  std::vector<cln::cl_R> constants_;                 ///< per position: a constant's value at digits_ (others unused)
+  std::vector<cln::cl_R> values_;
+  std::unordered_map<double, cln::cl_R> constants_;  ///< a graph constant's value at digits_, converted once
   std::array<std::vector<cln::cl_R>, 4> arguments_;  ///< of the last evaluate(), by Argument
-  std::map<std::pair<Argument, int>, std::vector<int>> dependents_;  ///< positions
+  std::map<std::pair<Argument, int>, std::vector<int>> dependents_;
 };
 
 /// Evaluates GiNaC expressions numerically with `digits` decimal digits at given symbol values. Understands

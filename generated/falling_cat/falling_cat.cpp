@@ -6,6 +6,16 @@
 
 #include <cmath>
 
+#ifndef HAMEL_NOINLINE
+#if defined(__GNUC__)
+#define HAMEL_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define HAMEL_NOINLINE __declspec(noinline)
+#else
+#define HAMEL_NOINLINE
+#endif
+#endif
+
 namespace falling_cat {
 
 namespace {
@@ -2705,7 +2715,7 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
 /* jacobian: (t, x[7], p[9], in[0]) -> out[49]  ops: 7741 add, 8831 mul, 2951 div, 4 call */
 namespace {
 
-void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -4018,7 +4028,7 @@ void jacobian_part0(real t, const real* x, const real* p, const real* in, real* 
   v[602] = w703;
 }
 
-void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -4913,7 +4923,7 @@ void jacobian_part1(real t, const real* x, const real* p, const real* in, real* 
   v[945] = w1249;
 }
 
-void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -5820,7 +5830,7 @@ void jacobian_part2(real t, const real* x, const real* p, const real* in, real* 
   v[1258] = w1741;
 }
 
-void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -6602,7 +6612,7 @@ void jacobian_part3(real t, const real* x, const real* p, const real* in, real* 
   v[1416] = w2188;
 }
 
-void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -7907,7 +7917,7 @@ void jacobian_part4(real t, const real* x, const real* p, const real* in, real* 
   v[1697] = w2908;
 }
 
-void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -8832,7 +8842,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   v[2077] = w3424;
 }
 
-void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -9573,7 +9583,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[2151] = w3845;
 }
 
-void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   const real w3846 = v[2150] + v[2151] - v[612] * v[1220];
@@ -10049,7 +10059,7 @@ void jacobian_part7(real t, const real* x, const real* p, const real* in, real* 
   v[1159] = w4158;
 }
 
-void jacobian_part8(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part8(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   (void)out;
@@ -10438,7 +10448,7 @@ void jacobian_part8(real t, const real* x, const real* p, const real* in, real* 
   v[269] = w4448;
 }
 
-void jacobian_part9(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part9(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)in;
   const real w4449 = v[164] + (v[168] + (v[268] + v[549] * (v[269] - v[7] + v[1069] + v[2] * v[174] + v[1062] * real(2.0)) * p[6] * x[6] + v[417] * v[41]) + v[430] * v[13]);

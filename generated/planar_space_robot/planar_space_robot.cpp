@@ -6,6 +6,16 @@
 
 #include <cmath>
 
+#ifndef HAMEL_NOINLINE
+#if defined(__GNUC__)
+#define HAMEL_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define HAMEL_NOINLINE __declspec(noinline)
+#else
+#define HAMEL_NOINLINE
+#endif
+#endif
+
 namespace planar_space_robot {
 
 namespace {
@@ -2110,7 +2120,7 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
 /* jacobian: (t, x[7], p[10], in[0]) -> out[49]  ops: 5369 add, 8034 mul, 1483 div, 4 call */
 namespace {
 
-void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -3021,7 +3031,7 @@ void jacobian_part0(real t, const real* x, const real* p, const real* in, real* 
   v[393] = w509;
 }
 
-void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part1(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -3749,7 +3759,7 @@ void jacobian_part1(real t, const real* x, const real* p, const real* in, real* 
   v[664] = w959;
 }
 
-void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part2(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -4665,7 +4675,7 @@ void jacobian_part2(real t, const real* x, const real* p, const real* in, real* 
   v[961] = w1478;
 }
 
-void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part3(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -5623,7 +5633,7 @@ void jacobian_part3(real t, const real* x, const real* p, const real* in, real* 
   v[1264] = w2008;
 }
 
-void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part4(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -6237,7 +6247,7 @@ void jacobian_part4(real t, const real* x, const real* p, const real* in, real* 
   v[1321] = w2424;
 }
 
-void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part5(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -6688,7 +6698,7 @@ void jacobian_part5(real t, const real* x, const real* p, const real* in, real* 
   v[776] = w2737;
 }
 
-void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part6(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;
@@ -7086,7 +7096,7 @@ void jacobian_part6(real t, const real* x, const real* p, const real* in, real* 
   v[181] = w3042;
 }
 
-void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v, real* out) {
+HAMEL_NOINLINE void jacobian_part7(real t, const real* x, const real* p, const real* in, real* v, real* out) {
   (void)t;
   (void)p;
   (void)in;

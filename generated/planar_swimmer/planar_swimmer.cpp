@@ -6,12 +6,22 @@
 
 #include <cmath>
 
+#ifndef HAMEL_NOINLINE
+#if defined(__GNUC__)
+#define HAMEL_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define HAMEL_NOINLINE __declspec(noinline)
+#else
+#define HAMEL_NOINLINE
+#endif
+#endif
+
 namespace planar_swimmer {
 
 namespace {
 
 /* rhs_with_pivots: (t, x[9], p[12], in[3]) -> out[9], pivots[6]  ops: 160 add, 216 mul, 5 div, 6 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+HAMEL_NOINLINE void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
   (void)p;
   const real w0 = real(2.0) * x[4];

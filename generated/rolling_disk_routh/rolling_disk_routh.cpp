@@ -6,12 +6,22 @@
 
 #include <cmath>
 
+#ifndef HAMEL_NOINLINE
+#if defined(__GNUC__)
+#define HAMEL_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define HAMEL_NOINLINE __declspec(noinline)
+#else
+#define HAMEL_NOINLINE
+#endif
+#endif
+
 namespace rolling_disk_routh {
 
 namespace {
 
 /* rhs_with_pivots: (t, x[8], p[5], in[0]) -> out[8], pivots[3]  ops: 299 add, 431 mul, 4 div, 6 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+HAMEL_NOINLINE void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
   (void)in;
   const real w0 = std::cos(x[2]);

@@ -6,12 +6,22 @@
 
 #include <cmath>
 
+#ifndef HAMEL_NOINLINE
+#if defined(__GNUC__)
+#define HAMEL_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define HAMEL_NOINLINE __declspec(noinline)
+#else
+#define HAMEL_NOINLINE
+#endif
+#endif
+
 namespace satellite_compliant_rotor {
 
 namespace {
 
 /* rhs_with_pivots: (t, x[7], p[6], in[0]) -> out[7], pivots[5]  ops: 26 add, 34 mul, 15 div, 0 call */
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+HAMEL_NOINLINE void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
   (void)in;
   const real w0 = p[1] + p[4];

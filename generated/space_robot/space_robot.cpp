@@ -6,6 +6,16 @@
 
 #include <cmath>
 
+#ifndef HAMEL_NOINLINE
+#if defined(__GNUC__)
+#define HAMEL_NOINLINE __attribute__((noinline))
+#elif defined(_MSC_VER)
+#define HAMEL_NOINLINE __declspec(noinline)
+#else
+#define HAMEL_NOINLINE
+#endif
+#endif
+
 namespace space_robot {
 
 namespace {
@@ -1904,7 +1914,7 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
 namespace {
 
 /* jacobian_column: (t, x[26], p[91], in[0]) -> out[242], 26 of them  ops: 312 add, 338 mul, 0 div, 0 call */
-void jacobian_column(real t, const real* x, const real* p, const real* in, real* out) {
+HAMEL_NOINLINE void jacobian_column(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0_0 = x[22] - p[1] * x[24];
@@ -2012,7 +2022,7 @@ void jacobian_column(real t, const real* x, const real* p, const real* in, real*
 /* jacobian_stage: (t, x[20], p[26], in[7]) -> out[140], scratch[351]  ops: 4117 add, 4322 mul, 91 div, 0 call */
 namespace {
 
-void jacobian_stage_part0(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
+HAMEL_NOINLINE void jacobian_stage_part0(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
   (void)t;
   (void)x;
   (void)p;
@@ -2590,7 +2600,7 @@ void jacobian_stage_part0(real t, const real* x, const real* p, const real* in, 
   v[211] = w331;
 }
 
-void jacobian_stage_part1(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
+HAMEL_NOINLINE void jacobian_stage_part1(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
   (void)t;
   (void)p;
   (void)in;
@@ -3466,7 +3476,7 @@ void jacobian_stage_part1(real t, const real* x, const real* p, const real* in, 
   v[521] = w825;
 }
 
-void jacobian_stage_part2(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
+HAMEL_NOINLINE void jacobian_stage_part2(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
   (void)t;
   (void)p;
   (void)in;
@@ -4088,7 +4098,7 @@ void jacobian_stage_part2(real t, const real* x, const real* p, const real* in, 
   v[687] = w1204;
 }
 
-void jacobian_stage_part3(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
+HAMEL_NOINLINE void jacobian_stage_part3(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
   (void)t;
   (void)x;
   (void)p;
@@ -4419,7 +4429,7 @@ void jacobian_stage_part3(real t, const real* x, const real* p, const real* in, 
   v[76] = w1445;
 }
 
-void jacobian_stage_part4(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
+HAMEL_NOINLINE void jacobian_stage_part4(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch, const real* s0) {
   (void)t;
   (void)p;
   (void)in;
@@ -4910,7 +4920,7 @@ void jacobian_stage_part4(real t, const real* x, const real* p, const real* in, 
 
 }  // namespace
 
-void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch, const real* s0) {
+HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch, const real* s0) {
   real v[688];
   jacobian_stage_part0(t, x, p, in, v, out, scratch, s0);
   jacobian_stage_part1(t, x, p, in, v, out, scratch, s0);

@@ -187,7 +187,22 @@ struct Destination {
   /// program's x[k] and writes its output o to target(o·lanes + l), named by the kernel's output_names[o·lanes + l];
   /// each statement is printed once per lane, in turn.
   int lanes = 1;
+  /// A function of the package's own (its anonymous namespace), called by the package's kernels: kept out of line
+  /// when long (out_of_line).
+  bool internal = false;
 };
+
+// A long function the package calls, never inlined into its caller: g++ inlines a static function called once,
+// which glues a split kernel's parts back into one function and a kernel's own work into the function that calls
+// the shared stages before it, and its passes over memory accesses grow faster than linearly with a function's
+// length (the 30-joint chain's package: g++ -O2 15.1-15.6 s with only the parts out of line, 14.0-15.0 s with
+// every long function, docs/benchmarks.md). A short one (a small model's rhs_with_pivots) may still be inlined,
+// and so may the parts of a kernel split in two: g++ inlines about two parts into their caller anyway, and the
+// 30-joint chain's energy (two parts) ran 14 % slower with them out of line.
+constexpr int out_of_line_statements = 64;
+std::string out_of_line(bool internal, int statements) {
+  return internal && statements >= out_of_line_statements ? "HAMEL_NOINLINE " : "";
+}
 
 // The kernel ABI: out[o].
 Destination to_out(const Kernel& k) {
@@ -419,7 +434,8 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       each_lane([&] {
         body << "  " << output_target(o) << " = " << name_of(k.outputs[o]) << ";  // " << output_name(o) << "\n";
       });
-    os << head << " {\n" << argument_voids(uses) << stage_voids(reads, read);
+    os << out_of_line(d.internal, work * lanes + static_cast<int>(k.outputs.size()) * lanes) << head << " {\n"
+       << argument_voids(uses) << stage_voids(reads, read);
     if (k.outputs.empty()) os << "  (void)out;\n";
     os << body.str() << "}\n";
     return {k.name, os.str(), work * lanes, c};
@@ -483,21 +499,27 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     if (!wrote.count("v")) voids += "  (void)v;\n";
     Destination with_v = d;  // a part also gets v[]
     with_v.arrays.insert(with_v.arrays.begin(), "v");
-    os << head_of(with_v, k.name + "_part" + std::to_string(part), reads) << " {\n"
+    os << out_of_line(parts > 2, out_of_line_statements)
+       << head_of(with_v, k.name + "_part" + std::to_string(part), reads) << " {\n"
        << argument_voids(part_uses) << voids << stage_voids(reads, read) << body.str() << "}\n\n";
   }
-  os << "}  // namespace\n\n" << head << " {\n  real v[" << std::max(n_slots * lanes, 1) << "];\n";
+  std::ostringstream calls;
+  int driver_statements = parts;
   for (int part = 0; part < parts; ++part)
-    os << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(reads) << ");\n";
+    calls << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(reads)
+          << ");\n";
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     const int i = k.outputs[o];
     if (leaf.count(i) || !d.outputs_in_parts)
       each_lane([&] {
-        os << "  " << output_target(o) << " = " << (leaf.count(i) ? leaf_of(i) : passed(i)) << ";  // "
-           << output_name(o) << "\n";
+        calls << "  " << output_target(o) << " = " << (leaf.count(i) ? leaf_of(i) : passed(i)) << ";  // "
+              << output_name(o) << "\n";
+        ++driver_statements;
       });
   }
-  os << "}\n";
+  os << "}  // namespace\n\n"
+     << out_of_line(d.internal, driver_statements) << head << " {\n  real v[" << std::max(n_slots * lanes, 1) << "];\n"
+     << calls.str() << "}\n";
   return {k.name, os.str(), (work + n_slots) * lanes, c, parts};
 }
 
@@ -595,6 +617,7 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   placed.target = [&offset](std::size_t r) { return "out[" + std::to_string(offset[r]) + "]"; };
   placed.outputs_in_parts = false;  // measured: tree 30's jacobian ran a third slower with its calls' parts writing out[]
   placed.lanes = static_cast<int>(sub.lanes);
+  placed.internal = true;
   placed.shape = "out[" + std::to_string(*std::max_element(offset.begin(), offset.end()) + 1) + "], " +
                  std::to_string(n_results) + " of them";
   const PrintedKernel called = print_kernel(
@@ -605,6 +628,7 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   const std::vector<std::size_t>&direct = staging.direct, &slot = staging.slot;
   const std::size_t first = direct.size(), n_scratch = stage.outputs.size() - first;
   Destination into = to_two_arrays(stage, first, "scratch");
+  into.internal = true;
   into.target = [&](std::size_t o) {
     return o < first ? "out[" + std::to_string(direct[o]) + "]" : "scratch[" + std::to_string(slot[o - first]) + "]";
   };
@@ -638,7 +662,9 @@ PrintedKernel print_after_stages(const ExpressionGraph& g, const Kernel& k, cons
   Kernel own = k;
   own.name = k.name + "_own";
   own.calls = nullptr;
-  const PrintedKernel printed = print_kernel(g, own, s, d, stages.reads);
+  Destination internal = d;
+  internal.internal = true;
+  const PrintedKernel printed = print_kernel(g, own, s, internal, stages.reads);
   OpCounts total = stages.ops;
   total.add_times(1, printed.ops);
   std::vector<std::string> steps = stages.names;
@@ -673,6 +699,7 @@ PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, co
     for (std::size_t e = 0; e < stage.exports.size(); ++e) fn.output_names.push_back("export " + std::to_string(e));
     Destination d = to_out(fn);
     d.shape = "out[" + std::to_string(stage.exports.size()) + "], called by " + std::to_string(stage.units.size()) + " kernels";
+    d.internal = true;
     printed.push_back(print_kernel(g, fn, s, d, &stage.reads));
     out.text += printed.back().text + "\n";
   }
@@ -920,7 +947,8 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
       checked.outputs.push_back(kernels.rhs_pivots[k]);
       checked.output_names.push_back("pivot " + std::to_string(k));
     }
-    const Destination two = to_two_arrays(checked, kernels.kernels[i].outputs.size(), "pivots");
+    Destination two = to_two_arrays(checked, kernels.kernels[i].outputs.size(), "pivots");
+    two.internal = true;
     rhs_with_pivots = (stages.units[i].reads ? print_after_stages(kernels.graph, checked, s, two, stages.units[i])
                                              : print_kernel(kernels.graph, checked, s, two))
                           .text;
@@ -1130,7 +1158,15 @@ std::string PackageWriter::source() const {
       c << c_signature("void", k.name) << " { " << model.name << "::" << k.name << "(t, x, p, in, out); }\n";
   }
   c << "\n}  // extern \"C\"\n";
-  return c.str();
+  std::string text = c.str();
+  if (text.find("HAMEL_NOINLINE ") != std::string::npos) {  // out_of_line: defined where the compiler has a way
+    const std::string after = "#include <cmath>\n";
+    text.insert(text.find(after) + after.size(),
+                "\n#ifndef HAMEL_NOINLINE\n#if defined(__GNUC__)\n#define HAMEL_NOINLINE __attribute__((noinline))\n"
+                "#elif defined(_MSC_VER)\n#define HAMEL_NOINLINE __declspec(noinline)\n#else\n#define HAMEL_NOINLINE\n"
+                "#endif\n#endif\n");
+  }
+  return text;
 }
 
 std::string PackageWriter::c_header() const {

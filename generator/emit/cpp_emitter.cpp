@@ -195,10 +195,11 @@ struct Destination {
 // A long function the package calls, never inlined into its caller: g++ inlines a static function called once,
 // which glues a split kernel's parts back into one function and a kernel's own work into the function that calls
 // the shared stages before it, and its passes over memory accesses grow faster than linearly with a function's
-// length (the 30-joint chain's package: g++ -O2 15.1-15.6 s with only the parts out of line, 14.0-15.0 s with
-// every long function, docs/benchmarks.md). A short one (a small model's rhs_with_pivots) may still be inlined,
-// and so may the parts of a kernel split in two: g++ inlines about two parts into their caller anyway, and the
-// 30-joint chain's energy (two parts) ran 14 % slower with them out of line.
+// length (the 30-joint chain's package: g++ -O2 21.3 -> 19.0 s, best of several runs; with --share-ratio 0,
+// 15.1-15.6 s with only the parts out of line, 14.0-15.0 s with every long function; docs/benchmarks.md). A short
+// one (a small model's rhs_with_pivots) may still be inlined, and so may the parts of a kernel split in two: g++
+// inlines about two parts into their caller anyway, and the 30-joint chain's energy (two parts) ran 14 % slower
+// with them out of line.
 constexpr int out_of_line_statements = 64;
 std::string out_of_line(bool internal, int statements) {
   return internal && statements >= out_of_line_statements ? "HAMEL_NOINLINE " : "";

@@ -167,7 +167,8 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
   std::string line;
   Interpreted run;
   while (std::getline(lines, line)) {
-    if (starts(line, "HAMEL_NOINLINE ")) line = line.substr(15);  // a long function kept out of line
+    const std::string out_of_line = "HAMEL_NOINLINE ";  // a long function kept out of line
+    if (starts(line, out_of_line)) line = line.substr(out_of_line.size());
     if (starts(line, "void f_part") && ends(line, ") {")) {
       current = &parts[std::stoi(line.substr(11, line.find('(') - 11))];
     } else if (starts(line, "void f(") && ends(line, ") {")) {

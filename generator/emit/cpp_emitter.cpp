@@ -1111,9 +1111,8 @@ std::string PackageWriter::header() const {
 }
 
 std::string PackageWriter::source() const {
-  std::ostringstream c;
-  c << stamp << "#include \"" << model.name << ".hpp\"\n#include \"" << model.name
-    << ".h\"\n\n#include <cmath>\n\nnamespace " << model.name << " {\n";
+  std::ostringstream c;  // everything after the includes
+  c << "\nnamespace " << model.name << " {\n";
   if (!stage_text.empty()) c << "\nnamespace {\n\n" << stage_text << "}  // namespace\n";
   if (!rhs_with_pivots.empty()) c << "\nnamespace {\n\n" << rhs_with_pivots << "\n}  // namespace\n";
   for (const PrintedKernel& k : printed) c << "\n" << k.text;
@@ -1159,15 +1158,17 @@ std::string PackageWriter::source() const {
       c << c_signature("void", k.name) << " { " << model.name << "::" << k.name << "(t, x, p, in, out); }\n";
   }
   c << "\n}  // extern \"C\"\n";
-  std::string text = c.str();
-  if (text.find("HAMEL_NOINLINE ") != std::string::npos) {  // out_of_line: defined where the compiler has a way
-    const std::string after = "#include <cmath>\n";
-    text.insert(text.find(after) + after.size(),
-                "\n#ifndef HAMEL_NOINLINE\n#if defined(__GNUC__)\n#define HAMEL_NOINLINE __attribute__((noinline))\n"
-                "#elif defined(_MSC_VER)\n#define HAMEL_NOINLINE __declspec(noinline)\n#else\n#define HAMEL_NOINLINE\n"
-                "#endif\n#endif\n");
-  }
-  return text;
+  const std::string body = c.str();
+  const std::string includes =
+      stamp + "#include \"" + model.name + ".hpp\"\n#include \"" + model.name + ".h\"\n\n#include <cmath>\n";
+  // out_of_line's macro, defined where the compiler has a way, when some function uses it
+  const std::string noinline =
+      body.find("HAMEL_NOINLINE ") == std::string::npos
+          ? ""
+          : "\n#ifndef HAMEL_NOINLINE\n#if defined(__GNUC__)\n#define HAMEL_NOINLINE __attribute__((noinline))\n"
+            "#elif defined(_MSC_VER)\n#define HAMEL_NOINLINE __declspec(noinline)\n#else\n#define HAMEL_NOINLINE\n"
+            "#endif\n#endif\n";
+  return includes + noinline + body;
 }
 
 std::string PackageWriter::c_header() const {

@@ -1,5 +1,5 @@
 // Arithmetic modulo the Mersenne prime 2^61 − 1, for the randomized exact zero tests (Schwartz–Zippel) of
-// algebra/identity_test and emit/polynomial_form.
+// algebra/identity_test and emit/zero_test.
 #pragma once
 
 #include <cmath>

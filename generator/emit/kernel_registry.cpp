@@ -17,7 +17,7 @@ const std::vector<KernelSpec>& kernel_registry() {
        "A = d(x')/dx (n_state x n_state) then B = d(x')/d(in) (n_state x n_in), row-major; A as jacobian for trees, "
        "otherwise forward mode through rhs",
        false},
-      {"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", true},
+      {"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", true, true},
       {"group_velocity", "xi^alpha = u^alpha - A^alpha_I r_dot^I for the reconstruction, eq. (KinRec)", true},
       {"connection", "A^alpha_I(r), row-major, eq. (KinConnect)/(mechConn)", true},
       {"locked_inertia", "L_alpha_beta(r) = d2T/dxi^alpha dxi^beta, row-major, eq. (M)", true},

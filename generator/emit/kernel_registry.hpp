@@ -13,6 +13,9 @@ struct KernelSpec {
   const char* name;
   const char* summary;  ///< what it computes and which equation; a kernel may append how (e.g. rhs)
   bool by_default;      ///< built when no kernel is named (if the model has it); else only when named
+  /// Zero by construction: its outputs show the rounding of what it checks, so they are printed as derived, not
+  /// replaced by 0 where they vanish identically (emit/zero_test.hpp).
+  bool residual = false;
 };
 
 /// Every kernel, in the order of the emitted kernel_table.

@@ -6,6 +6,7 @@
 #include "emit/kernel_registry.hpp"
 #include "emit/linear_solve.hpp"
 #include "emit/polynomial_form.hpp"
+#include "emit/zero_test.hpp"
 #include "model/input_error.hpp"
 
 #include <cmath>
@@ -133,6 +134,7 @@ class KernelBuilder {
     }
     if (derivation_.bundle) bundle_kernels();
     if (want("riemann_linearization")) set_.kernels.push_back(riemann_linearization());
+    drop_identical_zeros();
     const bool prepared_named = only_.count("rhs_prepared") > 0 || only_.count("jacobian_prepared") > 0;
     if (only_.empty() || prepared_named) prepared_kernels(prepared_named);
     if (!want("rhs")) set_.rhs_pivots.clear();
@@ -169,6 +171,7 @@ class KernelBuilder {
 
   void equation_kernels();
   void jacobian_columns();
+  void drop_identical_zeros();
   std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
                                               const std::optional<InverseDynamicsJacobian>& id, std::string& route);
   void call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve);
@@ -233,7 +236,6 @@ void KernelBuilder::equation_kernels() {
   rhs_ = registered("rhs", articulated_   ? " with u_I' by the articulated-body algorithm (O(n), no M)"
                            : exact_accel_ ? " with u_I' = M^-1 f, M constant, inverted at generation time"
                                           : " with M u_I' = f solved by unrolled LDL^T");
-  rhs_.outputs = kinematics_.outputs;
   rhs_.output_names = kinematics_.output_names;
   if (articulated_) {
     for (const GiNaC::ex& a : eq_.recursive_accelerations) accel_.push_back(node_of_(a));
@@ -243,6 +245,7 @@ void KernelBuilder::equation_kernels() {
   } else {
     accel_ = ldlt_solve(g_, M_, forcing_.outputs, eq_.factor_last_first, &set_.rhs_pivots);
   }
+  rhs_.outputs = kinematics_.outputs;
   for (std::size_t i = 0; i < d_; ++i) {
     rhs_.outputs.push_back(accel_[i]);
     rhs_.output_names.push_back(name_of(eq_.independent[i]) + "_rate");
@@ -313,6 +316,33 @@ void KernelBuilder::jacobian_columns() {
     }
   }
   jacobian_.summary += route;
+}
+
+// Every value the kernels compute that vanishes identically printed as 0 (emit/zero_test.hpp): derivatives by
+// a coordinate the dynamics do not depend on, which the derivation forms from the structure (the convective terms
+// of a cyclic coordinate, the Jacobian's column of a yaw angle or a wheel's rotation). One pass over all kernels,
+// the pivots and what calls read, so that work they share stays one program.
+void KernelBuilder::drop_identical_zeros() {
+  std::vector<std::vector<int>*> lists{&set_.rhs_pivots};
+  std::vector<std::shared_ptr<Subroutine>> subroutines(set_.kernels.size());
+  for (std::size_t k = 0; k < set_.kernels.size(); ++k) {
+    Kernel& kernel = set_.kernels[k];
+    if (kernel_spec(kernel.name).residual) continue;
+    lists.push_back(&kernel.outputs);
+    if (!kernel.calls) continue;
+    subroutines[k] = std::make_shared<Subroutine>(*kernel.calls);
+    lists.push_back(&subroutines[k]->shared);
+    for (Subroutine::Call& call : subroutines[k]->calls) lists.push_back(&call.arguments);
+  }
+  std::vector<int> all;
+  for (const std::vector<int>* list : lists) all.insert(all.end(), list->begin(), list->end());
+  const std::vector<int> kept = without_identical_zeros(g_, all);
+  if (kept == all) return;
+  std::size_t at = 0;
+  for (std::vector<int>* list : lists)
+    for (int& node : *list) node = kept[at++];
+  for (std::size_t k = 0; k < set_.kernels.size(); ++k)
+    if (subroutines[k]) set_.kernels[k].calls = subroutines[k];
 }
 
 // M y = b_k for every right side: the LDLᵀ of M or (trees) the articulated-body recursion, as asked, or the

@@ -236,6 +236,7 @@ void KernelBuilder::equation_kernels() {
   rhs_ = registered("rhs", articulated_   ? " with u_I' by the articulated-body algorithm (O(n), no M)"
                            : exact_accel_ ? " with u_I' = M^-1 f, M constant, inverted at generation time"
                                           : " with M u_I' = f solved by unrolled LDL^T");
+  rhs_.outputs = kinematics_.outputs;
   rhs_.output_names = kinematics_.output_names;
   if (articulated_) {
     for (const GiNaC::ex& a : eq_.recursive_accelerations) accel_.push_back(node_of_(a));
@@ -245,7 +246,6 @@ void KernelBuilder::equation_kernels() {
   } else {
     accel_ = ldlt_solve(g_, M_, forcing_.outputs, eq_.factor_last_first, &set_.rhs_pivots);
   }
-  rhs_.outputs = kinematics_.outputs;
   for (std::size_t i = 0; i < d_; ++i) {
     rhs_.outputs.push_back(accel_[i]);
     rhs_.output_names.push_back(name_of(eq_.independent[i]) + "_rate");
@@ -528,9 +528,12 @@ Kernel KernelBuilder::riemann_linearization() {
 
 // Prepared parameters: the parameter-only work of rhs and jacobian hoisted into prepare (KernelSet::Prepared).
 void KernelBuilder::prepared_kernels(bool named) {
+  // The kernels as they are printed (drop_identical_zeros rewrote them in set_.kernels).
+  const Kernel& rhs = set_.get("rhs");
+  const Kernel& jacobian = set_.get("jacobian");
   std::vector<const Kernel*> originals;
-  if (want("rhs") || only_.count("rhs_prepared")) originals.push_back(&rhs_);
-  if (build_jacobian_ && !jacobian_.outputs.empty()) originals.push_back(&jacobian_);
+  if (want("rhs") || only_.count("rhs_prepared")) originals.push_back(&rhs);
+  if (build_jacobian_ && !jacobian.outputs.empty()) originals.push_back(&jacobian);
   // Parameter-only factors and divisors gathered, so that their products and reciprocals are prepared too;
   // or, where it leaves fewer operations per call, polynomial outputs as Σ coefficient · monomial.
   std::vector<std::vector<int>> rewritten;
@@ -544,10 +547,11 @@ void KernelBuilder::prepared_kernels(bool named) {
   }
   const std::vector<int> frontier = parameter_frontier(g_, all);
   KernelSet::Prepared prepared;
-  prepared.rhs = g_.count(g_.schedule(rhs_.outputs));
+  prepared.rhs = g_.count(g_.schedule(rhs.outputs));
   prepared.once = g_.count(g_.schedule(frontier));
-  if (!rewritten.empty() && originals.front() == &rhs_) prepared.rhs_prepared = run_time_operations(g_, rewritten.front());
-  if (!named && (rewritten.empty() || originals.front() != &rhs_ ||
+  if (!rewritten.empty() && originals.front() == &rhs)
+    prepared.rhs_prepared = run_time_operations(g_, rewritten.front());
+  if (!named && (rewritten.empty() || originals.front() != &rhs ||
                  prepared.rhs_prepared.total() > kPreparedShare * prepared.rhs.total()))
     return;
   const int n_p = static_cast<int>(model_.parameters.size());

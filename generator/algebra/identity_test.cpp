@@ -53,14 +53,7 @@ u64 residue(const GiNaC::numeric& n) {
   return mul_mod(num, inverse(den));
 }
 
-// A point of the unit circle: c + i s with c² + s² = 1, multiplied as complex numbers.
-struct Circle {
-  u64 c = 1, s = 0;
-  Circle operator*(const Circle& o) const {
-    return {sub_mod(mul_mod(c, o.c), mul_mod(s, o.s)), add_mod(mul_mod(c, o.s), mul_mod(s, o.c))};
-  }
-  Circle conj() const { return {c, sub_mod(0, s)}; }
-};
+using modular::Circle;
 
 struct ExHash {
   std::size_t operator()(const ex& e) const { return e.gethash(); }
@@ -138,19 +131,9 @@ class ModularPoint {
   Circle circle_for(const ex& key) {
     auto it = circles_.find(key);
     if (it == circles_.end()) {
-      const u64 tau = draw(), tau2 = mul_mod(tau, tau);
-      const u64 den = inverse(add_mod(1, tau2));
-      it = circles_.emplace(key, Circle{mul_mod(sub_mod(1, tau2), den), mul_mod(mul_mod(2, tau), den)}).first;
+      it = circles_.emplace(key, Circle::at(draw())).first;
     }
     return it->second;
-  }
-
-  static Circle power(Circle z, long k) {
-    if (k < 0) z = z.conj(), k = -k;
-    Circle r;
-    for (; k; k >>= 1, z = z * z)
-      if (k & 1) r = r * z;
-    return r;
   }
 
   // e^{iθ} for θ = Σ k_i x_i + rest: integer multiples of symbols (read through linear definitions)
@@ -161,7 +144,7 @@ class ModularPoint {
     split_angle(theta, 1, multiples, rest);
     Circle z;
     for (const auto& [x, k] : multiples)
-      if (k != 0) z = z * power(circle_for(x), k);
+      if (k != 0) z = z * circle_for(x).power(k);
     if (!rest.is_zero()) z = z * circle_for(rest.expand());
     return z;
   }

@@ -42,4 +42,27 @@ inline u64 residue_of_double(double v) {
   return v < 0 ? sub_mod(0, r) : r;
 }
 
+/// A point of the unit circle c² + s² = 1 over Z/pZ, c + i s multiplied as complex numbers: what the zero tests
+/// read sin and cos of an angle as, so that sin² + cos² = 1 and the addition theorems hold exactly (the angle
+/// k θ is the point to the power k).
+struct Circle {
+  u64 c = 1, s = 0;
+  Circle operator*(const Circle& o) const {
+    return {sub_mod(mul_mod(c, o.c), mul_mod(s, o.s)), add_mod(mul_mod(c, o.s), mul_mod(s, o.c))};
+  }
+  /// z^k; for k < 0 the conjugate's power (z⁻¹ = z̄ on the circle).
+  Circle power(long k) const {
+    Circle z = k < 0 ? Circle{c, sub_mod(0, s)} : *this, r;
+    for (unsigned long n = k < 0 ? 0UL - static_cast<unsigned long>(k) : static_cast<unsigned long>(k); n;
+         n >>= 1, z = z * z)
+      if (n & 1) r = r * z;
+    return r;
+  }
+  /// The point ((1 − τ²), 2τ) / (1 + τ²) for any residue τ (1 + τ² ≠ 0 because p ≡ 3 mod 4).
+  static Circle at(u64 tau) {
+    const u64 tau2 = mul_mod(tau, tau), den = inverse_of_nonzero(add_mod(1, tau2));
+    return {mul_mod(sub_mod(1, tau2), den), mul_mod(mul_mod(2, tau), den)};
+  }
+};
+
 }  // namespace hamel::modular

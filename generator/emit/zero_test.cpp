@@ -13,31 +13,13 @@ namespace hamel {
 namespace {
 
 using modular::add_mod;
+using modular::Circle;
 using modular::inverse_of_nonzero;
 using modular::mul_mod;
 using modular::pow_mod;
 using modular::prime;
 using modular::sub_mod;
 using modular::u64;
-
-// A point of the unit circle, c + i s with c² + s² = 1, multiplied as complex numbers.
-struct Circle {
-  u64 c = 1, s = 0;
-  Circle operator*(const Circle& o) const {
-    return {sub_mod(mul_mod(c, o.c), mul_mod(s, o.s)), add_mod(mul_mod(c, o.s), mul_mod(s, o.c))};
-  }
-};
-
-Circle power(Circle z, long k) {
-  if (k < 0) {
-    z.s = sub_mod(0, z.s);  // z⁻¹ is the conjugate on the circle
-    k = -k;
-  }
-  Circle r;
-  for (; k; k >>= 1, z = z * z)
-    if (k & 1) r = r * z;
-  return r;
-}
 
 // An integer-valued constant of moderate size, the factor of an angle (2θ).
 std::optional<long> small_integer(const Node& n) {
@@ -96,12 +78,8 @@ class GraphResidues {
     for (const auto& [node, k] : form) {
       if (k == 0) continue;
       auto [it, fresh] = points_.try_emplace(node);
-      if (fresh) {  // ((1 − τ²), 2τ) / (1 + τ²); 1 + τ² ≠ 0 since p ≡ 3 (mod 4)
-        const u64 tau = random_residue(), tau2 = mul_mod(tau, tau);
-        const u64 den = inverse_of_nonzero(add_mod(1, tau2));
-        it->second = Circle{mul_mod(sub_mod(1, tau2), den), mul_mod(mul_mod(2, tau), den)};
-      }
-      z = z * power(it->second, k);
+      if (fresh) it->second = Circle::at(random_residue());
+      z = z * it->second.power(k);
     }
     return z;
   }

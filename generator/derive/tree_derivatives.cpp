@@ -239,4 +239,32 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
   return out;
 }
 
+std::vector<ex> bias_forcing(const TreeRecursion& t, Intermediates& tape) {
+  Namer name(tape);
+  const std::size_t N = t.parent.size(), m = t.base.size();
+  const std::vector<Vec6>& s = t.frame.axis;
+  const std::vector<Inertia>& I = t.frame.inertia;
+  std::vector<Vec6> v(N), a(N), F(N);
+  v[0] = zero6();
+  a[0] = t.base_acceleration;
+  for (std::size_t alpha = 0; alpha < m; ++alpha) v[0] = v[0] + t.base[alpha] * t.base_velocity[alpha];
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i > 0) {
+      const std::size_t l = static_cast<std::size_t>(t.parent[i]);
+      v[i] = name(v[l] + s[i] * t.rates[i - 1]);
+      a[i] = name(a[l] + ad(v[l], s[i]) * t.rates[i - 1]);
+    }
+    F[i] = I[i](a[i]) + coadjoint_term(v[i], name(I[i](v[i])));
+  }
+  for (std::size_t i = N; i-- > 0;) {
+    if (i == 0 && m == 0) break;
+    F[i] = name(F[i]);
+    if (i > 0) F[static_cast<std::size_t>(t.parent[i])] = F[static_cast<std::size_t>(t.parent[i])] + F[i];
+  }
+  std::vector<ex> f(m + N - 1);
+  for (std::size_t alpha = 0; alpha < m; ++alpha) f[alpha] = -dot(t.base[alpha], F[0]);
+  for (std::size_t i = 1; i < N; ++i) f[m + i - 1] = t.joint_force[i - 1] - dot(s[i], F[i]);
+  return f;
+}
+
 }  // namespace hamel

@@ -101,4 +101,11 @@ struct InverseDynamicsJacobian {
 
 InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& tree, Intermediates& tape);
 
+/// f = −ID(r, u, 0) in the common frame (m + n rows: base directions, then joints): M u̇ = f. Per body the twist
+/// v_i = v_λ + s_i ṙ_i, the acceleration at u̇ = 0 a_i = a_λ + (v_λ × s_i) ṙ_i (a_0 the base's: gravity on a fixed
+/// base), the wrench 𝕀_i a_i + v_i ×* 𝕀_i v_i summed over the subtree as Fᶜ_i; rows −⟨e_α, Fᶜ_0⟩ and
+/// τ_i − ⟨s_i, Fᶜ_i⟩. What the Jacobian solves with the factor its columns already use, to get u̇ without the
+/// body-frame recursion of rhs.
+std::vector<GiNaC::ex> bias_forcing(const TreeRecursion& tree, Intermediates& tape);
+
 }  // namespace hamel

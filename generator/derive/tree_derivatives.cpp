@@ -110,6 +110,39 @@ ArticulatedFactor articulated_factor(const TreeRecursion& t, Intermediates& tape
 
 namespace {
 
+// The motion in the common frame at u̇ = `accelerations` (m + n: base directions, then joints): twists
+// v_i = v_λ + s_i ṙ_i, ψ_i = v_λ × s_i (= v_i × s_i, the rate of s_i), accelerations a_i = a_λ + s_i u̇_i + ψ_i ṙ_i
+// from the base's Σ e_α u̇_α + (0, −g), momenta h_i = 𝕀_i v_i and wrenches f_i = 𝕀_i a_i + v_i ×* h_i (not named).
+struct CommonFrameMotion {
+  std::vector<Vec6> v, a, psi, h, f;
+};
+
+CommonFrameMotion common_frame_motion(const TreeRecursion& t, const std::vector<ex>& accelerations, Namer& name) {
+  const std::size_t N = t.parent.size(), m = t.base.size();
+  const std::vector<Vec6>& s = t.frame.axis;
+  const std::vector<Inertia>& I = t.frame.inertia;
+  CommonFrameMotion out{std::vector<Vec6>(N), std::vector<Vec6>(N), std::vector<Vec6>(N), std::vector<Vec6>(N),
+                        std::vector<Vec6>(N)};
+  std::vector<Vec6>&v = out.v, &a = out.a, &psi = out.psi;
+  v[0] = zero6();
+  a[0] = t.base_acceleration;
+  for (std::size_t alpha = 0; alpha < m; ++alpha) {
+    v[0] = v[0] + t.base[alpha] * t.base_velocity[alpha];
+    a[0] = a[0] + t.base[alpha] * accelerations[alpha];
+  }
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i > 0) {
+      const std::size_t l = static_cast<std::size_t>(t.parent[i]);
+      psi[i] = name(ad(v[l], s[i]));
+      v[i] = name(v[l] + s[i] * t.rates[i - 1]);
+      a[i] = name(a[l] + s[i] * accelerations[m + i - 1] + psi[i] * t.rates[i - 1]);
+    }
+    out.h[i] = name(I[i](v[i]));
+    out.f[i] = I[i](a[i]) + coadjoint_term(v[i], out.h[i]);
+  }
+  return out;
+}
+
 bool in_subtree(const TreeRecursion& t, std::size_t i, std::size_t k) {  // i = k or a descendant of k
   for (int j = static_cast<int>(i); j >= 0; j = t.parent[static_cast<std::size_t>(j)])
     if (static_cast<std::size_t>(j) == k) return true;
@@ -153,30 +186,20 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
   Namer name(tape);
   const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1;
 
-  // Forward, in the common frame (t.frame: poses, axes s_i, inertias): twists v_i, accelerations a_i at u̇ =
-  // accelerations, ψ_i = v_λ × s_i (= v_i × s_i, the rate of s_i), c_i = a_λ × s_i + v_λ × ψ_i, momenta and
-  // wrenches.
+  // Forward, in the common frame (t.frame: poses, axes s_i, inertias), at u̇ = accelerations; also
+  // c_i = a_λ × s_i + v_λ × ψ_i and Q_i + Q_iᵀ.
   const std::vector<Vec6>& s = t.frame.axis;
   const std::vector<Inertia>& I = t.frame.inertia;
   const std::vector<Inertia>& Ic = t.frame.composite;
-  std::vector<Vec6> v(N), a(N), psi(N), c(N), h(N), f(N);
+  const CommonFrameMotion motion = common_frame_motion(t, t.accelerations, name);
+  const std::vector<Vec6>&v = motion.v, &a = motion.a, &psi = motion.psi, &h = motion.h, &f = motion.f;
+  std::vector<Vec6> c(N);
   std::vector<Mat6> S(N);  // Q_i + Q_iᵀ
-  v[0] = zero6();
-  a[0] = t.base_acceleration;
-  for (std::size_t alpha = 0; alpha < m; ++alpha) {
-    v[0] = v[0] + t.base[alpha] * t.base_velocity[alpha];
-    a[0] = a[0] + t.base[alpha] * t.accelerations[alpha];
-  }
   for (std::size_t i = 0; i < N; ++i) {
     if (i > 0) {
       const std::size_t l = static_cast<std::size_t>(t.parent[i]);
-      psi[i] = name(ad(v[l], s[i]));
       c[i] = name(ad(a[l], s[i]) + ad(v[l], psi[i]));
-      v[i] = name(v[l] + s[i] * t.rates[i - 1]);
-      a[i] = name(a[l] + s[i] * t.accelerations[m + i - 1] + psi[i] * t.rates[i - 1]);
     }
-    h[i] = name(I[i](v[i]));
-    f[i] = I[i](a[i]) + coadjoint_term(v[i], h[i]);
     S[i] = velocity_times_inertia_symmetrized(v[i], I[i]);
   }
 
@@ -243,19 +266,7 @@ std::vector<ex> bias_forcing(const TreeRecursion& t, Intermediates& tape) {
   Namer name(tape);
   const std::size_t N = t.parent.size(), m = t.base.size();
   const std::vector<Vec6>& s = t.frame.axis;
-  const std::vector<Inertia>& I = t.frame.inertia;
-  std::vector<Vec6> v(N), a(N), F(N);
-  v[0] = zero6();
-  a[0] = t.base_acceleration;
-  for (std::size_t alpha = 0; alpha < m; ++alpha) v[0] = v[0] + t.base[alpha] * t.base_velocity[alpha];
-  for (std::size_t i = 0; i < N; ++i) {
-    if (i > 0) {
-      const std::size_t l = static_cast<std::size_t>(t.parent[i]);
-      v[i] = name(v[l] + s[i] * t.rates[i - 1]);
-      a[i] = name(a[l] + ad(v[l], s[i]) * t.rates[i - 1]);
-    }
-    F[i] = I[i](a[i]) + coadjoint_term(v[i], name(I[i](v[i])));
-  }
+  std::vector<Vec6> F = common_frame_motion(t, std::vector<ex>(m + N - 1, ex(0)), name).f;
   for (std::size_t i = N; i-- > 0;) {
     if (i == 0 && m == 0) break;
     F[i] = name(F[i]);

@@ -182,6 +182,17 @@ std::vector<std::vector<ex>> InverseDynamicsJacobian::dense(const TreeRecursion&
   return out;
 }
 
+InverseDynamicsJacobian InverseDynamicsJacobian::negated(Intermediates& tape) const {
+  Namer name(tape);
+  InverseDynamicsJacobian out{u, b, {}};
+  for (const Column& c : columns) {
+    Column minus{c.body, name(c.P * -1), name(c.V * -1), name(c.Delta * -1), {}};
+    for (const ex& f : c.force) minus.force.push_back(-f);
+    out.columns.push_back(minus);
+  }
+  return out;
+}
+
 InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Intermediates& tape) {
   Namer name(tape);
   const std::size_t N = t.parent.size(), m = t.base.size(), n = N - 1;
@@ -225,14 +236,15 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
   InverseDynamicsJacobian out;
   out.u.assign(N, zero6());
   out.b.assign(N, zero6());
-  std::vector<Vec6> delta(N), delta_rate(N);
+  std::vector<Vec6> delta(N), delta_rate(N), twice_psi(N);
   for (std::size_t i = 1; i < N; ++i) {
+    twice_psi[i] = name(psi[i] * 2);  // named, so that 2 is not multiplied into every product that reads it
     out.u[i] = name(Ic[i](s[i]));
     const Vec6 Qs = name(times(Sc[i], s[i]));
     const Vec6 sh = name(coadjoint_term(s[i], Hc[i]));
     out.b[i] = name(Qs - sh);
     delta[i] = name(coadjoint_term(s[i], Fc[i]) + Ic[i](c[i]) + B(i, psi[i]));
-    delta_rate[i] = name(Ic[i](psi[i]) * 2 + Qs + sh);
+    delta_rate[i] = name(Ic[i](twice_psi[i]) + Qs + sh);
   }
 
   // Joint K's angle: rows in K's subtree ⟨u_I, c_K⟩ + ⟨b_I, ψ_K⟩, the others see Δ_K. A base velocity: every body
@@ -250,7 +262,7 @@ InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& t, Interm
     state.push_back(t.base_velocity[alpha]);
   }
   for (std::size_t K = 1; K < N; ++K) {
-    out.columns.push_back({K, psi[K] * 2, s[K], delta_rate[K], {}});
+    out.columns.push_back({K, twice_psi[K], s[K], delta_rate[K], {}});
     state.push_back(t.rates[K - 1]);
   }
 

@@ -97,6 +97,10 @@ struct InverseDynamicsJacobian {
   const spatial::Vec6& inward(std::size_t k) const { return columns[k].Delta; }
   /// The full columns: rows() with the inward forces' rows added.
   std::vector<std::vector<GiNaC::ex>> dense(const TreeRecursion& tree) const;
+  /// The columns of −∂ID/∂x, the right-hand sides M y = b takes, in the same form: P, V and Δ negated, each named
+  /// once per column (18 negations), and the joint forces' derivatives with the opposite sign. Negating each row
+  /// instead costs one negation per row and column.
+  InverseDynamicsJacobian negated(Intermediates& tape) const;
 };
 
 InverseDynamicsJacobian inverse_dynamics_jacobian(const TreeRecursion& tree, Intermediates& tape);

@@ -173,7 +173,9 @@ class KernelBuilder {
   void jacobian_columns();
   void drop_identical_zeros();
   std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                              const std::optional<InverseDynamicsJacobian>& id, std::string& route);
+                                              const std::optional<InverseDynamicsJacobian>& id,
+                                              const std::optional<InverseDynamicsJacobian>& minus_id,
+                                              std::string& route);
   void call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve);
   Kernel linearization();
   void bundle_kernels();
@@ -285,9 +287,14 @@ void KernelBuilder::jacobian_columns() {
   column_.assign(nx, {});
   // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
   // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
-  std::optional<InverseDynamicsJacobian> id;
-  if (eq_.tree && !exact_accel_) id = inverse_dynamics_jacobian(*eq_.tree, tape_);
-  const std::vector<std::vector<GiNaC::ex>> id_columns = id ? id->dense(*eq_.tree) : std::vector<std::vector<GiNaC::ex>>{};
+  // The right sides are −∂ID/∂x (minus_id: P, V and Δ negated once per column instead of every row).
+  std::optional<InverseDynamicsJacobian> id, minus_id;
+  if (eq_.tree && !exact_accel_) {
+    id = inverse_dynamics_jacobian(*eq_.tree, tape_);
+    minus_id = id->negated(tape_);
+  }
+  const std::vector<std::vector<GiNaC::ex>> id_columns =
+      minus_id ? minus_id->dense(*eq_.tree) : std::vector<std::vector<GiNaC::ex>>{};
   std::vector<std::vector<int>> right_sides;  // M d(u')/dx_k = b_k, all solved with one factorization
   for (std::size_t k = 0; k < nx; ++k) {
     const GiNaC::ex& x_k = state_symbols[k];
@@ -299,7 +306,7 @@ void KernelBuilder::jacobian_columns() {
     std::vector<int> b(d_);
     for (std::size_t i = 0; i < d_; ++i) {
       if (!id_columns.empty()) {
-        b[i] = node_of_(-id_columns[k][i]);
+        b[i] = node_of_(id_columns[k][i]);
         continue;
       }
       int r = node_of_(diff(eq_.forcing[i], x_k));
@@ -312,7 +319,7 @@ void KernelBuilder::jacobian_columns() {
     right_sides.push_back(b);
   }
   if (!exact_accel_) {
-    const std::vector<std::vector<int>> solved = solve_columns(right_sides, id, route);
+    const std::vector<std::vector<int>> solved = solve_columns(right_sides, id, minus_id, route);
     for (std::size_t k = 0; k < nx; ++k) column_[k].insert(column_[k].end(), solved[k].begin(), solved[k].end());
   }
   // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
@@ -361,6 +368,7 @@ void KernelBuilder::drop_identical_zeros() {
 // recursion when it is clearly the smaller program.
 std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std::vector<int>>& right_sides,
                                                            const std::optional<InverseDynamicsJacobian>& id,
+                                                           const std::optional<InverseDynamicsJacobian>& minus_id,
                                                            std::string& route) {
   const ColumnSolver by_ldlt = [&](ExpressionGraph& s, const std::function<int(int)>& shared,
                                    const std::vector<std::vector<int>>& b) {
@@ -378,12 +386,13 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
     return solved;
   };
   if (!id || column_solve_ == ColumnSolve::ldlt) return by_ldlt_kept();
-  // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force.
+  // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force (InwardForce: Δ,
+  // whose rows are −⟨s_I, Δ⟩).
   std::vector<std::vector<int>> own_rows;
   std::vector<InwardForce> inward;
   for (std::size_t k = 0; k < right_sides.size(); ++k) {
     own_rows.emplace_back();
-    for (const GiNaC::ex& r : id->rows(*eq_.tree, k)) own_rows.back().push_back(node_of_(-r));
+    for (const GiNaC::ex& r : minus_id->rows(*eq_.tree, k)) own_rows.back().push_back(node_of_(r));
     InwardForce f{id->columns[k].body, {}};
     for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of_(id->inward(k)[c]);
     inward.push_back(f);

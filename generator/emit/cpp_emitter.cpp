@@ -352,6 +352,26 @@ Parts plan_parts(const ExpressionGraph& g, const std::vector<int>& statements, c
   return plan;
 }
 
+// A split kernel's statements in the order that passes fewer values from part to part: the depth-first schedule from
+// its outputs in their order, or in the reverse order. Which is better depends on the program: the Jacobian of a
+// tree lists its columns from the root's joint to the leaves' while its composites are summed from the leaves in,
+// so the reverse order computes each composite next to the columns that read it (the 30-joint chain's
+// jacobian_stage passed 5 699 values in v[] in the order of its outputs, 4 506 in reverse, and g++ -O2 took 11.5
+// and 9.7 s). Every value passed is a store and a load that g++'s passes over memory walk (docs/benchmarks.md).
+std::vector<int> fewer_passed(const ExpressionGraph& g, const std::vector<int>& statements,
+                              const std::vector<int>& outputs, const std::vector<char>& given,
+                              const std::map<int, std::string>& leaf, bool outputs_in_parts, int part_size) {
+  const auto passed = [&](const std::vector<int>& order) {
+    std::map<int, int> index;
+    for (std::size_t w = 0; w < order.size(); ++w) index[order[w]] = static_cast<int>(w);
+    return plan_parts(g, order, index, leaf, outputs, outputs_in_parts, part_size).slot.size();
+  };
+  std::vector<int> reversed;
+  for (int i : g.schedule(std::vector<int>(outputs.rbegin(), outputs.rend()), given))
+    if (!leaf.count(i)) reversed.push_back(i);
+  return passed(reversed) < passed(statements) ? reversed : statements;
+}
+
 // Kernel k's outputs as one function, or a long one as parts called in turn. With `reads`, the values of earlier
 // stages it reads are taken from their arrays (extra parameters of the function and of its parts), not computed.
 PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
@@ -385,6 +405,9 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       statements.push_back(i);
     }
   }
+  const int part_size = s.split > 0 ? std::max(1, s.split / lanes) : s.split;  // statements of one lane
+  if (part_size > 0 && static_cast<int>(statements.size()) > part_size)
+    statements = fewer_passed(g, statements, k.outputs, given, leaf, d.outputs_in_parts, part_size);
   const OpCounts c = OpCounts{}.add_times(lanes, g.count(statements));
   const int work = static_cast<int>(statements.size());
   // A leaf as lane `lane` reads it: the program's x[k] is x[k·lanes + lane].
@@ -417,7 +440,6 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
 
   std::ostringstream os;
   os << kernel_comment(k, s, d.shape, "", c);
-  const int part_size = s.split > 0 ? std::max(1, s.split / lanes) : s.split;  // statements of one lane
   if (part_size <= 0 || work <= part_size) {
     std::ostringstream body;
     std::set<int> read;

@@ -173,7 +173,7 @@ Run add_emit_command(CLI::App& app) {
   cmd->add_option("--share-ratio", opt->settings.share_ratio,
                   "Share such work only when its function computes at least R operations per value it leaves to "
                   "later work, which every caller stores and reads back (0: any; the smallest package and the "
-                  "shortest compile, the 30-joint chain's 2.0 MB and 14-15 s of g++ -O2 instead of 2.6 MB and 19 s, "
+                  "shortest compile, the 30-joint chain's 1.9 MB and 14 s of g++ -O2 instead of 2.5 MB and 18 s, "
                   "but kernels that read many shared values run 5-25 % slower, docs/benchmarks.md)")
       ->default_val(opt->settings.share_ratio)
       ->check(whole_number("operations per value", "any"))

@@ -18,11 +18,12 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <functional>
 #include <fstream>
+#include <functional>
 #include <map>
-#include <set>
+#include <optional>
 #include <random>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 
@@ -358,19 +359,26 @@ Parts plan_parts(const ExpressionGraph& g, const std::vector<int>& statements, c
 // so the reverse order computes each composite next to the columns that read it (the 30-joint chain's
 // jacobian_stage passed 5 699 values in v[] in the order of its outputs, 4 506 in reverse, and g++ -O2 took 11.5
 // and 9.7 s on the jacobian-only package). Every value passed is a store and a load that g++'s passes over memory
-// walk (docs/benchmarks.md). Both orders are planned in full; that costs 0.15 s of chain 30's 2.2 s of emission.
-std::vector<int> fewer_passed(const ExpressionGraph& g, const std::vector<int>& statements,
-                              const std::vector<int>& outputs, const std::vector<char>& given,
-                              const std::map<int, std::string>& leaf, bool outputs_in_parts, int part_size) {
-  const auto passed = [&](const std::vector<int>& order) {
+// walk (docs/benchmarks.md). Both orders are planned in full (0.15 s of chain 30's 2.2 s of emission); the kernel is
+// printed with the plan kept.
+struct PlannedParts {
+  std::vector<int> statements;
+  Parts plan;
+};
+PlannedParts fewer_passed(const ExpressionGraph& g, const std::vector<int>& statements, const std::vector<int>& outputs,
+                          const std::vector<char>& given, const std::map<int, std::string>& leaf, bool outputs_in_parts,
+                          int part_size) {
+  const auto planned = [&](std::vector<int> order) {
     std::map<int, int> index;
     for (std::size_t w = 0; w < order.size(); ++w) index[order[w]] = static_cast<int>(w);
-    return plan_parts(g, order, index, leaf, outputs, outputs_in_parts, part_size).slot.size();
+    Parts plan = plan_parts(g, order, index, leaf, outputs, outputs_in_parts, part_size);
+    return PlannedParts{std::move(order), std::move(plan)};
   };
   std::vector<int> reversed;
   for (int i : g.schedule(std::vector<int>(outputs.rbegin(), outputs.rend()), given))
     if (!leaf.count(i)) reversed.push_back(i);
-  return passed(reversed) < passed(statements) ? reversed : statements;
+  PlannedParts forward = planned(statements), backward = planned(std::move(reversed));
+  return backward.plan.slot.size() < forward.plan.slot.size() ? backward : forward;
 }
 
 // Kernel k's outputs as one function, or a long one as parts called in turn. With `reads`, the values of earlier
@@ -407,8 +415,12 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     }
   }
   const int part_size = s.split > 0 ? std::max(1, s.split / lanes) : s.split;  // statements of one lane
-  if (part_size > 0 && static_cast<int>(statements.size()) > part_size)
-    statements = fewer_passed(g, statements, k.outputs, given, leaf, d.outputs_in_parts, part_size);
+  std::optional<Parts> split;  // planned with the order, when the kernel is split
+  if (part_size > 0 && static_cast<int>(statements.size()) > part_size) {
+    PlannedParts chosen = fewer_passed(g, statements, k.outputs, given, leaf, d.outputs_in_parts, part_size);
+    statements = std::move(chosen.statements);
+    split = std::move(chosen.plan);
+  }
   const OpCounts c = OpCounts{}.add_times(lanes, g.count(statements));
   const int work = static_cast<int>(statements.size());
   // A leaf as lane `lane` reads it: the program's x[k] is x[k·lanes + lane].
@@ -465,7 +477,7 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     return {k.name, os.str(), work * lanes, c};
   }
 
-  const Parts plan = plan_parts(g, statements, index, leaf, k.outputs, d.outputs_in_parts, part_size);
+  const Parts& plan = *split;
   const std::vector<int>& start = plan.start;
   const std::map<int, int>& slot = plan.slot;
   const int parts = static_cast<int>(start.size()), n_slots = plan.n_slots;

@@ -205,6 +205,11 @@ class KernelBuilder {
   std::vector<std::vector<int>> M_;  ///< the mass matrix's nodes
   std::optional<std::vector<GiNaC::ex>> exact_accel_;
   std::optional<ArticulatedNodes> factor_;  ///< a tree's articulated factor in the common frame, once built
+  /// The tree's articulated factor as nodes, built on first use.
+  const ArticulatedNodes& articulated() {
+    if (!factor_) factor_ = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);
+    return *factor_;
+  }
   bool articulated_ = false;  ///< rhs by the articulated-body algorithm
   std::vector<int> accel_;    ///< u_I' as rhs computes it
   bool build_jacobian_ = false;
@@ -274,10 +279,9 @@ void KernelBuilder::jacobian_columns() {
   // recursion (the 30-joint chain: 13.5 k).
   std::vector<int> accelerations = accel_;
   if (eq_.tree && !exact_accel_ && articulated_ && column_solve_ != ColumnSolve::ldlt) {
-    factor_ = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);
     std::vector<int> f;
     for (const GiNaC::ex& e : bias_forcing(*eq_.tree, tape_)) f.push_back(node_of_(e));
-    accelerations = articulated_solve_columns(g_, *factor_, {f}).front();
+    accelerations = articulated_solve_columns(g_, articulated(), {f}).front();
   }
   for (std::size_t j = 0; j < eq_.acceleration_symbols.size(); ++j)
     leaves_[eq_.acceleration_symbols[j]] = accelerations[j];
@@ -397,8 +401,7 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
     for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of_(id->inward(k)[c]);
     inward.push_back(f);
   }
-  if (!factor_) factor_ = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);
-  const ArticulatedNodes& factor = *factor_;
+  const ArticulatedNodes& factor = articulated();
   std::vector<std::vector<int>> recursive = articulated_solve_columns(g_, factor, own_rows, inward);
   if (!solved.empty() && operations(recursive) > kRecursiveSolveShare * operations(solved)) return by_ldlt_kept();
   route = "; M^-1 b by the articulated-body recursion";

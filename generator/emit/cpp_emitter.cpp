@@ -228,30 +228,40 @@ std::string kernel_comment(const Kernel& k, const Sizes& s, const std::string& s
          std::to_string(c.mul) + " mul, " + std::to_string(c.div) + " div, " + std::to_string(c.call) + " call */\n";
 }
 
-// Shared stages (emit/shared_stages.hpp): stage k's exports are the array s<k>; a function reading some is passed them.
+// Shared stages (emit/shared_stages.hpp): stage k's exports are the array s<k>, and the outputs of unit u a stage
+// writes are unit u's out[], passed as m<u> (by the other units, an array of their own); a function reading some is
+// passed them.
 std::string stage_array(int stage) { return "s" + std::to_string(stage); }
-std::string stage_value(const std::pair<int, int>& at) {
-  return stage_array(at.first) + "[" + std::to_string(at.second) + "]";
+std::string layout_array(int unit) { return "m" + std::to_string(unit); }
+std::string value_array(const StageValue& at) { return at.layout >= 0 ? layout_array(at.layout) : stage_array(at.stage); }
+std::string stage_value(const StageValue& at) { return value_array(at) + "[" + std::to_string(at.position) + "]"; }
+// The arrays of earlier stages a function printed to `d` reads, but for those it writes (a stage writing m<u>).
+std::vector<std::string> read_arrays(const Destination& d, const StageReads* reads) {
+  std::vector<std::string> names;
+  if (!reads) return names;
+  for (int stage : reads->stages) names.push_back(stage_array(stage));
+  for (int unit : reads->layouts)
+    if (std::find(d.arrays.begin(), d.arrays.end(), layout_array(unit)) == d.arrays.end())
+      names.push_back(layout_array(unit));
+  return names;
 }
-std::string stage_parameters(const StageReads* reads) {
+std::string stage_parameters(const Destination& d, const StageReads* reads) {
   std::string text;
-  if (reads)
-    for (int stage : reads->stages) text += ", const real* " + stage_array(stage);
+  for (const std::string& a : read_arrays(d, reads)) text += ", const real* " + a;
   return text;
 }
-// (void)s<k>; for every stage array a function is passed and does not read (`read`: the stages it does).
-std::string stage_voids(const StageReads* reads, const std::set<int>& read) {
+// (void)s<k>; for every stage array a function is passed and does not read (`read`: the arrays it does).
+std::string stage_voids(const Destination& d, const StageReads* reads, const std::set<std::string>& read) {
   std::string text;
-  if (reads)
-    for (int stage : reads->stages)
-      if (!read.count(stage)) text += "  (void)" + stage_array(stage) + ";\n";
+  for (const std::string& a : read_arrays(d, reads))
+    if (!read.count(a)) text += "  (void)" + a + ";\n";
   return text;
 }
 // The signature of a function `name` printed to `d`: (t, x, p, in), the arrays of `d`, the stage arrays it reads.
 std::string head_of(const Destination& d, const std::string& name, const StageReads* reads) {
   std::string text = "void " + name + "(real t, const real* x, const real* p, const real* in";
   for (const std::string& a : d.arrays) text += ", real* " + a;
-  return text + stage_parameters(reads) + ")";
+  return text + stage_parameters(d, reads) + ")";
 }
 // Its arrays as a call passes them on: ", out" or ", out, <second>".
 std::string array_arguments(const Destination& d) {
@@ -259,10 +269,10 @@ std::string array_arguments(const Destination& d) {
   for (const std::string& a : d.arrays) text += ", " + a;
   return text;
 }
-std::string stage_arguments(const StageReads* reads) {
+// The stage arrays of a function printed to `d` as its caller passes them; unit `unit` passes its out[] as m<unit>.
+std::string stage_arguments(const Destination& d, const StageReads* reads, int unit = -1) {
   std::string text;
-  if (reads)
-    for (int stage : reads->stages) text += ", " + stage_array(stage);
+  for (const std::string& a : read_arrays(d, reads)) text += ", " + (unit >= 0 && a == layout_array(unit) ? "out" : a);
   return text;
 }
 
@@ -450,14 +460,16 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   };
   const auto output_target = [&](std::size_t o) { return target(in_lane(o)); };
   const auto output_name = [&](std::size_t o) { return k.output_names[in_lane(o)]; };
+  // An output a stage it called wrote to out[] already (SharingPlan::Stage::layout) is not written again.
+  const auto written = [&](std::size_t o) { return reads && o < reads->written.size() && reads->written[o]; };
 
   std::ostringstream os;
   os << kernel_comment(k, s, d.shape, "", c);
   if (part_size <= 0 || work <= part_size) {
     std::ostringstream body;
-    std::set<int> read;
+    std::set<std::string> read;
     const auto name_of = [&](int i) {
-      if (reads && given[static_cast<std::size_t>(i)]) read.insert(reads->value.at(i).first);
+      if (reads && given[static_cast<std::size_t>(i)]) read.insert(value_array(reads->value.at(i)));
       return leaf.count(i) ? leaf_of(i) : local(i);
     };
     const std::vector<char> inside = printed_inside(g, statements, output, [](int, int) { return true; });
@@ -466,13 +478,18 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       if (!inside[static_cast<std::size_t>(i)])
         each_lane(
             [&] { body << "  const real " << local(i) << " = " << statement_text(g, i, inside, name_of) << ";\n"; });
+    std::set<std::string> wrote;  // the arrays of `d` it writes
     for (std::size_t o = 0; o < k.outputs.size(); ++o)
-      each_lane([&] {
-        body << "  " << output_target(o) << " = " << name_of(k.outputs[o]) << ";  // " << output_name(o) << "\n";
-      });
+      if (!written(o))
+        each_lane([&] {
+          const std::string to = output_target(o);
+          wrote.insert(to.substr(0, to.find('[')));
+          body << "  " << to << " = " << name_of(k.outputs[o]) << ";  // " << output_name(o) << "\n";
+        });
     os << out_of_line(d.internal, work * lanes + static_cast<int>(k.outputs.size()) * lanes) << head << " {\n"
-       << argument_voids(uses) << stage_voids(reads, read);
-    if (k.outputs.empty()) os << "  (void)out;\n";
+       << argument_voids(uses) << stage_voids(d, reads, read);
+    for (const std::string& a : d.arrays)
+      if (!wrote.count(a)) os << "  (void)" << a << ";\n";
     os << body.str() << "}\n";
     return {k.name, os.str(), work * lanes, c};
   }
@@ -496,13 +513,13 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   for (int part = 0; part < parts; ++part) {
     std::ostringstream body;
     bool part_uses[4] = {false, false, false, false};
-    std::set<int> read;
+    std::set<std::string> read;
     std::set<std::string> wrote;  // arrays it uses: v (read or written), out, ... (written)
     const auto name_of = [&](int i) {
       if (leaf.count(i)) {
         const Node& n = g.node(i);
         if (reads && given[static_cast<std::size_t>(i)])
-          read.insert(reads->value.at(i).first);
+          read.insert(value_array(reads->value.at(i)));
         else if (n.op == Op::input)
           part_uses[static_cast<int>(n.argument)] = true;
         return leaf_of(i);
@@ -537,16 +554,16 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     with_v.arrays.insert(with_v.arrays.begin(), "v");
     os << out_of_line(parts > 2, out_of_line_statements)
        << head_of(with_v, k.name + "_part" + std::to_string(part), reads) << " {\n"
-       << argument_voids(part_uses) << voids << stage_voids(reads, read) << body.str() << "}\n\n";
+       << argument_voids(part_uses) << voids << stage_voids(d, reads, read) << body.str() << "}\n\n";
   }
   std::ostringstream calls;
   int driver_statements = parts;
   for (int part = 0; part < parts; ++part)
-    calls << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(reads)
+    calls << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(d, reads)
           << ");\n";
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     const int i = k.outputs[o];
-    if (leaf.count(i) || !d.outputs_in_parts)
+    if ((leaf.count(i) || !d.outputs_in_parts) && !written(o))
       each_lane([&] {
         calls << "  " << output_target(o) << " = " << (leaf.count(i) ? leaf_of(i) : passed(i)) << ";  // "
               << output_name(o) << "\n";
@@ -625,6 +642,7 @@ Stage stage_of(const Kernel& k, const Subroutine& sub) {
 // The shared stages a kernel calls before its own work (emit/shared_stages.hpp), as its function prints them.
 struct UnitStages {
   const StageReads* reads = nullptr;  ///< what its own work reads from them; null: it calls none
+  int unit = -1;                      ///< its unit in the plan: the outputs stages write for it go to its out[]
   std::string prologue;               ///< their arrays declared, then their calls
   std::vector<std::string> names;     ///< their functions, in calling order
   OpCounts ops;                       ///< their statements
@@ -681,7 +699,8 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   os << kernel_comment(k, s, "out[" + std::to_string(k.outputs.size()) + "]",
                        ": " + joined(steps) + ", then " + std::to_string(n_calls) + " calls of " + k.name + "_column", total)
      << signature(k) << " {\n  real scratch[" << std::max<std::size_t>(n_scratch, 1) << "];\n"
-     << stages.prologue << "  " << k.name << "_stage(t, x, p, in, out, scratch" << stage_arguments(stages.reads) << ");\n";
+     << stages.prologue << "  " << k.name << "_stage(t, x, p, in, out, scratch"
+     << stage_arguments(into, stages.reads, stages.unit) << ");\n";
   for (std::size_t c = 0; c < sub.calls.size(); ++c)
     os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, out + "
        << sub.calls[c].results.front() << ");\n";
@@ -708,7 +727,8 @@ PrintedKernel print_after_stages(const ExpressionGraph& g, const Kernel& k, cons
   std::ostringstream os;
   os << "namespace {\n\n" << printed.text << "\n}  // namespace\n\n"
      << kernel_comment(k, s, d.shape, ": " + joined(steps), total) << head_of(d, k.name, nullptr) << " {\n"
-     << stages.prologue << "  " << own.name << "(t, x, p, in" << array_arguments(d) << stage_arguments(stages.reads)
+     << stages.prologue << "  " << own.name << "(t, x, p, in" << array_arguments(d)
+     << stage_arguments(internal, stages.reads, stages.unit)
      << ");\n}\n";
   return {k.name, os.str(), stages.temporaries + printed.temporaries, total, printed.parts};
 }
@@ -726,36 +746,73 @@ struct PrintedStages {
   std::vector<UnitStages> units;  ///< their `reads` point into the plan, which must outlive them
 };
 
-PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, const Sizes& s, const std::string& prefix) {
+PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, const Sizes& s, const std::string& prefix,
+                           const std::vector<std::string>& names) {
   PrintedStages out;
   std::vector<PrintedKernel> printed;
+  std::vector<Destination> into;
   for (std::size_t i = 0; i < plan.stages.size(); ++i) {
     const SharingPlan::Stage& stage = plan.stages[i];
     Kernel fn{prefix + "shared_" + std::to_string(i), "", stage.exports, {}, nullptr};
     for (std::size_t e = 0; e < stage.exports.size(); ++e) fn.output_names.push_back("export " + std::to_string(e));
+    const std::size_t n_exports = stage.exports.size();
+    std::vector<int> position;  // of the outputs it writes for unit `layout`, in m<layout>
+    for (const auto& [j, node] : stage.outputs) {
+      fn.outputs.push_back(node);
+      fn.output_names.push_back("output " + std::to_string(j) + " of " +
+                                names[static_cast<std::size_t>(stage.layout)]);
+      position.push_back(j);
+    }
     Destination d = to_out(fn);
-    d.shape = "out[" + std::to_string(stage.exports.size()) + "], called by " + std::to_string(stage.units.size()) + " kernels";
+    d.shape = "out[" + std::to_string(n_exports) + "]";
+    if (stage.layout >= 0) {
+      const std::string m = layout_array(stage.layout);
+      d.arrays.push_back(m);
+      d.shape += ", " + m + "[" + std::to_string(plan.outputs[static_cast<std::size_t>(stage.layout)]) + "] (" +
+                 names[static_cast<std::size_t>(stage.layout)] + "'s out)";
+      d.target = [n_exports, m, position](std::size_t o) {
+        return o < n_exports ? "out[" + std::to_string(o) + "]"
+                             : m + "[" + std::to_string(position[o - n_exports]) + "]";
+      };
+    }
+    d.shape += ", called by " + std::to_string(stage.units.size()) + " kernels";
     d.internal = true;
     printed.push_back(print_kernel(g, fn, s, d, &stage.reads));
+    into.push_back(d);
     out.text += printed.back().text + "\n";
   }
   for (std::size_t u = 0; u < plan.called.size(); ++u) {
     UnitStages unit;
+    unit.unit = static_cast<int>(u);
     if (!plan.called[u].empty()) {
       unit.reads = &plan.own[u];
       int most = 0;
+      std::set<int> layouts;  // the units whose out[] a stage it calls writes, but its own
       for (int i : plan.called[u]) {
         const SharingPlan::Stage& stage = plan.stages[static_cast<std::size_t>(i)];
         const PrintedKernel& fn = printed[static_cast<std::size_t>(i)];
         unit.prologue += "  real " + stage_array(i) + "[" + std::to_string(std::max<std::size_t>(stage.exports.size(), 1)) + "];\n";
+        if (stage.layout >= 0 && stage.layout != static_cast<int>(u)) layouts.insert(stage.layout);
         unit.names.push_back(fn.name);
         unit.ops.add_times(1, fn.ops);
         unit.temporaries += static_cast<int>(stage.exports.size());
         most = std::max(most, fn.temporaries);
       }
-      for (int i : plan.called[u])
-        unit.prologue += "  " + printed[static_cast<std::size_t>(i)].name + "(t, x, p, in, " + stage_array(i) +
-                         stage_arguments(&plan.stages[static_cast<std::size_t>(i)].reads) + ");\n";
+      for (int l : layouts) {
+        const int n = plan.outputs[static_cast<std::size_t>(l)];
+        unit.prologue += "  real " + layout_array(l) + "[" + std::to_string(std::max(n, 1)) + "];  // " +
+                         names[static_cast<std::size_t>(l)] + "'s outputs, as the stages write them\n";
+        unit.temporaries += n;
+      }
+      for (int i : plan.called[u]) {
+        const SharingPlan::Stage& stage = plan.stages[static_cast<std::size_t>(i)];
+        const Destination& d = into[static_cast<std::size_t>(i)];
+        std::string arrays = stage_array(i);
+        if (stage.layout >= 0)
+          arrays += ", " + (stage.layout == static_cast<int>(u) ? std::string("out") : layout_array(stage.layout));
+        unit.prologue += "  " + printed[static_cast<std::size_t>(i)].name + "(t, x, p, in, " + arrays +
+                         stage_arguments(d, &stage.reads, static_cast<int>(u)) + ");\n";
+      }
       unit.temporaries += most;
     }
     out.units.push_back(unit);
@@ -960,12 +1017,17 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   // work several kernels share is printed once, as stages they call (emit/shared_stages.hpp).
   const auto is_checked_rhs = [&](const Kernel& k) { return k.name == "rhs" && !kernels.rhs_pivots.empty(); };
   std::vector<std::vector<int>> units;  // what each kernel's function computes
+  std::vector<char> writes_out;         // ... as its out[], in order: a stage may write them there
+  std::vector<std::string> names;
   for (const Kernel& k : kernels.kernels) {
-    units.push_back(k.calls && s.calls ? stage_of(k, *k.calls).kernel.outputs : k.outputs);
+    const bool called = k.calls && s.calls;
+    units.push_back(called ? stage_of(k, *k.calls).kernel.outputs : k.outputs);
     if (is_checked_rhs(k)) units.back().insert(units.back().end(), kernels.rhs_pivots.begin(), kernels.rhs_pivots.end());
+    writes_out.push_back(!called && !is_checked_rhs(k));
+    names.push_back(k.name);
   }
-  sharing = plan_shared_stages(kernels.graph, units, settings.share_statements, settings.share_ratio);
-  const PrintedStages stages = print_stages(kernels.graph, sharing, s, "");
+  sharing = plan_shared_stages(kernels.graph, units, settings.share_statements, settings.share_ratio, writes_out);
+  const PrintedStages stages = print_stages(kernels.graph, sharing, s, "", names);
   stage_text = stages.text;
   for (std::size_t i = 0; i < kernels.kernels.size(); ++i)
     printed.push_back(print_kernel(kernels.graph, kernels.kernels[i], s, stages.units[i]));
@@ -1021,9 +1083,16 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
     Sizes wide = s;
     wide.n_p = n_prepared;
     std::vector<std::vector<int>> prepared_units;
-    for (const Kernel& k : prepared->kernels) prepared_units.push_back(k.outputs);
-    prepared_sharing = plan_shared_stages(kernels.graph, prepared_units, settings.share_statements, settings.share_ratio);
-    const PrintedStages prepared_stages = print_stages(kernels.graph, prepared_sharing, wide, "prepared_");
+    std::vector<char> prepared_writes_out;
+    std::vector<std::string> prepared_names;
+    for (const Kernel& k : prepared->kernels) {
+      prepared_units.push_back(k.outputs);
+      prepared_writes_out.push_back(!(k.calls && s.calls));
+      prepared_names.push_back(k.name);
+    }
+    prepared_sharing = plan_shared_stages(kernels.graph, prepared_units, settings.share_statements, settings.share_ratio,
+                                          prepared_writes_out);
+    const PrintedStages prepared_stages = print_stages(kernels.graph, prepared_sharing, wide, "prepared_", prepared_names);
     prepared_stage_text = prepared_stages.text;
     for (std::size_t i = 0; i < prepared->kernels.size(); ++i)
       printed_prepared.push_back(print_kernel(kernels.graph, prepared->kernels[i], wide, prepared_stages.units[i]));

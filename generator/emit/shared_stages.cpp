@@ -18,11 +18,12 @@ std::size_t kernels_in(std::uint64_t set) { return std::bitset<64>(set).count();
 }  // namespace
 
 SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::vector<int>>& units, int min_statements,
-                               double min_ratio) {
+                               double min_ratio, const std::vector<char>& writes_out) {
   SharingPlan plan;
   const std::size_t n_units = units.size();
   plan.called.resize(n_units);
   plan.own.resize(n_units);
+  for (const std::vector<int>& unit : units) plan.outputs.push_back(static_cast<int>(unit.size()));
   if (min_statements <= 0 || n_units < 2 || n_units > 64) return plan;
   const auto size = static_cast<std::size_t>(g.size());
 
@@ -64,7 +65,7 @@ SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::
     for (int i : g.schedule(roots, boundary)) {
       const int stage = from[static_cast<std::size_t>(i)];
       if (stage >= 0) {
-        reads.value[i] = {stage, -1};
+        reads.value[i] = {stage, -1, -1};
         exported[static_cast<std::size_t>(stage)].insert(i);
       } else if (is_statement(g, i)) {
         statements.push_back(i);
@@ -124,24 +125,62 @@ SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::
   }
   const std::size_t n_stages = shared.size();
 
-  // The exports in the order the stage computes them; every read names its position.
+  // Which unit's outputs each stage writes into that unit's out[]: of the units that call it and whose function writes
+  // its outputs in order to out[], the one with the most outputs the stage computes.
+  std::vector<std::map<int, int>> at_output(n_stages);  // per stage: node -> its first position in m<layout>
+  for (std::size_t s = 0; s < n_stages; ++s) {
+    SharingPlan::Stage& stage = plan.stages[s];
+    std::vector<char> here(size, 0);
+    for (int i : computes[s]) here[static_cast<std::size_t>(i)] = 1;
+    std::size_t most = 0;
+    for (int u : stage.units) {
+      const auto unit = static_cast<std::size_t>(u);
+      if (unit >= writes_out.size() || !writes_out[unit]) continue;
+      const auto n = static_cast<std::size_t>(std::count_if(
+          units[unit].begin(), units[unit].end(), [&](int i) { return here[static_cast<std::size_t>(i)] != 0; }));
+      if (n > most) most = n, stage.layout = u;
+    }
+    if (stage.layout < 0) continue;
+    const std::vector<int>& outputs = units[static_cast<std::size_t>(stage.layout)];
+    for (std::size_t j = 0; j < outputs.size(); ++j)
+      if (here[static_cast<std::size_t>(outputs[j])]) {
+        stage.outputs.emplace_back(static_cast<int>(j), outputs[j]);
+        at_output[s].emplace(outputs[j], static_cast<int>(j));
+      }
+  }
+  // The other exports in the order the stage computes them; every read names its array and position.
   std::vector<std::map<int, int>> position(n_stages);
   for (std::size_t s = 0; s < n_stages; ++s)
     for (int i : computes[s])
-      if (exported[s].count(i)) {
+      if (exported[s].count(i) && !at_output[s].count(i)) {
         position[s][i] = static_cast<int>(plan.stages[s].exports.size());
         plan.stages[s].exports.push_back(i);
       }
   const auto resolve = [&](StageReads& reads) {
-    std::set<int> stages;
+    std::set<int> stages, layouts;
     for (auto& [node, at] : reads.value) {
-      at.second = position[static_cast<std::size_t>(at.first)].at(node);
-      stages.insert(at.first);
+      const auto s = static_cast<std::size_t>(at.stage);
+      const auto out = at_output[s].find(node);
+      if (out != at_output[s].end()) {
+        at.layout = plan.stages[s].layout;
+        at.position = out->second;
+        layouts.insert(at.layout);
+      } else {
+        at.position = position[s].at(node);
+        stages.insert(at.stage);
+      }
     }
     reads.stages.assign(stages.begin(), stages.end());
+    reads.layouts.assign(layouts.begin(), layouts.end());
   };
   for (SharingPlan::Stage& stage : plan.stages) resolve(stage.reads);
   for (StageReads& reads : plan.own) resolve(reads);
+  for (const SharingPlan::Stage& stage : plan.stages) {
+    if (stage.layout < 0) continue;
+    std::vector<char>& written = plan.own[static_cast<std::size_t>(stage.layout)].written;
+    written.resize(units[static_cast<std::size_t>(stage.layout)].size(), 0);
+    for (const auto& [j, node] : stage.outputs) written[static_cast<std::size_t>(j)] = 1;
+  }
   return plan;
 }
 

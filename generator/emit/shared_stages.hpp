@@ -30,30 +30,48 @@
 
 namespace hamel {
 
+/// Where a function finds a value an earlier stage computed: s<stage>[position], or, when the stage writes it as an
+/// output of the unit `layout` (SharingPlan::Stage::layout), m<layout>[position], that unit's output position.
+struct StageValue {
+  int stage = -1;
+  int position = -1;
+  int layout = -1;
+};
+
 /// What one function of a package reads from the stages called before it.
 struct StageReads {
-  std::map<int, std::pair<int, int>> value;  ///< node → (stage, position in that stage's exports)
-  std::vector<int> stages;                   ///< the stages it reads, ascending
+  std::map<int, StageValue> value;  ///< node → where it is
+  std::vector<int> stages;          ///< the stages whose arrays s<k> it reads, ascending
+  std::vector<int> layouts;         ///< the units whose output arrays m<u> it reads, ascending
+  /// A unit's own work: its outputs (by position) that the stages it calls wrote already, into its out[].
+  std::vector<char> written;
 };
 
 struct SharingPlan {
   struct Stage {
     std::vector<int> exports;  ///< the nodes it writes to its array, in this order: what later functions read
-    StageReads reads;          ///< what it reads from earlier stages
-    std::vector<int> units;    ///< the units that call it, ascending
-    int statements = 0;        ///< statements it computes
+    /// The unit whose outputs it also writes, each at its position in that unit's out[] (an array m<layout> its
+    /// callers pass: that unit its out, the others one of their own); -1: none. Such outputs are not exports.
+    int layout = -1;
+    std::vector<std::pair<int, int>> outputs;  ///< (position in m<layout>, node), ascending
+    StageReads reads;                          ///< what it reads from earlier stages
+    std::vector<int> units;                    ///< the units that call it, ascending
+    int statements = 0;                        ///< statements it computes
   };
-  std::vector<Stage> stages;              ///< in calling order
-  std::vector<std::vector<int>> called;   ///< per unit: the stages it calls, in calling order
-  std::vector<StageReads> own;            ///< per unit: what its own work reads from them
+  std::vector<Stage> stages;             ///< in calling order
+  std::vector<std::vector<int>> called;  ///< per unit: the stages it calls, in calling order
+  std::vector<StageReads> own;           ///< per unit: what its own work reads from them
+  std::vector<int> outputs;              ///< per unit: how many outputs it has (the length of m<unit>)
   bool empty() const { return stages.empty(); }
 };
 
 /// The stages of the units (each the outputs of one printed function: a kernel's outputs, or what a kernel with
 /// calls computes before them): the classes of at least `min_statements` statements whose stage computes at least
 /// `min_ratio` statements per value it exports (0: any), and the classes that two of them would otherwise both
-/// compute; none when min_statements is 0 or there are more than 64 units.
+/// compute; none when min_statements is 0 or there are more than 64 units. A stage writes the outputs of one unit it
+/// computes straight into that unit's out[] (Stage::layout): the unit of those `writes_out` (its function's outputs
+/// are its out[], in order) with the most of them; the unit's own work then does not copy them.
 SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::vector<int>>& units, int min_statements,
-                               double min_ratio = 0);
+                               double min_ratio = 0, const std::vector<char>& writes_out = {});
 
 }  // namespace hamel

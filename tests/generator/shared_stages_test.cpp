@@ -2,15 +2,17 @@
 // call by a stage function each of them calls, which leaves in its array what later work reads. The plan is run
 // here function by function as the printed package runs it: each stage computes its work from the arguments and
 // from the arrays of the stages it reads (positions as the plan gives them; everything else NaN), then each unit's
-// own work the same way. Its outputs are compared with the generator's own evaluation of the whole program
-// (GraphEvaluator), which does not go through the plan. Also: a unit calls every stage it reads, before it reads it;
-// no statement is computed twice in one unit's call; and the stages do save statements. On random programs of
-// several units sharing work, and on the kernels of a kinematic tree (rhs, jacobian, mass_matrix, ...).
+// own work the same way. A stage may also write outputs of one unit (its layout) into an array laid out as that
+// unit's outputs, which that unit then does not compute again. Its outputs are compared with the generator's own
+// evaluation of the whole program (GraphEvaluator), which does not go through the plan. Also: a unit calls every stage
+// it reads, before it reads it; no statement is computed twice in one unit's call; and the stages do save statements.
+// On random programs of several units sharing work, and on the kernels of a kinematic tree (rhs, jacobian, mass_matrix,
+// ...).
+#include "emit/shared_stages.hpp"
 #include "algebra/operations.hpp"
 #include "derive/derivation.hpp"
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
-#include "emit/shared_stages.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
@@ -38,15 +40,16 @@ using hamel::StageReads;
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-bool is_statement(const ExpressionGraph& g, int i) {
-  return g.node(i).op != Op::constant && g.node(i).op != Op::input;
-}
+bool is_statement(const ExpressionGraph& g, int i) { return g.node(i).op != Op::constant && g.node(i).op != Op::input; }
+
+// The arrays of a unit's call as the printed package has them: s<k> for stage k's exports, m<u> for unit u's outputs.
+using Arrays = std::map<std::string, std::vector<double>>;
 
 // One function of the plan: `outputs` from the arguments and from what `reads` names in `arrays` (the arrays of the
 // stages called so far); what the function computes itself is added to `computed`.
 std::vector<double> run_function(const ExpressionGraph& g, const std::vector<int>& outputs, const StageReads& reads,
-                                 const std::map<int, std::vector<double>>& arrays, double t, const double* x,
-                                 const double* p, const double* in, std::vector<int>& computed) {
+                                 const Arrays& arrays, double t, const double* x, const double* p, const double* in,
+                                 std::vector<int>& computed) {
   std::vector<char> given(static_cast<std::size_t>(g.size()), 0);
   for (const auto& [node, at] : reads.value) given[static_cast<std::size_t>(node)] = 1;
   std::vector<double> value(static_cast<std::size_t>(g.size()), kNaN);
@@ -54,13 +57,15 @@ std::vector<double> run_function(const ExpressionGraph& g, const std::vector<int
     const Node& n = g.node(i);
     double& v = value[static_cast<std::size_t>(i)];
     if (given[static_cast<std::size_t>(i)]) {
-      const auto [stage, position] = reads.value.at(i);
-      const auto array = arrays.find(stage);
+      const hamel::StageValue at = reads.value.at(i);
+      const std::string name = at.layout >= 0 ? "m" + std::to_string(at.layout) : "s" + std::to_string(at.stage);
+      const auto array = arrays.find(name);
       if (array == arrays.end()) {
-        ADD_FAILURE() << "reads stage " << stage << " before it was called";
+        ADD_FAILURE() << "reads " << name << " before a stage wrote it";
         continue;
       }
-      v = array->second.at(static_cast<std::size_t>(position));
+      v = array->second.at(static_cast<std::size_t>(at.position));
+      EXPECT_FALSE(std::isnan(v)) << name << "[" << at.position << "] read before it was written";
     } else if (n.op == Op::constant) {
       v = n.value;
     } else if (n.op == Op::input) {
@@ -69,7 +74,8 @@ std::vector<double> run_function(const ExpressionGraph& g, const std::vector<int
           : n.argument == Argument::input ? in[n.index]
                                           : p[n.index];
     } else {
-      v = hamel::evaluate(n.op, value[static_cast<std::size_t>(n.a)], value[static_cast<std::size_t>(n.b >= 0 ? n.b : n.a)]);
+      v = hamel::evaluate(n.op, value[static_cast<std::size_t>(n.a)],
+                          value[static_cast<std::size_t>(n.b >= 0 ? n.b : n.a)]);
       computed.push_back(i);
     }
   }
@@ -87,7 +93,7 @@ int check_plan(const ExpressionGraph& g, const std::vector<std::vector<int>>& un
   for (const SharingPlan::Stage& stage : plan.stages) printed += stage.statements;
   for (std::size_t u = 0; u < units.size(); ++u) {
     SCOPED_TRACE("unit " + std::to_string(u));
-    std::map<int, std::vector<double>> arrays;
+    Arrays arrays;
     std::vector<int> computed;
     int previous = -1;
     for (int s : plan.called[u]) {
@@ -95,14 +101,43 @@ int check_plan(const ExpressionGraph& g, const std::vector<std::vector<int>>& un
       previous = s;
       const SharingPlan::Stage& stage = plan.stages[static_cast<std::size_t>(s)];
       EXPECT_TRUE(std::count(stage.units.begin(), stage.units.end(), static_cast<int>(u)));
-      EXPECT_FALSE(stage.exports.empty()) << "stage " << s << " leaves nothing";
+      EXPECT_FALSE(stage.exports.empty() && stage.outputs.empty()) << "stage " << s << " leaves nothing";
+      std::vector<int> writes = stage.exports;
+      for (const auto& [position, node] : stage.outputs) writes.push_back(node);
       const std::size_t before = computed.size();
-      arrays[s] = run_function(g, stage.exports, stage.reads, arrays, 0.25, x.data(), p.data(), in.data(), computed);
+      const std::vector<double> values =
+          run_function(g, writes, stage.reads, arrays, 0.25, x.data(), p.data(), in.data(), computed);
       EXPECT_EQ(static_cast<int>(computed.size() - before), stage.statements) << "stage " << s;
+      arrays["s" + std::to_string(s)].assign(values.begin(),
+                                             values.begin() + static_cast<std::ptrdiff_t>(stage.exports.size()));
+      if (stage.layout < 0) continue;
+      const auto layout = static_cast<std::size_t>(stage.layout);
+      std::vector<double>& m = arrays["m" + std::to_string(layout)];
+      m.resize(units[layout].size(), kNaN);
+      for (std::size_t o = 0; o < stage.outputs.size(); ++o) {
+        const auto [position, node] = stage.outputs[o];
+        EXPECT_EQ(units[layout].at(static_cast<std::size_t>(position)), node) << "written where another output goes";
+        m.at(static_cast<std::size_t>(position)) = values[stage.exports.size() + o];
+      }
     }
+    // The unit's own work: the outputs a stage wrote to its out[] are taken from there, the others computed.
+    const StageReads& own = plan.own[u];
+    const auto mine = arrays.find("m" + std::to_string(u));
+    std::vector<int> rest;
+    for (std::size_t o = 0; o < units[u].size(); ++o)
+      if (o >= own.written.size() || !own.written[o]) rest.push_back(units[u][o]);
     const std::size_t before_own = computed.size();
-    const std::vector<double> staged = run_function(g, units[u], plan.own[u], arrays, 0.25, x.data(), p.data(), in.data(), computed);
+    const std::vector<double> computed_rest =
+        run_function(g, rest, own, arrays, 0.25, x.data(), p.data(), in.data(), computed);
     printed += static_cast<int>(computed.size() - before_own);
+    std::vector<double> staged;
+    for (std::size_t o = 0, r = 0; o < units[u].size(); ++o)
+      if (o < own.written.size() && own.written[o]) {
+        EXPECT_NE(mine, arrays.end()) << "output " << o << " marked written, but no stage writes this unit's outputs";
+        staged.push_back(mine == arrays.end() ? kNaN : mine->second.at(o));
+      } else {
+        staged.push_back(computed_rest[r++]);
+      }
     std::vector<double> whole(units[u].size());
     hamel::GraphEvaluator(g, units[u]).evaluate(0.25, x.data(), p.data(), in.data(), whole.data());
     for (std::size_t o = 0; o < whole.size(); ++o) EXPECT_EQ(staged[o], whole[o]) << "output " << o;
@@ -159,7 +194,9 @@ Programs layered_programs(unsigned seed, int units, int trunk, int branch) {
   for (int b = 0; b < units; ++b) branches.push_back(grow(base, branch));
   for (int u = 0; u < units; ++u) {
     std::vector<int> from = base;
-    for (int b : {u, (u + units - 1) % units}) from.insert(from.end(), branches[static_cast<std::size_t>(b)].begin(), branches[static_cast<std::size_t>(b)].end());
+    for (int b : {u, (u + units - 1) % units})
+      from.insert(from.end(), branches[static_cast<std::size_t>(b)].begin(),
+                  branches[static_cast<std::size_t>(b)].end());
     const std::vector<int> own = grow(from, 5);
     std::vector<int> outputs = own;
     outputs.push_back(branches[static_cast<std::size_t>(u)].back());
@@ -173,20 +210,30 @@ TEST(SharedStages, RandomProgramsRunAsTheirWholePrograms) {
   for (unsigned seed = 1; seed <= 20; ++seed) {
     SCOPED_TRACE("seed " + std::to_string(seed));
     const Programs prog = layered_programs(seed, 2 + static_cast<int>(seed % 4), 60, 30);
+    // Which units' functions write their outputs to out[] in order (a stage may write them there): none, or some.
+    std::vector<char> some(prog.units.size());
+    for (std::size_t u = 0; u < some.size(); ++u) some[u] = (u + seed) % 3 != 0;
     for (int min : {1, 4, 10})
-      for (double ratio : {0.0, 2.0}) {
-        SCOPED_TRACE("min_statements " + std::to_string(min) + ", min_ratio " + std::to_string(ratio));
-        const SharingPlan plan = hamel::plan_shared_stages(prog.graph, prog.units, min, ratio);
-        if (min == 1 && ratio == 0) {
-          ASSERT_FALSE(plan.empty());
+      for (double ratio : {0.0, 2.0})
+        for (const std::vector<char>& writes_out : {std::vector<char>{}, some}) {
+          SCOPED_TRACE("min_statements " + std::to_string(min) + ", min_ratio " + std::to_string(ratio) +
+                       (writes_out.empty() ? ", no layouts" : ", layouts"));
+          const SharingPlan plan = hamel::plan_shared_stages(prog.graph, prog.units, min, ratio, writes_out);
+          for (const SharingPlan::Stage& stage : plan.stages)
+            if (stage.layout >= 0) {
+              EXPECT_TRUE(writes_out.at(static_cast<std::size_t>(stage.layout)));
+              EXPECT_TRUE(std::count(stage.units.begin(), stage.units.end(), stage.layout));
+            }
+          if (min == 1 && ratio == 0) {
+            ASSERT_FALSE(plan.empty());
+          }
+          for (const SharingPlan::Stage& stage : plan.stages) EXPECT_GE(stage.statements, min);
+          const std::vector<double> x = {0.3, -1.1, 0.7, 2.0}, p = {1.5};
+          const int printed = check_plan(prog.graph, prog.units, plan, x, p, {});
+          if (!plan.empty()) {
+            EXPECT_LT(printed, statements_per_unit(prog.graph, prog.units));
+          }
         }
-        for (const SharingPlan::Stage& stage : plan.stages) EXPECT_GE(stage.statements, min);
-        const std::vector<double> x = {0.3, -1.1, 0.7, 2.0}, p = {1.5};
-        const int printed = check_plan(prog.graph, prog.units, plan, x, p, {});
-        if (!plan.empty()) {
-          EXPECT_LT(printed, statements_per_unit(prog.graph, prog.units));
-        }
-      }
   }
 }
 
@@ -220,13 +267,20 @@ TEST(SharedStages, TreeKernelsRunAsTheirWholePrograms) {
   p.push_back(0);
   std::vector<double> in;
   for (std::size_t i = 0; i < model.inputs.size(); ++i) in.push_back(0.3 - 0.2 * static_cast<double>(i));
+  // As the package printer plans them: every kernel but rhs (whose function also writes the pivots) and the
+  // jacobian (whose function is its stage) may have its outputs written by a stage.
+  std::vector<char> writes_out;
+  for (const hamel::Kernel& k : set.kernels) writes_out.push_back(k.name != "rhs" && k.name != "jacobian");
+  bool any_layout = false;
   for (int min : {20, 100}) {
     SCOPED_TRACE("min_statements " + std::to_string(min));
-    const SharingPlan plan = hamel::plan_shared_stages(set.graph, units, min);
+    const SharingPlan plan = hamel::plan_shared_stages(set.graph, units, min, 0, writes_out);
     ASSERT_GE(plan.stages.size(), 2u);
+    for (const SharingPlan::Stage& stage : plan.stages) any_layout = any_layout || stage.layout >= 0;
     const int printed = check_plan(set.graph, units, plan, x, p, in);
     EXPECT_LT(printed, statements_per_unit(set.graph, units));
   }
+  EXPECT_TRUE(any_layout) << "no stage writes a kernel's outputs (mass_matrix's come from the composite inertias)";
   // With the package printer's default ratio (32 statements per export): fewer stages, still exact.
   const SharingPlan narrow = hamel::plan_shared_stages(set.graph, units, 20, 32);
   check_plan(set.graph, units, narrow, x, p, in);

@@ -18,7 +18,7 @@ std::size_t kernels_in(std::uint64_t set) { return std::bitset<64>(set).count();
 }  // namespace
 
 SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::vector<int>>& units, int min_statements,
-                               double min_ratio, const std::vector<char>& writes_out) {
+                               double min_ratio, const std::vector<char>& writes_out, double min_read) {
   SharingPlan plan;
   const std::size_t n_units = units.size();
   plan.called.resize(n_units);
@@ -36,14 +36,18 @@ SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::
       if (is_statement(g, i)) users[static_cast<std::size_t>(i)] |= std::uint64_t{1} << u;
   }
   std::map<std::uint64_t, std::vector<int>> classes;
-  for (std::size_t u = 0; u < n_units; ++u)
-    for (int i : schedules[u]) {
-      const std::uint64_t set = users[static_cast<std::size_t>(i)];
-      if (kernels_in(set) >= 2 && (set & (~set + 1)) == std::uint64_t{1} << u) classes[set].push_back(i);
-    }
   std::set<std::uint64_t> candidates;  // the classes large enough
-  for (const auto& [set, nodes] : classes)
-    if (nodes.size() >= static_cast<std::size_t>(min_statements)) candidates.insert(set);
+  const auto group = [&] {
+    classes.clear();
+    candidates.clear();
+    for (std::size_t u = 0; u < n_units; ++u)
+      for (int i : schedules[u]) {
+        const std::uint64_t set = users[static_cast<std::size_t>(i)];
+        if (kernels_in(set) >= 2 && (set & (~set + 1)) == std::uint64_t{1} << u) classes[set].push_back(i);
+      }
+    for (const auto& [set, nodes] : classes)
+      if (nodes.size() >= static_cast<std::size_t>(min_statements)) candidates.insert(set);
+  };
 
   // Each function in calling order: what it computes from its roots, reading what a stage before it computes that
   // every unit calling it has called (the first such stage).
@@ -112,16 +116,54 @@ SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::
   };
   // A stage whose exports are many for its work costs more in stores and loads than it saves (every caller writes
   // all of them): such a candidate is dropped, and the plan made again without it.
+  const auto plan_candidates = [&] {
+    for (;;) {
+      make(candidates);
+      bool dropped = false;
+      for (std::size_t s = 0; s < shared.size(); ++s)
+        if (candidates.count(shared[s].first) &&
+            static_cast<double>(computes[s].size()) < min_ratio * static_cast<double>(exported[s].size())) {
+          candidates.erase(shared[s].first);
+          dropped = true;
+        }
+      if (!dropped) break;
+    }
+  };
+  // A unit that reads less than `min_read` of what a stage it calls exports (it calls it, and so stores all of it, for
+  // a few values: locked_inertia reads 10 of the composite inertias' 713, the bicycle's rhs 80 of the 4 129 values its
+  // jacobian reads) computes that work in its own function instead: it no longer counts as a user of the stage's
+  // statements nor of the statements that depend on them (so that no stage it calls needs them), the classes are
+  // formed again, and so is the plan.
   for (;;) {
-    make(candidates);
-    bool dropped = false;
-    for (std::size_t s = 0; s < shared.size(); ++s)
-      if (candidates.count(shared[s].first) &&
-          static_cast<double>(computes[s].size()) < min_ratio * static_cast<double>(exported[s].size())) {
-        candidates.erase(shared[s].first);
-        dropped = true;
+    group();
+    plan_candidates();
+    std::vector<std::pair<std::size_t, std::size_t>> leave;  // (unit, stage)
+    for (std::size_t u = 0; u < n_units; ++u)
+      for (int st : plan.called[u]) {
+        const auto s = static_cast<std::size_t>(st);
+        std::set<int> read;
+        const auto count = [&](const StageReads& reads) {
+          for (const auto& [node, at] : reads.value)
+            if (at.stage == st) read.insert(node);
+        };
+        count(plan.own[u]);
+        for (int other : plan.called[u]) count(plan.stages[static_cast<std::size_t>(other)].reads);
+        if (static_cast<double>(read.size()) < min_read * static_cast<double>(exported[s].size()))
+          leave.emplace_back(u, s);
       }
-    if (!dropped) break;
+    if (leave.empty()) break;
+    for (const auto& [u, s] : leave) {
+      const std::uint64_t bit = std::uint64_t{1} << u;
+      std::vector<char> depends(size, 0);
+      for (int i : shared[s].second) depends[static_cast<std::size_t>(i)] = 1;
+      for (int i : schedules[u]) {
+        const Node& n = g.node(i);
+        const auto index = static_cast<std::size_t>(i);
+        depends[index] = depends[index] || (n.a >= 0 && depends[static_cast<std::size_t>(n.a)]) ||
+                         (n.b >= 0 && depends[static_cast<std::size_t>(n.b)]);
+        if (depends[index]) users[index] &= ~bit;
+      }
+    }
   }
   const std::size_t n_stages = shared.size();
 

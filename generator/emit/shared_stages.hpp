@@ -18,7 +18,11 @@
 // reads them back. A stage of many statements per export (rhs's articulated-body recursion, which the jacobian
 // reuses: 16 000 statements, 74 exports on the 30-joint chain) costs nothing measurable; one of a few statements
 // per export (the composite inertias that mass_matrix, connection and shape_inertia read, 7 per export) made those
-// kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio`.
+// kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio`. Two things make a stage cheaper for its callers:
+// a kernel that would read few of a stage's exports (`min_read`) does not call it but computes that work itself, as
+// without stages (a kernel "using" statements, for the classes, means calling their stage); and a stage writes the
+// outputs of one of its callers straight into that caller's out[] (Stage::layout), so that the caller does not copy
+// them out of the stage's array (the 30-joint chain's mass_matrix: every one of its 1 296 outputs).
 #pragma once
 
 #include "emit/expression_graph.hpp"
@@ -68,10 +72,12 @@ struct SharingPlan {
 /// The stages of the units (each the outputs of one printed function: a kernel's outputs, or what a kernel with
 /// calls computes before them): the classes of at least `min_statements` statements whose stage computes at least
 /// `min_ratio` statements per value it exports (0: any), and the classes that two of them would otherwise both
-/// compute; none when min_statements is 0 or there are more than 64 units. A stage writes the outputs of one unit it
-/// computes straight into that unit's out[] (Stage::layout): the unit of those `writes_out` (its function's outputs
-/// are its out[], in order) with the most of them; the unit's own work then does not copy them.
+/// compute; none when min_statements is 0 or there are more than 64 units. A unit that would read less than `min_read`
+/// of a stage's exports does not call it but computes that work itself (0: every unit using a class calls its stage).
+/// A stage writes the outputs of one unit it computes straight into that unit's out[] (Stage::layout): the unit of
+/// those `writes_out` (its function's outputs are its out[], in order) with the most of them; the unit's own work then
+/// does not copy them.
 SharingPlan plan_shared_stages(const ExpressionGraph& g, const std::vector<std::vector<int>>& units, int min_statements,
-                               double min_ratio = 0, const std::vector<char>& writes_out = {});
+                               double min_ratio = 0, const std::vector<char>& writes_out = {}, double min_read = 0.1);
 
 }  // namespace hamel

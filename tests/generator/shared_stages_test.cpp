@@ -213,27 +213,29 @@ TEST(SharedStages, RandomProgramsRunAsTheirWholePrograms) {
     // Which units' functions write their outputs to out[] in order (a stage may write them there): none, or some.
     std::vector<char> some(prog.units.size());
     for (std::size_t u = 0; u < some.size(); ++u) some[u] = (u + seed) % 3 != 0;
+    // With min_read 0.5 and 0.9, units leave stages they read little of and compute that work themselves.
     for (int min : {1, 4, 10})
       for (double ratio : {0.0, 2.0})
-        for (const std::vector<char>& writes_out : {std::vector<char>{}, some}) {
-          SCOPED_TRACE("min_statements " + std::to_string(min) + ", min_ratio " + std::to_string(ratio) +
-                       (writes_out.empty() ? ", no layouts" : ", layouts"));
-          const SharingPlan plan = hamel::plan_shared_stages(prog.graph, prog.units, min, ratio, writes_out);
-          for (const SharingPlan::Stage& stage : plan.stages)
-            if (stage.layout >= 0) {
-              EXPECT_TRUE(writes_out.at(static_cast<std::size_t>(stage.layout)));
-              EXPECT_TRUE(std::count(stage.units.begin(), stage.units.end(), stage.layout));
+        for (const std::vector<char>& writes_out : {std::vector<char>{}, some})
+          for (double read : {0.0, 0.5, 0.9}) {
+            SCOPED_TRACE("min_statements " + std::to_string(min) + ", min_ratio " + std::to_string(ratio) +
+                         (writes_out.empty() ? ", no layouts" : ", layouts") + ", min_read " + std::to_string(read));
+            const SharingPlan plan = hamel::plan_shared_stages(prog.graph, prog.units, min, ratio, writes_out, read);
+            for (const SharingPlan::Stage& stage : plan.stages)
+              if (stage.layout >= 0) {
+                EXPECT_TRUE(writes_out.at(static_cast<std::size_t>(stage.layout)));
+                EXPECT_TRUE(std::count(stage.units.begin(), stage.units.end(), stage.layout));
+              }
+            if (min == 1 && ratio == 0 && read == 0) {
+              ASSERT_FALSE(plan.empty());
             }
-          if (min == 1 && ratio == 0) {
-            ASSERT_FALSE(plan.empty());
+            for (const SharingPlan::Stage& stage : plan.stages) EXPECT_GE(stage.statements, min);
+            const std::vector<double> x = {0.3, -1.1, 0.7, 2.0}, p = {1.5};
+            const int printed = check_plan(prog.graph, prog.units, plan, x, p, {});
+            if (!plan.empty()) {
+              EXPECT_LT(printed, statements_per_unit(prog.graph, prog.units));
+            }
           }
-          for (const SharingPlan::Stage& stage : plan.stages) EXPECT_GE(stage.statements, min);
-          const std::vector<double> x = {0.3, -1.1, 0.7, 2.0}, p = {1.5};
-          const int printed = check_plan(prog.graph, prog.units, plan, x, p, {});
-          if (!plan.empty()) {
-            EXPECT_LT(printed, statements_per_unit(prog.graph, prog.units));
-          }
-        }
   }
 }
 
@@ -274,16 +276,19 @@ TEST(SharedStages, TreeKernelsRunAsTheirWholePrograms) {
   bool any_layout = false;
   for (int min : {20, 100}) {
     SCOPED_TRACE("min_statements " + std::to_string(min));
-    const SharingPlan plan = hamel::plan_shared_stages(set.graph, units, min, 0, writes_out);
+    const SharingPlan plan = hamel::plan_shared_stages(set.graph, units, min, 0, writes_out, 0);
     ASSERT_GE(plan.stages.size(), 2u);
     for (const SharingPlan::Stage& stage : plan.stages) any_layout = any_layout || stage.layout >= 0;
     const int printed = check_plan(set.graph, units, plan, x, p, in);
     EXPECT_LT(printed, statements_per_unit(set.graph, units));
   }
   EXPECT_TRUE(any_layout) << "no stage writes a kernel's outputs (mass_matrix's come from the composite inertias)";
-  // With the package printer's default ratio (32 statements per export): fewer stages, still exact.
+  // With the package printer's default ratio (32 statements per export): fewer stages, still exact; and with units
+  // leaving the stages they read less than half of.
   const SharingPlan narrow = hamel::plan_shared_stages(set.graph, units, 20, 32);
   check_plan(set.graph, units, narrow, x, p, in);
+  const SharingPlan read_most = hamel::plan_shared_stages(set.graph, units, 20, 0, writes_out, 0.5);
+  check_plan(set.graph, units, read_most, x, p, in);
 }
 
 }  // namespace

@@ -302,7 +302,10 @@ Parts plan_parts(const ExpressionGraph& g, const std::vector<int>& statements, c
   const int parts = (work + part_size - 1) / part_size;
   std::vector<int> live(static_cast<std::size_t>(work) + 1, 0);
   {
-    std::vector<int> last_use(static_cast<std::size_t>(work), 0);  // position of the last reader; work: out[]
+    // Position of the last reader; work: out[]; a statement nothing reads after it (an output written in its part)
+    // is its own last reader, so it crosses no boundary.
+    std::vector<int> last_use(static_cast<std::size_t>(work));
+    for (int w = 0; w < work; ++w) last_use[static_cast<std::size_t>(w)] = w;
     for (int w = 0; w < work; ++w) {
       const Node& n = g.node(statements[static_cast<std::size_t>(w)]);
       for (int operand : {n.a, n.b})

@@ -5251,15 +5251,13 @@ HAMEL_NOINLINE void jacobian_stage_part4(real t, const real* x, const real* p, c
   scratch[78] = w2298;  // shared 78
 }
 
-}  // namespace
-
-HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
-  real v[746];
-  jacobian_stage_part0(t, x, p, in, v, out, scratch);
-  jacobian_stage_part1(t, x, p, in, v, out, scratch);
-  jacobian_stage_part2(t, x, p, in, v, out, scratch);
-  jacobian_stage_part3(t, x, p, in, v, out, scratch);
-  jacobian_stage_part4(t, x, p, in, v, out, scratch);
+HAMEL_NOINLINE void jacobian_stage_part5(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch) {
+  (void)t;
+  (void)x;
+  (void)p;
+  (void)in;
+  (void)scratch;
+  (void)v;
   out[0] = real(0.0);  // dq1_dot/dq1
   out[1] = real(0.0);  // dq1_dot/dq2
   out[2] = real(0.0);  // dq1_dot/dq3
@@ -5343,6 +5341,14 @@ HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const r
   out[80] = real(0.0);  // dq5_dot/dq1
   out[81] = real(0.0);  // dq5_dot/dq2
   out[82] = real(0.0);  // dq5_dot/dq3
+}
+
+HAMEL_NOINLINE void jacobian_stage_part6(real t, const real* x, const real* p, const real* in, real* v, real* out, real* scratch) {
+  (void)t;
+  (void)x;
+  (void)p;
+  (void)in;
+  (void)v;
   out[83] = real(0.0);  // dq5_dot/dq4
   out[84] = real(0.0);  // dq5_dot/dq5
   out[85] = real(0.0);  // dq5_dot/dq6
@@ -5427,6 +5433,19 @@ HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const r
   scratch[334] = real(0.0);  // call 9, argument 4, lane 1
   scratch[336] = real(0.0);  // call 9, argument 5, lane 1
   scratch[350] = real(0.0);  // call 9, argument 12, lane 1
+}
+
+}  // namespace
+
+void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
+  real v[746];
+  jacobian_stage_part0(t, x, p, in, v, out, scratch);
+  jacobian_stage_part1(t, x, p, in, v, out, scratch);
+  jacobian_stage_part2(t, x, p, in, v, out, scratch);
+  jacobian_stage_part3(t, x, p, in, v, out, scratch);
+  jacobian_stage_part4(t, x, p, in, v, out, scratch);
+  jacobian_stage_part5(t, x, p, in, v, out, scratch);
+  jacobian_stage_part6(t, x, p, in, v, out, scratch);
 }
 
 }  // namespace

@@ -202,6 +202,8 @@ struct Destination {
 // inlines about two parts into their caller anyway, and the 30-joint chain's energy (two parts) ran 14 % slower
 // with them out of line.
 constexpr int out_of_line_statements = 64;
+// At most this many output copies in one function (print_kernel, after a split kernel's parts).
+constexpr std::size_t writes_per_part = 128;
 std::string out_of_line(bool internal, int statements) {
   return internal && statements >= out_of_line_statements ? "HAMEL_NOINLINE " : "";
 }
@@ -512,6 +514,20 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   std::map<int, std::vector<std::size_t>> gives;  // statement node -> the outputs it is
   for (std::size_t o = 0; o < k.outputs.size(); ++o)
     if (!leaf.count(k.outputs[o]) && d.outputs_in_parts) gives[k.outputs[o]].push_back(o);
+  // Part `number` of the kernel: (t, x, p, in, v, its arrays, the stage arrays), voiding what it does not use.
+  const auto print_part = [&](int number, bool kept_out_of_line, const bool part_uses[4],
+                              const std::set<std::string>& read, const std::set<std::string>& wrote,
+                              const std::string& body) {
+    std::string voids;
+    for (const std::string& a : d.arrays)
+      if (!wrote.count(a)) voids += "  (void)" + a + ";\n";
+    if (!wrote.count("v")) voids += "  (void)v;\n";
+    Destination with_v = d;  // a part also gets v[]
+    with_v.arrays.insert(with_v.arrays.begin(), "v");
+    os << out_of_line(kept_out_of_line, out_of_line_statements)
+       << head_of(with_v, k.name + "_part" + std::to_string(number), reads) << " {\n"
+       << argument_voids(part_uses) << voids << stage_voids(d, reads, read) << body << "}\n\n";
+  };
   os << "namespace {\n\n";
   for (int part = 0; part < parts; ++part) {
     std::ostringstream body;
@@ -549,34 +565,64 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
           body << "  " << to << " = " << local(i) << ";  // " << output_name(o) << "\n";
         });
     }
-    std::string voids;
-    for (const std::string& a : d.arrays)
-      if (!wrote.count(a)) voids += "  (void)" + a + ";\n";
-    if (!wrote.count("v")) voids += "  (void)v;\n";
-    Destination with_v = d;  // a part also gets v[]
-    with_v.arrays.insert(with_v.arrays.begin(), "v");
-    os << out_of_line(parts > 2, out_of_line_statements)
-       << head_of(with_v, k.name + "_part" + std::to_string(part), reads) << " {\n"
-       << argument_voids(part_uses) << voids << stage_voids(d, reads, read) << body.str() << "}\n\n";
+    print_part(part, parts > 2, part_uses, read, wrote, body.str());
   }
-  std::ostringstream calls;
-  int driver_statements = parts;
-  for (int part = 0; part < parts; ++part)
-    calls << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(d, reads)
-          << ");\n";
+  // The outputs no part writes (leaves, or every output without outputs_in_parts), copied in after the parts: by
+  // the kernel itself, or, when there are more than writes_per_part of them, by further parts of at most that many
+  // copies each. g++ -O2's time on a run of stores grows about with the square of its length: the 1 984 constant
+  // entries of the 30-joint chain's Jacobian took 2.2 s of its SLP vectorizer and alias walks in one function,
+  // 0.2-0.4 s in functions of 25-250 (docs/benchmarks.md). Those parts are never inlined: g++ would glue them back. Fewer
+  // copies stay in the kernel (a Jacobian column's 72), where a call would cost more than they do.
+  struct Copy {
+    std::string text;
+    int node;
+    std::string array;  // the array it writes
+  };
+  std::vector<Copy> copies;
   for (std::size_t o = 0; o < k.outputs.size(); ++o) {
     const int i = k.outputs[o];
     if ((leaf.count(i) || !d.outputs_in_parts) && !written(o))
       each_lane([&] {
-        calls << "  " << output_target(o) << " = " << (leaf.count(i) ? leaf_of(i) : passed(i)) << ";  // "
-              << output_name(o) << "\n";
-        ++driver_statements;
+        const std::string to = output_target(o);
+        copies.push_back({"  " + to + " = " + (leaf.count(i) ? leaf_of(i) : passed(i)) + ";  // " + output_name(o) +
+                              "\n",
+                          i, to.substr(0, to.find('['))});
       });
   }
+  std::string driver_copies;
+  int copy_parts = 0;
+  if (copies.size() <= writes_per_part) {
+    for (const Copy& copy : copies) driver_copies += copy.text;
+  } else {
+    const std::size_t n = copies.size(), blocks = (n + writes_per_part - 1) / writes_per_part;
+    for (std::size_t b = 0; b < blocks; ++b) {
+      const std::size_t first = b * n / blocks, last = (b + 1) * n / blocks;
+      bool part_uses[4] = {false, false, false, false};
+      std::set<std::string> read, wrote;
+      std::string body;
+      for (std::size_t c = first; c < last; ++c) {
+        const int i = copies[c].node;
+        if (!leaf.count(i))
+          wrote.insert("v");
+        else if (reads && given[static_cast<std::size_t>(i)])
+          read.insert(value_array(reads->value.at(i)));
+        else if (g.node(i).op == Op::input)
+          part_uses[static_cast<int>(g.node(i).argument)] = true;
+        wrote.insert(copies[c].array);
+        body += copies[c].text;
+      }
+      print_part(parts + copy_parts++, true, part_uses, read, wrote, body);
+    }
+  }
+  std::ostringstream calls;
+  for (int part = 0; part < parts + copy_parts; ++part)
+    calls << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(d, reads)
+          << ");\n";
+  const int driver_statements = parts + copy_parts + (copy_parts ? 0 : static_cast<int>(copies.size()));
   os << "}  // namespace\n\n"
      << out_of_line(d.internal, driver_statements) << head << " {\n  real v[" << std::max(n_slots * lanes, 1) << "];\n"
-     << calls.str() << "}\n";
-  return {k.name, os.str(), (work + n_slots) * lanes, c, parts};
+     << calls.str() << driver_copies << "}\n";
+  return {k.name, os.str(), (work + n_slots) * lanes, c, parts + copy_parts};
 }
 
 // Where a Subroutine's calls leave their results: the subroutine writes them into out[] itself, at the offsets of

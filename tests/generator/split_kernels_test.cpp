@@ -83,6 +83,7 @@ struct Interpreted {
   int lines = 0;                           // statements printed (locals)
   int slots = 0;       // size of v[] (0: not split)
   int slot_writes = 0;  // values passed between parts
+  std::map<int, int> copies_per_part;  // out[k] = <leaf or v[]> lines, by part (-1: the kernel itself)
 };
 
 bool starts(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }
@@ -215,7 +216,9 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
         EXPECT_TRUE(parts.count(called)) << l;
         if (parts.count(called)) execute(parts.at(called), called);
       } else if (w.size() >= 4 && starts(w[0], "out[") && w[1] == "=" && ends(w[2], ";") && w[3] == "//") {
-        run.out.at(subscript(w[0])) = value(w[2].substr(0, w[2].size() - 1));
+        const std::string from = w[2].substr(0, w[2].size() - 1);
+        run.out.at(subscript(w[0])) = value(from);
+        if (starts(from, "x[") || starts(from, "v[") || starts(from, "real(")) ++run.copies_per_part[part];
       } else {
         ADD_FAILURE() << "unexpected line: " << l;
       }
@@ -272,6 +275,39 @@ TEST(SplitKernels, EveryPartSizeGivesTheGraphsValuesAndReusesSlots) {
         }
       }
     }
+  }
+}
+
+// Outputs that are leaves (constants, inputs) are copied in after the parts, in blocks of at most 128 per function
+// when there are more (g++'s time on a run of stores grows about with the square of its length): the 30-joint
+// chain's Jacobian has 1 984 constant entries. Every output still gets the graph's value, and parts that compute
+// keep their sizes.
+TEST(SplitKernels, ManyLeafOutputsAreCopiedInBlocks) {
+  Program prog = random_program(7, 150, 24);
+  std::vector<int> outputs = prog.outputs;
+  for (int k = 0; k < 300; ++k)
+    outputs.push_back(k % 3 == 0 ? prog.graph.input(Argument::state, k % kInputs)
+                                 : prog.graph.constant(k % 3 == 1 ? 0.0 : 1.0 + k));
+  const hamel::Kernel k = kernel_of(outputs);
+  const double x[kInputs] = {0.9, -1.1, 0.4, 1.3};
+  std::vector<double> expected(outputs.size());
+  hamel::GraphEvaluator evaluator(prog.graph, outputs);
+  evaluator.evaluate(0.0, x, nullptr, nullptr, expected.data());
+  for (int size : {7, 50}) {
+    SCOPED_TRACE("parts of " + std::to_string(size));
+    const std::string text = hamel::kernel_text(prog.graph, k, kInputs, 0, 0, size);
+    const Interpreted split = interpret(text, x, outputs.size());
+    for (std::size_t o = 0; o < expected.size(); ++o) EXPECT_EQ(split.out[o], expected[o]) << "output " << o;
+    int copies = 0;
+    for (const auto& [part, count] : split.copies_per_part) {
+      EXPECT_NE(part, -1) << "the kernel itself copies no outputs";
+      EXPECT_LE(count, 128) << "part " << part;
+      EXPECT_EQ(split.statements_per_part.count(part), 0U) << "part " << part << " computes and copies";
+      copies += count;
+    }
+    EXPECT_EQ(copies, 300);
+    EXPECT_EQ(split.copies_per_part.size(), 3U) << "300 copies in three blocks of 100";
+    for (const auto& [part, count] : split.statements_per_part) EXPECT_LE(count, size) << "part " << part;
   }
 }
 

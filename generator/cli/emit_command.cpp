@@ -174,8 +174,8 @@ Run add_emit_command(CLI::App& app) {
                   "Share such work only when its function computes at least R operations per value it leaves to "
                   "later work, which every caller stores and reads back (0: any; the smallest package and the "
                   "shortest compile, the 30-joint chain's 2.0 MB and 14-15 s of g++ -O2 against 2.5 MB and "
-                  "18-25 s in the same runs, but kernels that read many shared values run 10-35 % slower, a small model's up to "
-                  "80 %, docs/benchmarks.md). A kernel that would read less than a tenth of a shared function's "
+                  "18-25 s in the same runs, but kernels that read many shared values run 10-35 % slower, a small "
+                  "model's up to 80 %, docs/benchmarks.md). A kernel that would read less than a tenth of a shared function's "
                   "values computes that work itself")
       ->default_val(opt->settings.share_ratio)
       ->check(whole_number("operations per value", "any"))

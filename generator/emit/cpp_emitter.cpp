@@ -528,6 +528,20 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
        << head_of(with_v, k.name + "_part" + std::to_string(number), reads) << " {\n"
        << argument_voids(part_uses) << voids << stage_voids(d, reads, read) << body << "}\n\n";
   };
+  // Node i in a part that does not compute it: a leaf, or the value passed in v[]; noting what the part uses
+  // (arguments, stage arrays read, and v among the arrays it writes, read or written).
+  const auto outside = [&](int i, bool part_uses[4], std::set<std::string>& read, std::set<std::string>& wrote) {
+    if (!leaf.count(i)) {
+      wrote.insert("v");
+      return passed(i);
+    }
+    const Node& n = g.node(i);
+    if (reads && given[static_cast<std::size_t>(i)])
+      read.insert(value_array(reads->value.at(i)));
+    else if (n.op == Op::input)
+      part_uses[static_cast<int>(n.argument)] = true;
+    return leaf_of(i);
+  };
   os << "namespace {\n\n";
   for (int part = 0; part < parts; ++part) {
     std::ostringstream body;
@@ -535,17 +549,7 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     std::set<std::string> read;
     std::set<std::string> wrote;  // arrays it uses: v (read or written), out, ... (written)
     const auto name_of = [&](int i) {
-      if (leaf.count(i)) {
-        const Node& n = g.node(i);
-        if (reads && given[static_cast<std::size_t>(i)])
-          read.insert(value_array(reads->value.at(i)));
-        else if (n.op == Op::input)
-          part_uses[static_cast<int>(n.argument)] = true;
-        return leaf_of(i);
-      }
-      if (part_of(i) == part) return local(i);
-      wrote.insert("v");
-      return passed(i);
+      return !leaf.count(i) && part_of(i) == part ? local(i) : outside(i, part_uses, read, wrote);
     };
     for (int w = start[static_cast<std::size_t>(part)]; w < end_of(part); ++w) {
       const int i = statements[static_cast<std::size_t>(w)];
@@ -571,46 +575,36 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   // the kernel itself, or, when there are more than writes_per_part of them, by further parts of at most that many
   // copies each. g++ -O2's time on a run of stores grows about with the square of its length: the 1 984 constant
   // entries of the 30-joint chain's Jacobian took 2.2 s of its SLP vectorizer and alias walks in one function,
-  // 0.2-0.4 s in functions of 25-250 (docs/benchmarks.md). Those parts are never inlined: g++ would glue them back. Fewer
-  // copies stay in the kernel (a Jacobian column's 72), where a call would cost more than they do.
-  struct Copy {
-    std::string text;
-    int node;
-    std::string array;  // the array it writes
+  // 0.2-0.4 s in functions of 25-250 (docs/benchmarks.md). Those parts are never inlined: g++ would glue them
+  // back. Fewer copies stay in the kernel (a Jacobian column's 72), where a call would cost more than they do.
+  std::vector<std::pair<std::size_t, int>> copies;  // output, lane
+  for (std::size_t o = 0; o < k.outputs.size(); ++o)
+    if ((leaf.count(k.outputs[o]) || !d.outputs_in_parts) && !written(o))
+      each_lane([&] { copies.emplace_back(o, lane); });
+  const auto copy = [&](const std::pair<std::size_t, int>& c, bool part_uses[4], std::set<std::string>& read,
+                        std::set<std::string>& wrote) {
+    lane = c.second;
+    const std::string to = output_target(c.first);
+    wrote.insert(to.substr(0, to.find('[')));
+    const std::string text = "  " + to + " = " + outside(k.outputs[c.first], part_uses, read, wrote) + ";  // " +
+                             output_name(c.first) + "\n";
+    lane = 0;
+    return text;
   };
-  std::vector<Copy> copies;
-  for (std::size_t o = 0; o < k.outputs.size(); ++o) {
-    const int i = k.outputs[o];
-    if ((leaf.count(i) || !d.outputs_in_parts) && !written(o))
-      each_lane([&] {
-        const std::string to = output_target(o);
-        copies.push_back({"  " + to + " = " + (leaf.count(i) ? leaf_of(i) : passed(i)) + ";  // " + output_name(o) +
-                              "\n",
-                          i, to.substr(0, to.find('['))});
-      });
-  }
   std::string driver_copies;
   int copy_parts = 0;
   if (copies.size() <= writes_per_part) {
-    for (const Copy& copy : copies) driver_copies += copy.text;
+    bool unused[4] = {false, false, false, false};
+    std::set<std::string> read, wrote;
+    for (const auto& c : copies) driver_copies += copy(c, unused, read, wrote);
   } else {
     const std::size_t n = copies.size(), blocks = (n + writes_per_part - 1) / writes_per_part;
     for (std::size_t b = 0; b < blocks; ++b) {
-      const std::size_t first = b * n / blocks, last = (b + 1) * n / blocks;
       bool part_uses[4] = {false, false, false, false};
       std::set<std::string> read, wrote;
       std::string body;
-      for (std::size_t c = first; c < last; ++c) {
-        const int i = copies[c].node;
-        if (!leaf.count(i))
-          wrote.insert("v");
-        else if (reads && given[static_cast<std::size_t>(i)])
-          read.insert(value_array(reads->value.at(i)));
-        else if (g.node(i).op == Op::input)
-          part_uses[static_cast<int>(g.node(i).argument)] = true;
-        wrote.insert(copies[c].array);
-        body += copies[c].text;
-      }
+      for (std::size_t c = b * n / blocks; c < (b + 1) * n / blocks; ++c)
+        body += copy(copies[c], part_uses, read, wrote);
       print_part(parts + copy_parts++, true, part_uses, read, wrote, body);
     }
   }

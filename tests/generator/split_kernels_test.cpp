@@ -81,9 +81,9 @@ struct Interpreted {
   std::vector<double> out;
   std::map<int, int> statements_per_part;  // operations of the printed statements, by part (-1: not split)
   int lines = 0;                           // statements printed (locals)
-  int slots = 0;       // size of v[] (0: not split)
-  int slot_writes = 0;  // values passed between parts
-  std::map<int, int> copies_per_part;  // out[k] = <leaf or v[]> lines, by part (-1: the kernel itself)
+  int slots = 0;                           // size of v[] (0: not split)
+  int slot_writes = 0;                     // values passed between parts
+  std::map<int, int> copies_per_part;      // out[k] = <leaf or v[]> lines, by part (-1: the kernel itself)
 };
 
 bool starts(const std::string& s, const std::string& prefix) { return s.rfind(prefix, 0) == 0; }

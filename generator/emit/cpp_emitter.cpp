@@ -202,11 +202,11 @@ struct Destination {
 // inlines about two parts into their caller anyway, and the 30-joint chain's energy (two parts) ran 14 % slower
 // with them out of line.
 constexpr int out_of_line_statements = 64;
-// At most this many output copies in one function (print_kernel, after a split kernel's parts).
-constexpr std::size_t writes_per_part = 128;
 std::string out_of_line(bool internal, int statements) {
   return internal && statements >= out_of_line_statements ? "HAMEL_NOINLINE " : "";
 }
+// At most this many output copies in one function (print_kernel, after a split kernel's parts).
+constexpr std::size_t writes_per_part = 128;
 
 // The kernel ABI: out[o].
 Destination to_out(const Kernel& k) {

@@ -608,14 +608,16 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
       print_part(parts + copy_parts++, true, part_uses, read, wrote, body);
     }
   }
+  // v[] holds the values parts pass to later parts; when they pass none the parts are given a null pointer.
+  const std::string v = n_slots > 0 ? "v" : "nullptr";
   std::ostringstream calls;
   for (int part = 0; part < parts + copy_parts; ++part)
-    calls << "  " << k.name << "_part" << part << "(t, x, p, in, v" << array_arguments(d) << stage_arguments(d, reads)
-          << ");\n";
+    calls << "  " << k.name << "_part" << part << "(t, x, p, in, " << v << array_arguments(d)
+          << stage_arguments(d, reads) << ");\n";
   const int driver_statements = parts + copy_parts + (copy_parts ? 0 : static_cast<int>(copies.size()));
-  os << "}  // namespace\n\n"
-     << out_of_line(d.internal, driver_statements) << head << " {\n  real v[" << std::max(n_slots * lanes, 1) << "];\n"
-     << calls.str() << driver_copies << "}\n";
+  os << "}  // namespace\n\n" << out_of_line(d.internal, driver_statements) << head << " {\n"
+     << (n_slots > 0 ? "  real v[" + std::to_string(n_slots * lanes) + "];\n" : std::string()) << calls.str()
+     << driver_copies << "}\n";
   return {k.name, os.str(), (work + n_slots) * lanes, c, parts + copy_parts};
 }
 
@@ -834,7 +836,8 @@ PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, co
       for (int i : plan.called[u]) {
         const SharingPlan::Stage& stage = plan.stages[static_cast<std::size_t>(i)];
         const PrintedKernel& fn = printed[static_cast<std::size_t>(i)];
-        unit.prologue += "  real " + stage_array(i) + "[" + std::to_string(std::max<std::size_t>(stage.exports.size(), 1)) + "];\n";
+        if (!stage.exports.empty())  // a stage with no exports (it only writes outputs) is given a null pointer
+          unit.prologue += "  real " + stage_array(i) + "[" + std::to_string(stage.exports.size()) + "];\n";
         if (stage.layout >= 0 && stage.layout != static_cast<int>(u)) layouts.insert(stage.layout);
         unit.names.push_back(fn.name);
         unit.ops.add_times(1, fn.ops);
@@ -850,7 +853,7 @@ PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, co
       for (int i : plan.called[u]) {
         const SharingPlan::Stage& stage = plan.stages[static_cast<std::size_t>(i)];
         const Destination& d = into[static_cast<std::size_t>(i)];
-        std::string arrays = stage_array(i);
+        std::string arrays = stage.exports.empty() ? std::string("nullptr") : stage_array(i);
         if (stage.layout >= 0)
           arrays += ", " + (stage.layout == static_cast<int>(u) ? std::string("out") : layout_array(stage.layout));
         unit.prologue += "  " + printed[static_cast<std::size_t>(i)].name + "(t, x, p, in, " + arrays +

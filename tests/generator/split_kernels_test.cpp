@@ -211,7 +211,11 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
       } else if (w.size() == 2 && w[0] == "real" && starts(w[1], "v[") && ends(w[1], "];")) {
         run.slots = static_cast<int>(subscript(w[1]));
         v.assign(static_cast<std::size_t>(run.slots), std::numeric_limits<double>::quiet_NaN());
-      } else if (starts(l, "  f_part") && ends(l, "(t, x, p, in, v, out);")) {
+      } else if (starts(l, "  f_part") &&
+                 (ends(l, "(t, x, p, in, v, out);") || ends(l, "(t, x, p, in, nullptr, out);"))) {
+        if (ends(l, "nullptr, out);")) {
+          EXPECT_EQ(run.slots, 0) << "v[] declared and not passed: " << l;
+        }
         const int called = std::stoi(l.substr(8, l.find('(') - 8));
         EXPECT_TRUE(parts.count(called)) << l;
         if (parts.count(called)) execute(parts.at(called), called);
@@ -309,6 +313,29 @@ TEST(SplitKernels, ManyLeafOutputsAreCopiedInBlocks) {
     EXPECT_EQ(split.copies_per_part.size(), 3U) << "300 copies in three blocks of 100";
     for (const auto& [part, count] : split.statements_per_part) EXPECT_LE(count, size) << "part " << part;
   }
+}
+
+// Parts that pass no values to later parts (every output its own short computation) are given a null pointer for
+// v[] and the kernel declares no array for it (it declared real v[1] before).
+TEST(SplitKernels, PartsThatPassNothingDeclareNoArray) {
+  ExpressionGraph g;
+  std::vector<int> outputs;
+  for (int k = 0; k < 12; ++k)
+    outputs.push_back(g.binary(Op::add, g.binary(Op::mul, g.input(Argument::state, k % kInputs), g.constant(1.5 + k)),
+                               g.input(Argument::state, (k + 1) % kInputs)));
+  const hamel::Kernel k = kernel_of(outputs);
+  const double x[kInputs] = {0.9, -1.1, 0.4, 1.3};
+  std::vector<double> expected(outputs.size());
+  hamel::GraphEvaluator evaluator(g, outputs);
+  evaluator.evaluate(0.0, x, nullptr, nullptr, expected.data());
+  const std::string text = hamel::kernel_text(g, k, kInputs, 0, 0, 4);
+  const Interpreted split = interpret(text, x, outputs.size());
+  EXPECT_GT(split.statements_per_part.size(), 2U) << text;
+  EXPECT_EQ(split.slots, 0);
+  EXPECT_EQ(split.slot_writes, 0);
+  EXPECT_EQ(text.find("real v["), std::string::npos) << text;
+  EXPECT_NE(text.find("f_part0(t, x, p, in, nullptr, out);"), std::string::npos) << text;
+  for (std::size_t o = 0; o < expected.size(); ++o) EXPECT_EQ(split.out[o], expected[o]) << "output " << o;
 }
 
 }  // namespace

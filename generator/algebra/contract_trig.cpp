@@ -277,7 +277,7 @@ class SumContraction {
   struct Group {
     ex original = 0, collected = 0;
     std::size_t terms = 0;
-    long degree = 0;  // the highest degree of its monomials
+    long degree = 0;                                    // the highest degree of its monomials
     std::size_t original_size = 0, collected_size = 0;  // nodes of its terms
     bool linearizable = false;
     std::map<ex, ex, GiNaC::ex_is_less> by_monomial;
@@ -462,7 +462,8 @@ struct Contract : GiNaC::map_function {
     if (mapped.is_equal(e)) mapped = e;  // keep the object (and its spelling) when nothing changed
     if (is_a<GiNaC::add>(mapped)) return contract_sum(mapped);
     // A single term only changes when its monomial is of degree 2 or more (2 sin t cos t → sin 2t).
-    if ((is_a<GiNaC::mul>(mapped) || is_a<GiNaC::power>(mapped)) && trig_degree(mapped) >= 2) return contract_sum(mapped);
+    if ((is_a<GiNaC::mul>(mapped) || is_a<GiNaC::power>(mapped)) && trig_degree(mapped) >= 2)
+      return contract_sum(mapped);
     return mapped;
   }
 };

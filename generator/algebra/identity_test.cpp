@@ -26,8 +26,8 @@ using modular::prime;
 using modular::sub_mod;
 using modular::u64;
 
-struct Pole {};          // a denominator vanishes at this point: draw another
-struct Undecidable {};   // the expression is not a rational function of symbols and circle points
+struct Pole {};         // a denominator vanishes at this point: draw another
+struct Undecidable {};  // the expression is not a rational function of symbols and circle points
 
 u64 inverse(u64 a) {
   if (a == 0) throw Pole{};
@@ -106,7 +106,8 @@ class ModularPoint {
         if (kk.is_negative()) throw Pole{};
         return 0;
       }
-      const u64 magnitude = static_cast<u64>(GiNaC::mod(GiNaC::abs(kk), GiNaC::numeric(static_cast<long>(prime - 1))).to_long());
+      const u64 magnitude =
+          static_cast<u64>(GiNaC::mod(GiNaC::abs(kk), GiNaC::numeric(static_cast<long>(prime - 1))).to_long());
       const u64 r = pow_mod(base, magnitude);
       return kk.is_negative() ? inverse(r) : r;
     }

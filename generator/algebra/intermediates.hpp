@@ -92,8 +92,8 @@ class Intermediates {
   Partials partials_of(const GiNaC::ex& e) const;
   /// explicit_part + Σ_k ∂e/∂s_k · ds_k/dx, the ds_k/dx memoized definitions.
   GiNaC::ex chain_rule(const GiNaC::ex& explicit_part, const Partials& partials, const GiNaC::symbol& x);
-  std::vector<std::optional<Partials>> partials_;          // of each definition's value, by position, formed once
-  mutable std::vector<std::optional<GiNaC::ex>> inlined_;  // cache for inline_all, by position
+  std::vector<std::optional<Partials>> partials_;                // of each definition's value, by position, formed once
+  mutable std::vector<std::optional<GiNaC::ex>> inlined_;        // cache for inline_all, by position
   mutable std::vector<std::optional<GiNaC::ex>> small_inlined_;  // inline_bounded's cache (by position)
   mutable std::vector<std::size_t> small_limit_;                 // the limit each entry was computed with
 };

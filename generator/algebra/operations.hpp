@@ -41,7 +41,7 @@ enum class Op : std::uint8_t {
 struct Function {
   const char* name;  ///< in model files (and GiNaC)
   Op op;
-  const char* cpp;   ///< in emitted code (<cmath>)
+  const char* cpp;  ///< in emitted code (<cmath>)
   double (*evaluate)(double);
   /// At the current GiNaC precision (Digits); throws std::domain_error outside the real domain (log of a
   /// non-positive number, asin/acos outside [−1, 1]).

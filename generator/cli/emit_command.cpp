@@ -1,11 +1,11 @@
 // `hamel emit MODEL -o DIR`: the model's kernels as a C++ header and source in DIR.
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
-#include "model/input_error.hpp"
 #include "derive/derivation.hpp"
 #include "emit/cpp_emitter.hpp"
 #include "emit/kernel_registry.hpp"
 #include "emit/kernels.hpp"
+#include "model/input_error.hpp"
 #include "model/load_model.hpp"
 #include "report/progress.hpp"
 
@@ -28,7 +28,8 @@ std::set<std::string> parse_kernels(const std::string& list) {
   std::set<std::string> out;
   for (const std::string& name : split_list(list)) {
     if (!is_kernel_name(name))
-      throw InputError("--kernels: unknown kernel '" + name + "'; expected a comma-separated list of: " + kernel_names());
+      throw InputError("--kernels: unknown kernel '" + name +
+                       "'; expected a comma-separated list of: " + kernel_names());
     out.insert(name);
   }
   return out;
@@ -78,8 +79,9 @@ void run(EmitOptions opt) {
   std::set<std::string> selected = target.kernels;
   if (!opt.kernels.empty()) {
     if (target.scene)
-      throw InputError("--kernels: a scene chooses its kernels by its `compute` tasks; give the model instead of "
-                       "the scene, or drop --kernels");
+      throw InputError(
+          "--kernels: a scene chooses its kernels by its `compute` tasks; give the model instead of "
+          "the scene, or drop --kernels");
     selected = parse_kernels(opt.kernels);
   }
   const Model& model = target.model;
@@ -117,15 +119,15 @@ void run(EmitOptions opt) {
   write_package(package, opt.output);
   std::string files;
   for (const EmittedFile& f : package.files()) files += (files.empty() ? "" : ", ") + f.name;
-  std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << " (" << (package.source.size() + 500) / 1000
-            << " kB of C++";
+  std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << " ("
+            << (package.source.size() + 500) / 1000 << " kB of C++";
   if (package.shared_stages > 0)
     std::cerr << ", " << package.shared_stages << " shared stage" << (package.shared_stages > 1 ? "s" : "");
   std::cerr << ")\n";
   // What one call of each kernel executes as printed (with its shared stages and calls).
   for (const auto& [name, c] : package.operations)
-    std::cerr << "  " << name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, "
-              << c.div << " div, " << c.call << " call)\n";
+    std::cerr << "  " << name << ": " << c.total() << " operations (" << c.add << " add, " << c.mul << " mul, " << c.div
+              << " div, " << c.call << " call)\n";
 }
 
 }  // namespace
@@ -152,7 +154,8 @@ Run add_emit_command(CLI::App& app) {
         [what, zero](std::string& value) {
           const bool digits = !value.empty() && value.size() <= 9 &&
                               std::all_of(value.begin(), value.end(), [](char c) { return c >= '0' && c <= '9'; });
-          return digits ? std::string() : "expected a whole number of " + what + ", 0 or more (0: " + zero + "), got '" + value + "'";
+          return digits ? std::string()
+                        : "expected a whole number of " + what + ", 0 or more (0: " + zero + "), got '" + value + "'";
         },
         "", what);
   };
@@ -170,24 +173,27 @@ Run add_emit_command(CLI::App& app) {
       ->default_val(opt->settings.share_statements)
       ->check(whole_number("operations", "never"))
       ->type_name("N");
-  cmd->add_option("--share-ratio", opt->settings.share_ratio,
-                  "Share such work only when its function computes at least R operations per value it leaves to "
-                  "later work, which every caller stores and reads back (0: any; the smallest package and the "
-                  "shortest compile, the 30-joint chain's 2.0 MB and 14-15 s of g++ -O2 against 2.5 MB and "
-                  "18-25 s in the same runs, but kernels that read many shared values run 10-35 % slower, a small "
-                  "model's up to 80 %, docs/benchmarks.md). A kernel that would read less than a tenth of a shared function's "
-                  "values computes that work itself")
+  cmd->add_option(
+         "--share-ratio", opt->settings.share_ratio,
+         "Share such work only when its function computes at least R operations per value it leaves to "
+         "later work, which every caller stores and reads back (0: any; the smallest package and the "
+         "shortest compile, the 30-joint chain's 2.0 MB and 14-15 s of g++ -O2 against 2.5 MB and "
+         "18-25 s in the same runs, but kernels that read many shared values run 10-35 % slower, a small "
+         "model's up to 80 %, docs/benchmarks.md). A kernel that would read less than a tenth of a shared function's "
+         "values computes that work itself")
       ->default_val(opt->settings.share_ratio)
       ->check(whole_number("operations per value", "any"))
       ->type_name("R");
-  cmd->add_option("--jacobian-solve", opt->jacobian_solve,
-                  "Kinematic trees: how the jacobian solves M y = b for its columns: ldlt (the LDL^T of M, few operations "
-                  "for bushy trees), aba (the articulated-body recursion, fewer operations for long chains) or auto "
-                  "(default: aba when its program has at most 0.9 of ldlt's operations)");
+  cmd->add_option(
+      "--jacobian-solve", opt->jacobian_solve,
+      "Kinematic trees: how the jacobian solves M y = b for its columns: ldlt (the LDL^T of M, few operations "
+      "for bushy trees), aba (the articulated-body recursion, fewer operations for long chains) or auto "
+      "(default: aba when its program has at most 0.9 of ldlt's operations)");
   cmd->add_flag("--inline", opt->settings.inline_calls,
-               "Print the jacobian's solve inline in every column instead of as one function (jacobian_column) called "
-               "per two columns: the flat program, 1.1-1.75x the code and 1.2-2x the compile time, between 2 % faster and 13 % slower "
-               "on the models measured (docs/benchmarks.md)");
+                "Print the jacobian's solve inline in every column instead of as one function (jacobian_column) called "
+                "per two columns: the flat program, 1.1-1.75x the code and 1.2-2x the compile time, between 2 % faster "
+                "and 13 % slower "
+                "on the models measured (docs/benchmarks.md)");
   return [opt] { run(*opt); };
 }
 

@@ -10,11 +10,11 @@
 #include <sys/personality.h>
 #include <unistd.h>
 
-#include <cstdlib>
 #include <ginac/ginac.h>
-#include <stdexcept>
+#include <cstdlib>
 #include <iostream>
 #include <map>
+#include <stdexcept>
 
 namespace {
 

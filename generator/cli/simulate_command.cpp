@@ -7,11 +7,11 @@
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
+#include "numeric/graph_evaluator.hpp"
 #include "numeric/group_pose.hpp"
 #include "numeric/input_sources.hpp"
 #include "numeric/integrators.hpp"
 #include "report/atomic_file.hpp"
-#include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/csv.hpp>
 #include <hamel/runtime/lie/rkmk_coupled.hpp>
@@ -95,10 +95,12 @@ Settled settle(const SimulateOptions& given, const Target& target) {
   if (!info.adaptive && !(opt.dt > 0)) throw InputError("--dt: expected a positive step");
   if (info.adaptive && !(opt.tol > 0)) throw InputError("--tol: expected a positive tolerance");
   if (info.adaptive && given.dt_given)
-    throw InputError("--dt: " + opt.integrator + " chooses its own steps; give --tol instead, or a fixed-step "
+    throw InputError("--dt: " + opt.integrator +
+                     " chooses its own steps; give --tol instead, or a fixed-step "
                      "integrator (--integrator rk4)");
   if (!info.adaptive && given.tol_given)
-    throw InputError("--tol: " + opt.integrator + " takes fixed steps; give --dt instead, or an adaptive integrator "
+    throw InputError("--tol: " + opt.integrator +
+                     " takes fixed steps; give --dt instead, or an adaptive integrator "
                      "(--integrator dopri5)");
   if (!info.adaptive && opt.t_end / opt.dt > kMaxFixedSteps)
     throw InputError("--dt: " + number_text(opt.t_end) + " / " + number_text(opt.dt) + " = " +

@@ -21,8 +21,7 @@ std::vector<BundleCoefficient> BundleGeometry::curvature_in(CurvatureSign sign) 
 }
 
 std::vector<BundleCoefficient> curvature_of(const matrix& A, const std::vector<GiNaC::realsymbol>& shape,
-                                            const std::vector<StructureConstant>& c, int sign,
-                                            Intermediates& program) {
+                                            const std::vector<StructureConstant>& c, int sign, Intermediates& program) {
   const unsigned m = A.rows();
   const unsigned d = static_cast<unsigned>(shape.size());
   std::vector<BundleCoefficient> out;

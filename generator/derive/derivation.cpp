@@ -51,9 +51,9 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
   Derivation d;
   if (!settings.dynamics.empty() && settings.dynamics != "aba" && settings.dynamics != "ldlt")
     throw InputError("--dynamics: expected aba or ldlt, got '" + settings.dynamics + "'");
-  const bool tree_ep = model.bundle && model.bundle->tree &&
-                       (settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form)) ==
-                           BundleForm::euler_poincare;
+  const bool tree_ep =
+      model.bundle && model.bundle->tree &&
+      (settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form)) == BundleForm::euler_poincare;
   if (settings.dynamics == "aba" && !tree_ep && !model.tree)
     throw InputError(
         "--dynamics aba applies to kinematic tree models (key 'tree'; on a floating base in the ep "

@@ -18,7 +18,7 @@
 namespace hamel {
 
 struct DeriveSettings {
-  std::string form;  ///< bundle models: "ep", "lp", "ldap" or "momentum"; empty: the connection's default
+  std::string form;           ///< bundle models: "ep", "lp", "ldap" or "momentum"; empty: the connection's default
   std::string dynamics = "";  ///< trees (ep form, fixed base): "aba" or "ldlt"; empty: tree_dynamics_default
 };
 

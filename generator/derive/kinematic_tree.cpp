@@ -66,7 +66,8 @@ class TreeProgram {
         for (std::size_t c = 0; c < 3; ++c) {
           ex k2 = 0;
           for (std::size_t j = 0; j < 3; ++j) k2 += K[r][j] * K[j][c];
-          J[r][c] = expand_keeping_powers_of_sums((r == c ? 1 : 0) + s * K[r][c] + (1 - co) * expand_keeping_powers_of_sums(k2));
+          J[r][c] = expand_keeping_powers_of_sums((r == c ? 1 : 0) + s * K[r][c] +
+                                                  (1 - co) * expand_keeping_powers_of_sums(k2));
         }
     }
     for (std::size_t r = 0; r < 3; ++r) {
@@ -322,7 +323,8 @@ GiNaC::ex tree_kinetic_energy(const Model& model) {
   const TreeDerivation d = derive_tree(model);
   // energy_terms = {T + V} with T one intermediate: inlining it gives the expression.
   const ex potential = model.bundle->potential + joint_springs(model, *model.bundle->tree);
-  return expand_keeping_powers_of_sums(d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - potential));
+  return expand_keeping_powers_of_sums(
+      d.equations.intermediates.inline_all(d.equations.energy_terms.at(0) - potential));
 }
 
 Model with_inlined_tree(const Model& model) {

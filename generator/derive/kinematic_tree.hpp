@@ -21,9 +21,9 @@
 namespace hamel {
 
 struct TreeDerivation {
-  BundleGeometry geometry;  ///< algebra, structure constants, L, K, S (blocks of M); the connection is
-                            ///< not formed symbolically (connection_derived = false)
-  HamelSystem system;       ///< the Euler–Poincaré form's system: u = (ξ, ṙ), γ = c
+  BundleGeometry geometry;   ///< algebra, structure constants, L, K, S (blocks of M); the connection is
+                             ///< not formed symbolically (connection_derived = false)
+  HamelSystem system;        ///< the Euler–Poincaré form's system: u = (ξ, ṙ), γ = c
   HamelEquations equations;  ///< M, f, kinematics, energy; their intermediates in equations.intermediates
 };
 

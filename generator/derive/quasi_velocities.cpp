@@ -127,7 +127,7 @@ std::optional<Regularity> regularity_at(const GiNaC::matrix& A, const SamplePoin
   return Regularity{exact || relative > singular_tolerance_50_digits, relative};
 }
 
-constexpr double inverse_tolerance = 1e-9;    // |A·B − I| entries above which B is not A⁻¹
+constexpr double inverse_tolerance = 1e-9;  // |A·B − I| entries above which B is not A⁻¹
 
 }  // namespace
 
@@ -161,7 +161,8 @@ GiNaC::matrix eliminate_inverse(const Model& model, const GiNaC::matrix& A, Inte
     GiNaC::exmap values;
     values[model.time] = 0;
     for (std::size_t k = 0; k < model.coordinates.size(); ++k)
-      values[model.coordinates[k]] = s == 0 ? GiNaC::numeric(0) : GiNaC::numeric(static_cast<long>(17 + 23 * k % 41), 73);
+      values[model.coordinates[k]] =
+          s == 0 ? GiNaC::numeric(0) : GiNaC::numeric(static_cast<long>(17 + 23 * k % 41), 73);
     for (const Parameter& p : model.parameters) values[p.symbol] = exact_number(p.default_value);
     const GiNaC::exmap all = program.evaluate(values);
     shadow[static_cast<std::size_t>(s)].assign(n, std::vector<double>(2 * n, 0.0));
@@ -233,7 +234,8 @@ QuasiVelocities derive_quasi_velocities(const Model& model, Intermediates& progr
     if (identically_singular(qv.A, program) == Identity::zero)
       throw InputError(where_A, "quasi_velocities.A",
                        "A(q) is singular: its determinant is identically zero (shown exactly, by evaluation at "
-                       "random points modulo a prime)" + not_independent);
+                       "random points modulo a prime)" +
+                           not_independent);
   } else {
     const GiNaC::ex det = simplify(qv.A.determinant());
     if (det.is_zero())
@@ -252,11 +254,11 @@ QuasiVelocities derive_quasi_velocities(const Model& model, Intermediates& progr
       regular_somewhere = regular_somewhere || r->regular;
     }
     if (first && !regular_somewhere)
-      throw InputError(where_A, "quasi_velocities.A",
-                       "A(q) is singular at every sampled configuration (shown numerically; det A = " +
-                           quote(to_text(det), 120) + " did not simplify to 0): at " + first->text +
-                           ", |det A| divided by the product of its row lengths is " + shortest_decimal(*smallest) +
-                           not_independent);
+      throw InputError(
+          where_A, "quasi_velocities.A",
+          "A(q) is singular at every sampled configuration (shown numerically; det A = " + quote(to_text(det), 120) +
+              " did not simplify to 0): at " + first->text + ", |det A| divided by the product of its row lengths is " +
+              shortest_decimal(*smallest) + not_independent);
   }
 
   if (model.B_given) {

@@ -176,9 +176,7 @@ class Namer {
     for (std::size_t k = 0; k < 6; ++k) out[k] = (*this)(v[k]);
     return out;
   }
-  Mat3 operator()(const Mat3& m) {
-    return {(*this)(m[0]), (*this)(m[1]), (*this)(m[2])};
-  }
+  Mat3 operator()(const Mat3& m) { return {(*this)(m[0]), (*this)(m[1]), (*this)(m[2])}; }
   Mat6 operator()(const Mat6& m) {
     Mat6 out;
     for (std::size_t r = 0; r < 6; ++r) out[r] = (*this)(m[r]);

@@ -13,7 +13,8 @@ Inertia common_frame_inertia(const RigidBody& b, const Mat3& R, const Vec3& p, N
   const Vec3 c = name(p + R * Vec3{b.com[0], b.com[1], b.com[2]});
   Mat3 RT;  // R Θ
   for (std::size_t r = 0; r < 3; ++r)
-    for (std::size_t k = 0; k < 3; ++k) RT[r][k] = R[r][0] * b.inertia[0][k] + R[r][1] * b.inertia[1][k] + R[r][2] * b.inertia[2][k];
+    for (std::size_t k = 0; k < 3; ++k)
+      RT[r][k] = R[r][0] * b.inertia[0][k] + R[r][1] * b.inertia[1][k] + R[r][2] * b.inertia[2][k];
   Inertia I;
   I.m = b.mass;
   for (std::size_t r = 0; r < 3; ++r) I.h[r] = b.mass * c[r];

@@ -36,19 +36,19 @@ struct CommonFrame {
 /// The inverse dynamics of a kinematic tree as derive_tree built it, in the bodies' frames. Body 0 is the
 /// base, body i ≥ 1 moves with joint i − 1 (shape coordinate r^{i−1}); parents come before children.
 struct TreeRecursion {
-  std::vector<int> parent;                ///< parent of body i; −1 for the base
-  std::vector<spatial::Link> link;        ///< pose of body i in its parent's frame (i ≥ 1)
-  std::vector<spatial::Vec6> axis;        ///< S_i: body i's joint axis in its own frame (i ≥ 1)
-  std::vector<RigidBody> bodies;          ///< mass, centre of mass, inertia about it, body frame
-  std::vector<spatial::Vec6> base;        ///< the m directions the group moves the base (empty: fixed base)
-  spatial::Vec6 base_acceleration;        ///< the base's acceleration at u̇ = 0: (0, −g) on a fixed base
-  std::vector<GiNaC::ex> base_velocity;   ///< ξ^α (m)
-  std::vector<GiNaC::ex> coordinates;     ///< r^I (n)
-  std::vector<GiNaC::ex> rates;           ///< ṙ^I (n)
-  std::vector<GiNaC::ex> accelerations;   ///< the m + n symbols standing for u̇
-  std::vector<GiNaC::ex> joint_force;     ///< τ_I(r, u, t, inputs): joint forces, springs, dampers (n)
-  std::vector<GiNaC::ex> armature;        ///< a_I: added to M's diagonal (n)
-  CommonFrame frame;                      ///< of the above, in the derivation's intermediates
+  std::vector<int> parent;               ///< parent of body i; −1 for the base
+  std::vector<spatial::Link> link;       ///< pose of body i in its parent's frame (i ≥ 1)
+  std::vector<spatial::Vec6> axis;       ///< S_i: body i's joint axis in its own frame (i ≥ 1)
+  std::vector<RigidBody> bodies;         ///< mass, centre of mass, inertia about it, body frame
+  std::vector<spatial::Vec6> base;       ///< the m directions the group moves the base (empty: fixed base)
+  spatial::Vec6 base_acceleration;       ///< the base's acceleration at u̇ = 0: (0, −g) on a fixed base
+  std::vector<GiNaC::ex> base_velocity;  ///< ξ^α (m)
+  std::vector<GiNaC::ex> coordinates;    ///< r^I (n)
+  std::vector<GiNaC::ex> rates;          ///< ṙ^I (n)
+  std::vector<GiNaC::ex> accelerations;  ///< the m + n symbols standing for u̇
+  std::vector<GiNaC::ex> joint_force;    ///< τ_I(r, u, t, inputs): joint forces, springs, dampers (n)
+  std::vector<GiNaC::ex> armature;       ///< a_I: added to M's diagonal (n)
+  CommonFrame frame;                     ///< of the above, in the derivation's intermediates
 };
 
 /// The common-frame quantities of `tree` (everything above but `frame`), new definitions added to `tape`.
@@ -62,8 +62,8 @@ CommonFrame common_frame(const TreeRecursion& tree, Intermediates& tape);
 /// base's block ⟨e_α, 𝕀ᴬ_0 e_β⟩ (no rows on a fixed base). Index 0 of U and inverse_pivot is unused.
 struct ArticulatedFactor {
   std::vector<spatial::Vec6> U;
-  std::vector<spatial::Vec6> W;                     ///< U_i / D_i
-  std::vector<GiNaC::ex> inverse_pivot;             ///< 1 / D_i
+  std::vector<spatial::Vec6> W;                      ///< U_i / D_i
+  std::vector<GiNaC::ex> inverse_pivot;              ///< 1 / D_i
   std::vector<std::vector<GiNaC::ex>> base_inertia;  ///< m × m
 };
 

@@ -73,7 +73,7 @@ std::string upper(std::string s) {
 
 struct Sizes {
   int n_q, n_u, n_x, n_p, n_in;
-  int split = 0;  ///< the most statements a part of a split kernel has; 0: never split
+  int split = 0;      ///< the most statements a part of a split kernel has; 0: never split
   bool calls = true;  ///< a kernel with a subroutine (Kernel::calls) printed with its calls; false: flat
 };
 
@@ -179,7 +179,8 @@ std::string argument_voids(const bool uses[4]) {
 // Where a printed kernel's outputs go: the arrays its signature takes (head_of), the shape in its comment, and output
 // o's target.
 struct Destination {
-  std::vector<std::string> arrays;  ///< the arrays it writes, its parameters after (t, x, p, in): out, or out and a second
+  std::vector<std::string>
+      arrays;  ///< the arrays it writes, its parameters after (t, x, p, in): out, or out and a second
   std::string shape;
   std::function<std::string(std::size_t)> target;
   /// A split kernel's parts write the outputs they compute; false: the kernel copies them all at its end.
@@ -210,8 +211,9 @@ constexpr std::size_t writes_per_part = 128;
 
 // The kernel ABI: out[o].
 Destination to_out(const Kernel& k) {
-  return {{"out"}, "out[" + std::to_string(k.outputs.size()) + "]",
-          [](std::size_t o) { return "out[" + std::to_string(o) + "]"; }};
+  return {{"out"}, "out[" + std::to_string(k.outputs.size()) + "]", [](std::size_t o) {
+            return "out[" + std::to_string(o) + "]";
+          }};
 }
 
 // Outputs before `first` to out[], the others to a second array `second`, an extra argument.
@@ -224,7 +226,8 @@ Destination to_two_arrays(const Kernel& k, std::size_t first, const std::string&
 }
 
 // Kernel k's comment line: its argument and output sizes, how it is printed, and the operations it executes.
-std::string kernel_comment(const Kernel& k, const Sizes& s, const std::string& shape, const std::string& how, const OpCounts& c) {
+std::string kernel_comment(const Kernel& k, const Sizes& s, const std::string& shape, const std::string& how,
+                           const OpCounts& c) {
   return "/* " + k.name + ": (t, x[" + std::to_string(s.n_x) + "], p[" + std::to_string(s.n_p) + "], in[" +
          std::to_string(s.n_in) + "]) -> " + shape + how + "  ops: " + std::to_string(c.add) + " add, " +
          std::to_string(c.mul) + " mul, " + std::to_string(c.div) + " div, " + std::to_string(c.call) + " call */\n";
@@ -235,7 +238,9 @@ std::string kernel_comment(const Kernel& k, const Sizes& s, const std::string& s
 // passed them.
 std::string stage_array(int stage) { return "s" + std::to_string(stage); }
 std::string layout_array(int unit) { return "m" + std::to_string(unit); }
-std::string value_array(const StageValue& at) { return at.layout >= 0 ? layout_array(at.layout) : stage_array(at.stage); }
+std::string value_array(const StageValue& at) {
+  return at.layout >= 0 ? layout_array(at.layout) : stage_array(at.stage);
+}
 std::string stage_value(const StageValue& at) { return value_array(at) + "[" + std::to_string(at.position) + "]"; }
 // The arrays of earlier stages a function printed to `d` reads, but for those it writes (a stage writing m<u>).
 std::vector<std::string> read_arrays(const Destination& d, const StageReads* reads) {
@@ -615,7 +620,8 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     calls << "  " << k.name << "_part" << part << "(t, x, p, in, " << v << array_arguments(d)
           << stage_arguments(d, reads) << ");\n";
   const int driver_statements = parts + copy_parts + (copy_parts ? 0 : static_cast<int>(copies.size()));
-  os << "}  // namespace\n\n" << out_of_line(d.internal, driver_statements) << head << " {\n"
+  os << "}  // namespace\n\n"
+     << out_of_line(d.internal, driver_statements) << head << " {\n"
      << (n_slots > 0 ? "  real v[" + std::to_string(n_slots * lanes) + "];\n" : std::string()) << calls.str()
      << driver_copies << "}\n";
   return {k.name, os.str(), (work + n_slots) * lanes, c, parts + copy_parts};
@@ -635,7 +641,8 @@ std::vector<int> result_offsets(const Subroutine& sub) {
   std::sort(sorted.begin(), sorted.end());
   bool regular = sub.calls.front().results.front() >= 0 && sorted.front() == 0 &&
                  std::adjacent_find(sorted.begin(), sorted.end()) == sorted.end();
-  for (const Subroutine::Call& call : sub.calls) regular = regular && call.results.front() >= 0 && pattern(call) == offset;
+  for (const Subroutine::Call& call : sub.calls)
+    regular = regular && call.results.front() >= 0 && pattern(call) == offset;
   if (!regular) throw std::logic_error("a subroutine's calls place their results in different patterns");
   return offset;
 }
@@ -714,7 +721,8 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
     column.output_names.push_back(k.output_names[static_cast<std::size_t>(r)] + " (first call)");
   Destination placed = to_out(column);
   placed.target = [&offset](std::size_t r) { return "out[" + std::to_string(offset[r]) + "]"; };
-  placed.outputs_in_parts = false;  // measured: tree 30's jacobian ran a third slower with its calls' parts writing out[]
+  placed.outputs_in_parts =
+      false;  // measured: tree 30's jacobian ran a third slower with its calls' parts writing out[]
   placed.lanes = static_cast<int>(sub.lanes);
   placed.internal = true;
   placed.shape = "out[" + std::to_string(*std::max_element(offset.begin(), offset.end()) + 1) + "], " +
@@ -742,7 +750,8 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   std::ostringstream os;
   os << "namespace {\n\n" << called.text << "\n" << staged.text << "\n}  // namespace\n\n";
   os << kernel_comment(k, s, "out[" + std::to_string(k.outputs.size()) + "]",
-                       ": " + joined(steps) + ", then " + std::to_string(n_calls) + " calls of " + k.name + "_column", total)
+                       ": " + joined(steps) + ", then " + std::to_string(n_calls) + " calls of " + k.name + "_column",
+                       total)
      << signature(k) << " {\n  real scratch[" << std::max<std::size_t>(n_scratch, 1) << "];\n"
      << stages.prologue << "  " << k.name << "_stage(t, x, p, in, out, scratch"
      << stage_arguments(into, stages.reads, stages.unit) << ");\n";
@@ -750,9 +759,8 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
     os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, out + "
        << sub.calls[c].results.front() << ");\n";
   os << "}\n";
-  return {k.name, os.str(),
-          stages.temporaries + staged.temporaries + called.temporaries + static_cast<int>(n_scratch), total,
-          staged.parts};
+  return {k.name, os.str(), stages.temporaries + staged.temporaries + called.temporaries + static_cast<int>(n_scratch),
+          total, staged.parts};
 }
 
 // A kernel printed to `d` when it calls shared stages: its own work as <name>_own, which reads their arrays, and the
@@ -770,11 +778,11 @@ PrintedKernel print_after_stages(const ExpressionGraph& g, const Kernel& k, cons
   std::vector<std::string> steps = stages.names;
   steps.push_back(own.name);
   std::ostringstream os;
-  os << "namespace {\n\n" << printed.text << "\n}  // namespace\n\n"
+  os << "namespace {\n\n"
+     << printed.text << "\n}  // namespace\n\n"
      << kernel_comment(k, s, d.shape, ": " + joined(steps), total) << head_of(d, k.name, nullptr) << " {\n"
      << stages.prologue << "  " << own.name << "(t, x, p, in" << array_arguments(d)
-     << stage_arguments(internal, stages.reads, stages.unit)
-     << ");\n}\n";
+     << stage_arguments(internal, stages.reads, stages.unit) << ");\n}\n";
   return {k.name, os.str(), stages.temporaries + printed.temporaries, total, printed.parts};
 }
 
@@ -804,8 +812,7 @@ PrintedStages print_stages(const ExpressionGraph& g, const SharingPlan& plan, co
     std::vector<int> position;  // of the outputs it writes for unit `layout`, in m<layout>
     for (const auto& [j, node] : stage.outputs) {
       fn.outputs.push_back(node);
-      fn.output_names.push_back("output " + std::to_string(j) + " of " +
-                                names[static_cast<std::size_t>(stage.layout)]);
+      fn.output_names.push_back("output " + std::to_string(j) + " of " + names[static_cast<std::size_t>(stage.layout)]);
       position.push_back(j);
     }
     Destination d = to_out(fn);
@@ -940,7 +947,8 @@ std::string one_paragraph(const std::string& text) {
       ++i;
       continue;
     }
-    if (ch == 0xe2 && ((next == 0x80 && third >= 0xaa && third <= 0xae) || (next == 0x81 && third >= 0xa6 && third <= 0xa9))) {
+    if (ch == 0xe2 &&
+        ((next == 0x80 && third >= 0xaa && third <= 0xae) || (next == 0x81 && third >= 0xa6 && third <= 0xa9))) {
       i += 2;
       continue;
     }
@@ -980,7 +988,8 @@ namespace {
 // names, the kernels as text, which parameters and inputs they read.
 class PackageWriter {
  public:
-  PackageWriter(const Model& model, const Derivation& derivation, const KernelSet& kernels, const EmitSettings& settings);
+  PackageWriter(const Model& model, const Derivation& derivation, const KernelSet& kernels,
+                const EmitSettings& settings);
 
   std::string header() const;    // <name>.hpp: the ABI, sizes, names and declarations
   std::string source() const;    // <name>.cpp: the kernels, rhs_status, rk4_step, the C entry points
@@ -1011,8 +1020,8 @@ class PackageWriter {
   std::vector<int> upper_index, lower_a, lower_b;
   SharingPlan sharing, prepared_sharing;  // the work kernels.kernels share (emit/shared_stages.hpp), and the prepared
   std::string stage_text, prepared_stage_text;  // the functions of their stages
-  std::vector<PrintedKernel> printed;  // kernels.kernels as text
-  std::string rhs_with_pivots;         // rhs and the pivots of its solve, which rhs and rhs_status call; or empty
+  std::vector<PrintedKernel> printed;           // kernels.kernels as text
+  std::string rhs_with_pivots;  // rhs and the pivots of its solve, which rhs and rhs_status call; or empty
   std::vector<bool> parameter_used, input_used;
   bool has_rhs = false, has_group_velocity = false;
   const std::optional<KernelSet::Prepared>& prepared;
@@ -1033,9 +1042,9 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   s.split = settings.split_statements;
   s.calls = !settings.inline_calls;
   file = comment_safe(std::filesystem::path(model.source_path).filename().string());
-  origin = "Generated by hamel " + std::string(generator_version()) + " from " + file + " (FNV-1a 64: " +
-           model.source_hash + (settings.options.empty() ? "" : "; emit " + comment_safe(settings.options)) +
-           "). Do not edit.";
+  origin = "Generated by hamel " + std::string(generator_version()) + " from " + file +
+           " (FNV-1a 64: " + model.source_hash +
+           (settings.options.empty() ? "" : "; emit " + comment_safe(settings.options)) + "). Do not edit.";
   stamp = "// " + origin +
           "\n"
           "// SPDX-License-Identifier: MIT\n"
@@ -1068,7 +1077,8 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   for (const Kernel& k : kernels.kernels) {
     const bool called = k.calls && s.calls;
     units.push_back(called ? stage_of(k, *k.calls).kernel.outputs : k.outputs);
-    if (is_checked_rhs(k)) units.back().insert(units.back().end(), kernels.rhs_pivots.begin(), kernels.rhs_pivots.end());
+    if (is_checked_rhs(k))
+      units.back().insert(units.back().end(), kernels.rhs_pivots.begin(), kernels.rhs_pivots.end());
     writes_out.push_back(!called && !is_checked_rhs(k));
     names.push_back(k.name);
   }
@@ -1136,9 +1146,10 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
       prepared_writes_out.push_back(!(k.calls && s.calls));
       prepared_names.push_back(k.name);
     }
-    prepared_sharing = plan_shared_stages(kernels.graph, prepared_units, settings.share_statements, settings.share_ratio,
-                                          prepared_writes_out);
-    const PrintedStages prepared_stages = print_stages(kernels.graph, prepared_sharing, wide, "prepared_", prepared_names);
+    prepared_sharing = plan_shared_stages(kernels.graph, prepared_units, settings.share_statements,
+                                          settings.share_ratio, prepared_writes_out);
+    const PrintedStages prepared_stages =
+        print_stages(kernels.graph, prepared_sharing, wide, "prepared_", prepared_names);
     prepared_stage_text = prepared_stages.text;
     for (std::size_t i = 0; i < prepared->kernels.size(); ++i)
       printed_prepared.push_back(print_kernel(kernels.graph, prepared->kernels[i], wide, prepared_stages.units[i]));
@@ -1230,7 +1241,8 @@ std::string PackageWriter::header() const {
   if (has_rhs)
     h << "\n"
       << "/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the\n"
-      << "/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), or\n"
+      << "/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), "
+         "or\n"
       << "/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).\n"
       << "constexpr int n_pivots_rhs = " << kernels.rhs_pivots.size() << ";\n"
       << "int rhs_status(real t, const real* x, const real* p, const real* in, real* out);\n";
@@ -1243,9 +1255,11 @@ std::string PackageWriter::header() const {
       << "void rk4_step(real t, real h, real* x, const real* p, const real* in);\n";
   if (prepared) {
     h << "\n"
-      << "// Prepared parameters: the parameter-only work of rhs" << (prepared->kernels.size() > 1 ? " and jacobian" : "")
-      << " done once per parameter set (rhs: " << prepared->rhs.total() << " operations per call, rhs_prepared: "
-      << prepared->rhs_prepared.total() << ", prepare_parameters: " << prepared->once.total() << ").\n"
+      << "// Prepared parameters: the parameter-only work of rhs"
+      << (prepared->kernels.size() > 1 ? " and jacobian" : "")
+      << " done once per parameter set (rhs: " << prepared->rhs.total()
+      << " operations per call, rhs_prepared: " << prepared->rhs_prepared.total()
+      << ", prepare_parameters: " << prepared->once.total() << ").\n"
       << "// prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each\n"
       << "// <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it\n"
       << "// again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).\n"
@@ -1288,8 +1302,9 @@ std::string PackageWriter::source() const {
   if (prepared) {
     Kernel prepare = prepared->prepare;
     prepare.name = "prepare_parameters_kernel";
-    c << "\nnamespace {\n\n" << print_kernel(kernels.graph, prepare, s).text << "\n" << prepared_stage_text
-      << "}  // namespace\n\n"
+    c << "\nnamespace {\n\n"
+      << print_kernel(kernels.graph, prepare, s).text << "\n"
+      << prepared_stage_text << "}  // namespace\n\n"
       << "void prepare_parameters(const real* p, real* prepared) {\n"
       << "  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);\n"
       << "}\n";
@@ -1346,7 +1361,8 @@ std::string PackageWriter::c_header() const {
     ch << "/* P = (p, then the parameter-only values), " << upper(prefix)
        << "N_PREPARED_PARAMETERS entries, for the _prepared kernels */\n"
        << "void " << prefix << "prepare_parameters(const " << c_real << "* p, " << c_real << "* prepared);\n";
-    for (const Kernel& k : prepared->kernels) ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
+    for (const Kernel& k : prepared->kernels)
+      ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
   }
   ch << "\n#ifdef __cplusplus\n}\n#endif\n\n#endif\n";
   return ch.str();
@@ -1427,9 +1443,11 @@ std::string PackageWriter::readme() const {
     md << "\n### Prepared parameters\n\n"
        << "Part of `rhs` depends on the parameters alone (with symbolic parameters, e.g. the factors of a mass "
           "matrix that does not depend on the state). `prepare_parameters(p, P)` computes it once into "
-          "`P[n_prepared_parameters]` (`p` first; " << prepared->once.total() << " operations); then "
-          "`rhs_prepared(t, x, P, in, out)` (" << prepared->rhs_prepared.total() << " operations per call against "
-       << prepared->rhs.total() << " for `rhs`)"
+          "`P[n_prepared_parameters]` (`p` first; "
+       << prepared->once.total()
+       << " operations); then "
+          "`rhs_prepared(t, x, P, in, out)` ("
+       << prepared->rhs_prepared.total() << " operations per call against " << prepared->rhs.total() << " for `rhs`)"
        << (prepared->kernels.size() > 1 ? " and `jacobian_prepared`" : "")
        << " give the same outputs as `rhs(t, x, p, in, out)` without that work. Recompute `P` when `p` changes.\n\n"
        << "| Kernel | Temporaries | Operations (add, mul, div, call) |\n|---|---|---|\n";
@@ -1643,8 +1661,11 @@ fs::path package_target(const std::string& directory) {
 }  // namespace
 
 void check_package_folder(const std::string& directory, const std::string& model_name) {
-  const std::vector<EmittedFile> files{{model_name + ".hpp", ""}, {model_name + ".cpp", ""}, {model_name + ".h", ""},
-                                       {"CMakeLists.txt", ""},     {"README.md", ""}};
+  const std::vector<EmittedFile> files{{model_name + ".hpp", ""},
+                                       {model_name + ".cpp", ""},
+                                       {model_name + ".h", ""},
+                                       {"CMakeLists.txt", ""},
+                                       {"README.md", ""}};
   check_replaceable(package_target(directory), files);
 }
 

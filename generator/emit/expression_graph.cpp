@@ -19,7 +19,6 @@ namespace {
 
 bool commutative(Op op) { return op == Op::add || op == Op::mul; }
 
-
 Op function_op(const std::string& name) {
   const Function* f = function_named(name);
   if (!f) throw std::logic_error("expression graph: function '" + name + "' cannot be emitted");
@@ -118,12 +117,17 @@ int ExpressionGraph::exact_constant(const GiNaC::numeric& v) {
 int ExpressionGraph::folded(Op op, double x, double y, double r) {
   const bool binary_op = op == Op::add || op == Op::sub || op == Op::mul || op == Op::div || op == Op::pow;
   const bool overflow = !std::isfinite(r) && std::isfinite(x) && (!binary_op || std::isfinite(y));
-  const bool underflow = r == 0 && x != 0 && ((op == Op::mul && y != 0) || (op == Op::div && std::isfinite(y)) ||
-                                              (op == Op::pow && std::isfinite(y)));
+  const bool underflow =
+      r == 0 && x != 0 &&
+      ((op == Op::mul && y != 0) || (op == Op::div && std::isfinite(y)) || (op == Op::pow && std::isfinite(y)));
   if (!overflow && !underflow) return constant(r);
   std::ostringstream text;
   text.precision(6);
-  const char* symbol = op == Op::add ? " + " : op == Op::sub ? " - " : op == Op::mul ? " * " : op == Op::div ? " / " : "^";
+  const char* symbol = op == Op::add   ? " + "
+                       : op == Op::sub ? " - "
+                       : op == Op::mul ? " * "
+                       : op == Op::div ? " / "
+                                       : "^";
   if (binary_op)
     text << x << symbol << y;
   else
@@ -214,7 +218,8 @@ int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC:
   return sign < 0 ? unary(Op::neg, id) : id;
 }
 
-std::pair<int, int> ExpressionGraph::signed_expression(const ex& e, const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
+std::pair<int, int> ExpressionGraph::signed_expression(const ex& e,
+                                                       const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
   if (auto it = memo_.find(e); it != memo_.end()) return it->second;
   int id = -1, sign = 1;
   const auto structural = [this](const std::pair<int, int>& p, const std::pair<int, int>& q) {
@@ -455,7 +460,7 @@ std::vector<int> group_invariants(ExpressionGraph& g, const std::vector<int>& ou
     }
     if (!known[static_cast<std::size_t>(i)]) {
       const Node n = g.node(i);
-      const bool v = n.op == Op::input ? n.argument != Argument::parameter
+      const bool v = n.op == Op::input      ? n.argument != Argument::parameter
                      : n.op == Op::constant ? false
                                             : is_varying(n.a) || (n.b >= 0 && is_varying(n.b));
       known[static_cast<std::size_t>(i)] = 1;

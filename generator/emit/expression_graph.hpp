@@ -28,7 +28,6 @@
 
 namespace hamel {
 
-
 /// Kernel argument arrays, in the order of the kernel ABI: (t, x, p, in).
 enum class Argument : std::uint8_t { time, state, parameter, input };
 

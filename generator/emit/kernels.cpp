@@ -159,7 +159,8 @@ class KernelBuilder {
   // Forward mode through the rhs program: d(rhs)/d(argument k) for k < count, one tangent pass each.
   std::vector<std::vector<int>> forward_columns(Argument argument, int count) {
     std::vector<std::vector<int>> columns;
-    for (int k = 0; k < count; ++k) columns.push_back(tangent(g_, rhs_.outputs, {{g_.input(argument, k), g_.constant(1)}}));
+    for (int k = 0; k < count; ++k)
+      columns.push_back(tangent(g_, rhs_.outputs, {{g_.input(argument, k), g_.constant(1)}}));
     return columns;
   }
   // Operations of the program computing `columns`.
@@ -406,10 +407,10 @@ std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std
   if (!solved.empty() && operations(recursive) > kRecursiveSolveShare * operations(solved)) return by_ldlt_kept();
   route = "; M^-1 b by the articulated-body recursion";
   // Printed as calls, on the dense columns (a call cannot know at which body a column's inward force enters).
-  call_columns(right_sides, [&](ExpressionGraph& s, const std::function<int(int)>& shared,
-                                const std::vector<std::vector<int>>& b) {
-    return articulated_solve_columns(s, shared_factor(factor, shared), b);
-  });
+  call_columns(right_sides,
+               [&](ExpressionGraph& s, const std::function<int(int)>& shared, const std::vector<std::vector<int>>& b) {
+                 return articulated_solve_columns(s, shared_factor(factor, shared), b);
+               });
   return recursive;
 }
 
@@ -437,7 +438,8 @@ Kernel KernelBuilder::linearization() {
   for (int row = 0; row < nx; ++row)
     for (int k = 0; k < nx; ++k) {
       linearization.outputs.push_back(a_columns[static_cast<std::size_t>(k)][static_cast<std::size_t>(row)]);
-      linearization.output_names.push_back("A[" + rhs_.output_names[static_cast<std::size_t>(row)] + "][" + state_name(k) + "]");
+      linearization.output_names.push_back("A[" + rhs_.output_names[static_cast<std::size_t>(row)] + "][" +
+                                           state_name(k) + "]");
     }
   for (int row = 0; row < nx; ++row)
     for (int k = 0; k < ni; ++k) {
@@ -580,7 +582,8 @@ void KernelBuilder::prepared_kernels(bool named) {
                  prepared.rhs_prepared.total() > kPreparedShare * prepared.rhs.total()))
     return;
   const int n_p = static_cast<int>(model_.parameters.size());
-  prepared.prepare = {"prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}, nullptr};
+  prepared.prepare = {
+      "prepare_parameters", "P = (p, then the parameter-only values of rhs and jacobian)", {}, {}, nullptr};
   for (int k = 0; k < n_p; ++k) {
     prepared.prepare.outputs.push_back(g_.input(Argument::parameter, k));
     prepared.prepare.output_names.push_back(model_.parameters[static_cast<std::size_t>(k)].symbol.get_name());
@@ -622,7 +625,9 @@ std::vector<std::string> drop_unrepresentable(KernelSet& set, bool named, const 
     const std::string what = o < k.output_names.size() ? "output " + k.output_names[o] : "a pivot of its solve";
     return "kernel '" + k.name + "', " + what + ", needs the constant " + g.unrepresentable_value(node) +
            ", beyond the range of a double (about 2.2e-308 to 1.8e308 in magnitude), which it would compute as " +
-           (std::isinf(g.node(node).value) ? "infinity" : std::isnan(g.node(node).value) ? "NaN" : "0");
+           (std::isinf(g.node(node).value)   ? "infinity"
+            : std::isnan(g.node(node).value) ? "NaN"
+                                             : "0");
   };
   std::vector<std::string> notes, errors;
   std::vector<Kernel> kept;

@@ -105,7 +105,8 @@ std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::
   return out;
 }
 
-std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo, ProgramConverter& node_of) {
+std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo,
+                                                ProgramConverter& node_of) {
   const unsigned m = geo.L.rows(), n = geo.K.cols();
   std::vector<std::vector<int>> L(m, std::vector<int>(m)), K(n, std::vector<int>(m));
   for (unsigned a = 0; a < m; ++a)
@@ -151,7 +152,8 @@ ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree
   }
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
     f.e.push_back(nodes(tree.base[alpha]));
-    for (std::size_t beta = 0; beta < m; ++beta) f.base_inertia[alpha][beta] = node_of(factor.base_inertia[alpha][beta]);
+    for (std::size_t beta = 0; beta < m; ++beta)
+      f.base_inertia[alpha][beta] = node_of(factor.base_inertia[alpha][beta]);
   }
   return f;
 }
@@ -200,7 +202,8 @@ std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, cons
       }
       s_p[l] = multiply_add(s_p[l], factor.sigma[i], mu[c][i]);
     }
-    for (std::size_t alpha = 0; alpha < m; ++alpha) base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
+    for (std::size_t alpha = 0; alpha < m; ++alpha)
+      base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
   }
   std::vector<std::vector<int>> base_rate(columns.size());
   if (m > 0) base_rate = ldlt_solve_columns(g, factor.base_inertia, base_rhs);

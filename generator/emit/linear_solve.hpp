@@ -31,7 +31,8 @@ std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::
 /// The connection A = L⁻¹K of a bundle whose connection is not formed symbolically (kinematic trees): L and K
 /// (blocks of the mass matrix) converted through `node_of`, every column solved with one LDLᵀ of L.
 /// A[α][I] as graph nodes.
-std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo, ProgramConverter& node_of);
+std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo,
+                                                ProgramConverter& node_of);
 
 /// A force a right-hand side passes inward from a body (InverseDynamicsJacobian::inward): beyond its listed
 /// rows, b holds −⟨s_I, force⟩ on the rows of the body's strict ancestors I and −⟨e_α, force⟩ on the base's.

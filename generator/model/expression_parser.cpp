@@ -238,10 +238,10 @@ bool is_valid_model_name(const std::string& name, std::string* why) {
       // Classification macros of <math.h> that glibc also declares as functions, and what <cstring>,
       // <cstddef> and <cstdint> put at global scope (the emitted code includes them): found by a package
       // named isnan or memcpy failing -Werror.
-      "isnan", "isinf", "isfinite", "isnormal", "signbit", "fpclassify", "isgreater", "isless", "isunordered",
-      "memcpy", "memmove", "memset", "memcmp", "memchr", "strlen", "strcpy", "strcmp", "size_t", "ptrdiff_t",
-      "max_align_t", "nullptr_t", "int8_t", "int16_t", "int32_t", "int64_t", "uint8_t", "uint16_t", "uint32_t",
-      "uint64_t", "intptr_t", "uintptr_t"};
+      "isnan", "isinf", "isfinite", "isnormal", "signbit", "fpclassify", "isgreater", "isless", "isunordered", "memcpy",
+      "memmove", "memset", "memcmp", "memchr", "strlen", "strcpy", "strcmp", "size_t", "ptrdiff_t", "max_align_t",
+      "nullptr_t", "int8_t", "int16_t", "int32_t", "int64_t", "uint8_t", "uint16_t", "uint32_t", "uint64_t", "intptr_t",
+      "uintptr_t"};
   // File names and the HAMEL_<NAME>_REAL macro grow with the name: a 250-character name broke CMake's
   // configure and a 5000-character one the file system.
   if (name.size() > max_model_name_length) {

@@ -14,13 +14,13 @@
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
-#include <functional>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <optional>
 #include <set>
@@ -281,7 +281,8 @@ class Loader {
         m(static_cast<unsigned>(i), static_cast<unsigned>(j)) = c;
         rest -= c * model.rates[j];
         for (std::size_t k = 0; k < n; ++k)
-          if (!c.is_zero() && identically_zero(model.definitions.diff(c, model.rates[k]), model.definitions) == Identity::nonzero)
+          if (!c.is_zero() &&
+              identically_zero(model.definitions.diff(c, model.rates[k]), model.definitions) == Identity::nonzero)
             fail(node[i], row_key,
                  "is not linear in the rates: its coefficient of " + model.rates[j].get_name() + " depends on " +
                      model.rates[k].get_name() + " (expected u = A(q) q_dot)");
@@ -551,10 +552,12 @@ void Loader::load_core(Model& model) {
     }
     if (YAML::Node v = root_["potential"]) {
       model.locations["potential"] = where(v);
-      model.lagrangian -= expression(v, "potential", pose_table, "the potential V(q, t) may use coordinates, parameters and t");
+      model.lagrangian -=
+          expression(v, "potential", pose_table, "the potential V(q, t) may use coordinates, parameters and t");
     }
   } else if (YAML::Node v = root_["potential"]) {
-    fail(v, "potential", "goes with 'bodies' in a model in general coordinates; without bodies write L = T - V as 'lagrangian'");
+    fail(v, "potential",
+         "goes with 'bodies' in a model in general coordinates; without bodies write L = T - V as 'lagrangian'");
   }
   if (YAML::Node lag = bodies ? root_["lagrangian"] : require("lagrangian", YAML::NodeType::Scalar, "an expression")) {
     model.locations["lagrangian"] = where(lag);
@@ -752,8 +755,7 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
   const YAML::Node in = body["inertia"];
   if (!in.IsSequence() || in.size() != 3) fail(in, key + ".inertia", "expected 3 rows of a 3x3 matrix");
   for (std::size_t i = 0; i < 3; ++i) {
-    const std::vector<GiNaC::ex> row =
-        vector_of(in[i], key + ".inertia[" + std::to_string(i) + "]", 3, table, allowed);
+    const std::vector<GiNaC::ex> row = vector_of(in[i], key + ".inertia[" + std::to_string(i) + "]", 3, table, allowed);
     for (std::size_t j = 0; j < 3; ++j) out.inertia[i][j] = row[j];
   }
   for (std::size_t i = 0; i < 3; ++i)
@@ -770,7 +772,8 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
 GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const std::string& key,
                                   const GiNaC::symtab& table, std::string& name) {
   const std::string allowed = "a body's pose and inertia may use coordinates, parameters, t and definitions of these";
-  const RigidBody rb = rigid_body(body, key, table, {"name", "mass", "com", "inertia", "position"}, allowed, {"rotation"});
+  const RigidBody rb =
+      rigid_body(body, key, table, {"name", "mass", "com", "inertia", "position"}, allowed, {"rotation"});
   name = rb.name;
   // R: a 3x3 matrix, or a product of elementary rotations [[axis, angle], ...] applied left to right.
   GiNaC::matrix R = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(3));
@@ -792,7 +795,8 @@ GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const st
       if (!rot.IsSequence() || rot.size() != 3)
         fail(rot, key + ".rotation", "expected a 3x3 matrix (three rows) or a list of [axis, angle] rotations");
       std::vector<std::vector<GiNaC::ex>> r;
-      for (std::size_t i = 0; i < 3; ++i) r.push_back(vector_of(rot[i], key + ".rotation[" + std::to_string(i) + "]", 3, table, allowed));
+      for (std::size_t i = 0; i < 3; ++i)
+        r.push_back(vector_of(rot[i], key + ".rotation[" + std::to_string(i) + "]", 3, table, allowed));
       return r;
     }();
     for (unsigned i = 0; i < 3; ++i)
@@ -941,9 +945,11 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
       tb.offset[k] = offset[k];
     }
     const GiNaC::ex norm = (axis[0] * axis[0] + axis[1] * axis[1] + axis[2] * axis[2]).expand();
-    if (GiNaC::is_a<GiNaC::numeric>(norm) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(norm) - 1) > GiNaC::numeric(1, 1000000))
-      fail(joint["axis"], jkey + ".axis", "expected a unit vector (its squared length is " +
-                                               std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
+    if (GiNaC::is_a<GiNaC::numeric>(norm) &&
+        GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(norm) - 1) > GiNaC::numeric(1, 1000000))
+      fail(joint["axis"], jkey + ".axis",
+           "expected a unit vector (its squared length is " +
+               std::to_string(GiNaC::ex_to<GiNaC::numeric>(norm).to_double()) + ")");
     if (const std::string problem = joint_axis_problem(tb, defaults); !problem.empty())
       fail(joint["axis"], jkey + ".axis", problem);
     const std::pair<const char*, GiNaC::ex*> properties[] = {{"armature", &tb.armature},
@@ -973,7 +979,8 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
           GiNaC::ex dot = 0;
           for (std::size_t k = 0; k < 3; ++k) dot += tb.rotation[k][r] * tb.rotation[k][c];
           const GiNaC::ex dev = (dot - (r == c ? 1 : 0)).expand();
-          if (GiNaC::is_a<GiNaC::numeric>(dev) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(dev)) > GiNaC::numeric(1, 1000000))
+          if (GiNaC::is_a<GiNaC::numeric>(dev) &&
+              GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(dev)) > GiNaC::numeric(1, 1000000))
             fail(rot, jkey + ".rotation", "expected a rotation matrix (orthonormal columns, R^T R = I)");
         }
     }
@@ -1013,8 +1020,6 @@ std::string read_input_file(const std::string& path, const std::string& what) {
   return text;
 }
 
-Model load_model(const std::string& path) {
-  return load_model_from_text(read_input_file(path, "model file"), path);
-}
+Model load_model(const std::string& path) { return load_model_from_text(read_input_file(path, "model file"), path); }
 
 }  // namespace hamel

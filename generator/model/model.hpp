@@ -37,7 +37,7 @@ struct TreeBody {
   bool prismatic = false;
   GiNaC::ex axis[3];
   GiNaC::ex offset[3];
-  GiNaC::ex rotation[3][3];  ///< identity unless given
+  GiNaC::ex rotation[3][3];      ///< identity unless given
   GiNaC::realsymbol coordinate;  ///< the joint coordinate, a shape coordinate r^I (index = body index)
   // Joint properties as robot files give them (zero when absent): armature a adds ½ a ṙ² to T (a rotor's
   // reflected inertia), damping d the force −d ṙ, stiffness k the potential ½ k (r − reference)².

@@ -135,7 +135,8 @@ std::string kinetic_energy_problem(const Model& model) {
     values[model.time] = 0;
     for (const auto& u : model.quasi_velocities) values[u] = 0;
     // L at this configuration in floating point, a function of the rates alone, differentiated twice: far cheaper
-    // than the Hessian of the symbolic L evaluated entry by entry (`hamel derive` of the Whipple bicycle: 2.5 -> 1.6 s).
+    // than the Hessian of the symbolic L evaluated entry by entry (`hamel derive` of the Whipple bicycle: 2.5 -> 1.6
+    // s).
     GiNaC::ex L_here;
     try {
       L_here = L.subs(values).evalf();
@@ -153,8 +154,9 @@ std::string kinetic_energy_problem(const Model& model) {
     const std::vector<double> e = symmetric_eigenvalues(h, n);
     const double scale = std::max({std::fabs(e.front()), std::fabs(e.back()), 1e-300});
     if (e.front() < -1e-9 * scale)
-      return "the kinetic energy is not positive semi-definite: d^2L/dq_dot^2 has the eigenvalue " +
-             number(e.front()) + " at " + point + ", q_dot = 0, parameters at their defaults; expected a positive "
+      return "the kinetic energy is not positive semi-definite: d^2L/dq_dot^2 has the eigenvalue " + number(e.front()) +
+             " at " + point +
+             ", q_dot = 0, parameters at their defaults; expected a positive "
              "kinetic energy";
   }
   return "";

@@ -377,7 +377,7 @@ struct ReferenceSet {
   std::vector<std::vector<ex>> kinematics_by_x;         // [k][a]
   std::vector<std::vector<ex>> forcing_by_x;            // [k][i]
   std::vector<std::vector<std::vector<ex>>> mass_by_x;  // [k][i][j]
-  Intermediates intermediates;  // the derivation's, extended by the derivatives above
+  Intermediates intermediates;                          // the derivation's, extended by the derivatives above
 };
 
 ReferenceSet references(const Model& model, const Derivation& derivation) {

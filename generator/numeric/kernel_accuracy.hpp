@@ -127,8 +127,8 @@ class HighPrecisionExpressionEvaluator {
   std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> definitions_;
   std::unordered_map<GiNaC::ex, int, Hash, GiNaC::ex_is_equal> number_;  ///< compiled expressions
   std::vector<Node> nodes_;
-  std::vector<cln::cl_R> computed_[2];       ///< per node: true value, magnitude
-  std::vector<unsigned> stamp_[2];           ///< computed_ holds this set of values' result when == generation_
+  std::vector<cln::cl_R> computed_[2];  ///< per node: true value, magnitude
+  std::vector<unsigned> stamp_[2];      ///< computed_ holds this set of values' result when == generation_
   unsigned generation_ = 1;
 };
 

@@ -38,14 +38,15 @@ Spectrum spectrum(const LinearSystem& s) {
     const Eigen::Index m = static_cast<Eigen::Index>(rest.size());
     Eigen::MatrixXd a(m, m);
     for (Eigen::Index i = 0; i < m; ++i)
-      for (Eigen::Index j = 0; j < m; ++j) a(i, j) = s.a(rest[static_cast<std::size_t>(i)], rest[static_cast<std::size_t>(j)]);
+      for (Eigen::Index j = 0; j < m; ++j)
+        a(i, j) = s.a(rest[static_cast<std::size_t>(i)], rest[static_cast<std::size_t>(j)]);
     Eigen::EigenSolver<Eigen::MatrixXd> solver(a, false);
     if (solver.info() != Eigen::Success) throw std::runtime_error("the eigenvalue iteration did not converge");
-    for (Eigen::Index i = 0; i < m; ++i) out.values.push_back({solver.eigenvalues()(i).real(), solver.eigenvalues()(i).imag()});
+    for (Eigen::Index i = 0; i < m; ++i)
+      out.values.push_back({solver.eigenvalues()(i).real(), solver.eigenvalues()(i).imag()});
   }
-  std::sort(out.values.begin(), out.values.end(), [](const Eigenvalue& x, const Eigenvalue& y) {
-    return x.re != y.re ? x.re < y.re : x.im < y.im;
-  });
+  std::sort(out.values.begin(), out.values.end(),
+            [](const Eigenvalue& x, const Eigenvalue& y) { return x.re != y.re ? x.re < y.re : x.im < y.im; });
   return out;
 }
 
@@ -125,9 +126,8 @@ namespace {
 // The eigenvalues without the `structural` smallest in modulus (the zero eigenvalues every point of a sweep has).
 std::vector<Eigenvalue> beyond_structural(const Spectrum& s, int structural) {
   std::vector<Eigenvalue> v = s.values;
-  std::sort(v.begin(), v.end(), [](const Eigenvalue& a, const Eigenvalue& b) {
-    return std::hypot(a.re, a.im) < std::hypot(b.re, b.im);
-  });
+  std::sort(v.begin(), v.end(),
+            [](const Eigenvalue& a, const Eigenvalue& b) { return std::hypot(a.re, a.im) < std::hypot(b.re, b.im); });
   v.erase(v.begin(), v.begin() + std::min<std::ptrdiff_t>(structural, static_cast<std::ptrdiff_t>(v.size())));
   return v;
 }

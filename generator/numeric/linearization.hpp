@@ -64,10 +64,10 @@ SteadyResult find_steady_motion(const std::function<LinearSystem(const std::vect
 
 /// A point of a sweep where an eigenvalue's real part changes sign, located by bisection to the last digits.
 struct Crossing {
-  double value = 0;       ///< of the swept quantity
-  bool complex = false;   ///< a complex pair (Hopf) or a real eigenvalue
+  double value = 0;      ///< of the swept quantity
+  bool complex = false;  ///< a complex pair (Hopf) or a real eigenvalue
   bool to_unstable = false;
-  double frequency = 0;   ///< |Im λ| at the crossing (complex pairs)
+  double frequency = 0;  ///< |Im λ| at the crossing (complex pairs)
 };
 
 /// Eigenvalues along a sweep of one quantity; `spectrum_at(v)` linearizes at value v.

@@ -31,9 +31,9 @@ struct WorkPrecisionStudy {
   /// 1e-13 (ten times the reference's tolerance) from the reference at t_end, relative as the runs' errors. NaN when
   /// that run failed.
   double reference_check = 0;
-  double t_end = 0;       ///< the horizon studied (below the requested one when the reference could not reach it)
+  double t_end = 0;          ///< the horizon studied (below the requested one when the reference could not reach it)
   std::string horizon_note;  ///< why the horizon is shorter than requested; empty when it is not
-  std::string sweep_note;  ///< how the fixed steps follow from ρ when they start below the horizon / 25; else empty
+  std::string sweep_note;    ///< how the fixed steps follow from ρ when they start below the horizon / 25; else empty
   std::vector<std::string> state_names;
   std::vector<double> x0;
   double min_cpu_s = 0;  ///< runs shorter than this were repeated for their CPU time (WorkPrecisionRequest)

@@ -50,8 +50,8 @@ TEST_F(NothingLost, FailedEmitKeepsExistingFolderAndLeavesNoTemporaries) {
   const Outcome r = hamel("emit " + path("bad.yaml") + " -o " + path("out"), dir);
   EXPECT_EQ(r.status, 2) << r.err;
   EXPECT_EQ(slurp(dir / "out" / "spring.hpp"), header);
-  EXPECT_EQ(names_in(dir / "out"),
-            (std::set<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md", "spring.cpp", "spring.h", "spring.hpp"}));
+  EXPECT_EQ(names_in(dir / "out"), (std::set<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md",
+                                                          "spring.cpp", "spring.h", "spring.hpp"}));
   EXPECT_EQ(names_in(dir), before) << "no .tmp- or .old- folders may remain";
 }
 

@@ -103,7 +103,8 @@ TEST_F(Output, WriteErrorsExitWithStatusOne) {
   if (!fs::is_character_file("/dev/full")) GTEST_SKIP() << "no /dev/full";
   // The redirection is inside a subshell: run_command's own redirection of stdout comes after it.
   const std::string hamel_path = shell_quote(hamel_binary());
-  Outcome r = run_command("(" + hamel_path + " simulate " + path("spring.yaml") + " --t-end 1 --out - > /dev/full)", dir);
+  Outcome r =
+      run_command("(" + hamel_path + " simulate " + path("spring.yaml") + " --t-end 1 --out - > /dev/full)", dir);
   EXPECT_EQ(r.status, 1) << r.err;
   EXPECT_NE(r.err.find("cannot write standard output"), std::string::npos) << r.err;
   r = run_command("(" + hamel_path + " derive " + path("spring.yaml") + " > /dev/full)", dir);
@@ -177,9 +178,8 @@ TEST_F(Output, PackageReadmeBuildsOutOfTreeAndEmitStillReplacesThePackage) {
   Outcome r = run_command("cd " + shell_quote(dir.string()) + " && " + configure, dir);
   ASSERT_EQ(r.status, 0) << configure << "\n" << r.out << r.err;
   EXPECT_TRUE(fs::is_regular_file(dir / "spring-build" / "CMakeCache.txt"));
-  EXPECT_EQ(names_in(dir / "spring"),
-            (std::set<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md", "spring.cpp", "spring.h",
-                                   "spring.hpp"}));
+  EXPECT_EQ(names_in(dir / "spring"), (std::set<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md",
+                                                             "spring.cpp", "spring.h", "spring.hpp"}));
   r = hamel("emit " + path("spring.yaml") + " -o " + path("spring"), dir);
   EXPECT_EQ(r.status, 0) << r.err;
   EXPECT_NE(slurp(dir / "spring" / "CMakeLists.txt").find("-B spring-build"), std::string::npos);
@@ -190,8 +190,8 @@ TEST_F(Output, PackageReadmeBuildsOutOfTreeAndEmitStillReplacesThePackage) {
 TEST_F(Output, KilledReEmitNeverLeavesTheFolderMissing) {
   ASSERT_EQ(hamel("emit " + path("spring.yaml") + " -o " + path("out"), dir).status, 0);
   const auto start = std::chrono::steady_clock::now();
-  ASSERT_EQ(wait_status(start_hamel({"emit", (dir / "spring.yaml").string(), "-o", (dir / "out").string()},
-                                    dir / ".o", dir / ".e")),
+  ASSERT_EQ(wait_status(start_hamel({"emit", (dir / "spring.yaml").string(), "-o", (dir / "out").string()}, dir / ".o",
+                                    dir / ".e")),
             0);
   const double run_ms = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
   for (int k = 0; k < 24; ++k) {

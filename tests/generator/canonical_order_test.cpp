@@ -109,7 +109,8 @@ TEST(CanonicalOrder, SameExpressionsPrintTheSameWhateverTheNodeCreationOrder) {
     g2.unary(Op::cos, g2.input(Argument::parameter, 7));
     g2.binary(Op::mul, g2.constant(3.5), g2.input(Argument::state, 2));
     Leaves leaves;
-    for (int k = 3; k >= 0; --k) leaves[v(std::string(1, static_cast<char>('a' + k)).c_str())] = g2.input(Argument::state, k);
+    for (int k = 3; k >= 0; --k)
+      leaves[v(std::string(1, static_cast<char>('a' + k)).c_str())] = g2.input(Argument::state, k);
     g2.from_expression(v("c") * v("b"), leaves);
     g2.from_expression(GiNaC::sin(v("a") * v("c")), leaves);
     g2.from_expression(v("d") + v("c") - v("b"), leaves);

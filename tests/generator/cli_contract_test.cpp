@@ -3,9 +3,9 @@
 #include "support/command.hpp"
 
 #include <gtest/gtest.h>
+#include <algorithm>
 #include <nlohmann/json.hpp>
 #include <vector>
-#include <algorithm>
 
 #include <sys/wait.h>
 #include <array>
@@ -26,9 +26,7 @@ using hamel::test::slurp;
 using hamel::test::source;
 
 // Runs `hamel ARGS`, capturing stdout (stderr discarded unless redirected in args).
-Outcome hamel(const std::string& args) {
-  return run(std::string(HAMEL_BINARY) + " " + args);
-}
+Outcome hamel(const std::string& args) { return run(std::string(HAMEL_BINARY) + " " + args); }
 
 fs::path scratch(const std::string& name) {
   const fs::path dir = fs::temp_directory_path() / ("hamel_cli_test_" + std::to_string(::getpid())) / name;
@@ -59,8 +57,8 @@ TEST(Cli, DeriveJsonNamesEntriesAndCarriesValues) {
 
 // --riemann adds the key "riemann" and changes nothing else; its entries carry values under --at.
 TEST(Cli, DeriveRiemannAddsOneKey) {
-  const std::string args = "derive " + source("models/double_pendulum.yaml") +
-                           " --json --at theta1=0.3,theta2=-0.4,omega1=1.5,omega2=-0.5";
+  const std::string args =
+      "derive " + source("models/double_pendulum.yaml") + " --json --at theta1=0.3,theta2=-0.4,omega1=1.5,omega2=-0.5";
   const Outcome plain = hamel(args + " 2>/dev/null"), riemann = hamel(args + " --riemann 2>/dev/null");
   ASSERT_EQ(plain.status, 0);
   ASSERT_EQ(riemann.status, 0);
@@ -139,14 +137,19 @@ TEST(Cli, EmitIsByteIdenticalOnRegeneration) {
 // flag and writes nothing.
 TEST(Cli, EmitSplitPrintsLongKernelsInParts) {
   const fs::path whole = scratch("split_whole"), parts = scratch("split_parts"), never = scratch("split_never");
-  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + whole.string() + " --split 0 2>/dev/null").status, 0);
-  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + parts.string() + " --split 30 2>/dev/null").status, 0);
+  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + whole.string() + " --split 0 2>/dev/null")
+                .status,
+            0);
+  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + parts.string() + " --split 30 2>/dev/null")
+                .status,
+            0);
   const std::string a = slurp(whole / "double_pendulum.cpp"), b = slurp(parts / "double_pendulum.cpp");
   EXPECT_EQ(a.find("_part0("), std::string::npos);
   // The first line of every file records the options emit was given.
   EXPECT_NE(a.substr(0, a.find('\n')).find("; emit --split 0). Do not edit."), std::string::npos) << a.substr(0, 200);
   EXPECT_NE(b.substr(0, b.find('\n')).find("; emit --split 30). Do not edit."), std::string::npos) << b.substr(0, 200);
-  EXPECT_NE(b.find("void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {"), std::string::npos);
+  EXPECT_NE(b.find("void jacobian_part0(real t, const real* x, const real* p, const real* in, real* v, real* out) {"),
+            std::string::npos);
   EXPECT_NE(b.find("  jacobian_part1(t, x, p, in, v, out);"), std::string::npos);
   // A split rhs is printed once, as rhs_with_pivots, which rhs and rhs_status call.
   EXPECT_NE(b.find("void rhs_with_pivots_part0("), std::string::npos);
@@ -165,9 +168,13 @@ TEST(Cli, EmitSplitPrintsLongKernelsInParts) {
 // shared_<k> the kernels call; --share 0 never; a value that is not a whole number exits 2 naming the flag.
 TEST(Cli, EmitSharePrintsSharedWorkOnce) {
   const fs::path none = scratch("share_none"), shared = scratch("share_all"), never = scratch("share_never");
-  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + none.string() + " --share 0 2>/dev/null").status, 0);
+  ASSERT_EQ(
+      hamel("emit " + source("models/double_pendulum.yaml") + " -o " + none.string() + " --share 0 2>/dev/null").status,
+      0);
   ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + shared.string() +
-                  " --share 5 --share-ratio 0 2>/dev/null").status, 0);
+                  " --share 5 --share-ratio 0 2>/dev/null")
+                .status,
+            0);
   const std::string a = slurp(none / "double_pendulum.cpp"), b = slurp(shared / "double_pendulum.cpp");
   EXPECT_EQ(a.find("shared_0("), std::string::npos);
   EXPECT_NE(b.find("void shared_0(real t, const real* x, const real* p, const real* in, real* out"), std::string::npos);

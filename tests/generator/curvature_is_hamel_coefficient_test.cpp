@@ -108,7 +108,7 @@ int expect_same(const Coefficients& got, const Coefficients& want, const GiNaC::
     const GiNaC::ex g = got.count(key) ? got.at(key) : GiNaC::ex(0);
     const GiNaC::ex w = want.count(key) ? want.at(key).subs(rename) : GiNaC::ex(0);
     EXPECT_TRUE(hamel::is_zero_almost_surely(g - w)) << "gamma^" << std::get<0>(key) << "_" << std::get<1>(key) << ","
-                                               << std::get<2>(key) << ": core " << g << ", bundle " << w;
+                                                     << std::get<2>(key) << ": core " << g << ", bundle " << w;
     if (!hamel::is_zero_almost_surely(w)) ++nonzero;
   }
   return nonzero;

@@ -3,11 +3,11 @@
 // the graph node by node (expression_graph.hpp's interpret, the rule the 50-digit evaluator also follows) gives:
 // every kernel of models with trigonometric, square-root, power and division nodes, at random points, bit for bit,
 // and again after evaluating other points (no state carried between calls beyond the constants).
+#include "numeric/graph_evaluator.hpp"
 #include "derive/derivation.hpp"
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
-#include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>
 

@@ -2,8 +2,8 @@
 // build_kernels makes, for general-coordinate, bundle and tree models and for every kernel named on request,
 // is registered and carries the registry's summary; every scene task names registered kernels; kernels the
 // registry builds only on request are not built by default; names are unique.
-#include "derive/derivation.hpp"
 #include "emit/kernel_registry.hpp"
+#include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
 #include "scene/scene.hpp"
@@ -38,8 +38,9 @@ void check_registered(const KernelSet& set, const std::set<std::string>& only) {
 }
 
 TEST(KernelRegistry, EveryBuiltKernelIsRegistered) {
-  for (const char* file : {"models/double_pendulum.yaml", "models/satellite_se3.yaml", "models/rolling_ball_bundle.yaml",
-                           "models/space_robot.yaml", "models/chaplygin_sleigh.yaml"}) {
+  for (const char* file :
+       {"models/double_pendulum.yaml", "models/satellite_se3.yaml", "models/rolling_ball_bundle.yaml",
+        "models/space_robot.yaml", "models/chaplygin_sleigh.yaml"}) {
     SCOPED_TRACE(file);
     const Model model = load_model(source(file));
     const Derivation derivation = derive(model);

@@ -47,7 +47,8 @@ struct Bicycle {
   Bicycle() {
     for (const hamel::Parameter& par : model.parameters) p.push_back(par.default_value);
     for (int k = 0; k < static_cast<int>(derivation.equations.independent.size()); ++k)
-      if (derivation.system.velocities[static_cast<std::size_t>(derivation.equations.independent[static_cast<std::size_t>(k)])]
+      if (derivation.system
+              .velocities[static_cast<std::size_t>(derivation.equations.independent[static_cast<std::size_t>(k)])]
               .get_name() == "v")
         v_index = static_cast<int>(model.n()) + k;
   }
@@ -102,7 +103,8 @@ TEST(WhippleBicycle, EigenvaluesMatchTable2OfMeijaardEtAl) {
       double best = 1e300;
       for (const std::complex<double>& g : got) best = std::min(best, std::abs(g - e));
       // Ten significant digits of the eigenvalue (Table 2 prints 14).
-      EXPECT_LT(best, 1e-10 * std::abs(e)) << "v = " << row.v << ": eigenvalue " << e.real() << " + " << e.imag() << "i";
+      EXPECT_LT(best, 1e-10 * std::abs(e))
+          << "v = " << row.v << ": eigenvalue " << e.real() << " + " << e.imag() << "i";
       worst = std::max(worst, best / std::abs(e));
     }
   }
@@ -157,7 +159,8 @@ TEST(HeavyTop, SleepingTopBoundIsMaxwells) {
       const std::complex<double> lambda = std::sqrt(s2);
       for (const std::complex<double> expected : {lambda, -lambda}) {
         double best = 1e300;
-        for (const hamel::Eigenvalue& e : s.values) best = std::min(best, std::abs(std::complex<double>(e.re, e.im) - expected));
+        for (const hamel::Eigenvalue& e : s.values)
+          best = std::min(best, std::abs(std::complex<double>(e.re, e.im) - expected));
         EXPECT_LT(best, 1e-9 * std::abs(expected)) << "spin " << spin << ": eigenvalue " << expected;
       }
     }
@@ -174,7 +177,8 @@ TEST(HeavyTop, SteadyMotionNewtonReturnsToTheSleepingTop) {
   // From a tilted, slowly moving start, with the spin held: the only steady motion with c cyclic nearby is
   // the sleeping top.
   const auto linearize = [&](const std::vector<double>& x) { return top.linearizer.at(0.0, x, top.p, {}); };
-  const hamel::SteadyResult r = hamel::find_steady_motion(linearize, {0.02, -0.01, 0.3, 0.01, 0.02, 80.0}, {0, 1, 3, 4}, {2});
+  const hamel::SteadyResult r =
+      hamel::find_steady_motion(linearize, {0.02, -0.01, 0.3, 0.01, 0.02, 80.0}, {0, 1, 3, 4}, {2});
   for (int k : {0, 1, 3, 4}) EXPECT_NEAR(r.x[static_cast<std::size_t>(k)], 0.0, 1e-10) << k;
   EXPECT_EQ(r.x[5], 80.0);
   EXPECT_LT(r.residual, 1e-10);

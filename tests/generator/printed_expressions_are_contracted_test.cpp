@@ -32,9 +32,7 @@ using hamel::test::run;
 using hamel::test::slurp;
 using hamel::test::source;
 
-Outcome hamel(const std::string& args) {
-  return run(std::string(HAMEL_BINARY) + " " + args + " 2>&1");
-}
+Outcome hamel(const std::string& args) { return run(std::string(HAMEL_BINARY) + " " + args + " 2>&1"); }
 
 class ContractTrig : public ::testing::Test {
  protected:

@@ -1,7 +1,7 @@
-// The paper's rotor twist is corrected here: a reaction wheel spinning about its own axis e_i through its own centre of mass d_i has the
-// twist (e_i, d_i × e_i) φ̇_i relative to the base (angular, then linear at the base frame's origin); the
-// paper writes (e_i φ̇_i, 0), which is the same only when d_i ∥ e_i. The satellite_se3 model is rebuilt here
-// with its rotor twists generated from d_i and e_i in either convention:
+// The paper's rotor twist is corrected here: a reaction wheel spinning about its own axis e_i through its own centre of
+// mass d_i has the twist (e_i, d_i × e_i) φ̇_i relative to the base (angular, then linear at the base frame's origin);
+// the paper writes (e_i φ̇_i, 0), which is the same only when d_i ∥ e_i. The satellite_se3 model is rebuilt here with
+// its rotor twists generated from d_i and e_i in either convention:
 //  - the generated correct-twist text reproduces models/satellite_se3.yaml's kinetic energy;
 //  - with d_i ∥ e_i both conventions give the same kinetic energy (symbolically) and the same mechanical
 //    connection;
@@ -114,7 +114,8 @@ bool same_connection(const hamel::Model& a, const hamel::Model& b) {
   const GiNaC::matrix B = hamel::inlined(hamel::derive_bundle_geometry(b)).connection;
   bool same = A.rows() == 6 && A.cols() == 3 && B.rows() == 6 && B.cols() == 3;
   for (unsigned i = 0; i < A.rows(); ++i)
-    for (unsigned j = 0; j < A.cols(); ++j) same = same && hamel::is_zero_almost_surely(A(i, j) - rename(B(i, j), b, a));
+    for (unsigned j = 0; j < A.cols(); ++j)
+      same = same && hamel::is_zero_almost_surely(A(i, j) - rename(B(i, j), b, a));
   return same;
 }
 

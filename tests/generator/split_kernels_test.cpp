@@ -183,7 +183,7 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
   std::vector<double> v;
   run.out.assign(n_out, std::numeric_limits<double>::quiet_NaN());
   std::function<void(const std::vector<std::string>&, int)> execute = [&](const std::vector<std::string>& body,
-                                                                         int part) {
+                                                                          int part) {
     std::map<std::string, double> locals;
     const auto value = [&](const std::string& token) -> double {
       if (starts(token, "x[")) return x[subscript(token)];

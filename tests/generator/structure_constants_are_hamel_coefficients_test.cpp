@@ -62,8 +62,9 @@ void expect_gamma_is_signed_c(const std::string& group, bool right, std::size_t 
     (void)unused;
     const GiNaC::ex got = gamma.count(key) ? gamma.at(key) : GiNaC::ex(0);
     const GiNaC::ex want = expected.count(key) ? expected.at(key) : GiNaC::ex(0);
-    EXPECT_TRUE(hamel::is_zero_almost_surely(got - want)) << "gamma^" << std::get<0>(key) << "_" << std::get<1>(key) << ","
-                                                    << std::get<2>(key) << " = " << got << ", expected " << want;
+    EXPECT_TRUE(hamel::is_zero_almost_surely(got - want))
+        << "gamma^" << std::get<0>(key) << "_" << std::get<1>(key) << "," << std::get<2>(key) << " = " << got
+        << ", expected " << want;
   }
 }
 

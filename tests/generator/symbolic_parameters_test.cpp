@@ -108,9 +108,9 @@ TEST(SymbolicParameters, QuadraticFormTestAcceptsParametersInDenominators) {
 // rotation matrices: Θ1 ω + R Θ2 ω2 + μ d × ḋ with ω2 = Rᵀω + (relative angular velocity), d and ḋ from R.
 Eigen::Vector3d cat_momentum(const std::map<std::string, double>& p, double psi, double theta, double psi_dot,
                              double theta_dot, const Eigen::Vector3d& w) {
-  const Eigen::Matrix3d R = (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) *
-                             Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()))
-                                .toRotationMatrix();
+  const Eigen::Matrix3d R =
+      (Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()) * Eigen::AngleAxisd(theta, Eigen::Vector3d::UnitY()))
+          .toRotationMatrix();
   // Ṙ = R ω̂_rel with ω_rel (rear frame) from Ṙ = Rz' Ry + Rz Ry': numerically by a central difference of R.
   const double h = 1e-6;
   const auto rot = [](double a, double b) {
@@ -227,7 +227,8 @@ TEST(SymbolicParameters, RouthDiskWithBodiesMatchesLagrangeMultipliers) {
       f(i) = number(d.equations.forcing[i], values);
     }
     const Eigen::VectorXd udot = M.ldlt().solve(f);
-    for (unsigned i = 0; i < 3; ++i) worst = std::max(worst, std::fabs(udot(i) - sol(2 + i)) / (1 + std::fabs(sol(2 + i))));
+    for (unsigned i = 0; i < 3; ++i)
+      worst = std::max(worst, std::fabs(udot(i) - sol(2 + i)) / (1 + std::fabs(sol(2 + i))));
   }
   std::printf("Routh's disk: worst difference of the accelerations to the KKT reference: %.2e\n", worst);
   EXPECT_LT(worst, 1e-12);

@@ -100,10 +100,8 @@ std::string inertia(std::mt19937& rng) {
 }
 
 std::string random_tree(std::mt19937& rng, const std::string& group, int n, bool forces) {
-  static const std::map<std::string, std::string> velocities{{"SE3", "[wx, wy, wz, vx, vy, vz]"},
-                                                             {"SO3", "[wx, wy, wz]"},
-                                                             {"SE2", "[w, vx, vy]"},
-                                                             {"R2", "[vx, vy]"}};
+  static const std::map<std::string, std::string> velocities{
+      {"SE3", "[wx, wy, wz, vx, vy, vz]"}, {"SO3", "[wx, wy, wz]"}, {"SE2", "[w, vx, vy]"}, {"R2", "[vx, vy]"}};
   std::ostringstream y;
   y << "name: random_tree\ngroup: " << group << "\ngroup_velocity: " << velocities.at(group)
     << "\nconnection: mechanical\ntree:\n  base: {name: b0, mass: " << number(rng, 1, 5) << ", com: ["
@@ -115,9 +113,9 @@ std::string random_tree(std::mt19937& rng, const std::string& group, int n, bool
     y << "    - name: b" << i << "\n      parent: b" << parent << "\n      joint: {name: q" << i
       << ", type: " << (prismatic ? "prismatic" : "revolute") << ", axis: " << unit_axis(rng) << ", offset: ["
       << number(rng, -0.5, 0.5) << ", " << number(rng, -0.5, 0.5) << ", " << number(rng, -0.5, 0.5) << "]"
-      << (i % 2 ? ", rotation: " + rotation(rng) : "") << "}\n      mass: " << number(rng, 0.5, 3)
-      << "\n      com: [" << number(rng, -0.3, 0.3) << ", " << number(rng, -0.3, 0.3) << ", "
-      << number(rng, -0.3, 0.3) << "]\n      inertia: " << inertia(rng) << "\n";
+      << (i % 2 ? ", rotation: " + rotation(rng) : "") << "}\n      mass: " << number(rng, 0.5, 3) << "\n      com: ["
+      << number(rng, -0.3, 0.3) << ", " << number(rng, -0.3, 0.3) << ", " << number(rng, -0.3, 0.3)
+      << "]\n      inertia: " << inertia(rng) << "\n";
   }
   if (forces) {
     y << "inputs: [tau]\nforces: [";
@@ -173,7 +171,8 @@ TEST(TreeRecursion, MatchesLagrangianDifferentiationOnRandomTrees) {
       const Kernels recursive = kernels_of(model, false), lagrangian = kernels_of(model, true);
       ASSERT_FALSE(recursive.derivation.equations.intermediates.empty());
       ASSERT_TRUE(lagrangian.derivation.equations.intermediates.empty());
-      const std::size_t nx = recursive.derivation.system.coordinates.size() + recursive.derivation.equations.independent.size();
+      const std::size_t nx =
+          recursive.derivation.system.coordinates.size() + recursive.derivation.equations.independent.size();
       for (int trial = 0; trial < 3; ++trial) {
         std::vector<double> x(nx);
         for (double& v : x) v = std::uniform_real_distribution<double>(-2, 2)(rng);

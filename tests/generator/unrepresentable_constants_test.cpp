@@ -38,8 +38,7 @@ TEST(UnrepresentableConstants, DefaultEmitLeavesOutTheKernelsThatNeedThemWithANo
   const Outcome r = run(std::string(HAMEL_BINARY) + " emit " + (dir / "diag.yaml").string() + " -o " +
                         (dir / "out").string() + " 2>&1");
   ASSERT_EQ(r.status, 0) << r.out;
-  EXPECT_NE(r.out.find("left out kernel 'mass_matrix', output M[u][u], needs the constant 1.0e-400"),
-            std::string::npos)
+  EXPECT_NE(r.out.find("left out kernel 'mass_matrix', output M[u][u], needs the constant 1.0e-400"), std::string::npos)
       << r.out;
   EXPECT_NE(r.out.find("left out kernel 'energy', output E, needs the constant 5.0e399"), std::string::npos) << r.out;
   const std::string cpp = slurp(dir / "out" / "s.cpp"), hpp = slurp(dir / "out" / "s.hpp");
@@ -86,7 +85,7 @@ TEST(UnrepresentableConstants, GraphMarksThemAndNeverFoldsThem) {
   EXPECT_TRUE(g.is_unrepresentable(t));
   EXPECT_EQ(g.unrepresentable_value(b), "1.0e400");
   EXPECT_EQ(g.unrepresentable_value(t), "1.0e-400");
-  EXPECT_NE(t, g.constant(0));  // not the zero constant
+  EXPECT_NE(t, g.constant(0));                                             // not the zero constant
   EXPECT_NE(g.from_expression(GiNaC::numeric(10).power(500), leaves), b);  // distinct values stay distinct
   EXPECT_EQ(g.from_expression(big, leaves), b);
   // x·1e-400 is not folded to 0: the product reaches the marked constant.

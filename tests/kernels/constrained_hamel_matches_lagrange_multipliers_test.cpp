@@ -21,9 +21,9 @@
 //     differentiation and the state layout.
 #include "compiled_models.hpp"
 
-#include "hamel/runtime/dopri5.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
+#include "hamel/runtime/dopri5.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/linearization.hpp"
@@ -500,12 +500,14 @@ TEST_P(Linearization, MatchesCentralDifferencesOfKkt) {
         const double reference = (fp(row) - fm(row)) / (2 * h);
         const double derived = k < n + m ? s.a(row, k) : s.B[static_cast<std::size_t>(row * ni + (k - n - m))];
         const double tolerance = 1e-7 * std::max(scale, std::fabs(reference));
-        EXPECT_NEAR(derived, reference, tolerance) << GetParam() << ": d x'[" << row << "]/d " << k << " at trial " << trial;
+        EXPECT_NEAR(derived, reference, tolerance)
+            << GetParam() << ": d x'[" << row << "]/d " << k << " at trial " << trial;
         worst = std::max(worst, std::fabs(derived - reference) / std::max(scale, std::fabs(reference)));
       }
     }
     for (int row = 0; row < n + m; ++row)
-      EXPECT_NEAR(s.residual[static_cast<std::size_t>(row)], f0(row), 1e-10 * scale) << GetParam() << " x'[" << row << "]";
+      EXPECT_NEAR(s.residual[static_cast<std::size_t>(row)], f0(row), 1e-10 * scale)
+          << GetParam() << " x'[" << row << "]";
   }
   std::printf("[measured] %s: linearization against central differences of the KKT flow: max relative %.3g\n",
               GetParam().c_str(), worst);
@@ -593,12 +595,12 @@ TEST_P(BundleLinearization, MatchesCentralDifferencesOfTheEmittedRhs) {
 }
 
 INSTANTIATE_TEST_SUITE_P(BundleModels, BundleLinearization,
-                         ::testing::Values("free_rigid_body", "rolling_ball_bundle", "satellite_se3", "satellite_so3xr3",
-                                           "planar_swimmer"));
+                         ::testing::Values("free_rigid_body", "rolling_ball_bundle", "satellite_se3",
+                                           "satellite_so3xr3", "planar_swimmer"));
 
 INSTANTIATE_TEST_SUITE_P(GeneralAndConstrainedModels, Linearization,
-                         ::testing::Values("double_pendulum", "rigid_body_euler_zyx", "chaplygin_sleigh", "rolling_disk",
-                                           "rolling_ball", "rolling_disk_routh"));
+                         ::testing::Values("double_pendulum", "rigid_body_euler_zyx", "chaplygin_sleigh",
+                                           "rolling_disk", "rolling_ball", "rolling_disk_routh"));
 
 // Initial states and constant inputs. The ball rolls along a direction 0.6 rad from the y axis, so that its
 // ZYX Euler angle theta stays well away from the singularity ±π/2 (|sin theta| ≤ sin 0.6 from the identity).

@@ -141,7 +141,8 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
       Eigen::MatrixXd L(g, g), K(g, n);
       for (int a = 0; a < g; ++a) {
         for (int b = 0; b < g; ++b) L(a, b) = locked[static_cast<std::size_t>(a * g + b)];
-        for (int I = 0; I < n; ++I) K(a, I) = evaluate(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I)), values);
+        for (int I = 0; I < n; ++I)
+          K(a, I) = evaluate(geo.K(static_cast<unsigned>(a), static_cast<unsigned>(I)), values);
       }
       const Eigen::MatrixXd A = L.ldlt().solve(K);
       for (int a = 0; a < g; ++a)

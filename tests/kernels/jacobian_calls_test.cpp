@@ -21,9 +21,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
-#include <cmath>
 #include <fstream>
 #include <map>
 #include <random>
@@ -37,10 +37,10 @@ using KernelFn = void (*)(double, const double*, const double*, const double*, d
 
 struct Package {
   const char* name;
-  std::string yaml;         ///< model file, relative to the source folder
-  std::string cpp;          ///< the emitted package's source
-  hamel::ColumnSolve solve; ///< what it was emitted with (--jacobian-solve aba: articulated; default: smaller)
-  bool folded;              ///< emitted with --fold all
+  std::string yaml;          ///< model file, relative to the source folder
+  std::string cpp;           ///< the emitted package's source
+  hamel::ColumnSolve solve;  ///< what it was emitted with (--jacobian-solve aba: articulated; default: smaller)
+  bool folded;               ///< emitted with --fold all
   int n_state, n_inputs;
   KernelFn rhs, jacobian;
 };
@@ -71,7 +71,8 @@ void check(const Package& pkg) {
   const hamel::KernelSet emitted = hamel::build_kernels(model, d, kernels, pkg.solve);
   // The other route: the LDLᵀ of M for a package solved by the recursion, the recursion for one solved by the LDLᵀ.
   const hamel::KernelSet other = hamel::build_kernels(
-      model, d, kernels, pkg.solve == hamel::ColumnSolve::articulated ? hamel::ColumnSolve::ldlt : hamel::ColumnSolve::articulated);
+      model, d, kernels,
+      pkg.solve == hamel::ColumnSolve::articulated ? hamel::ColumnSolve::ldlt : hamel::ColumnSolve::articulated);
   // What the package was emitted from: the solve as a subroutine, called for every column (some columns twice
   // when their number is not a multiple of the columns per call).
   const hamel::Kernel& jacobian = emitted.get("jacobian");
@@ -114,28 +115,32 @@ void check(const Package& pkg) {
     worst_other = std::max(worst_other, largest_difference(J, J_other));
     worst_fd = std::max(worst_fd, largest_difference(J, J_fd));
   }
-  std::printf("%s: jacobian with calls vs the flat program %.1e, vs the columns solved the other way %.1e, vs central "
-              "differences %.1e\n",
-              pkg.name, worst_flat, worst_other, worst_fd);
+  std::printf(
+      "%s: jacobian with calls vs the flat program %.1e, vs the columns solved the other way %.1e, vs central "
+      "differences %.1e\n",
+      pkg.name, worst_flat, worst_other, worst_fd);
   EXPECT_LE(worst_flat, 1e-12);
   EXPECT_LE(worst_other, 1e-12);
   EXPECT_LE(worst_fd, 1e-7);
 }
 
 TEST(JacobianCalls, FloatingBranchedTreeMatchesFlatProgramLdltAndFiniteDifferences) {
-  check({"calls_floating", "tests/kernels/calls/calls_floating.yaml", std::string(HAMEL_CALLS_DIR) + "/calls_floating/calls_floating.cpp", hamel::ColumnSolve::articulated, false, calls_floating::n_state,
-         calls_floating::n_inputs, calls_floating::rhs, calls_floating::jacobian});
+  check({"calls_floating", "tests/kernels/calls/calls_floating.yaml",
+         std::string(HAMEL_CALLS_DIR) + "/calls_floating/calls_floating.cpp", hamel::ColumnSolve::articulated, false,
+         calls_floating::n_state, calls_floating::n_inputs, calls_floating::rhs, calls_floating::jacobian});
 }
 
 TEST(JacobianCalls, PlanarBaseWithAnOddNumberOfColumnsMatchesFlatProgramLdltAndFiniteDifferences) {
   ASSERT_EQ(calls_planar::n_state % 2, 1);
-  check({"calls_planar", "tests/kernels/calls/calls_planar.yaml", std::string(HAMEL_CALLS_DIR) + "/calls_planar/calls_planar.cpp", hamel::ColumnSolve::articulated, false, calls_planar::n_state,
-         calls_planar::n_inputs, calls_planar::rhs, calls_planar::jacobian});
+  check({"calls_planar", "tests/kernels/calls/calls_planar.yaml",
+         std::string(HAMEL_CALLS_DIR) + "/calls_planar/calls_planar.cpp", hamel::ColumnSolve::articulated, false,
+         calls_planar::n_state, calls_planar::n_inputs, calls_planar::rhs, calls_planar::jacobian});
 }
 
 TEST(JacobianCalls, FixedBaseArmUnderGravityMatchesFlatProgramLdltAndFiniteDifferences) {
-  check({"calls_fixed", "tests/kernels/calls/calls_fixed.yaml", std::string(HAMEL_CALLS_DIR) + "/calls_fixed/calls_fixed.cpp", hamel::ColumnSolve::articulated, false, calls_fixed::n_state,
-         calls_fixed::n_inputs, calls_fixed::rhs, calls_fixed::jacobian});
+  check({"calls_fixed", "tests/kernels/calls/calls_fixed.yaml",
+         std::string(HAMEL_CALLS_DIR) + "/calls_fixed/calls_fixed.cpp", hamel::ColumnSolve::articulated, false,
+         calls_fixed::n_state, calls_fixed::n_inputs, calls_fixed::rhs, calls_fixed::jacobian});
 }
 
 // The shipped space robot's package (tests/kernels, --fold all), whose default jacobian takes the LDLᵀ of M and

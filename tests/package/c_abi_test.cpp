@@ -85,13 +85,15 @@ void check(const std::string& dynamics, int split = 2000) {
     std::ofstream(dir.path() / "c_tree.yaml") << model_text;
     std::ofstream(dir.path() / "main.c") << caller;
   }
-  const Outcome e = emit((dir.path() / "c_tree.yaml").string(), "--fold none --dynamics " + dynamics + " --split " + std::to_string(split),
-                         dir.path() / "pkg");
+  const Outcome e =
+      emit((dir.path() / "c_tree.yaml").string(),
+           "--fold none --dynamics " + dynamics + " --split " + std::to_string(split), dir.path() / "pkg");
   ASSERT_EQ(e.status, 0) << e.out;
   const std::string d = quote(dir.path().string());
   const Outcome cc = run("cd " + d + " && gcc -std=c11 -Wall -Wextra -Werror -pedantic -Ipkg -c main.c -o main.o");
   ASSERT_EQ(cc.status, 0) << cc.out;
-  const Outcome cxx = run("cd " + d + " && g++ -std=c++17 -O1 -Wall -Wextra -Werror -pedantic -Ipkg -c pkg/c_tree.cpp -o pkg.o");
+  const Outcome cxx =
+      run("cd " + d + " && g++ -std=c++17 -O1 -Wall -Wextra -Werror -pedantic -Ipkg -c pkg/c_tree.cpp -o pkg.o");
   ASSERT_EQ(cxx.status, 0) << cxx.out;
   const Outcome link = run("cd " + d + " && g++ main.o pkg.o -o caller -lm && ./caller");
   ASSERT_EQ(link.status, 0) << link.out;

@@ -154,8 +154,9 @@ TEST(EmittedPackage, ReEmissionIsByteIdentical) {
     std::vector<std::string> names;
     for (const auto& e : fs::directory_iterator(a.path() / model)) names.push_back(e.path().filename().string());
     std::sort(names.begin(), names.end());
-    EXPECT_EQ(names, (std::vector<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md", std::string(model) + ".cpp",
-                                               std::string(model) + ".h", std::string(model) + ".hpp"}));
+    EXPECT_EQ(names,
+              (std::vector<std::string>{".hamel-manifest", "CMakeLists.txt", "README.md", std::string(model) + ".cpp",
+                                        std::string(model) + ".h", std::string(model) + ".hpp"}));
     for (const std::string& name : names) {
       const std::string x = slurp(a.path() / model / name);
       EXPECT_FALSE(x.empty()) << name;

@@ -63,7 +63,8 @@ TEST(PreparedParameters, GraphPassesLeaveNoParameterOnlyOperationPerCall) {
   const std::vector<int> grouped = group_invariants(g, outputs);
   const std::vector<int> frontier = parameter_frontier(g, grouped);
   std::map<int, int> replace;
-  for (std::size_t j = 0; j < frontier.size(); ++j) replace[frontier[j]] = g.input(Argument::parameter, 4 + static_cast<int>(j));
+  for (std::size_t j = 0; j < frontier.size(); ++j)
+    replace[frontier[j]] = g.input(Argument::parameter, 4 + static_cast<int>(j));
   const std::vector<int> per_call = substitute(g, grouped, replace);
 
   // No operation of the per-call program reads parameters (or constants) alone.
@@ -228,8 +229,8 @@ TEST(PreparedParameters, EmittedCEntryPointsGiveTheRhs) {
   const std::string d = quote(dir.path().string());
   const Outcome cc = run("cd " + d + " && gcc -std=c11 -Wall -Wextra -Werror -pedantic -Ipkg -c main.c -o main.o");
   ASSERT_EQ(cc.status, 0) << cc.out;
-  const Outcome cxx =
-      run("cd " + d + " && g++ -std=c++17 -O1 -Wall -Wextra -Werror -pedantic -Ipkg -c pkg/satellite_so3xr3.cpp -o pkg.o");
+  const Outcome cxx = run(
+      "cd " + d + " && g++ -std=c++17 -O1 -Wall -Wextra -Werror -pedantic -Ipkg -c pkg/satellite_so3xr3.cpp -o pkg.o");
   ASSERT_EQ(cxx.status, 0) << cxx.out;
   const Outcome link = run("cd " + d + " && g++ main.o pkg.o -o caller -lm && ./caller");
   ASSERT_EQ(link.status, 0) << link.out;

@@ -13,8 +13,8 @@
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
 
-#include "numeric/phase.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "numeric/phase.hpp"
 
 #include <hamel/runtime/dopri5.hpp>
 

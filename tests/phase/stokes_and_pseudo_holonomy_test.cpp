@@ -32,8 +32,8 @@
 #include "emit/expression_graph.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
-#include "numeric/phase.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "numeric/phase.hpp"
 
 #include <gtest/gtest.h>
 

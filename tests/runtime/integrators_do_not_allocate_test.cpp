@@ -16,7 +16,6 @@
 #include <new>
 #include <vector>
 
-#include "stiff_problems.hpp"
 #include "hamel/runtime/dop853.hpp"
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
@@ -31,6 +30,7 @@
 #include "hamel/runtime/radau5.hpp"
 #include "hamel/runtime/rk4.hpp"
 #include "hamel/runtime/status.hpp"
+#include "stiff_problems.hpp"
 
 // --- Counting global allocation functions ---------------------------------
 //

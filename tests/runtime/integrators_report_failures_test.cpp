@@ -377,11 +377,10 @@ TEST(RuntimeFailure, AdaptiveIntegratorsRejectSettingsThatMakeNoSense) {
     const char* what;
     double rtol, atol, h0, h_max;
   };
-  const Bad cases[] = {{"h_max < 0", 1e-6, 1e-8, 0.0, -0.1}, {"h_max NaN", 1e-6, 1e-8, 0.0, kNaN},
-                       {"h0 NaN", 1e-6, 1e-8, kNaN, 0.0},    {"h0 inf", 1e-6, 1e-8, kInf, 0.0},
-                       {"h0 -inf", 1e-6, 1e-8, -kInf, 0.0},  {"rtol < 0", -1e-6, 1e-8, 0.0, 0.0},
-                       {"rtol NaN", kNaN, 1e-8, 0.0, 0.0},   {"atol < 0", 1e-6, -1e-8, 0.0, 0.0},
-                       {"atol inf", 1e-6, kInf, 0.0, 0.0}};
+  const Bad cases[] = {
+      {"h_max < 0", 1e-6, 1e-8, 0.0, -0.1}, {"h_max NaN", 1e-6, 1e-8, 0.0, kNaN}, {"h0 NaN", 1e-6, 1e-8, kNaN, 0.0},
+      {"h0 inf", 1e-6, 1e-8, kInf, 0.0},    {"h0 -inf", 1e-6, 1e-8, -kInf, 0.0},  {"rtol < 0", -1e-6, 1e-8, 0.0, 0.0},
+      {"rtol NaN", kNaN, 1e-8, 0.0, 0.0},   {"atol < 0", 1e-6, -1e-8, 0.0, 0.0},  {"atol inf", 1e-6, kInf, 0.0, 0.0}};
   int observed = 0;
   auto count = [&](double, const double*) { ++observed; };
   for (const Bad& c : cases) {

@@ -290,13 +290,15 @@ TEST(RuntimeLieReference, Se3DexpBlockDiagonalKeepsItsDigitsNearAnAxis) {
       x[3 + i] = 0.8;
       x[3 + (i + 1) % 3] = 4e-7;
       x[3 + (i + 2) % 3] = 1e-7;
-      const Mat D = lie_ref::dexp(ad_from_commutators(se3_algebra(), lie_ref::vec(std::vector<double>(x.begin(), x.end()))));
+      const Mat D =
+          lie_ref::dexp(ad_from_commutators(se3_algebra(), lie_ref::vec(std::vector<double>(x.begin(), x.end()))));
       const Mat Di = lie_ref::inverse(D);
       const Mat6 D_c = SE3::dexp(x), Di_c = SE3::dexpinv(x);
       for (std::size_t k = 0; k < 3; ++k) {
         const std::size_t row = 3 + k, col = k;
         const double ref = lie_ref::to_double(D(row, col)), ref_inv = lie_ref::to_double(Di(row, col));
-        EXPECT_LE(std::abs(D_c[row * 6 + col] - ref), 1e-13 * std::abs(ref)) << "dexp(" << row << ", " << col << "), axis " << i << ", theta " << theta;
+        EXPECT_LE(std::abs(D_c[row * 6 + col] - ref), 1e-13 * std::abs(ref))
+            << "dexp(" << row << ", " << col << "), axis " << i << ", theta " << theta;
         EXPECT_LE(std::abs(Di_c[row * 6 + col] - ref_inv), 1e-13 * std::abs(ref_inv))
             << "dexp^-1(" << row << ", " << col << "), axis " << i << ", theta " << theta;
       }

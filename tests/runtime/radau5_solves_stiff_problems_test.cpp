@@ -10,11 +10,11 @@
 #include <cstdio>
 #include <vector>
 
-#include "stiff_problems.hpp"
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
 #include "hamel/runtime/radau5.hpp"
 #include "kepler_orbit.hpp"
+#include "stiff_problems.hpp"
 
 namespace {
 

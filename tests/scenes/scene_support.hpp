@@ -7,8 +7,8 @@
 #include "emit/kernels.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
-#include "numeric/integrators.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "numeric/integrators.hpp"
 
 #include <cmath>
 #include <cstdlib>

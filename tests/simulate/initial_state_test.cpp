@@ -53,7 +53,8 @@ TEST(InitialState, ModelSceneAndCommandLineOverrideInTurn) {
   spit(dir / "sleigh.yaml", sleigh);
   spit(dir / "scene.yaml", "scene: run\nmodel: sleigh.yaml\ninitial: {v: 2}\n");
   const std::string run = " --t-end 1 --tol 1e-12";
-  const std::string model = shell_quote((dir / "sleigh.yaml").string()), scene = shell_quote((dir / "scene.yaml").string());
+  const std::string model = shell_quote((dir / "sleigh.yaml").string()),
+                    scene = shell_quote((dir / "scene.yaml").string());
   struct Case {
     std::string args;
     double v;

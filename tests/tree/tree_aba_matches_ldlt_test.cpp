@@ -137,7 +137,8 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
          worst_recursive = 0, worst_linearization = 0, worst_inputs = 0;
   for (int trial = 0; trial < 5; ++trial) {
     std::vector<double> x(nx), in(forced ? static_cast<std::size_t>(n) : 0), a(nx), l(nx);
-    for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] = t.bodies[static_cast<std::size_t>(i)].prismatic ? 0.5 * u(rng) : M_PI * u(rng);
+    for (int i = 0; i < n; ++i)
+      x[static_cast<std::size_t>(i)] = t.bodies[static_cast<std::size_t>(i)].prismatic ? 0.5 * u(rng) : M_PI * u(rng);
     for (std::size_t i = static_cast<std::size_t>(n); i < nx; ++i) x[i] = 2 * u(rng);
     for (double& v : in) v = 5 * u(rng);
     fa.evaluate(0, x.data(), p.data(), in.data(), a.data());
@@ -150,15 +151,17 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     std::vector<double> ref(a.begin(), a.begin() + n);
     for (int i = 0; i < m + n; ++i) ref.push_back(static_cast<double>(r[i]));
     worst_ref = std::max(worst_ref, relative(a, ref, static_cast<std::size_t>(n)));
-    for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i) EXPECT_EQ(a[i], x[static_cast<std::size_t>(n + m) + i]);
+    for (std::size_t i = 0; i < static_cast<std::size_t>(n); ++i)
+      EXPECT_EQ(a[i], x[static_cast<std::size_t>(n + m) + i]);
     if (!jacobian) continue;
     // The forward-mode Jacobian itself (hamel::tangent on the ABA rhs program), whichever of the two
     // programs build_kernels kept for the `jacobian` kernel.
     hamel::ExpressionGraph graph = aba.kernels.graph;
     std::vector<int> forward(nx * nx);
     for (std::size_t c = 0; c < nx; ++c) {
-      const std::vector<int> column = hamel::tangent(
-          graph, aba.kernels.get("rhs").outputs, {{graph.input(hamel::Argument::state, static_cast<int>(c)), graph.constant(1)}});
+      const std::vector<int> column =
+          hamel::tangent(graph, aba.kernels.get("rhs").outputs,
+                         {{graph.input(hamel::Argument::state, static_cast<int>(c)), graph.constant(1)}});
       for (std::size_t r = 0; r < nx; ++r) forward[r * nx + c] = column[r];
     }
     hamel::GraphEvaluator ja(graph, forward), jk(aba.kernels.graph, aba.kernels.get("jacobian").outputs);
@@ -168,7 +171,8 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
     hamel::GraphEvaluator jc(chain_rule.graph, chain_rule.get("jacobian").outputs);
     std::vector<double> Jc(nx * nx), Jr(nx * nx);
     jc.evaluate(0, x.data(), p.data(), in.data(), Jc.data());
-    hamel::GraphEvaluator(recursive.graph, recursive.get("jacobian").outputs).evaluate(0, x.data(), p.data(), in.data(), Jr.data());
+    hamel::GraphEvaluator(recursive.graph, recursive.get("jacobian").outputs)
+        .evaluate(0, x.data(), p.data(), in.data(), Jr.data());
     std::vector<double> J(nx * nx), Js(nx * nx);
     ja.evaluate(0, x.data(), p.data(), in.data(), J.data());
     jl.evaluate(0, x.data(), p.data(), in.data(), Js.data());
@@ -192,10 +196,11 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   }
   std::printf("%-22s n = %2d: aba vs ldlt %.1e, vs Newton-Euler %.1e", name.c_str(), n, worst_ldlt, worst_ref);
   if (jacobian)
-    std::printf("; forward-mode jacobian vs central differences %.1e, vs analytical %.1e; kernel %.1e; "
-                "analytical vs chain rule %.1e; solved by the recursion %.1e; linearization A %.1e, B vs central "
-                "differences %.1e",
-                worst_fd, worst_sym, worst_kernel, worst_chain, worst_recursive, worst_linearization, worst_inputs);
+    std::printf(
+        "; forward-mode jacobian vs central differences %.1e, vs analytical %.1e; kernel %.1e; "
+        "analytical vs chain rule %.1e; solved by the recursion %.1e; linearization A %.1e, B vs central "
+        "differences %.1e",
+        worst_fd, worst_sym, worst_kernel, worst_chain, worst_recursive, worst_linearization, worst_inputs);
   std::printf("\n");
   EXPECT_LE(worst_ldlt, kTolerance) << name;
   EXPECT_LE(worst_ref, kTolerance) << name;
@@ -264,7 +269,8 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
     for (std::size_t r = 0; r < nx; ++r) forward[r * nx + c] = column[r];
   }
   hamel::GraphEvaluator ja(graph, forward), jk(ldlt.kernels.graph, ldlt.kernels.get("jacobian").outputs);
-  const hamel::KernelSet recursive = hamel::build_kernels(model, aba.derivation, kernels, hamel::ColumnSolve::articulated);
+  const hamel::KernelSet recursive =
+      hamel::build_kernels(model, aba.derivation, kernels, hamel::ColumnSolve::articulated);
   hamel::GraphEvaluator jr(recursive.graph, recursive.get("jacobian").outputs);
   const std::vector<double> p = tree_ref::default_parameters(model);
   std::uniform_real_distribution<double> u(-1, 1);
@@ -284,9 +290,10 @@ void check_joint_properties(std::uint64_t seed, int n, bool fixed) {
     jr.evaluate(0, x.data(), p.data(), nullptr, Jk.data());  // columns solved by the articulated recursion
     worst_recursive = std::max(worst_recursive, relative(Jk, J, 0));
   }
-  std::printf("%-22s n = %2d: aba vs ldlt %.1e; forward-mode jacobian vs central differences %.1e, vs analytical "
-              "kernel %.1e, solved by the recursion %.1e\n",
-              name.c_str(), n, worst_ldlt, worst_fd, worst_analytical, worst_recursive);
+  std::printf(
+      "%-22s n = %2d: aba vs ldlt %.1e; forward-mode jacobian vs central differences %.1e, vs analytical "
+      "kernel %.1e, solved by the recursion %.1e\n",
+      name.c_str(), n, worst_ldlt, worst_fd, worst_analytical, worst_recursive);
   EXPECT_LE(worst_ldlt, kTolerance) << name;
   EXPECT_LE(worst_fd, 1e-7) << name;
   EXPECT_LE(worst_analytical, 1e-11) << name;
@@ -392,8 +399,8 @@ TEST(ArticulatedBodyAlgorithm, LongChainJacobianSolvedByTheRecursion) {
   const hamel::KernelSet by_ldlt = hamel::build_kernels(model, built.derivation, kernels, hamel::ColumnSolve::ldlt);
   EXPECT_EQ(by_ldlt.get("jacobian").summary.find("articulated-body recursion"), std::string::npos);
   const std::size_t nx = 2 * 16 + 6;
-  hamel::GraphEvaluator f(built.kernels.graph, built.kernels.get("rhs").outputs), jk(built.kernels.graph, kernel.outputs),
-      jl(by_ldlt.graph, by_ldlt.get("jacobian").outputs);
+  hamel::GraphEvaluator f(built.kernels.graph, built.kernels.get("rhs").outputs),
+      jk(built.kernels.graph, kernel.outputs), jl(by_ldlt.graph, by_ldlt.get("jacobian").outputs);
   const std::vector<double> p = tree_ref::default_parameters(model);
   std::uniform_real_distribution<double> u(-1, 1);
   double worst_fd = 0, worst_ldlt = 0;
@@ -406,8 +413,9 @@ TEST(ArticulatedBodyAlgorithm, LongChainJacobianSolvedByTheRecursion) {
     worst_fd = std::max(worst_fd, relative(J, fd, 0));
     worst_ldlt = std::max(worst_ldlt, relative(J, Jl, 0));
   }
-  std::printf("16-joint chain: jacobian (columns by the recursion) vs central differences %.1e, vs LDL^T columns %.1e\n",
-              worst_fd, worst_ldlt);
+  std::printf(
+      "16-joint chain: jacobian (columns by the recursion) vs central differences %.1e, vs LDL^T columns %.1e\n",
+      worst_fd, worst_ldlt);
   EXPECT_LE(worst_fd, 1e-7);
   EXPECT_LE(worst_ldlt, 1e-11);
 }

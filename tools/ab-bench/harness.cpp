@@ -45,13 +45,15 @@ int check_agreement() {
         double scale = 1e-300, difference = 0;
         for (int i = 0; i < a.n_out; ++i) {
           scale = std::max(scale, std::fabs(oa[static_cast<std::size_t>(i)]));
-          difference = std::max(difference, std::fabs(oa[static_cast<std::size_t>(i)] - ob[static_cast<std::size_t>(i)]));
+          difference =
+              std::max(difference, std::fabs(oa[static_cast<std::size_t>(i)] - ob[static_cast<std::size_t>(i)]));
         }
         worst = std::max(worst, difference / scale);
         agree = difference <= TOLERANCE * scale;
       }
       if (!agree) {
-        std::fprintf(stderr, "ab-bench: kernel %s differs between " A_LABEL " and " B_LABEL " at state %d\n", a.name, s);
+        std::fprintf(stderr, "ab-bench: kernel %s differs between " A_LABEL " and " B_LABEL " at state %d\n", a.name,
+                     s);
         ++failures;
       }
     }
@@ -59,8 +61,10 @@ int check_agreement() {
   if (failures == 0 && TOLERANCE == 0)
     std::printf("ab-bench: every kernel bit-identical " A_LABEL " and " B_LABEL " on 20 random states\n");
   else if (failures == 0)
-    std::printf("ab-bench: every kernel agrees " A_LABEL " and " B_LABEL " on 20 random states, largest relative "
-                "difference %.1e\n", worst);
+    std::printf("ab-bench: every kernel agrees " A_LABEL " and " B_LABEL
+                " on 20 random states, largest relative "
+                "difference %.1e\n",
+                worst);
   return failures;
 }
 

@@ -38,8 +38,8 @@ namespace {
 struct Mj {
   mjModel* m = nullptr;
   mjData* d = nullptr;
-  int n = 0;                  // hinge joints
-  std::vector<int> qposadr;   // of q1..qn (by name: MuJoCo numbers joints depth-first)
+  int n = 0;                 // hinge joints
+  std::vector<int> qposadr;  // of q1..qn (by name: MuJoCo numbers joints depth-first)
   std::vector<int> dofadr;
 };
 
@@ -68,9 +68,15 @@ Mj load(const char* path) {
 
 void quat_to_R(const double* q, double* R) {  // row-major
   const double w = q[0], x = q[1], y = q[2], z = q[3];
-  R[0] = 1 - 2 * (y * y + z * z); R[1] = 2 * (x * y - w * z);     R[2] = 2 * (x * z + w * y);
-  R[3] = 2 * (x * y + w * z);     R[4] = 1 - 2 * (x * x + z * z); R[5] = 2 * (y * z - w * x);
-  R[6] = 2 * (x * z - w * y);     R[7] = 2 * (y * z + w * x);     R[8] = 1 - 2 * (x * x + y * y);
+  R[0] = 1 - 2 * (y * y + z * z);
+  R[1] = 2 * (x * y - w * z);
+  R[2] = 2 * (x * z + w * y);
+  R[3] = 2 * (x * y + w * z);
+  R[4] = 1 - 2 * (x * x + z * z);
+  R[5] = 2 * (y * z - w * x);
+  R[6] = 2 * (x * z - w * y);
+  R[7] = 2 * (y * z + w * x);
+  R[8] = 1 - 2 * (x * x + y * y);
 }
 
 // s: quat(4) p(3) then the hamel state x = (q(n), w(3), v(3), qdot(n)).
@@ -80,7 +86,9 @@ void set_state(Mj& s, const double* pose, const double* x) {
   quat_to_R(pose, R);
   double* qpos = s.d->qpos;
   double* qvel = s.d->qvel;
-  qpos[0] = pose[4]; qpos[1] = pose[5]; qpos[2] = pose[6];
+  qpos[0] = pose[4];
+  qpos[1] = pose[5];
+  qpos[2] = pose[6];
   for (int k = 0; k < 4; ++k) qpos[3 + k] = pose[k];
   const double* w = x + n;
   const double* v = x + n + 3;
@@ -102,8 +110,7 @@ void mujoco_acc(const Mj& s, const double* pose, const double* x, double* a) {
   const double* v = x + n + 3;
   const double wxv[3] = {w[1] * v[2] - w[2] * v[1], w[2] * v[0] - w[0] * v[2], w[0] * v[1] - w[1] * v[0]};
   for (int i = 0; i < 3; ++i) a[i] = qacc[3 + i];
-  for (int i = 0; i < 3; ++i)
-    a[3 + i] = R[i] * qacc[0] + R[3 + i] * qacc[1] + R[6 + i] * qacc[2] - wxv[i];
+  for (int i = 0; i < 3; ++i) a[3 + i] = R[i] * qacc[0] + R[3 + i] * qacc[1] + R[6 + i] * qacc[2] - wxv[i];
   for (int i = 0; i < n; ++i) a[6 + i] = qacc[s.dofadr[i]];
 }
 
@@ -179,7 +186,10 @@ std::vector<double> bench_state(int n) {
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::vector<double> r(7 + 2 * n + 6);
   double qn = 0;
-  for (int k = 0; k < 4; ++k) { r[k] = u(rng); qn += r[k] * r[k]; }
+  for (int k = 0; k < 4; ++k) {
+    r[k] = u(rng);
+    qn += r[k] * r[k];
+  }
   for (int k = 0; k < 4; ++k) r[k] /= std::sqrt(qn);
   for (size_t k = 4; k < r.size(); ++k) r[k] = u(rng);
   return r;
@@ -237,8 +247,7 @@ int main(int argc, char** argv) {
     benchmark::RegisterBenchmark("mujoco_core", BM_mujoco_core);
 #ifdef HAMEL_PKG
     benchmark::RegisterBenchmark("hamel_rhs", BM_hamel<HAMEL_PKG::rhs, HAMEL_PKG::n_out_rhs>);
-    benchmark::RegisterBenchmark("hamel_mass_matrix",
-                                 BM_hamel<HAMEL_PKG::mass_matrix, HAMEL_PKG::n_out_mass_matrix>);
+    benchmark::RegisterBenchmark("hamel_mass_matrix", BM_hamel<HAMEL_PKG::mass_matrix, HAMEL_PKG::n_out_mass_matrix>);
 #endif
     int bargc = argc - 2;
     std::vector<char*> bargv(argv + 2, argv + argc);

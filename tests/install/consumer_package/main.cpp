@@ -11,10 +11,10 @@ int main() {
   namespace dp = double_pendulum;
   const auto f = [](double t, const double* x, double* dx) { dp::rhs(t, x, dp::default_parameters, nullptr, dx); };
   double last[dp::n_state] = {};
-  const auto r = hamel::runtime::integrate_rk4(f, {0.5, -0.3, 0.0, 0.0}, 0.0, 1.0, 0.01, 0.0,
-                                               [&](double, const double* x) {
-                                                 for (int i = 0; i < dp::n_state; ++i) last[i] = x[i];
-                                               });
+  const auto r =
+      hamel::runtime::integrate_rk4(f, {0.5, -0.3, 0.0, 0.0}, 0.0, 1.0, 0.01, 0.0, [&](double, const double* x) {
+        for (int i = 0; i < dp::n_state; ++i) last[i] = x[i];
+      });
   double x[dp::n_state] = {0.5, -0.3, 0.0, 0.0};
   for (int k = 0; k < 100; ++k) dp::rk4_step(k * 0.01, 0.01, x, dp::default_parameters, nullptr);
   double worst = 0;

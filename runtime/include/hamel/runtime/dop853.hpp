@@ -153,7 +153,6 @@ constexpr double fac_min = 0.333;  // h_new / h >= 0.333
 constexpr double fac_max = 6.0;    // h_new / h <= 6
 constexpr double expo = 1.0 / 8.0;
 
-
 }  // namespace detail::dop853
 
 /// Caller-provided work space of the heap-free integrate_dop853: a non-owning view of doubles(n) doubles.
@@ -246,8 +245,8 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
 
   double h = std::fabs(opt.h0);
   if (h == 0.0 || !std::isfinite(h)) {
-    h = detail::hairer_initial_step(rhs, t, x, f[0], dir, std::min(h_limit, std::fabs(t_end - t0)),
-                        opt.atol, opt.rtol, 8, stage, f[1], n, result.stats.rhs_evals);
+    h = detail::hairer_initial_step(rhs, t, x, f[0], dir, std::min(h_limit, std::fabs(t_end - t0)), opt.atol, opt.rtol,
+                                    8, stage, f[1], n, result.stats.rhs_evals);
   }
   h = std::min(h, h_limit);
 

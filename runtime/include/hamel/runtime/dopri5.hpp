@@ -57,7 +57,6 @@ constexpr double fac_max = 10.0;  // h_new / h <= 10
 constexpr double beta = 0.04;
 constexpr double expo1 = 0.2 - beta * 0.75;
 
-
 }  // namespace detail::dopri5
 
 /// Caller-provided work space of the heap-free integrate_dopri5: a non-owning view of doubles(n) doubles.
@@ -143,8 +142,8 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
 
   double h = std::fabs(opt.h0);
   if (h == 0.0 || !std::isfinite(h)) {
-    h = detail::hairer_initial_step(rhs, t, x, k1, dir, std::min(h_limit, std::fabs(t_end - t0)),
-                        opt.atol, opt.rtol, 5, stage, k2, n, result.stats.rhs_evals);
+    h = detail::hairer_initial_step(rhs, t, x, k1, dir, std::min(h_limit, std::fabs(t_end - t0)), opt.atol, opt.rtol, 5,
+                                    stage, k2, n, result.stats.rhs_evals);
   }
   h = std::min(h, h_limit);
 

@@ -152,7 +152,7 @@ class FiniteDifferenceJacobian {
   Rhs rhs_;
   std::size_t n_;
   std::vector<double> own_;  // empty when the caller provides the work space
-  double* work_ = nullptr;  // the caller's work space, or null for own_
+  double* work_ = nullptr;   // the caller's work space, or null for own_
   long evals_ = 0;
 };
 

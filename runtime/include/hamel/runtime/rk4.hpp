@@ -169,8 +169,8 @@ template <class Rhs, class Observer>
 IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h, double sample_dt,
                                 Observer&& observe) {
   std::vector<double> work(Rk4Workspace::doubles(x.size()));
-  const IntegrationOutcome outcome = integrate_rk4(rhs, x.data(), x.size(), t0, t_end, h, sample_dt, observe,
-                                                   Rk4Workspace{work.data(), work.size()});
+  const IntegrationOutcome outcome =
+      integrate_rk4(rhs, x.data(), x.size(), t0, t_end, h, sample_dt, observe, Rk4Workspace{work.data(), work.size()});
   return detail::to_result(outcome, std::move(x));
 }
 

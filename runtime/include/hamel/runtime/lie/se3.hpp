@@ -139,7 +139,7 @@ struct SE3 {
       const std::size_t j1 = (i + 1) % 3, j2 = (i + 2) % 3;
       for (std::size_t j = 0; j < 3; ++j) {
         const double sym = i == j ? -2.0 * (w[j1] * v[j1] + w[j2] * v[j2]) : v[i] * w[j] + w[i] * v[j];  // W V + V W
-        const double w2 = i == j ? -(w[j1] * w[j1] + w[j2] * w[j2]) : w[i] * w[j];                        // W^2
+        const double w2 = i == j ? -(w[j1] * w[j1] + w[j2] * w[j2]) : w[i] * w[j];                       // W^2
         L[i * 3 + j] = p * V[i * 3 + j] + q * sym + r * W[i * 3 + j] + s * w2;
       }
     }

@@ -1,11 +1,12 @@
 #!/usr/bin/env bash
 # Installs the Debian packages hamel needs to build and test (skips what is already installed).
 set -euo pipefail
-# clang is installed for the generated-package tests (they build emitted code with g++ and clang++).
+# clang is installed for the generated-package tests (they build emitted code with g++ and clang++); clang-format
+# for the test that the sources follow .clang-format (tools/check-format.sh).
 # With --fuzz it also installs libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only).
 # `hamel import` links urdfdom (URDF) and MuJoCo (MJCF); its tests read MuJoCo's sample humanoid.
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libgtest-dev
-          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang liburdfdom-dev libmujoco-dev libmujoco-samples)
+          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang clang-format liburdfdom-dev libmujoco-dev libmujoco-samples)
 # With --scaling it also installs the peers of the scaling benchmark (tools/scaling.sh): SymPy, numpy,
 # matplotlib, MuJoCo and Google Benchmark.
 if [ "${1:-}" = "--fuzz" ]; then

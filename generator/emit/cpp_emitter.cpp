@@ -179,8 +179,8 @@ std::string argument_voids(const bool uses[4]) {
 // Where a printed kernel's outputs go: the arrays its signature takes (head_of), the shape in its comment, and output
 // o's target.
 struct Destination {
-  std::vector<std::string>
-      arrays;  ///< the arrays it writes, its parameters after (t, x, p, in): out, or out and a second
+  /// The arrays it writes, its parameters after (t, x, p, in): out, or out and a second.
+  std::vector<std::string> arrays;
   std::string shape;
   std::function<std::string(std::size_t)> target;
   /// A split kernel's parts write the outputs they compute; false: the kernel copies them all at its end.
@@ -721,8 +721,8 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
     column.output_names.push_back(k.output_names[static_cast<std::size_t>(r)] + " (first call)");
   Destination placed = to_out(column);
   placed.target = [&offset](std::size_t r) { return "out[" + std::to_string(offset[r]) + "]"; };
-  placed.outputs_in_parts =
-      false;  // measured: tree 30's jacobian ran a third slower with its calls' parts writing out[]
+  // Measured: tree 30's jacobian ran a third slower with its calls' parts writing out[].
+  placed.outputs_in_parts = false;
   placed.lanes = static_cast<int>(sub.lanes);
   placed.internal = true;
   placed.shape = "out[" + std::to_string(*std::max_element(offset.begin(), offset.end()) + 1) + "], " +
@@ -1241,8 +1241,8 @@ std::string PackageWriter::header() const {
   if (has_rhs)
     h << "\n"
       << "/// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the\n"
-      << "/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at (t, x, p), "
-         "or\n"
+      << "/// mass matrix (or an articulated inertia of the recursive solve) is not positive definite at "
+         "(t, x, p), or\n"
       << "/// 2 when a result is not finite. n_pivots_rhs pivots are checked (0: M inverted at generation time).\n"
       << "constexpr int n_pivots_rhs = " << kernels.rhs_pivots.size() << ";\n"
       << "int rhs_status(real t, const real* x, const real* p, const real* in, real* out);\n";

@@ -62,8 +62,7 @@ int check_agreement() {
     std::printf("ab-bench: every kernel bit-identical " A_LABEL " and " B_LABEL " on 20 random states\n");
   else if (failures == 0)
     std::printf("ab-bench: every kernel agrees " A_LABEL " and " B_LABEL
-                " on 20 random states, largest relative "
-                "difference %.1e\n",
+                " on 20 random states, largest relative difference %.1e\n",
                 worst);
   return failures;
 }

@@ -403,146 +403,181 @@ PlannedParts fewer_passed(const ExpressionGraph& g, const std::vector<int>& stat
 
 // Kernel k's outputs as one function, or a long one as parts called in turn. With `reads`, the values of earlier
 // stages it reads are taken from their arrays (extra parameters of the function and of its parts), not computed.
-PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
-                           const StageReads* reads = nullptr) {
-  std::vector<char> given;
-  if (reads) {
-    given.assign(static_cast<std::size_t>(g.size()), 0);
-    for (const auto& entry : reads->value) given[static_cast<std::size_t>(entry.first)] = 1;
+// One printer per kernel: the constructor sorts the program into leaves (written in place) and statements, and
+// plans the parts of a long kernel; print() writes the function, or its parts and the function that calls them.
+class KernelPrinter {
+ public:
+  KernelPrinter(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
+                const StageReads* reads);
+  PrintedKernel print();
+
+ private:
+  PrintedKernel print_whole(std::ostringstream& os);
+  PrintedKernel print_parts(std::ostringstream& os);
+
+  // A leaf as the lane being printed reads it: the program's x[k] is x[k·lanes + lane].
+  std::string leaf_of(int i) const {
+    const Node& n = g_.node(i);
+    if (lanes_ == 1 || n.op != Op::input || n.argument != Argument::state) return leaf_.at(i);
+    return "x[" + std::to_string(n.index * lanes_ + lane_) + "]";
   }
-  const std::vector<int> order = g.schedule(k.outputs, given);
-  const std::string head = head_of(d, k.name, reads);
-  const auto& target = d.target;
-  const int lanes = d.lanes;
-  int lane = 0;  // the lane being printed
-  // Leaves (constants, arguments and values read from stages) are written in place; every other node is a statement.
-  std::map<int, std::string> leaf;
-  std::vector<int> statements;
-  bool uses[4] = {false, false, false, false};
-  for (int i : order) {
+  // Runs `print` once for every lane, lane_ set to it.
+  template <class F>
+  void each_lane(F print) {
+    for (lane_ = 0; lane_ < lanes_; ++lane_) print();
+    lane_ = 0;
+  }
+  bool is_given(int i) const { return reads_ && given_[static_cast<std::size_t>(i)]; }
+  // Every statement not printed inside another gets a local w<n>, numbered in statement order.
+  void name_locals(const std::vector<char>& inside) {
+    for (int i : statements_)
+      if (!inside[static_cast<std::size_t>(i)]) named_.emplace(i, static_cast<int>(named_.size()));
+  }
+  std::string local(int i) const {
+    return "w" + std::to_string(named_.at(i)) + (lanes_ > 1 ? "_" + std::to_string(lane_) : std::string());
+  }
+  std::size_t in_lane(std::size_t o) const {
+    return o * static_cast<std::size_t>(lanes_) + static_cast<std::size_t>(lane_);
+  }
+  std::string output_target(std::size_t o) const { return d_.target(in_lane(o)); }
+  const std::string& output_name(std::size_t o) const { return k_.output_names[in_lane(o)]; }
+  // An output a stage it called wrote to out[] already (SharingPlan::Stage::layout) is not written again.
+  bool written(std::size_t o) const { return reads_ && o < reads_->written.size() && reads_->written[o]; }
+
+  const ExpressionGraph& g_;
+  const Kernel& k_;
+  const Sizes& s_;
+  const Destination& d_;
+  const StageReads* reads_;
+  std::vector<char> given_;  ///< by node: a value read from a stage's array
+  std::string head_;
+  int lanes_;
+  int lane_ = 0;                                 ///< the lane being printed
+  std::map<int, std::string> leaf_;              ///< constants, arguments and values read from stages
+  std::vector<int> statements_;                  ///< every other node, in the order printed
+  bool uses_[4] = {false, false, false, false};  ///< t, x, p, in
+  int part_size_ = 0;                            ///< statements of one lane in a part; 0: never split
+  std::optional<Parts> split_;                   ///< planned with the order, when the kernel is split
+  OpCounts counts_;
+  int work_ = 0;              ///< statements
+  std::map<int, int> index_;  ///< statement node -> its position
+  std::vector<char> output_;  ///< by node: an output of the kernel
+  std::map<int, int> named_;  ///< statement node with a local of its own -> n, its local w<n>
+};
+
+KernelPrinter::KernelPrinter(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
+                             const StageReads* reads)
+    : g_(g), k_(k), s_(s), d_(d), reads_(reads), head_(head_of(d, k.name, reads)), lanes_(d.lanes) {
+  if (reads) {
+    given_.assign(static_cast<std::size_t>(g.size()), 0);
+    for (const auto& entry : reads->value) given_[static_cast<std::size_t>(entry.first)] = 1;
+  }
+  for (int i : g.schedule(k.outputs, given_)) {
     const Node& n = g.node(i);
-    if (reads && given[static_cast<std::size_t>(i)]) {
-      leaf[i] = stage_value(reads->value.at(i));
+    if (is_given(i)) {
+      leaf_[i] = stage_value(reads->value.at(i));
     } else if (n.op == Op::constant) {
-      leaf[i] = literal(n.value);
+      leaf_[i] = literal(n.value);
     } else if (n.op == Op::input) {
-      uses[static_cast<int>(n.argument)] = true;
-      leaf[i] = n.argument == Argument::time
-                    ? std::string("t")
-                    : std::string(argument_name(n.argument)) + "[" + std::to_string(n.index) + "]";
+      uses_[static_cast<int>(n.argument)] = true;
+      leaf_[i] = n.argument == Argument::time
+                     ? std::string("t")
+                     : std::string(argument_name(n.argument)) + "[" + std::to_string(n.index) + "]";
     } else {
-      statements.push_back(i);
+      statements_.push_back(i);
     }
   }
-  const int part_size = s.split > 0 ? std::max(1, s.split / lanes) : s.split;  // statements of one lane
-  std::optional<Parts> split;  // planned with the order, when the kernel is split
-  if (part_size > 0 && static_cast<int>(statements.size()) > part_size) {
-    PlannedParts chosen = fewer_passed(g, statements, k.outputs, given, leaf, d.outputs_in_parts, part_size);
-    statements = std::move(chosen.statements);
-    split = std::move(chosen.plan);
+  part_size_ = s.split > 0 ? std::max(1, s.split / lanes_) : s.split;
+  if (part_size_ > 0 && static_cast<int>(statements_.size()) > part_size_) {
+    PlannedParts chosen = fewer_passed(g, statements_, k.outputs, given_, leaf_, d.outputs_in_parts, part_size_);
+    statements_ = std::move(chosen.statements);
+    split_ = std::move(chosen.plan);
   }
-  const OpCounts c = OpCounts{}.add_times(lanes, g.count(statements));
-  const int work = static_cast<int>(statements.size());
-  // A leaf as lane `lane` reads it: the program's x[k] is x[k·lanes + lane].
-  const auto leaf_of = [&](int i) {
-    const Node& n = g.node(i);
-    if (lanes == 1 || n.op != Op::input || n.argument != Argument::state) return leaf.at(i);
-    return "x[" + std::to_string(n.index * lanes + lane) + "]";
-  };
-  const auto each_lane = [&](const std::function<void()>& print) {
-    for (lane = 0; lane < lanes; ++lane) print();
-    lane = 0;
-  };
-  std::map<int, int> index;  // statement node -> its position
-  for (int w = 0; w < work; ++w) index[statements[static_cast<std::size_t>(w)]] = w;
-  std::vector<char> output(static_cast<std::size_t>(g.size()), 0);
-  for (int o : k.outputs) output[static_cast<std::size_t>(o)] = 1;
-  std::map<int, int> named;  // statement node with a local of its own -> n, its local w<n>
-  const auto name_locals = [&](const std::vector<char>& inside) {
-    for (int i : statements)
-      if (!inside[static_cast<std::size_t>(i)]) named.emplace(i, static_cast<int>(named.size()));
-  };
-  const auto local = [&](int i) {
-    return "w" + std::to_string(named.at(i)) + (lanes > 1 ? "_" + std::to_string(lane) : std::string());
-  };
-  const auto in_lane = [&](std::size_t o) {
-    return o * static_cast<std::size_t>(lanes) + static_cast<std::size_t>(lane);
-  };
-  const auto output_target = [&](std::size_t o) { return target(in_lane(o)); };
-  const auto output_name = [&](std::size_t o) { return k.output_names[in_lane(o)]; };
-  // An output a stage it called wrote to out[] already (SharingPlan::Stage::layout) is not written again.
-  const auto written = [&](std::size_t o) { return reads && o < reads->written.size() && reads->written[o]; };
+  counts_ = OpCounts{}.add_times(lanes_, g.count(statements_));
+  work_ = static_cast<int>(statements_.size());
+  for (int w = 0; w < work_; ++w) index_[statements_[static_cast<std::size_t>(w)]] = w;
+  output_.assign(static_cast<std::size_t>(g.size()), 0);
+  for (int o : k.outputs) output_[static_cast<std::size_t>(o)] = 1;
+}
 
+PrintedKernel KernelPrinter::print() {
   std::ostringstream os;
-  os << kernel_comment(k, s, d.shape, "", c);
-  if (part_size <= 0 || work <= part_size) {
-    std::ostringstream body;
-    std::set<std::string> read;
-    const auto name_of = [&](int i) {
-      if (reads && given[static_cast<std::size_t>(i)]) read.insert(value_array(reads->value.at(i)));
-      return leaf.count(i) ? leaf_of(i) : local(i);
-    };
-    const std::vector<char> inside = printed_inside(g, statements, output, [](int, int) { return true; });
-    name_locals(inside);
-    for (int i : statements)
-      if (!inside[static_cast<std::size_t>(i)])
-        each_lane(
-            [&] { body << "  const real " << local(i) << " = " << statement_text(g, i, inside, name_of) << ";\n"; });
-    std::set<std::string> wrote;  // the arrays of `d` it writes
-    for (std::size_t o = 0; o < k.outputs.size(); ++o)
-      if (!written(o))
-        each_lane([&] {
-          const std::string to = output_target(o);
-          wrote.insert(to.substr(0, to.find('[')));
-          body << "  " << to << " = " << name_of(k.outputs[o]) << ";  // " << output_name(o) << "\n";
-        });
-    os << out_of_line(d.internal, work * lanes + static_cast<int>(k.outputs.size()) * lanes) << head << " {\n"
-       << argument_voids(uses) << stage_voids(d, reads, read);
-    for (const std::string& a : d.arrays)
-      if (!wrote.count(a)) os << "  (void)" << a << ";\n";
-    os << body.str() << "}\n";
-    return {k.name, os.str(), work * lanes, c};
-  }
+  os << kernel_comment(k_, s_, d_.shape, "", counts_);
+  return split_ ? print_parts(os) : print_whole(os);
+}
 
-  const Parts& plan = *split;
+// One function: a local per statement not printed inside another, then the outputs.
+PrintedKernel KernelPrinter::print_whole(std::ostringstream& os) {
+  std::ostringstream body;
+  std::set<std::string> read;
+  const auto name_of = [&](int i) {
+    if (is_given(i)) read.insert(value_array(reads_->value.at(i)));
+    return leaf_.count(i) ? leaf_of(i) : local(i);
+  };
+  const std::vector<char> inside = printed_inside(g_, statements_, output_, [](int, int) { return true; });
+  name_locals(inside);
+  for (int i : statements_)
+    if (!inside[static_cast<std::size_t>(i)])
+      each_lane(
+          [&] { body << "  const real " << local(i) << " = " << statement_text(g_, i, inside, name_of) << ";\n"; });
+  std::set<std::string> wrote;  // the arrays of `d` it writes
+  for (std::size_t o = 0; o < k_.outputs.size(); ++o)
+    if (!written(o))
+      each_lane([&] {
+        const std::string to = output_target(o);
+        wrote.insert(to.substr(0, to.find('[')));
+        body << "  " << to << " = " << name_of(k_.outputs[o]) << ";  // " << output_name(o) << "\n";
+      });
+  os << out_of_line(d_.internal, work_ * lanes_ + static_cast<int>(k_.outputs.size()) * lanes_) << head_ << " {\n"
+     << argument_voids(uses_) << stage_voids(d_, reads_, read);
+  for (const std::string& a : d_.arrays)
+    if (!wrote.count(a)) os << "  (void)" << a << ";\n";
+  os << body.str() << "}\n";
+  return {k_.name, os.str(), work_ * lanes_, counts_};
+}
+
+// The parts, each a function of the kernel's statements between two part boundaries, passing values in v[]; then
+// the function that calls them (and the copies of the outputs no part writes).
+PrintedKernel KernelPrinter::print_parts(std::ostringstream& os) {
+  const Parts& plan = *split_;
   const std::vector<int>& start = plan.start;
   const std::map<int, int>& slot = plan.slot;
   const int parts = static_cast<int>(start.size()), n_slots = plan.n_slots;
-  const auto part_of = [&](int i) { return plan.part_at(index.at(i)); };
-  const auto end_of = [&](int part) { return part + 1 < parts ? start[static_cast<std::size_t>(part) + 1] : work; };
-  const auto passed = [&](int i) { return "v[" + std::to_string(slot.at(i) * lanes + lane) + "]"; };
-  const std::vector<char> inside =
-      printed_inside(g, statements, output, [&](int value, int reader) { return part_of(value) == part_of(reader); });
+  const auto part_of = [&](int i) { return plan.part_at(index_.at(i)); };
+  const auto end_of = [&](int part) { return part + 1 < parts ? start[static_cast<std::size_t>(part) + 1] : work_; };
+  const auto passed = [&](int i) { return "v[" + std::to_string(slot.at(i) * lanes_ + lane_) + "]"; };
+  const std::vector<char> inside = printed_inside(
+      g_, statements_, output_, [&](int value, int reader) { return part_of(value) == part_of(reader); });
   name_locals(inside);
   // An output a statement computes is written by the part that computes it, right after it: no slot of v[] unless
   // a later part reads it too, and no copy at the end. The kernel itself writes the outputs that are leaves.
   std::map<int, std::vector<std::size_t>> gives;  // statement node -> the outputs it is
-  for (std::size_t o = 0; o < k.outputs.size(); ++o)
-    if (!leaf.count(k.outputs[o]) && d.outputs_in_parts) gives[k.outputs[o]].push_back(o);
+  for (std::size_t o = 0; o < k_.outputs.size(); ++o)
+    if (!leaf_.count(k_.outputs[o]) && d_.outputs_in_parts) gives[k_.outputs[o]].push_back(o);
   // Part `number` of the kernel: (t, x, p, in, v, its arrays, the stage arrays), voiding what it does not use.
   const auto print_part = [&](int number, bool kept_out_of_line, const bool part_uses[4],
                               const std::set<std::string>& read, const std::set<std::string>& wrote,
                               const std::string& body) {
     std::string voids;
-    for (const std::string& a : d.arrays)
+    for (const std::string& a : d_.arrays)
       if (!wrote.count(a)) voids += "  (void)" + a + ";\n";
     if (!wrote.count("v")) voids += "  (void)v;\n";
-    Destination with_v = d;  // a part also gets v[]
+    Destination with_v = d_;  // a part also gets v[]
     with_v.arrays.insert(with_v.arrays.begin(), "v");
     os << out_of_line(kept_out_of_line, out_of_line_statements)
-       << head_of(with_v, k.name + "_part" + std::to_string(number), reads) << " {\n"
-       << argument_voids(part_uses) << voids << stage_voids(d, reads, read) << body << "}\n\n";
+       << head_of(with_v, k_.name + "_part" + std::to_string(number), reads_) << " {\n"
+       << argument_voids(part_uses) << voids << stage_voids(d_, reads_, read) << body << "}\n\n";
   };
   // Node i in a part that does not compute it: a leaf, or the value passed in v[]; noting what the part uses
   // (arguments, stage arrays read, and v among the arrays it writes, read or written).
   const auto outside = [&](int i, bool part_uses[4], std::set<std::string>& read, std::set<std::string>& wrote) {
-    if (!leaf.count(i)) {
+    if (!leaf_.count(i)) {
       wrote.insert("v");
       return passed(i);
     }
-    const Node& n = g.node(i);
-    if (reads && given[static_cast<std::size_t>(i)])
-      read.insert(value_array(reads->value.at(i)));
+    const Node& n = g_.node(i);
+    if (is_given(i))
+      read.insert(value_array(reads_->value.at(i)));
     else if (n.op == Op::input)
       part_uses[static_cast<int>(n.argument)] = true;
     return leaf_of(i);
@@ -554,13 +589,13 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
     std::set<std::string> read;
     std::set<std::string> wrote;  // arrays it uses: v (read or written), out, ... (written)
     const auto name_of = [&](int i) {
-      return !leaf.count(i) && part_of(i) == part ? local(i) : outside(i, part_uses, read, wrote);
+      return !leaf_.count(i) && part_of(i) == part ? local(i) : outside(i, part_uses, read, wrote);
     };
     for (int w = start[static_cast<std::size_t>(part)]; w < end_of(part); ++w) {
-      const int i = statements[static_cast<std::size_t>(w)];
+      const int i = statements_[static_cast<std::size_t>(w)];
       if (inside[static_cast<std::size_t>(i)]) continue;
       each_lane(
-          [&] { body << "  const real " << local(i) << " = " << statement_text(g, i, inside, name_of) << ";\n"; });
+          [&] { body << "  const real " << local(i) << " = " << statement_text(g_, i, inside, name_of) << ";\n"; });
       if (slot.count(i)) {
         each_lane([&] { body << "  " << passed(i) << " = " << local(i) << ";\n"; });
         wrote.insert("v");
@@ -583,17 +618,17 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   // 0.2-0.4 s in functions of 25-250 (docs/benchmarks.md). Those parts are never inlined: g++ would glue them
   // back. Fewer copies stay in the kernel (a Jacobian column's 72), where a call would cost more than they do.
   std::vector<std::pair<std::size_t, int>> copies;  // output, lane
-  for (std::size_t o = 0; o < k.outputs.size(); ++o)
-    if ((leaf.count(k.outputs[o]) || !d.outputs_in_parts) && !written(o))
-      each_lane([&] { copies.emplace_back(o, lane); });
+  for (std::size_t o = 0; o < k_.outputs.size(); ++o)
+    if ((leaf_.count(k_.outputs[o]) || !d_.outputs_in_parts) && !written(o))
+      each_lane([&] { copies.emplace_back(o, lane_); });
   const auto copy = [&](const std::pair<std::size_t, int>& c, bool part_uses[4], std::set<std::string>& read,
                         std::set<std::string>& wrote) {
-    lane = c.second;
+    lane_ = c.second;
     const std::string to = output_target(c.first);
     wrote.insert(to.substr(0, to.find('[')));
-    const std::string text = "  " + to + " = " + outside(k.outputs[c.first], part_uses, read, wrote) + ";  // " +
+    const std::string text = "  " + to + " = " + outside(k_.outputs[c.first], part_uses, read, wrote) + ";  // " +
                              output_name(c.first) + "\n";
-    lane = 0;
+    lane_ = 0;
     return text;
   };
   std::string driver_copies;
@@ -617,14 +652,19 @@ PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Size
   const std::string v = n_slots > 0 ? "v" : "nullptr";
   std::ostringstream calls;
   for (int part = 0; part < parts + copy_parts; ++part)
-    calls << "  " << k.name << "_part" << part << "(t, x, p, in, " << v << array_arguments(d)
-          << stage_arguments(d, reads) << ");\n";
+    calls << "  " << k_.name << "_part" << part << "(t, x, p, in, " << v << array_arguments(d_)
+          << stage_arguments(d_, reads_) << ");\n";
   const int driver_statements = parts + copy_parts + (copy_parts ? 0 : static_cast<int>(copies.size()));
   os << "}  // namespace\n\n"
-     << out_of_line(d.internal, driver_statements) << head << " {\n"
-     << (n_slots > 0 ? "  real v[" + std::to_string(n_slots * lanes) + "];\n" : std::string()) << calls.str()
+     << out_of_line(d_.internal, driver_statements) << head_ << " {\n"
+     << (n_slots > 0 ? "  real v[" + std::to_string(n_slots * lanes_) + "];\n" : std::string()) << calls.str()
      << driver_copies << "}\n";
-  return {k.name, os.str(), (work + n_slots) * lanes, c, parts + copy_parts};
+  return {k_.name, os.str(), (work_ + n_slots) * lanes_, counts_, parts + copy_parts};
+}
+
+PrintedKernel print_kernel(const ExpressionGraph& g, const Kernel& k, const Sizes& s, const Destination& d,
+                           const StageReads* reads = nullptr) {
+  return KernelPrinter(g, k, s, d, reads).print();
 }
 
 // Where a Subroutine's calls leave their results: the subroutine writes them into out[] itself, at the offsets of

@@ -205,26 +205,10 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
                                     const Dop853Options& opt, double sample_dt, Observer&& observe,
                                     Dop853Workspace work) {
   namespace k = detail::dop853;
-  IntegrationOutcome result;
-  result.t = t0;
-  auto finish = [&](Status status) {
-    result.status = status;
-    return result;
-  };
-
-  if (!detail::buffers_fit(x, n, work.data, work.size, Dop853Workspace::doubles(n)) ||
-      !detail::adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max)) {
-    return finish(Status::invalid_argument);
+  detail::AdaptiveSteps<Dop853Options> steps(t0, t_end, opt);
+  if (!steps.start(x, n, work.data, work.size, Dop853Workspace::doubles(n), observe)) {
+    return steps.result;
   }
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
-    return finish(Status::non_finite_state);
-  }
-  observe(t0, x);
-  if (t_end == t0) {
-    return finish(Status::ok);
-  }
-  const double dir = t_end > t0 ? 1.0 : -1.0;
-  const double h_limit = opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity();
 
   // The work space: 16 stage derivatives, the stage argument, the new state,
   // the dense output terms r1..r7 and a sample.
@@ -236,23 +220,12 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
   for (int m = 1; m < 8; ++m) r[m] = x_new + static_cast<std::size_t>(m) * n;
   double* sample = r[7] + n;
 
-  double t = t0;
-  rhs(t, x, f[0]);
-  ++result.stats.rhs_evals;
-  if (!all_finite(f[0], n)) {
-    return finish(Status::non_finite_state);
+  if (!steps.first_derivative(rhs, x, f[0], n)) {
+    return steps.result;
   }
-
-  double h = std::fabs(opt.h0);
-  if (h == 0.0 || !std::isfinite(h)) {
-    h = detail::hairer_initial_step(rhs, t, x, f[0], dir, std::min(h_limit, std::fabs(t_end - t0)), opt.atol, opt.rtol,
-                                    8, stage, f[1], n, result.stats.rhs_evals);
-  }
-  h = std::min(h, h_limit);
+  steps.first_step(rhs, x, f[0], 8, stage, f[1], n);
 
   detail::SampleClock clock(t0, t_end, sample_dt);
-  bool rejected_last = false;    // no growth right after a rejection
-  bool non_finite_last = false;  // the last rejection came from NaN/Inf, not from the error
   const double inv_n = n > 0 ? 1.0 / static_cast<double>(n) : 0.0;
 
   // Stage s from the stages before it: stage = x + hs * sum_j a[s][j] f[j],
@@ -267,25 +240,12 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
       }
     }
     rhs(t_stage, stage, f[s]);
-    ++result.stats.rhs_evals;
+    ++steps.result.stats.rhs_evals;
     return all_finite(f[s], n);
   };
 
-  for (;;) {
-    if (result.stats.steps + result.stats.rejected >= opt.max_steps) {
-      return finish(Status::too_many_steps);
-    }
-    if (!(h >= detail::min_step(t))) {
-      return finish(non_finite_last ? Status::non_finite_state : Status::step_size_underflow);
-    }
-    // Stretch or shrink the step to hit t_end exactly rather than leave a sliver.
-    bool last = false;
-    if ((t + 1.01 * dir * h - t_end) * dir > 0) {
-      h = std::fabs(t_end - t);
-      last = true;
-    }
-    const double hs = dir * h;
-    const double t_next = last ? t_end : t + hs;
+  while (steps.begin_attempt()) {
+    const double t = steps.t, hs = steps.hs, t_next = steps.t_next;
 
     bool finite = true;
     for (int s = 1; s < k::kStepStages && finite; ++s) {
@@ -311,7 +271,7 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
       // err5 and err3 are sums of squares here; the combination is dop853.f's.
       double deno = err5 + 0.01 * err3;
       if (deno <= 0.0) deno = 1.0;
-      err = h * err5 * std::sqrt(inv_n / deno);
+      err = steps.h * err5 * std::sqrt(inv_n / deno);
       finite = std::isfinite(err) && all_finite(x_new, n);
     }
 
@@ -319,16 +279,13 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
     if (finite) {
       fac11 = std::pow(err, k::expo);
       if (err > 1.0) {
-        ++result.stats.rejected;
-        rejected_last = true;
-        non_finite_last = false;
-        h /= std::min(1.0 / k::fac_min, fac11 / k::safety);
+        steps.reject(std::min(1.0 / k::fac_min, fac11 / k::safety));
         continue;
       }
       // The step is good; the derivative at its end (the next first stage) and,
       // if samples fall inside it, the extra stages must be finite as well.
       rhs(t_next, x_new, f[k::kStepStages]);
-      ++result.stats.rhs_evals;
+      ++steps.result.stats.rhs_evals;
       finite = all_finite(f[k::kStepStages], n);
     }
     const bool sample_due = clock.due(t_next);
@@ -338,21 +295,11 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
       }
     }
     if (!finite) {
-      // Most likely the step left the region where the model is defined
-      // (or overflowed); a shorter step may stay inside it.
-      ++result.stats.rejected;
-      rejected_last = true;
-      non_finite_last = true;
-      h *= k::fac_min;
+      steps.reject_non_finite(k::fac_min);
       continue;
     }
 
-    double fac = std::clamp(fac11 / k::safety, 1.0 / k::fac_max, 1.0 / k::fac_min);
-    double h_new = std::min(h / fac, h_limit);
-    if (rejected_last) {
-      h_new = std::min(h_new, h);
-    }
-    ++result.stats.steps;
+    const double h_new = steps.next_step(std::clamp(fac11 / k::safety, 1.0 / k::fac_max, 1.0 / k::fac_min));
 
     if (sample_due) {
       // Continuous extension of dop853.f:
@@ -385,20 +332,12 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
       }
     }
 
-    std::copy(x_new, x_new + n, x);
-    std::swap(f[0], f[k::kStepStages]);
-    t = t_next;
-    result.t = t;
-    if (!clock.enabled() || last) {
-      observe(t, x);
+    std::swap(f[0], f[k::kStepStages]);  // first same as last
+    if (!steps.accept(x, x_new, n, h_new, clock.enabled(), observe)) {
+      break;
     }
-    if (last) {
-      return finish(Status::ok);
-    }
-    h = h_new;
-    rejected_last = false;
-    non_finite_last = false;
   }
+  return steps.result;
 }
 
 /// Convenience form of integrate_dop853: the work space is allocated once, before the first step, and
@@ -406,10 +345,10 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
 template <class Rhs, class Observer>
 IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dop853Options& opt,
                                    double sample_dt, Observer&& observe) {
-  std::vector<double> work(Dop853Workspace::doubles(x.size()));
-  const IntegrationOutcome outcome = integrate_dop853(rhs, x.data(), x.size(), t0, t_end, opt, sample_dt, observe,
-                                                      Dop853Workspace{work.data(), work.size()});
-  return detail::to_result(outcome, std::move(x));
+  return detail::run_with_allocated_work<Dop853Workspace>(
+      std::move(x), [&](double* xs, std::size_t n, Dop853Workspace w) {
+        return integrate_dop853(rhs, xs, n, t0, t_end, opt, sample_dt, observe, w);
+      });
 }
 
 }  // namespace hamel::runtime

@@ -98,26 +98,10 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
                                     const Dopri5Options& opt, double sample_dt, Observer&& observe,
                                     Dopri5Workspace work) {
   namespace k = detail::dopri5;
-  IntegrationOutcome result;
-  result.t = t0;
-  auto finish = [&](Status status) {
-    result.status = status;
-    return result;
-  };
-
-  if (!detail::buffers_fit(x, n, work.data, work.size, Dopri5Workspace::doubles(n)) ||
-      !detail::adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max)) {
-    return finish(Status::invalid_argument);
+  detail::AdaptiveSteps<Dopri5Options> steps(t0, t_end, opt);
+  if (!steps.start(x, n, work.data, work.size, Dopri5Workspace::doubles(n), observe)) {
+    return steps.result;
   }
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
-    return finish(Status::non_finite_state);
-  }
-  observe(t0, x);
-  if (t_end == t0) {
-    return finish(Status::ok);
-  }
-  const double dir = t_end > t0 ? 1.0 : -1.0;
-  const double h_limit = opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity();
 
   // Pointers into the work space are swapped, not data.
   double* k1 = work.data;
@@ -133,47 +117,23 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
   double* r5 = r4 + n;
   double* sample = r5 + n;
 
-  double t = t0;
-  rhs(t, x, k1);
-  ++result.stats.rhs_evals;
-  if (!all_finite(k1, n)) {
-    return finish(Status::non_finite_state);
+  if (!steps.first_derivative(rhs, x, k1, n)) {
+    return steps.result;
   }
-
-  double h = std::fabs(opt.h0);
-  if (h == 0.0 || !std::isfinite(h)) {
-    h = detail::hairer_initial_step(rhs, t, x, k1, dir, std::min(h_limit, std::fabs(t_end - t0)), opt.atol, opt.rtol, 5,
-                                    stage, k2, n, result.stats.rhs_evals);
-  }
-  h = std::min(h, h_limit);
+  steps.first_step(rhs, x, k1, 5, stage, k2, n);
 
   detail::SampleClock clock(t0, t_end, sample_dt);
   double fac_old = 1e-4;
-  bool rejected_last = false;    // no growth right after a rejection
-  bool non_finite_last = false;  // the last rejection came from NaN/Inf, not from the error
   const double inv_n = n > 0 ? 1.0 / static_cast<double>(n) : 0.0;
 
-  for (;;) {
-    if (result.stats.steps + result.stats.rejected >= opt.max_steps) {
-      return finish(Status::too_many_steps);
-    }
-    if (!(h >= detail::min_step(t))) {
-      return finish(non_finite_last ? Status::non_finite_state : Status::step_size_underflow);
-    }
-    // Stretch or shrink the step to hit t_end exactly rather than leave a sliver.
-    bool last = false;
-    if ((t + 1.01 * dir * h - t_end) * dir > 0) {
-      h = std::fabs(t_end - t);
-      last = true;
-    }
-    const double hs = dir * h;
-    const double t_next = last ? t_end : t + hs;
+  while (steps.begin_attempt()) {
+    const double t = steps.t, hs = steps.hs, t_next = steps.t_next;
 
     // Stages 2..7; a non-finite derivative aborts the attempt early.
     bool finite = true;
     auto eval = [&](double ts, const double* in, double* out) {
       rhs(ts, in, out);
-      ++result.stats.rhs_evals;
+      ++steps.result.stats.rhs_evals;
       finite = all_finite(out, n);
       return finite;
     };
@@ -214,69 +174,49 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
       finite = std::isfinite(err);
     }
     if (!finite) {
-      // Most likely the step left the region where the model is defined
-      // (or overflowed); a shorter step may stay inside it.
-      ++result.stats.rejected;
-      rejected_last = true;
-      non_finite_last = true;
-      h *= k::fac_min;
+      steps.reject_non_finite(k::fac_min);
+      continue;
+    }
+    const double fac11 = std::pow(err, k::expo1);
+    if (err > 1.0) {
+      steps.reject(std::min(1.0 / k::fac_min, fac11 / k::safety));
       continue;
     }
 
-    const double fac11 = std::pow(err, k::expo1);
-    if (err <= 1.0) {
-      // Lund stabilisation: the previous error damps the growth (PI control).
-      double fac = fac11 / std::pow(fac_old, k::beta);
-      fac = std::clamp(fac / k::safety, 1.0 / k::fac_max, 1.0 / k::fac_min);
-      double h_new = std::min(h / fac, h_limit);
-      if (rejected_last) {
-        h_new = std::min(h_new, h);
-      }
-      fac_old = std::max(err, 1e-4);
-      ++result.stats.steps;
+    // Lund stabilisation: the previous error damps the growth (PI control).
+    double fac = fac11 / std::pow(fac_old, k::beta);
+    fac = std::clamp(fac / k::safety, 1.0 / k::fac_max, 1.0 / k::fac_min);
+    const double h_new = steps.next_step(fac);
+    fac_old = std::max(err, 1e-4);
 
-      if (clock.due(t_next)) {
-        // Dense output of dopri5.f: x + theta*(dx + (1-theta)*(bspl + theta*(r4 + (1-theta)*r5))),
-        // with r3 = bspl kept in k2, whose stage value is not needed any more.
-        double* bspl = k2;
+    if (clock.due(t_next)) {
+      // Dense output of dopri5.f: x + theta*(dx + (1-theta)*(bspl + theta*(r4 + (1-theta)*r5))),
+      // with r3 = bspl kept in k2, whose stage value is not needed any more.
+      double* bspl = k2;
+      for (std::size_t i = 0; i < n; ++i) {
+        const double dx = x_new[i] - x[i];
+        bspl[i] = hs * k1[i] - dx;
+        r4[i] = dx - hs * k7[i] - bspl[i];
+        r5[i] = hs * (k::d1 * k1[i] + k::d3 * k3[i] + k::d4 * k4[i] + k::d5 * k5[i] + k::d6 * k6[i] + k::d7 * k7[i]);
+      }
+      while (clock.due(t_next)) {
+        const double s = clock.next();
+        const double theta = (s - t) / hs;
+        const double theta1 = 1.0 - theta;
         for (std::size_t i = 0; i < n; ++i) {
-          const double dx = x_new[i] - x[i];
-          bspl[i] = hs * k1[i] - dx;
-          r4[i] = dx - hs * k7[i] - bspl[i];
-          r5[i] = hs * (k::d1 * k1[i] + k::d3 * k3[i] + k::d4 * k4[i] + k::d5 * k5[i] + k::d6 * k6[i] + k::d7 * k7[i]);
+          sample[i] = x[i] + theta * ((x_new[i] - x[i]) + theta1 * (bspl[i] + theta * (r4[i] + theta1 * r5[i])));
         }
-        while (clock.due(t_next)) {
-          const double s = clock.next();
-          const double theta = (s - t) / hs;
-          const double theta1 = 1.0 - theta;
-          for (std::size_t i = 0; i < n; ++i) {
-            sample[i] = x[i] + theta * ((x_new[i] - x[i]) + theta1 * (bspl[i] + theta * (r4[i] + theta1 * r5[i])));
-          }
-          observe(s, sample);
-          clock.advance();
-        }
+        observe(s, sample);
+        clock.advance();
       }
+    }
 
-      std::copy(x_new, x_new + n, x);
-      std::swap(k1, k7);
-      t = t_next;
-      result.t = t;
-      if (!clock.enabled() || last) {
-        observe(t, x);
-      }
-      if (last) {
-        return finish(Status::ok);
-      }
-      h = h_new;
-      rejected_last = false;
-      non_finite_last = false;
-    } else {
-      ++result.stats.rejected;
-      rejected_last = true;
-      non_finite_last = false;
-      h /= std::min(1.0 / k::fac_min, fac11 / k::safety);
+    std::swap(k1, k7);  // first same as last
+    if (!steps.accept(x, x_new, n, h_new, clock.enabled(), observe)) {
+      break;
     }
   }
+  return steps.result;
 }
 
 /// Convenience form of integrate_dopri5: the work space is allocated once, before the first step, and
@@ -284,10 +224,10 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
 template <class Rhs, class Observer>
 IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dopri5Options& opt,
                                    double sample_dt, Observer&& observe) {
-  std::vector<double> work(Dopri5Workspace::doubles(x.size()));
-  const IntegrationOutcome outcome = integrate_dopri5(rhs, x.data(), x.size(), t0, t_end, opt, sample_dt, observe,
-                                                      Dopri5Workspace{work.data(), work.size()});
-  return detail::to_result(outcome, std::move(x));
+  return detail::run_with_allocated_work<Dopri5Workspace>(
+      std::move(x), [&](double* xs, std::size_t n, Dopri5Workspace w) {
+        return integrate_dopri5(rhs, xs, n, t0, t_end, opt, sample_dt, observe, w);
+      });
 }
 
 }  // namespace hamel::runtime

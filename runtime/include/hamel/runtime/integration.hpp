@@ -205,5 +205,150 @@ class SampleClock {
   double k_ = 1.0;  // a double so that absurdly many samples cannot overflow an integer
 };
 
+/// The step bookkeeping the explicit adaptive integrators share (integrate_dopri5, integrate_dop853): the checks
+/// before any work, the first derivative and step, where every attempt ends (t_end exactly, never a sliver short of
+/// it), rejections, the step after an accepted one and the end of an accepted step. A method adds its stages, its
+/// error estimate, its controller and its dense output. `Options` has rtol, atol, h0, h_max and max_steps.
+template <class Options>
+struct AdaptiveSteps {
+  AdaptiveSteps(double t0_, double t_end_, const Options& opt_)
+      : opt(opt_),
+        t0(t0_),
+        t_end(t_end_),
+        dir(t_end_ > t0_ ? 1.0 : -1.0),
+        h_limit(opt_.h_max > 0 ? opt_.h_max : std::numeric_limits<double>::infinity()),
+        t(t0_) {
+    result.t = t0_;
+  }
+
+  /// The run ends with `status` (result.t: the last accepted time); false, for `return` at once.
+  bool end(Status status) {
+    result.status = status;
+    return false;
+  }
+
+  /// The checks before any work, then the observation of t0: false when the run ends there, invalid_argument for
+  /// settings that make no sense or buffers (x, and `size` doubles of work where `needed` are required) that do not
+  /// fit, non_finite_state for a non-finite t0, t_end or state, ok when t_end == t0.
+  template <class Observer>
+  bool start(const double* x, std::size_t n, const double* work, std::size_t size, std::size_t needed,
+             Observer& observe) {
+    if (!buffers_fit(x, n, work, size, needed) || !adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max)) {
+      return end(Status::invalid_argument);
+    }
+    if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
+      return end(Status::non_finite_state);
+    }
+    observe(t0, x);
+    return t_end == t0 ? end(Status::ok) : true;
+  }
+
+  /// f0 = rhs(t0, x), counted; false (non_finite_state) when it is not finite.
+  template <class Rhs>
+  bool first_derivative(Rhs& rhs, const double* x, double* f0, std::size_t n) {
+    rhs(t, x, f0);
+    ++result.stats.rhs_evals;
+    return all_finite(f0, n) ? true : end(Status::non_finite_state);
+  }
+
+  /// The first step: |opt.h0|, or when that is 0 Hairer's choice for a method of order `order` (x1 and f1 are work
+  /// space), at most h_limit.
+  template <class Rhs>
+  void first_step(Rhs& rhs, const double* x, const double* f0, int order, double* x1, double* f1, std::size_t n) {
+    h = std::fabs(opt.h0);
+    if (h == 0.0 || !std::isfinite(h)) {
+      h = hairer_initial_step(rhs, t, x, f0, dir, std::min(h_limit, std::fabs(t_end - t0)), opt.atol, opt.rtol, order,
+                              x1, f1, n, result.stats.rhs_evals);
+    }
+    h = std::min(h, h_limit);
+  }
+
+  /// Before an attempt: false when the run ends, too_many_steps after opt.max_steps attempts, step_size_underflow
+  /// once h is below min_step (non_finite_state when non-finite values caused the last rejection). Otherwise the
+  /// attempt's signed step hs, its end t_next and whether it is the last: a step that would end short of t_end by
+  /// less than 1 % of itself, or beyond t_end, is stretched or shrunk to end there exactly.
+  bool begin_attempt() {
+    if (result.stats.steps + result.stats.rejected >= opt.max_steps) {
+      return end(Status::too_many_steps);
+    }
+    if (!(h >= min_step(t))) {
+      return end(non_finite_last ? Status::non_finite_state : Status::step_size_underflow);
+    }
+    last = false;
+    if ((t + 1.01 * dir * h - t_end) * dir > 0) {
+      h = std::fabs(t_end - t);
+      last = true;
+    }
+    hs = dir * h;
+    t_next = last ? t_end : t + hs;
+    return true;
+  }
+
+  /// An attempt that met NaN or Inf (most likely the step left the region where the model is defined, or
+  /// overflowed; a shorter one may stay inside it): rejected, the next attempt `shrink` times as long.
+  void reject_non_finite(double shrink) {
+    ++result.stats.rejected;
+    rejected_last = true;
+    non_finite_last = true;
+    h *= shrink;
+  }
+
+  /// An attempt whose error is too large: rejected, the next attempt's step h / divisor.
+  void reject(double divisor) {
+    ++result.stats.rejected;
+    rejected_last = true;
+    non_finite_last = false;
+    h /= divisor;
+  }
+
+  /// The step after this accepted one: h / fac, at most h_limit, and right after a rejection no longer than h.
+  double next_step(double fac) const {
+    const double h_new = std::min(h / fac, h_limit);
+    return rejected_last ? std::min(h_new, h) : h_new;
+  }
+
+  /// Ends an accepted attempt: x = x_new at t_next, observed there unless samples are observed instead
+  /// (`sampling`) and it is not t_end; the next attempt has step h_new. False when that was the last (status ok).
+  template <class Observer>
+  bool accept(double* x, const double* x_new, std::size_t n, double h_new, bool sampling, Observer& observe) {
+    ++result.stats.steps;
+    std::copy(x_new, x_new + n, x);
+    t = t_next;
+    result.t = t;
+    if (!sampling || last) {
+      observe(t, x);
+    }
+    if (last) {
+      return end(Status::ok);
+    }
+    h = h_new;
+    rejected_last = false;
+    non_finite_last = false;
+    return true;
+  }
+
+  const Options& opt;
+  const double t0, t_end;
+  const double dir;      ///< +1 forward in time, -1 backward
+  const double h_limit;  ///< the largest step
+  IntegrationOutcome result;
+  double t;                      ///< the last accepted time
+  double h = 0.0;                ///< the next attempt's step (unsigned)
+  double hs = 0.0;               ///< this attempt's signed step
+  double t_next = 0.0;           ///< where it ends
+  bool last = false;             ///< it ends at t_end
+  bool rejected_last = false;    ///< no growth right after a rejection
+  bool non_finite_last = false;  ///< the last rejection came from NaN/Inf, not from the error
+};
+
+/// A vector overload's run: the work space of `Workspace` allocated once, before the first step, then the heap-free
+/// form `run(x, n, work)`; the final state is returned in the result's vector, bit-identical to the heap-free form.
+template <class Workspace, class Run>
+IntegrationResult run_with_allocated_work(std::vector<double> x, Run&& run) {
+  std::vector<double> work(Workspace::doubles(x.size()));
+  const IntegrationOutcome outcome = run(x.data(), x.size(), Workspace{work.data(), work.size()});
+  return to_result(outcome, std::move(x));
+}
+
 }  // namespace detail
 }  // namespace hamel::runtime

@@ -456,11 +456,9 @@ class KernelPrinter {
   std::map<int, std::string> leaf_;              ///< constants, arguments and values read from stages
   std::vector<int> statements_;                  ///< every other node, in the order printed
   bool uses_[4] = {false, false, false, false};  ///< t, x, p, in
-  int part_size_ = 0;                            ///< statements of one lane in a part; 0: never split
   std::optional<Parts> split_;                   ///< planned with the order, when the kernel is split
   OpCounts counts_;
   int work_ = 0;              ///< statements
-  std::map<int, int> index_;  ///< statement node -> its position
   std::vector<char> output_;  ///< by node: an output of the kernel
   std::map<int, int> named_;  ///< statement node with a local of its own -> n, its local w<n>
 };
@@ -487,15 +485,14 @@ KernelPrinter::KernelPrinter(const ExpressionGraph& g, const Kernel& k, const Si
       statements_.push_back(i);
     }
   }
-  part_size_ = s.split > 0 ? std::max(1, s.split / lanes_) : s.split;
-  if (part_size_ > 0 && static_cast<int>(statements_.size()) > part_size_) {
-    PlannedParts chosen = fewer_passed(g, statements_, k.outputs, given_, leaf_, d.outputs_in_parts, part_size_);
+  const int part_size = s.split > 0 ? std::max(1, s.split / lanes_) : s.split;  // statements of one lane
+  if (part_size > 0 && static_cast<int>(statements_.size()) > part_size) {
+    PlannedParts chosen = fewer_passed(g, statements_, k.outputs, given_, leaf_, d.outputs_in_parts, part_size);
     statements_ = std::move(chosen.statements);
     split_ = std::move(chosen.plan);
   }
   counts_ = OpCounts{}.add_times(lanes_, g.count(statements_));
   work_ = static_cast<int>(statements_.size());
-  for (int w = 0; w < work_; ++w) index_[statements_[static_cast<std::size_t>(w)]] = w;
   output_.assign(static_cast<std::size_t>(g.size()), 0);
   for (int o : k.outputs) output_[static_cast<std::size_t>(o)] = 1;
 }
@@ -543,7 +540,9 @@ PrintedKernel KernelPrinter::print_parts(std::ostringstream& os) {
   const std::vector<int>& start = plan.start;
   const std::map<int, int>& slot = plan.slot;
   const int parts = static_cast<int>(start.size()), n_slots = plan.n_slots;
-  const auto part_of = [&](int i) { return plan.part_at(index_.at(i)); };
+  std::map<int, int> index;  // statement node -> its position
+  for (int w = 0; w < work_; ++w) index[statements_[static_cast<std::size_t>(w)]] = w;
+  const auto part_of = [&](int i) { return plan.part_at(index.at(i)); };
   const auto end_of = [&](int part) { return part + 1 < parts ? start[static_cast<std::size_t>(part) + 1] : work_; };
   const auto passed = [&](int i) { return "v[" + std::to_string(slot.at(i) * lanes_ + lane_) + "]"; };
   const std::vector<char> inside = printed_inside(

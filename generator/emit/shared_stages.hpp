@@ -1,7 +1,7 @@
 // Work that several kernels of a package have in common, printed once. The kernels of a model share one
-// expression graph (value numbering), so the same statements reach several of them: on the 30-joint chain, rhs and
-// jacobian both hold the 16 000 statements of the articulated-body recursion, and mass_matrix, connection,
-// locked_inertia, shape_inertia and jacobian the same composite inertias. Printed per kernel, the package held and
+// expression graph (value numbering), so the same statements reach several of them: on the 30-joint chain with
+// `--jacobian-solve ldlt`, rhs and jacobian both hold the 13 500 statements of the articulated-body recursion, and
+// mass_matrix, connection, locked_inertia, shape_inertia and jacobian the same composite inertias. Printed per kernel, the package held and
 // compiled that work once per kernel. A *shared stage* is such common work as a function of its own: every kernel
 // that needs it calls it before its own work, and it leaves the values later work reads in an array (its exports).
 // This is common-subexpression elimination across the kernels of a package, printed as calls; each kernel still
@@ -16,7 +16,7 @@
 //
 // What it costs: every caller of a stage writes all its exports to memory, also those only other kernels read, and
 // reads them back. A stage of many statements per export (rhs's articulated-body recursion, which the jacobian
-// reuses: 16 000 statements, 74 exports on the 30-joint chain) costs nothing measurable; one of a few statements
+// reuses with `--jacobian-solve ldlt`: 13 500 statements, 190 exports on the 30-joint chain) costs nothing measurable; one of a few statements
 // per export (the composite inertias that mass_matrix, connection and shape_inertia read, 7 per export) made those
 // kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio`. Two things make a stage cheaper for its callers:
 // a kernel that would read few of a stage's exports (`min_read`) does not call it but computes that work itself, as

@@ -1,11 +1,11 @@
 // Work that several kernels of a package have in common, printed once. The kernels of a model share one
 // expression graph (value numbering), so the same statements reach several of them: on the 30-joint chain with
 // `--jacobian-solve ldlt`, rhs and jacobian both hold the 13 500 statements of the articulated-body recursion, and
-// mass_matrix, connection, locked_inertia, shape_inertia and jacobian the same composite inertias. Printed per kernel, the package held and
-// compiled that work once per kernel. A *shared stage* is such common work as a function of its own: every kernel
-// that needs it calls it before its own work, and it leaves the values later work reads in an array (its exports).
-// This is common-subexpression elimination across the kernels of a package, printed as calls; each kernel still
-// computes everything it needs in one call of it.
+// mass_matrix, connection, locked_inertia, shape_inertia and jacobian the same composite inertias. Printed per kernel,
+// the package held and compiled that work once per kernel. A *shared stage* is such common work as a function of its
+// own: every kernel that needs it calls it before its own work, and it leaves the values later work reads in an array
+// (its exports). This is common-subexpression elimination across the kernels of a package, printed as calls; each
+// kernel still computes everything it needs in one call of it.
 //
 // Which work: every statement (a node that is neither a constant nor an argument) is used by the set of kernels
 // whose outputs reach it. The statements used by one same set of two or more kernels form a class; a class of at
@@ -16,13 +16,13 @@
 //
 // What it costs: every caller of a stage writes all its exports to memory, also those only other kernels read, and
 // reads them back. A stage of many statements per export (rhs's articulated-body recursion, which the jacobian
-// reuses with `--jacobian-solve ldlt`: 13 500 statements, 190 exports on the 30-joint chain) costs nothing measurable; one of a few statements
-// per export (the composite inertias that mass_matrix, connection and shape_inertia read, 7 per export) made those
-// kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio`. Two things make a stage cheaper for its callers:
-// a kernel that would read few of a stage's exports (`min_read`) does not call it but computes that work itself, as
-// without stages (a kernel "using" statements, for the classes, means calling their stage); and a stage writes the
-// outputs of one of its callers straight into that caller's out[] (Stage::layout), so that the caller does not copy
-// them out of the stage's array (the 30-joint chain's mass_matrix: every one of its 1 296 outputs).
+// reuses with `--jacobian-solve ldlt`: 13 500 statements, 190 exports on the 30-joint chain) costs nothing measurable;
+// one of a few statements per export (the composite inertias that mass_matrix, connection and shape_inertia read, 7 per
+// export) made those kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio`. Two things make a stage cheaper
+// for its callers: a kernel that would read few of a stage's exports (`min_read`) does not call it but computes that
+// work itself, as without stages (a kernel "using" statements, for the classes, means calling their stage); and a stage
+// writes the outputs of one of its callers straight into that caller's out[] (Stage::layout), so that the caller does
+// not copy them out of the stage's array (the 30-joint chain's mass_matrix: every one of its 1 296 outputs).
 #pragma once
 
 #include "emit/expression_graph.hpp"

@@ -22,6 +22,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -156,6 +157,490 @@ class FiniteDifferenceJacobian {
   long evals_ = 0;
 };
 
+namespace detail::radau5 {
+
+/// One run of integrate_radau5 (documented there): its settings, work space and step-control state, with one method
+/// per part of a step attempt. operator() runs it.
+template <class Rhs, class Jac, class Observer>
+class Run {
+ public:
+  Run(Rhs& rhs, Jac& jac, double* x, std::size_t n, double t0, double t_end, const Radau5Options& opt, double sample_dt,
+      Observer& observe, Radau5Workspace work)
+      : rhs_(rhs),
+        jac_(jac),
+        observe_(observe),
+        opt_(opt),
+        work_(work),
+        x_(x),
+        n_(n),
+        n3_(3 * n),
+        t0_(t0),
+        t_end_(t_end),
+        span_(t_end - t0),
+        dir_(span_ > 0 ? 1.0 : -1.0),
+        fixed_(opt.fixed_step > 0),
+        h_limit_(opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity()),
+        nit_(std::max(1, opt.max_newton_iterations)),
+        rtol_(std::max(opt.rtol, 1e-13)),
+        atol_(opt.atol),
+        // Newton stopping threshold of radau5.f, relative to the error weights: a few percent of the tolerance, but
+        // no less than rounding can deliver.
+        fnewt_(std::max(10.0 * 0.5 * eps / rtol_, std::min(0.03, std::sqrt(rtol_)))),
+        inv_n_(n > 0 ? 1.0 / static_cast<double>(n) : 0.0),
+        inv_n3_(n > 0 ? 1.0 / static_cast<double>(3 * n) : 0.0),
+        clock_(t0, t_end, sample_dt) {
+    result_.t = t0;
+  }
+
+  IntegrationOutcome operator()() {
+    if (start() == Next::stop) return result_;
+    for (;;) {
+      Next next = plan_attempt();
+      if (next == Next::proceed) next = prepare_matrices();
+      if (next == Next::proceed) next = attempt();
+      if (next == Next::stop) return result_;
+    }
+  }
+
+ private:
+  static constexpr double eps = std::numeric_limits<double>::epsilon();
+  enum class Failure { none, non_finite, newton };
+  /// What a part of the run leaves to the loop: go on with this attempt, make the next one, or return the result.
+  enum class Next { proceed, again, stop };
+
+  Next stop(Status status) {
+    result_.status = status;
+    return Next::stop;
+  }
+
+  // The checks before any work, the first observation, the work space, the first derivative and the first step.
+  Next start() {
+    if (!detail::buffers_fit(x_, n_, work_.data, work_.size, Radau5Workspace::doubles(n_)) ||
+        (work_.pivots == nullptr && Radau5Workspace::ints(n_) > 0) || work_.pivot_count < Radau5Workspace::ints(n_) ||
+        !detail::adaptive_settings_valid(opt_.rtol, opt_.atol, opt_.h0, opt_.h_max) || !(opt_.fixed_step >= 0)) {
+      return stop(Status::invalid_argument);
+    }
+    if (!std::isfinite(t0_) || !std::isfinite(t_end_) || !all_finite(x_, n_)) {
+      return stop(Status::non_finite_state);
+    }
+    if (fixed_) {
+      if (const Status grid = detail::fixed_step_count(t0_, t_end_, opt_.fixed_step, count_); grid != Status::ok) {
+        return stop(grid);
+      }
+    }
+    observe_(t0_, x_);
+    if (span_ == 0.0) {
+      return stop(Status::ok);
+    }
+    J_ = work_.data;
+    M_ = J_ + n_ * n_;
+    E_ = M_ + n3_ * n3_;
+    Z_ = E_ + n_ * n_;
+    F_ = Z_ + n3_;
+    dZ_ = F_ + n3_;
+    cont_ = dZ_ + n3_;
+    f0_ = cont_ + n3_;
+    f_new_ = f0_ + n_;
+    scal_ = f_new_ + n_;
+    stage_ = scal_ + n_;
+    err_vec_ = stage_ + n_;
+    sample_ = err_vec_ + n_;
+    piv_M_ = work_.pivots;
+    piv_E_ = piv_M_ + n3_;
+
+    t_ = t0_;
+    rhs_(t_, x_, f0_);
+    ++result_.stats.rhs_evals;
+    if (!all_finite(f0_, n_)) {
+      return stop(Status::non_finite_state);
+    }
+    update_scal();
+    h_fixed_ = fixed_ ? std::fabs(span_) / static_cast<double>(count_) : 0.0;
+    h_ = fixed_ ? h_fixed_ : std::fabs(opt_.h0);
+    if (h_ == 0.0 || !std::isfinite(h_)) {
+      h_ = 1e-6;
+    }
+    h_ = std::min({h_, h_limit_, std::fabs(span_)});
+    return Next::proceed;
+  }
+
+  void update_scal() {
+    for (std::size_t i = 0; i < n_; ++i) scal_[i] = atol_ + rtol_ * std::fabs(x_[i]);
+  }
+
+  // The limits on the run, and where this attempt ends.
+  Next plan_attempt() {
+    if (result_.stats.steps + result_.stats.rejected >= opt_.max_steps) {
+      return stop(Status::too_many_steps);
+    }
+    if (!(h_ >= detail::min_step(t_))) {
+      return stop(last_failure_ == Failure::non_finite ? Status::non_finite_state
+                  : last_failure_ == Failure::newton   ? Status::newton_failure
+                                                       : Status::step_size_underflow);
+    }
+    last_ = false;
+    if (fixed_) {
+      // As in rk4.hpp: step ends from t0 + i*h, so the grid does not drift.
+      const long i = result_.stats.steps + 1;
+      last_ = i == count_;
+      t_next_ = last_ ? t_end_ : t0_ + dir_ * static_cast<double>(i) * h_fixed_;
+    } else {
+      // Stretch or shrink the step to hit t_end exactly rather than leave a sliver.
+      if ((t_ + 1.01 * dir_ * h_ - t_end_) * dir_ > 0) {
+        h_ = std::fabs(t_end_ - t_);
+        last_ = true;
+      }
+      t_next_ = last_ ? t_end_ : t_ + dir_ * h_;
+    }
+    hs_ = fixed_ ? t_next_ - t_ : dir_ * h_;
+    // In fixed-step mode the grid's rounding must not force a new LU per step: the matrices use the nominal step
+    // (they need only approximate I - h A J).
+    h_mat_ = fixed_ ? dir_ * h_fixed_ : hs_;
+    return Next::proceed;
+  }
+
+  // J when it is due, and the LU factors of I - h (A (x) J) and I - h gamma0 J when J or the step changed.
+  Next prepare_matrices() {
+    if (need_jac_) {
+      jac_(t_, x_, J_);
+      ++result_.stats.jac_evals;
+      if (!all_finite(J_, n_ * n_)) {
+        return stop(Status::non_finite_state);
+      }
+      need_jac_ = false;
+      jac_current_ = true;
+      jac_unproven_ = true;
+      h_lu_ = 0.0;
+    }
+    if (h_mat_ == h_lu_) return Next::proceed;
+    for (std::size_t p = 0; p < 3; ++p) {
+      for (std::size_t i = 0; i < n_; ++i) {
+        double* row = M_ + (p * n_ + i) * n3_;
+        for (std::size_t q = 0; q < 3; ++q) {
+          const double w = -h_mat_ * a[p][q];
+          for (std::size_t j = 0; j < n_; ++j) row[q * n_ + j] = w * J_[i * n_ + j];
+        }
+        row[p * n_ + i] += 1.0;
+      }
+    }
+    for (std::size_t i = 0; i < n_ * n_; ++i) E_[i] = -h_mat_ * gamma0 * J_[i];
+    for (std::size_t i = 0; i < n_; ++i) E_[i * n_ + i] += 1.0;
+    ++result_.stats.lu_decompositions;
+    const bool ok = lu_factor(M_, piv_M_, static_cast<int>(n3_)) && lu_factor(E_, piv_E_, static_cast<int>(n_));
+    if (ok) {
+      h_lu_ = h_mat_;
+      return Next::proceed;
+    }
+    h_lu_ = 0.0;
+    ++result_.stats.rejected;
+    reject_ = true;
+    last_failure_ = Failure::newton;
+    if (fixed_ || ++singular_ >= max_singular) {
+      return stop(Status::newton_failure);
+    }
+    h_ *= 0.5;
+    if (!jac_current_) need_jac_ = true;
+    return Next::again;
+  }
+
+  // Starting values: the last collocation polynomial extrapolated to the new nodes,
+  // cont(s) = x + s (cont1 + (s - c2 + 1) (cont2 + (s - c1 + 1) cont3)) with s measured in units of the old step from
+  // its end; zero before.
+  void starting_values() {
+    if (!have_cont_) {
+      std::fill(Z_, Z_ + n3_, 0.0);
+      return;
+    }
+    const double ratio = hs_ / h_old_;
+    for (std::size_t p = 0; p < 3; ++p) {
+      const double s = c[p] * ratio;
+      for (std::size_t i = 0; i < n_; ++i) {
+        Z_[p * n_ + i] = s * (cont_[i] + (s - c2 + 1.0) * (cont_[n_ + i] + (s - c1 + 1.0) * cont_[2 * n_ + i]));
+      }
+    }
+  }
+
+  // Simplified Newton iteration (radau5.f's convergence control): Z, newt_ and theta_, and h_factor_ after a failure.
+  Failure newton() {
+    h_factor_ = 0.5;  // step reduction after a Newton failure
+    faccon_ = std::pow(std::max(faccon_, eps), 0.8);
+    theta_ = thet;
+    double dyno_old = 0.0;
+    double thq_old = 0.0;
+    newt_ = 0;
+    for (;;) {
+      if (newt_ >= nit_) return Failure::newton;
+      for (std::size_t p = 0; p < 3; ++p) {
+        for (std::size_t i = 0; i < n_; ++i) stage_[i] = x_[i] + Z_[p * n_ + i];
+        rhs_(p == 2 ? t_next_ : t_ + c[p] * hs_, stage_, F_ + p * n_);
+        ++result_.stats.rhs_evals;
+        if (!all_finite(F_ + p * n_, n_)) return Failure::non_finite;
+      }
+      // dZ solves (I - h A (x) J) dZ = -Z + h (A (x) I) F.
+      for (std::size_t p = 0; p < 3; ++p) {
+        for (std::size_t i = 0; i < n_; ++i) {
+          dZ_[p * n_ + i] = -Z_[p * n_ + i] + hs_ * (a[p][0] * F_[i] + a[p][1] * F_[n_ + i] + a[p][2] * F_[2 * n_ + i]);
+        }
+      }
+      lu_solve(M_, piv_M_, dZ_, static_cast<int>(n3_));
+      ++newt_;
+      double dyno = 0.0;
+      for (std::size_t p = 0; p < 3; ++p) {
+        for (std::size_t i = 0; i < n_; ++i) {
+          const double q = dZ_[p * n_ + i] / scal_[i];
+          dyno += q * q;
+        }
+      }
+      dyno = std::sqrt(dyno * inv_n3_);
+      if (!std::isfinite(dyno)) return Failure::non_finite;
+      if (newt_ > 1) {
+        const double thq = dyno / dyno_old;
+        theta_ = newt_ == 2 ? thq : std::sqrt(thq * thq_old);
+        thq_old = thq;
+        if (!(theta_ < 0.99)) return Failure::newton;  // diverging
+        faccon_ = theta_ / (1.0 - theta_);
+        if (newt_ < nit_) {
+          // Predicted size of the remaining error after the iterations still allowed.
+          const double dyth = faccon_ * dyno * std::pow(theta_, nit_ - 1 - newt_) / fnewt_;
+          if (dyth >= 1.0) {
+            const double qnewt = std::clamp(dyth, 1e-4, 20.0);
+            h_factor_ = 0.8 * std::pow(qnewt, -1.0 / (4.0 + nit_ - 1 - newt_));
+            return Failure::newton;
+          }
+        }
+      }
+      dyno_old = std::max(dyno, eps);
+      for (std::size_t i = 0; i < n3_; ++i) Z_[i] += dZ_[i];
+      // radau5.f's test, plus two safeguards for stopping after one iteration, when faccon is inherited from earlier
+      // steps rather than measured:
+      // - a new Jacobian must first show contraction over two iterations: a grossly wrong J makes I - h A J huge and
+      //   every increment tiny, which the inherited estimate would take for convergence (silently wrong results,
+      //   seen in the tests);
+      // - the increment itself must be within the tolerance (dyno <= 1): an estimate inherited from steps where
+      //   theta was at rounding level otherwise certifies a large first correction after the step has grown
+      //   eightfold (seen on the Kepler orbit at rtol = 1e-3: a 300x tol global error instead of 5x). Measured cost:
+      //   < 1% more evaluations.
+      const bool may_stop = newt_ >= 2 || nit_ < 2 || (!jac_unproven_ && dyno <= 1.0);
+      if (may_stop && faccon_ * dyno <= fnewt_) return Failure::none;
+    }
+  }
+
+  // The error estimate with the derivative f_start at the step start, in the RMS norm of the error weights.
+  double estimate(const double* f_start) {
+    for (std::size_t i = 0; i < n_; ++i) {
+      err_vec_[i] = gamma0 * (hs_ * f_start[i] + dd[0] * Z_[i] + dd[1] * Z_[n_ + i] + dd[2] * Z_[2 * n_ + i]);
+    }
+    lu_solve(E_, piv_E_, err_vec_, static_cast<int>(n_));
+    double sum = 0.0;
+    for (std::size_t i = 0; i < n_; ++i) sum += (err_vec_[i] / scal_[i]) * (err_vec_[i] / scal_[i]);
+    return std::max(std::sqrt(sum * inv_n_), 1e-10);
+  }
+
+  // One attempt from the prepared matrices: the Newton iteration, the new state x_new (in stage_), its error and its
+  // derivative (in f_new_); then rejected, or accepted.
+  Next attempt() {
+    starting_values();
+    Failure failure = newton();
+    if (failure == Failure::none) {
+      if (newt_ >= 2) jac_unproven_ = false;
+      for (std::size_t i = 0; i < n_; ++i) stage_[i] = x_[i] + Z_[2 * n_ + i];  // x_new (stiffly accurate)
+      if (!all_finite(stage_, n_)) failure = Failure::non_finite;
+    }
+    double err = 0.0;
+    if (failure == Failure::none && !fixed_) {
+      err = estimate(f0_);
+      if (err >= 1.0 && (first_ || reject_)) {
+        // err_vec + x stands in for the unknown stiff part of the solution.
+        for (std::size_t i = 0; i < n_; ++i) err_vec_[i] += x_[i];
+        rhs_(t_, err_vec_, f_new_);
+        ++result_.stats.rhs_evals;
+        if (all_finite(f_new_, n_)) err = estimate(f_new_);
+      }
+      if (!std::isfinite(err)) failure = Failure::non_finite;
+    }
+    if (failure == Failure::none && err < 1.0) {
+      rhs_(t_next_, stage_, f_new_);
+      ++result_.stats.rhs_evals;
+      if (!all_finite(f_new_, n_)) failure = Failure::non_finite;
+    }
+    if (failure != Failure::none) return failed(failure);
+
+    // Proposed next step from the error (unused in fixed-step mode).
+    const double fac = std::min(safety, safety * (1 + 2 * nit_) / (newt_ + 2 * nit_));
+    const double quot = std::clamp(std::pow(err, 0.25) / fac, 1.0 / fac_max, 1.0 / fac_min);
+    if (err >= 1.0) {
+      ++result_.stats.rejected;
+      reject_ = true;
+      last_failure_ = Failure::none;
+      h_ = first_ ? 0.1 * h_ : h_ / quot;
+      if (!jac_current_) need_jac_ = true;
+      return Next::again;
+    }
+    return accept(err, quot);
+  }
+
+  // An attempt that failed (Newton, non-finite values): retried with a shorter step, or the end of the run.
+  Next failed(Failure failure) {
+    ++result_.stats.rejected;
+    reject_ = true;
+    last_failure_ = failure;
+    if (failure == Failure::non_finite) {
+      // Most likely the stages left the region where the model is defined (or overflowed); a shorter step may stay
+      // inside it.
+      if (fixed_) return stop(Status::non_finite_state);
+      h_ *= fac_min;
+    } else {
+      if (fixed_ || ++newton_failures_ >= opt_.max_newton_failures) {
+        return stop(Status::newton_failure);
+      }
+      h_ *= h_factor_;
+    }
+    if (!jac_current_) need_jac_ = true;
+    return Next::again;
+  }
+
+  // An accepted step with error err (< 1) and proposed step ratio quot: the controllers, the collocation polynomial,
+  // the samples in the step, the new state, and the next step and Jacobian.
+  Next accept(double err, double quot) {
+    double h_new = h_ / quot;
+    ++result_.stats.steps;
+    first_ = false;
+    newton_failures_ = 0;
+    singular_ = 0;
+    if (!fixed_) {
+      // Gustafsson's predictive controller: the observed change of the error from the previous accepted step may
+      // call for a smaller step.
+      if (result_.stats.steps > 1) {
+        const double facgus =
+            std::clamp((h_acc_ / h_) * std::pow(err * err / err_acc_, 0.25) / safety, 1.0 / fac_max, 1.0 / fac_min);
+        quot = std::max(quot, facgus);
+        h_new = h_ / quot;
+      }
+      h_acc_ = h_;
+      err_acc_ = std::max(1e-2, err);
+    }
+    observe_step();
+
+    std::copy(stage_, stage_ + n_, x_);
+    std::swap(f0_, f_new_);
+    t_ = t_next_;
+    result_.t = t_;
+    update_scal();
+    jac_current_ = false;
+    if (!clock_.enabled() || last_) {
+      observe_(t_, x_);
+    }
+    if (last_) {
+      return stop(Status::ok);
+    }
+    if (fixed_) {
+      need_jac_ = theta_ > thet;
+      return Next::again;
+    }
+    h_new = std::min(std::fabs(h_new), h_limit_);
+    if (reject_) h_new = std::min(h_new, h_);
+    reject_ = false;
+    last_failure_ = Failure::none;
+    if (theta_ <= thet) {
+      // Newton converged so fast that J can serve another step; if the step would change only a little, keep it and
+      // the factors as well.
+      const double qt = h_new / h_;
+      if (!(qt >= keep_low && qt <= keep_high)) h_ = h_new;
+    } else {
+      need_jac_ = true;
+      h_ = h_new;
+    }
+    return Next::again;
+  }
+
+  // The accepted step's collocation polynomial, and the samples that fall in the step, observed from it.
+  void observe_step() {
+    // The polynomial through x (s = -1), x + Z1 (s = c1 - 1), x + Z2 (s = c2 - 1) and x_new = x + Z3 (s = 0), in
+    // Newton form about the end point: cont1..3 are divided differences of u(s) = poly(s) - x_new.
+    for (std::size_t i = 0; i < n_; ++i) {
+      const double z1 = Z_[i], z2 = Z_[n_ + i], z3 = Z_[2 * n_ + i];
+      const double u01 = (z2 - z3) / (c2 - 1.0);     // u[0, c2-1]
+      const double u12 = (z1 - z2) / (c1 - c2);      // u[c2-1, c1-1]
+      const double u23 = z1 / c1;                    // u[c1-1, -1], as u(-1) = -z3
+      const double u012 = (u12 - u01) / (c1 - 1.0);  // u[0, c2-1, c1-1]
+      const double u123 = (u12 - u23) / c2;          // u[c2-1, c1-1, -1]
+      cont_[i] = u01;
+      cont_[n_ + i] = u012;
+      cont_[2 * n_ + i] = u012 - u123;  // u[0, c2-1, c1-1, -1] = (u123 - u012) / (-1 - 0)
+    }
+    have_cont_ = true;
+    h_old_ = hs_;
+    while (clock_.due(t_next_)) {
+      const double ts = clock_.next();
+      const double s = (ts - t_next_) / hs_;
+      for (std::size_t i = 0; i < n_; ++i) {
+        sample_[i] = stage_[i] + s * (cont_[i] + (s - c2 + 1.0) * (cont_[n_ + i] + (s - c1 + 1.0) * cont_[2 * n_ + i]));
+      }
+      observe_(ts, sample_);
+      clock_.advance();
+    }
+  }
+
+  Rhs& rhs_;
+  Jac& jac_;
+  Observer& observe_;
+  const Radau5Options& opt_;
+  const Radau5Workspace work_;
+  double* const x_;
+  const std::size_t n_, n3_;
+  const double t0_, t_end_, span_, dir_;
+  const bool fixed_;
+  const double h_limit_;
+  const int nit_;
+  const double rtol_, atol_, fnewt_, inv_n_, inv_n3_;
+  detail::SampleClock clock_;
+  IntegrationOutcome result_;
+
+  // Work space (Radau5Workspace::doubles(n) and ints(n)), laid out by start().
+  double* J_ = nullptr;        // n x n Jacobian
+  double* M_ = nullptr;        // 3n x 3n iteration matrix, then its LU factors
+  double* E_ = nullptr;        // n x n matrix I - h gamma0 J, then its LU factors
+  double* Z_ = nullptr;        // stage increments Z1, Z2, Z3 (3n)
+  double* F_ = nullptr;        // stage derivatives (3n)
+  double* dZ_ = nullptr;       // Newton increment (3n)
+  double* cont_ = nullptr;     // collocation polynomial of the last accepted step (3n)
+  double* f0_ = nullptr;       // f(t, x)
+  double* f_new_ = nullptr;    // f(t + h, x_new)
+  double* scal_ = nullptr;     // error weights atol + rtol |x|
+  double* stage_ = nullptr;    // a stage argument, then x_new
+  double* err_vec_ = nullptr;  // error estimate
+  double* sample_ = nullptr;
+  int* piv_M_ = nullptr;
+  int* piv_E_ = nullptr;
+
+  long count_ = 0;  // number of steps in fixed-step mode
+  double h_fixed_ = 0.0;
+  double t_ = 0.0;
+  double h_ = 0.0;  // unsigned step of the next attempt
+  // The attempt: whether it ends the run, where it ends, its signed step and the step its matrices use.
+  bool last_ = false;
+  double t_next_ = 0.0, hs_ = 0.0, h_mat_ = 0.0;
+  Failure last_failure_ = Failure::none;  // why the last attempt was rejected
+  bool need_jac_ = true;                  // evaluate J before the next attempt
+  bool jac_current_ = false;              // J was evaluated at the current (t, x)
+  bool jac_unproven_ = true;              // no Newton iteration with this J has converged over >= 2 iterations yet
+  double h_lu_ = 0.0;                     // signed step of the current factors; 0: none
+  bool first_ = true;                     // no step accepted yet
+  bool reject_ = false;                   // the last attempt was rejected
+  bool have_cont_ = false;                // cont and h_old describe an accepted step
+  double h_old_ = 0.0;                    // signed step of that accepted step
+  double faccon_ = 1.0;                   // contraction-based convergence factor eta, carried between steps
+  double theta_ = thet;                   // contraction of the last Newton iteration
+  double h_factor_ = 0.5;                 // step reduction after a Newton failure
+  int newt_ = 0;                          // Newton iterations of the last attempt
+  double h_acc_ = 0.0;                    // Gustafsson controller: last accepted step ...
+  double err_acc_ = 0.0;                  // ... and its error
+  int newton_failures_ = 0;               // consecutive
+  int singular_ = 0;                      // consecutive
+};
+
+}  // namespace detail::radau5
+
 /// Integrates x' = rhs(t, x) from t0 to t_end (t_end may lie before t0) with
 /// the 3-stage Radau IIA method of order 5, which is L-stable and stiffly
 /// accurate: the right tool when the system has fast decaying modes (stiff
@@ -238,404 +723,9 @@ template <class Rhs, class Jac, class Observer>
 IntegrationOutcome integrate_radau5(Rhs&& rhs, Jac&& jac, double* x, std::size_t n, double t0, double t_end,
                                     const Radau5Options& opt, double sample_dt, Observer&& observe,
                                     Radau5Workspace work) {
-  namespace k = detail::radau5;
-  IntegrationOutcome result;
-  result.t = t0;
-  auto finish = [&](Status status) {
-    result.status = status;
-    return result;
-  };
-
-  if (!detail::buffers_fit(x, n, work.data, work.size, Radau5Workspace::doubles(n)) ||
-      (work.pivots == nullptr && Radau5Workspace::ints(n) > 0) || work.pivot_count < Radau5Workspace::ints(n) ||
-      !detail::adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max) || !(opt.fixed_step >= 0)) {
-    return finish(Status::invalid_argument);
-  }
-  if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
-    return finish(Status::non_finite_state);
-  }
-  const bool fixed = opt.fixed_step > 0;
-  const double span = t_end - t0;
-  long count = 0;  // number of steps in fixed-step mode
-  if (fixed) {
-    if (const Status grid = detail::fixed_step_count(t0, t_end, opt.fixed_step, count); grid != Status::ok) {
-      return finish(grid);
-    }
-  }
-  observe(t0, x);
-  if (span == 0.0) {
-    return finish(Status::ok);
-  }
-  const double dir = span > 0 ? 1.0 : -1.0;
-  const double h_limit = opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity();
-  const int nit = std::max(1, opt.max_newton_iterations);
-
-  // Newton stopping threshold of radau5.f, relative to the error weights: a
-  // few percent of the tolerance, but no less than rounding can deliver.
-  const double eps = std::numeric_limits<double>::epsilon();
-  const double rtol = std::max(opt.rtol, 1e-13);
-  const double atol = opt.atol;
-  const double fnewt = std::max(10.0 * 0.5 * eps / rtol, std::min(0.03, std::sqrt(rtol)));
-
-  // Work space (Radau5Workspace::doubles(n) and ints(n)).
-  const std::size_t n3 = 3 * n;
-  double* J = work.data;        // n x n Jacobian
-  double* M = J + n * n;        // 3n x 3n iteration matrix, then its LU factors
-  double* E = M + n3 * n3;      // n x n matrix I - h gamma0 J, then its LU factors
-  double* Z = E + n * n;        // stage increments Z1, Z2, Z3 (3n)
-  double* F = Z + n3;           // stage derivatives (3n)
-  double* dZ = F + n3;          // Newton increment (3n)
-  double* cont = dZ + n3;       // collocation polynomial of the last accepted step (3n)
-  double* f0 = cont + n3;       // f(t, x)
-  double* f_new = f0 + n;       // f(t + h, x_new)
-  double* scal = f_new + n;     // error weights atol + rtol |x|
-  double* stage = scal + n;     // a stage argument, then x_new
-  double* err_vec = stage + n;  // error estimate
-  double* sample = err_vec + n;
-  int* piv_M = work.pivots;
-  int* piv_E = piv_M + n3;
-  const int n_int = static_cast<int>(n);
-  const int n3_int = static_cast<int>(n3);
-  const double inv_n = n > 0 ? 1.0 / static_cast<double>(n) : 0.0;
-  const double inv_n3 = n > 0 ? 1.0 / static_cast<double>(n3) : 0.0;
-
-  double t = t0;
-  rhs(t, x, f0);
-  ++result.stats.rhs_evals;
-  if (!all_finite(f0, n)) {
-    return finish(Status::non_finite_state);
-  }
-  auto update_scal = [&]() {
-    for (std::size_t i = 0; i < n; ++i) scal[i] = atol + rtol * std::fabs(x[i]);
-  };
-  update_scal();
-
-  const double h_fixed = fixed ? std::fabs(span) / static_cast<double>(count) : 0.0;
-  double h = fixed ? h_fixed : std::fabs(opt.h0);
-  if (h == 0.0 || !std::isfinite(h)) {
-    h = 1e-6;
-  }
-  h = std::min({h, h_limit, std::fabs(span)});
-
-  detail::SampleClock clock(t0, t_end, sample_dt);
-  enum class Failure { none, non_finite, newton };
-  Failure last_failure = Failure::none;  // why the last attempt was rejected
-  bool need_jac = true;                  // evaluate J before the next attempt
-  bool jac_current = false;              // J was evaluated at the current (t, x)
-  bool jac_unproven = true;              // no Newton iteration with this J has converged over >= 2 iterations yet
-  double h_lu = 0.0;                     // signed step of the current factors; 0: none
-  bool first = true;                     // no step accepted yet
-  bool reject = false;                   // the last attempt was rejected
-  bool have_cont = false;                // cont and h_old describe an accepted step
-  double h_old = 0.0;                    // signed step of that accepted step
-  double faccon = 1.0;                   // contraction-based convergence factor eta, carried between steps
-  double theta = k::thet;                // contraction of the last Newton iteration
-  double h_acc = 0.0;                    // Gustafsson controller: last accepted step ...
-  double err_acc = 0.0;                  // ... and its error
-  int newton_failures = 0;               // consecutive
-  int singular = 0;                      // consecutive
-
-  for (;;) {
-    if (result.stats.steps + result.stats.rejected >= opt.max_steps) {
-      return finish(Status::too_many_steps);
-    }
-    if (!(h >= detail::min_step(t))) {
-      return finish(last_failure == Failure::non_finite ? Status::non_finite_state
-                    : last_failure == Failure::newton   ? Status::newton_failure
-                                                        : Status::step_size_underflow);
-    }
-    bool last = false;
-    double t_next = 0.0;
-    if (fixed) {
-      // As in rk4.hpp: step ends from t0 + i*h, so the grid does not drift.
-      const long i = result.stats.steps + 1;
-      last = i == count;
-      t_next = last ? t_end : t0 + dir * static_cast<double>(i) * h_fixed;
-    } else {
-      // Stretch or shrink the step to hit t_end exactly rather than leave a sliver.
-      if ((t + 1.01 * dir * h - t_end) * dir > 0) {
-        h = std::fabs(t_end - t);
-        last = true;
-      }
-      t_next = last ? t_end : t + dir * h;
-    }
-    const double hs = fixed ? t_next - t : dir * h;
-    // In fixed-step mode the grid's rounding must not force a new LU per step:
-    // the matrices use the nominal step (they need only approximate I - h A J).
-    const double h_mat = fixed ? dir * h_fixed : hs;
-
-    if (need_jac) {
-      jac(t, x, J);
-      ++result.stats.jac_evals;
-      if (!all_finite(J, n * n)) {
-        return finish(Status::non_finite_state);
-      }
-      need_jac = false;
-      jac_current = true;
-      jac_unproven = true;
-      h_lu = 0.0;
-    }
-    if (h_mat != h_lu) {
-      for (std::size_t p = 0; p < 3; ++p) {
-        for (std::size_t i = 0; i < n; ++i) {
-          double* row = M + (p * n + i) * n3;
-          for (std::size_t q = 0; q < 3; ++q) {
-            const double w = -h_mat * k::a[p][q];
-            for (std::size_t j = 0; j < n; ++j) row[q * n + j] = w * J[i * n + j];
-          }
-          row[p * n + i] += 1.0;
-        }
-      }
-      for (std::size_t i = 0; i < n * n; ++i) E[i] = -h_mat * k::gamma0 * J[i];
-      for (std::size_t i = 0; i < n; ++i) E[i * n + i] += 1.0;
-      ++result.stats.lu_decompositions;
-      const bool ok = lu_factor(M, piv_M, n3_int) && lu_factor(E, piv_E, n_int);
-      if (!ok) {
-        h_lu = 0.0;
-        ++result.stats.rejected;
-        reject = true;
-        last_failure = Failure::newton;
-        if (fixed || ++singular >= k::max_singular) {
-          return finish(Status::newton_failure);
-        }
-        h *= 0.5;
-        if (!jac_current) need_jac = true;
-        continue;
-      }
-      h_lu = h_mat;
-    }
-
-    // Starting values: the last collocation polynomial extrapolated to the new
-    // nodes, cont(s) = x + s (cont1 + (s - c2 + 1) (cont2 + (s - c1 + 1) cont3))
-    // with s measured in units of the old step from its end; zero before.
-    if (have_cont) {
-      const double ratio = hs / h_old;
-      for (std::size_t p = 0; p < 3; ++p) {
-        const double s = k::c[p] * ratio;
-        for (std::size_t i = 0; i < n; ++i) {
-          Z[p * n + i] = s * (cont[i] + (s - k::c2 + 1.0) * (cont[n + i] + (s - k::c1 + 1.0) * cont[2 * n + i]));
-        }
-      }
-    } else {
-      std::fill(Z, Z + n3, 0.0);
-    }
-
-    // Simplified Newton iteration (radau5.f's convergence control).
-    Failure failure = Failure::none;
-    double h_factor = 0.5;  // step reduction after a Newton failure
-    faccon = std::pow(std::max(faccon, eps), 0.8);
-    theta = k::thet;
-    double dyno_old = 0.0;
-    double thq_old = 0.0;
-    int newt = 0;
-    for (;;) {
-      if (newt >= nit) {
-        failure = Failure::newton;
-        break;
-      }
-      for (std::size_t p = 0; p < 3 && failure == Failure::none; ++p) {
-        for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + Z[p * n + i];
-        rhs(p == 2 ? t_next : t + k::c[p] * hs, stage, F + p * n);
-        ++result.stats.rhs_evals;
-        if (!all_finite(F + p * n, n)) failure = Failure::non_finite;
-      }
-      if (failure != Failure::none) break;
-      // dZ solves (I - h A (x) J) dZ = -Z + h (A (x) I) F.
-      for (std::size_t p = 0; p < 3; ++p) {
-        for (std::size_t i = 0; i < n; ++i) {
-          dZ[p * n + i] = -Z[p * n + i] + hs * (k::a[p][0] * F[i] + k::a[p][1] * F[n + i] + k::a[p][2] * F[2 * n + i]);
-        }
-      }
-      lu_solve(M, piv_M, dZ, n3_int);
-      ++newt;
-      double dyno = 0.0;
-      for (std::size_t p = 0; p < 3; ++p) {
-        for (std::size_t i = 0; i < n; ++i) {
-          const double q = dZ[p * n + i] / scal[i];
-          dyno += q * q;
-        }
-      }
-      dyno = std::sqrt(dyno * inv_n3);
-      if (!std::isfinite(dyno)) {
-        failure = Failure::non_finite;
-        break;
-      }
-      if (newt > 1) {
-        const double thq = dyno / dyno_old;
-        theta = newt == 2 ? thq : std::sqrt(thq * thq_old);
-        thq_old = thq;
-        if (!(theta < 0.99)) {
-          failure = Failure::newton;  // diverging
-          break;
-        }
-        faccon = theta / (1.0 - theta);
-        if (newt < nit) {
-          // Predicted size of the remaining error after the iterations still allowed.
-          const double dyth = faccon * dyno * std::pow(theta, nit - 1 - newt) / fnewt;
-          if (dyth >= 1.0) {
-            const double qnewt = std::clamp(dyth, 1e-4, 20.0);
-            h_factor = 0.8 * std::pow(qnewt, -1.0 / (4.0 + nit - 1 - newt));
-            failure = Failure::newton;
-            break;
-          }
-        }
-      }
-      dyno_old = std::max(dyno, eps);
-      for (std::size_t i = 0; i < n3; ++i) Z[i] += dZ[i];
-      // radau5.f's test, plus two safeguards for stopping after one iteration,
-      // when faccon is inherited from earlier steps rather than measured:
-      // - a new Jacobian must first show contraction over two iterations: a
-      //   grossly wrong J makes I - h A J huge and every increment tiny, which
-      //   the inherited estimate would take for convergence (silently wrong
-      //   results, seen in the tests);
-      // - the increment itself must be within the tolerance (dyno <= 1): an
-      //   estimate inherited from steps where theta was at rounding level
-      //   otherwise certifies a large first correction after the step has
-      //   grown eightfold (seen on the Kepler orbit at rtol = 1e-3: a 300x tol
-      //   global error instead of 5x). Measured cost: < 1% more evaluations.
-      const bool may_stop = newt >= 2 || nit < 2 || (!jac_unproven && dyno <= 1.0);
-      if (may_stop && faccon * dyno <= fnewt) break;
-    }
-
-    if (failure == Failure::none) {
-      if (newt >= 2) jac_unproven = false;
-      for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + Z[2 * n + i];  // x_new (stiffly accurate)
-      if (!all_finite(stage, n)) failure = Failure::non_finite;
-    }
-    double err = 0.0;
-    if (failure == Failure::none && !fixed) {
-      auto estimate = [&](const double* f_start) {
-        for (std::size_t i = 0; i < n; ++i) {
-          err_vec[i] = k::gamma0 * (hs * f_start[i] + k::dd[0] * Z[i] + k::dd[1] * Z[n + i] + k::dd[2] * Z[2 * n + i]);
-        }
-        lu_solve(E, piv_E, err_vec, n_int);
-        double sum = 0.0;
-        for (std::size_t i = 0; i < n; ++i) sum += (err_vec[i] / scal[i]) * (err_vec[i] / scal[i]);
-        return std::max(std::sqrt(sum * inv_n), 1e-10);
-      };
-      err = estimate(f0);
-      if (err >= 1.0 && (first || reject)) {
-        // err_vec + x stands in for the unknown stiff part of the solution.
-        for (std::size_t i = 0; i < n; ++i) err_vec[i] += x[i];
-        rhs(t, err_vec, f_new);
-        ++result.stats.rhs_evals;
-        if (all_finite(f_new, n)) err = estimate(f_new);
-      }
-      if (!std::isfinite(err)) failure = Failure::non_finite;
-    }
-    if (failure == Failure::none && err < 1.0) {
-      rhs(t_next, stage, f_new);
-      ++result.stats.rhs_evals;
-      if (!all_finite(f_new, n)) failure = Failure::non_finite;
-    }
-
-    if (failure != Failure::none) {
-      ++result.stats.rejected;
-      reject = true;
-      last_failure = failure;
-      if (failure == Failure::non_finite) {
-        // Most likely the stages left the region where the model is defined
-        // (or overflowed); a shorter step may stay inside it.
-        if (fixed) return finish(Status::non_finite_state);
-        h *= k::fac_min;
-      } else {
-        if (fixed || ++newton_failures >= opt.max_newton_failures) {
-          return finish(Status::newton_failure);
-        }
-        h *= h_factor;
-      }
-      if (!jac_current) need_jac = true;
-      continue;
-    }
-
-    // Proposed next step from the error (unused in fixed-step mode).
-    const double fac = std::min(k::safety, k::safety * (1 + 2 * nit) / (newt + 2 * nit));
-    double quot = std::clamp(std::pow(err, 0.25) / fac, 1.0 / k::fac_max, 1.0 / k::fac_min);
-    double h_new = h / quot;
-
-    if (err >= 1.0) {
-      ++result.stats.rejected;
-      reject = true;
-      last_failure = Failure::none;
-      h = first ? 0.1 * h : h_new;
-      if (!jac_current) need_jac = true;
-      continue;
-    }
-
-    // Accepted.
-    ++result.stats.steps;
-    first = false;
-    newton_failures = 0;
-    singular = 0;
-    if (!fixed) {
-      // Gustafsson's predictive controller: the observed change of the error
-      // from the previous accepted step may call for a smaller step.
-      if (result.stats.steps > 1) {
-        const double facgus = std::clamp((h_acc / h) * std::pow(err * err / err_acc, 0.25) / k::safety,
-                                         1.0 / k::fac_max, 1.0 / k::fac_min);
-        quot = std::max(quot, facgus);
-        h_new = h / quot;
-      }
-      h_acc = h;
-      err_acc = std::max(1e-2, err);
-    }
-
-    // Collocation polynomial through x (s = -1), x + Z1 (s = c1 - 1), x + Z2
-    // (s = c2 - 1) and x_new = x + Z3 (s = 0), in Newton form about the end
-    // point: cont1..3 are divided differences of u(s) = poly(s) - x_new.
-    for (std::size_t i = 0; i < n; ++i) {
-      const double z1 = Z[i], z2 = Z[n + i], z3 = Z[2 * n + i];
-      const double u01 = (z2 - z3) / (k::c2 - 1.0);     // u[0, c2-1]
-      const double u12 = (z1 - z2) / (k::c1 - k::c2);   // u[c2-1, c1-1]
-      const double u23 = z1 / k::c1;                    // u[c1-1, -1], as u(-1) = -z3
-      const double u012 = (u12 - u01) / (k::c1 - 1.0);  // u[0, c2-1, c1-1]
-      const double u123 = (u12 - u23) / k::c2;          // u[c2-1, c1-1, -1]
-      cont[i] = u01;
-      cont[n + i] = u012;
-      cont[2 * n + i] = u012 - u123;  // u[0, c2-1, c1-1, -1] = (u123 - u012) / (-1 - 0)
-    }
-    have_cont = true;
-    h_old = hs;
-    while (clock.due(t_next)) {
-      const double ts = clock.next();
-      const double s = (ts - t_next) / hs;
-      for (std::size_t i = 0; i < n; ++i) {
-        sample[i] = stage[i] + s * (cont[i] + (s - k::c2 + 1.0) * (cont[n + i] + (s - k::c1 + 1.0) * cont[2 * n + i]));
-      }
-      observe(ts, sample);
-      clock.advance();
-    }
-
-    std::copy(stage, stage + n, x);
-    std::swap(f0, f_new);
-    t = t_next;
-    result.t = t;
-    update_scal();
-    jac_current = false;
-    if (!clock.enabled() || last) {
-      observe(t, x);
-    }
-    if (last) {
-      return finish(Status::ok);
-    }
-    if (fixed) {
-      need_jac = theta > k::thet;
-      continue;
-    }
-    h_new = std::min(std::fabs(h_new), h_limit);
-    if (reject) h_new = std::min(h_new, h);
-    reject = false;
-    last_failure = Failure::none;
-    if (theta <= k::thet) {
-      // Newton converged so fast that J can serve another step; if the step
-      // would change only a little, keep it and the factors as well.
-      const double qt = h_new / h;
-      if (!(qt >= k::keep_low && qt <= k::keep_high)) h = h_new;
-    } else {
-      need_jac = true;
-      h = h_new;
-    }
-  }
+  return detail::radau5::Run<std::remove_reference_t<Rhs>, std::remove_reference_t<Jac>,
+                             std::remove_reference_t<Observer>>(rhs, jac, x, n, t0, t_end, opt, sample_dt, observe,
+                                                                work)();
 }
 
 /// Convenience form of integrate_radau5: the work space is allocated once, before the first step, and

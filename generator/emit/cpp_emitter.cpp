@@ -1039,6 +1039,12 @@ class PackageWriter {
   int shared_stages() const { return static_cast<int>(sharing.stages.size() + prepared_sharing.stages.size()); }
 
  private:
+  // README.md's sections after its head, in order.
+  void readme_kernels(std::ostream& md) const;     // the kernels' table, and the prepared ones'
+  void readme_layout(std::ostream& md) const;      // x, p and in, element by element
+  void readme_integrator(std::ostream& md) const;  // rk4_step, with a loop
+  void readme_build(std::ostream& md) const;       // with CMake and without
+  void readme_bad_input(std::ostream& md) const;   // what kernels return for bad input
   static std::string quoted(const std::string& x) { return "\"" + x + "\""; }
   static std::string str(int x) { return std::to_string(x); }
   // The C signature <name>_<fn>(t, x, p, in, out) with the package's scalar macro.
@@ -1464,8 +1470,20 @@ std::string PackageWriter::readme() const {
      << "| `" << model.name << ".h` | C entry points `" << model.name << "_<kernel>` (C99/C11) |\n"
      << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name
      << "::kernels`); with an installed hamel (`find_package(hamel)`) also `" << model.name
-     << "::with_runtime`, the kernels plus hamel's header-only integrators |\n\n"
-     << "## Kernels\n\n"
+     << "::with_runtime`, the kernels plus hamel's header-only integrators |\n\n";
+  readme_kernels(md);
+  readme_layout(md);
+  readme_integrator(md);
+  readme_build(md);
+  readme_bad_input(md);
+  md << "## Licence\n\n"
+     << "MIT (`SPDX-License-Identifier: MIT` in every file of this folder). The emitted files carry this licence "
+        "separately from the generator's (hamel is GPL-licensed, as GiNaC), so they may ship in closed firmware.\n";
+  return md.str();
+}
+
+void PackageWriter::readme_kernels(std::ostream& md) const {
+  md << "## Kernels\n\n"
      << "Everything is in namespace `" << model.name << "`. Every kernel is\n\n"
      << "```cpp\nvoid kernel(real t, const real* x, const real* p, const real* in, real* out);\n```\n\n"
      << "reading the time `t`, the state `x[n_state]`, the parameters `p[n_parameters]` and the inputs "
@@ -1494,6 +1512,9 @@ std::string PackageWriter::readme() const {
       md << "| `" << k.name << "` | " << k.temporaries << " | " << k.ops.add << ", " << k.ops.mul << ", " << k.ops.div
          << ", " << k.ops.call << " |\n";
   }
+}
+
+void PackageWriter::readme_layout(std::ostream& md) const {
   md << "\n## State `x` (n_state = " << s.n_x << ")\n\n"
      << "| Index | Name | Meaning |\n|---|---|---|\n";
   for (int i = 0; i < s.n_x; ++i)
@@ -1517,6 +1538,9 @@ std::string PackageWriter::readme() const {
     md << "| Index | Name |\n|---|---|\n";
     for (std::size_t i = 0; i < input_names.size(); ++i) md << "| " << i << " | `" << input_names[i] << "` |\n";
   }
+}
+
+void PackageWriter::readme_integrator(std::ostream& md) const {
   if (has_rhs)
     md << "\n## Integrator step\n\n"
        << "`void rk4_step(real t, real h, real* x, const real* p, const real* in)` advances `x` in place by one "
@@ -1532,6 +1556,9 @@ std::string PackageWriter::readme() const {
        << "for (long tick = 0; tick < ticks; ++tick) " << model.name << "::rk4_step(tick * h, h, x, "
        << (s.n_p ? model.name + "::default_parameters" : std::string("nullptr")) << ", " << (s.n_in ? "in" : "nullptr")
        << ");\n```\n";
+}
+
+void PackageWriter::readme_build(std::ostream& md) const {
   md << "\n## Build\n\n"
      << "Out of tree, from the folder that holds this package (called `" << model.name
      << "` here; `hamel emit` replaces only a folder it wrote, so a build folder inside this one would stop it from "
@@ -1545,8 +1572,11 @@ std::string PackageWriter::readme() const {
         "are fine). The scalar type is the macro `"
      << guard_macro
      << "` (default `double`); it must be the same for the library and its users (CMake sets it PUBLIC); a "
-        "mismatch fails to link.\n\n"
-     << "## What kernels return for bad input\n\n"
+        "mismatch fails to link.\n\n";
+}
+
+void PackageWriter::readme_bad_input(std::ostream& md) const {
+  md << "## What kernels return for bad input\n\n"
         "The kernels are straight-line arithmetic: no branches, no checks, no exceptions; they never stop or "
         "report anything themselves.\n\n"
         "- NaN or infinite input (state, parameter or input) is not detected: it propagates through the "
@@ -1571,11 +1601,7 @@ std::string PackageWriter::readme() const {
   }
   md << "- " << (has_rhs ? "Other kernels have" : "The kernels have")
      << " no checking form: callers test `std::isfinite` on their outputs. The hamel runtime's integrators report a "
-        "non-finite derivative or state as `non_finite_state` (the adaptive ones first retry shorter steps).\n\n"
-     << "## Licence\n\n"
-     << "MIT (`SPDX-License-Identifier: MIT` in every file of this folder). The emitted files carry this licence "
-        "separately from the generator's (hamel is GPL-licensed, as GiNaC), so they may ship in closed firmware.\n";
-  return md.str();
+        "non-finite derivative or state as `non_finite_state` (the adaptive ones first retry shorter steps).\n\n";
 }
 
 }  // namespace

@@ -178,6 +178,94 @@ bool forced(const Model& model, const KinematicTree& tree) {
   return any;
 }
 
+// The bodies in the order of the recursion: body 0 is the base, body k + 1 moves with r^k. Each body's parent, its
+// joint's pose in the parent's frame, its axis and its spatial inertia in its own frame.
+struct TreeBodies {
+  std::vector<int> parent;
+  std::vector<Link> link;
+  std::vector<Vec6> axis;
+  std::vector<Mat6> inertia;
+};
+
+TreeBodies tree_bodies(const KinematicTree& tree, TreeProgram& prog) {
+  const std::size_t N = tree.bodies.size() + 1;
+  TreeBodies b{std::vector<int>(N, -1), std::vector<Link>(N), std::vector<Vec6>(N), std::vector<Mat6>(N)};
+  b.inertia[0] = spatial_inertia(tree.base);
+  for (std::size_t i = 1; i < N; ++i) {
+    const TreeBody& body = tree.bodies[i - 1];
+    b.parent[i] = body.parent + 1;
+    b.link[i] = prog.link(body);
+    b.axis[i] = body.prismatic ? join({0, 0, 0}, {body.axis[0], body.axis[1], body.axis[2]})
+                               : join({body.axis[0], body.axis[1], body.axis[2]}, {0, 0, 0});
+    b.inertia[i] = spatial_inertia(body.body);
+  }
+  return b;
+}
+
+// The recursion for the Jacobian (derive/tree_derivatives.hpp), with every body's pose, axis and inertia in the
+// common frame (base frame, or the world on a fixed base), from which M is formed; its accelerations and joint
+// forces are set once the forcing is known.
+std::shared_ptr<TreeRecursion> tree_recursion(const Model& model, const KinematicTree& tree, const TreeBodies& b,
+                                              const std::vector<Vec6>& base,
+                                              const std::vector<GiNaC::realsymbol>& group_velocity,
+                                              Intermediates& tape) {
+  auto recursion = std::make_shared<TreeRecursion>();
+  recursion->parent = b.parent;
+  recursion->link = b.link;
+  recursion->axis = b.axis;
+  recursion->bodies.push_back(tree.base);
+  for (const TreeBody& body : tree.bodies) recursion->bodies.push_back(body.body);
+  recursion->base = base;
+  recursion->base_acceleration = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
+  recursion->base_velocity.assign(group_velocity.begin(), group_velocity.end());
+  recursion->coordinates.assign(model.coordinates.begin(), model.coordinates.end());
+  recursion->rates.assign(model.rates.begin(), model.rates.end());
+  for (const TreeBody& body : tree.bodies) recursion->armature.push_back(body.armature);
+  recursion->frame = common_frame(*recursion, tape);
+  return recursion;
+}
+
+// The body-frame pass at u̇ = 0: twists V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i, accelerations a_i (the velocity-product
+// terms ad_{V_i} S_i ṙ_i carried outward; gravity as an upward acceleration of the fixed base, Featherstone, so that
+// every body's wrench carries its weight without a separate potential gradient), momenta h_i = 𝕀_i V_i, the
+// Euler–Poincaré wrenches F summed from the leaves to the base (children come after their parents, each body's
+// total named once), and the kinetic energy.
+struct BodyFramePass {
+  std::vector<Vec6> V, a, h, F;
+  ex kinetic = 0;
+};
+
+BodyFramePass body_frame_pass(const Model& model, const KinematicTree& tree, const TreeBodies& b,
+                              const std::vector<Vec6>& base, const std::vector<GiNaC::realsymbol>& group_velocity,
+                              TreeProgram& prog) {
+  const std::size_t N = b.parent.size();
+  BodyFramePass pass{std::vector<Vec6>(N), std::vector<Vec6>(N), std::vector<Vec6>(N), std::vector<Vec6>(N), 0};
+  Vec6 base_twist = zero6();
+  for (std::size_t alpha = 0; alpha < group_velocity.size(); ++alpha)
+    base_twist = base_twist + base[alpha] * group_velocity[alpha];
+  pass.V[0] = base_twist;
+  pass.a[0] = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
+  for (std::size_t i = 0; i < N; ++i) {
+    if (i > 0) {
+      const std::size_t p = static_cast<std::size_t>(b.parent[i]);
+      const Vec6 joint = b.axis[i] * model.rates[i - 1];
+      pass.V[i] = prog.name(b.link[i].to_child(pass.V[p]) + joint);
+      pass.a[i] = prog.name(b.link[i].to_child(pass.a[p]) + ad(pass.V[i], joint));
+    }
+    pass.h[i] = prog.name(times(b.inertia[i], pass.V[i]));
+    pass.kinetic += dot(pass.V[i], pass.h[i]) / 2;
+    if (i > 0) pass.kinetic += tree.bodies[i - 1].armature * GiNaC::pow(model.rates[i - 1], 2) / 2;
+    pass.F[i] = times(b.inertia[i], pass.a[i]) + coadjoint_term(pass.V[i], pass.h[i]);
+  }
+  for (std::size_t i = N; i-- > 1;) {
+    pass.F[i] = prog.name(pass.F[i]);
+    const std::size_t p = static_cast<std::size_t>(b.parent[i]);
+    pass.F[p] = pass.F[p] + b.link[i].to_parent(pass.F[i]);
+  }
+  pass.F[0] = prog.name(pass.F[0]);
+  return pass;
+}
+
 }  // namespace
 
 TreeDerivation derive_tree(const Model& model, bool articulated) {
@@ -207,76 +295,13 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   const std::vector<Vec6> base = fixed ? std::vector<Vec6>{} : base_directions(model.bundle->group);
   const ex base_potential = fixed ? ex(0) : model.bundle->potential;
 
-  std::vector<int> parent(N, -1);
-  std::vector<Link> link(N);
-  std::vector<Vec6> axis(N), V(N), a(N), h(N), F(N);
-  std::vector<Mat6> inertia(N);
-  inertia[0] = spatial_inertia(tree.base);
-  for (std::size_t i = 1; i < N; ++i) {
-    const TreeBody& body = tree.bodies[i - 1];
-    parent[i] = body.parent + 1;
-    link[i] = prog.link(body);
-    axis[i] = body.prismatic ? join({0, 0, 0}, {body.axis[0], body.axis[1], body.axis[2]})
-                             : join({body.axis[0], body.axis[1], body.axis[2]}, {0, 0, 0});
-    inertia[i] = spatial_inertia(body.body);
-  }
-
-  // The recursion for the Jacobian (derive/tree_derivatives.hpp), and every body's pose, axis and inertia in
-  // the common frame (base frame, or the world on a fixed base), from which M is formed below.
-  auto recursion = std::make_shared<TreeRecursion>();
-  recursion->parent = parent;
-  recursion->link = link;
-  recursion->axis = axis;
-  recursion->bodies.push_back(tree.base);
-  for (const TreeBody& body : tree.bodies) recursion->bodies.push_back(body.body);
-  recursion->base = base;
-  recursion->base_acceleration = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
-  recursion->base_velocity.assign(group_velocity.begin(), group_velocity.end());
-  recursion->coordinates.assign(model.coordinates.begin(), model.coordinates.end());
-  recursion->rates.assign(model.rates.begin(), model.rates.end());
-  for (const TreeBody& body : tree.bodies) recursion->armature.push_back(body.armature);
-  recursion->frame = common_frame(*recursion, eq.intermediates);
-  const CommonFrame& frame = recursion->frame;
-
-  // The base's twist (or acceleration) from the group components, and wrenches summed from the leaves to
-  // the base (children come after their parents), each body's total named once.
-  const auto base_twist = [&](const auto& components) {
-    Vec6 v = zero6();
-    for (std::size_t alpha = 0; alpha < m; ++alpha) v = v + base[alpha] * components[alpha];
-    return v;
-  };
-  const auto sum_inward = [&](std::vector<Vec6>& wrench) {
-    for (std::size_t i = N; i-- > 1;) {
-      wrench[i] = prog.name(wrench[i]);
-      const std::size_t p = static_cast<std::size_t>(parent[i]);
-      wrench[p] = wrench[p] + link[i].to_parent(wrench[i]);
-    }
-    wrench[0] = prog.name(wrench[0]);
-  };
-
-  // Twists V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i, accelerations at u̇ = 0 (the velocity-product terms
-  // ad_{V_i} S_i ṙ_i carried outward), momenta h_i = 𝕀_i V_i and each body's Euler–Poincaré wrench.
-  V[0] = base_twist(group_velocity);
-  // Gravity as an upward acceleration of the fixed base (Featherstone): every body's wrench then carries
-  // its weight without a separate potential gradient.
-  a[0] = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
-  ex kinetic = 0;
-  for (std::size_t i = 0; i < N; ++i) {
-    if (i > 0) {
-      const std::size_t p = static_cast<std::size_t>(parent[i]);
-      const Vec6 joint = axis[i] * model.rates[i - 1];
-      V[i] = prog.name(link[i].to_child(V[p]) + joint);
-      a[i] = prog.name(link[i].to_child(a[p]) + ad(V[i], joint));
-    }
-    h[i] = prog.name(times(inertia[i], V[i]));
-    kinetic += dot(V[i], h[i]) / 2;
-    if (i > 0) kinetic += tree.bodies[i - 1].armature * GiNaC::pow(model.rates[i - 1], 2) / 2;
-    F[i] = times(inertia[i], a[i]) + coadjoint_term(V[i], h[i]);
-  }
-  sum_inward(F);
+  const TreeBodies bodies = tree_bodies(tree, prog);
+  const std::shared_ptr<TreeRecursion> recursion =
+      tree_recursion(model, tree, bodies, base, group_velocity, eq.intermediates);
+  const BodyFramePass pass = body_frame_pass(model, tree, bodies, base, group_velocity, prog);
 
   const std::size_t d = m + n;
-  eq.mass_matrix = composite_mass_matrix(frame, parent, base, tree, prog);
+  eq.mass_matrix = composite_mass_matrix(recursion->frame, bodies.parent, base, tree, prog);
 
   // Symbols for u̇ at which the Jacobian differentiates the inverse dynamics (TreeRecursion::accelerations).
   for (std::size_t k = 0; k < m + n; ++k)
@@ -285,14 +310,14 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   // f = Q − (velocity-product part of the projected wrenches); Q_I = forces_I − ∂V/∂r^I, none on the base.
   // The joint forces τ_I = Q_I − ∂(V + springs)/∂r^I − d_I ṙ_I, shared by f and the articulated-body algorithm.
   eq.forcing.assign(d, 0);
-  for (std::size_t alpha = 0; alpha < m; ++alpha) eq.forcing[alpha] = -dot(base[alpha], F[0]);
+  for (std::size_t alpha = 0; alpha < m; ++alpha) eq.forcing[alpha] = -dot(base[alpha], pass.F[0]);
   const ex springs = joint_springs(model, tree);
   std::vector<ex> joint_force(N);
   for (std::size_t i = 1; i < N; ++i) {
     const TreeBody& body = tree.bodies[i - 1];
     joint_force[i] = model.forces[i - 1] - (base_potential + springs).diff(model.coordinates[i - 1]) -
                      body.damping * model.rates[i - 1];
-    eq.forcing[m + i - 1] = joint_force[i] - dot(axis[i], F[i]);
+    eq.forcing[m + i - 1] = joint_force[i] - dot(bodies.axis[i], pass.F[i]);
   }
   recursion->accelerations.assign(eq.acceleration_symbols.begin(), eq.acceleration_symbols.end());
   recursion->joint_force.assign(joint_force.begin() + 1, joint_force.end());
@@ -301,15 +326,15 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   if (articulated) {
     std::vector<ex> armature(N, ex(0));
     for (std::size_t i = 1; i < N; ++i) armature[i] = tree.bodies[i - 1].armature;
-    articulated_body(prog.namer(), {parent, link, axis, inertia, V, h}, base, a[0], model.rates, joint_force, armature,
-                     eq);
+    articulated_body(prog.namer(), {bodies.parent, bodies.link, bodies.axis, bodies.inertia, pass.V, pass.h}, base,
+                     pass.a[0], model.rates, joint_force, armature, eq);
   }
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
-  const ex T = prog.name(kinetic);
-  const ex weight = weight_potential(tree, frame, prog);
+  const ex T = prog.name(pass.kinetic);
+  const ex weight = weight_potential(tree, recursion->frame, prog);
   eq.reduced_lagrangian = T - base_potential - springs - weight;
   eq.energy_terms = {T + base_potential + springs + weight};
   eq.conservative = !forced(model, tree);

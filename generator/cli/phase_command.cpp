@@ -85,6 +85,108 @@ std::string trajectory_csv(const std::vector<GroupPose>& trajectory) {
   return s.str();
 }
 
+// A phase is the holonomy of a closed loop: warns when r(T) differs from r(0) (the cycles then drift).
+void warn_if_open(const Model& model, const std::vector<double>& params, const PhaseRequest& req) {
+  GiNaC::exmap at0, atT;
+  for (std::size_t k = 0; k < model.parameters.size(); ++k)
+    at0[model.parameters[k].symbol] = atT[model.parameters[k].symbol] = params[k];
+  at0[model.time] = 0;
+  atT[model.time] = req.period;
+  for (std::size_t I = 0; I < req.path.size(); ++I) {
+    const GiNaC::ex a = req.path[I].subs(at0).evalf(), b = req.path[I].subs(atT).evalf();
+    if (!GiNaC::is_a<GiNaC::numeric>(a) || !GiNaC::is_a<GiNaC::numeric>(b)) continue;
+    const double ra = GiNaC::ex_to<GiNaC::numeric>(a).to_double(), rb = GiNaC::ex_to<GiNaC::numeric>(b).to_double();
+    if (std::abs(rb - ra) > 1e-9 * std::max(1.0, std::abs(ra)))
+      std::cerr << "hamel: warning: the path does not close: " << model.coordinates[I].get_name() << "(0) = " << ra
+                << " but " << model.coordinates[I].get_name() << "(" << req.period << ") = " << rb
+                << "; the per-cycle group elements are then not a geometric phase\n";
+  }
+}
+
+// The base translation in the x–y plane, with the position after each cycle marked (Fig. 4a/4b).
+PlotSpec translation_plot(const std::string& name, const PhaseOptions& opt, const PhaseResult& result) {
+  PlotSpec plot;
+  plot.title = name + ": base translation over " + std::to_string(opt.cycles) + " cycle(s), momentum " + opt.momentum;
+  plot.x_label = "x [m]";
+  plot.y_label = "y [m]";
+  plot.equal_aspect = true;
+  PlotSeries path{"base trajectory", {}, {}, true, false, false};
+  for (const auto& p : result.trajectory) path.x.push_back(p.p[0]), path.y.push_back(p.p[1]);
+  PlotSeries ends{"after each cycle (phase)", {0.0}, {0.0}, false, true, false};
+  for (const auto& p : result.cycles) ends.x.push_back(p.p[0]), ends.y.push_back(p.p[1]);
+  plot.series = {path, ends};
+  if (!result.dynamic.empty()) {
+    PlotSeries dyn{"momentum only, shape at rest", {}, {}, true, false, true};
+    for (const auto& p : result.dynamic_trajectory) dyn.x.push_back(p.p[0]), dyn.y.push_back(p.p[1]);
+    PlotSeries dyn_ends{"its position after each cycle (dynamic phase)", {0.0}, {0.0}, false, true, false};
+    for (const auto& p : result.dynamic) dyn_ends.x.push_back(p.p[0]), dyn_ends.y.push_back(p.p[1]);
+    plot.series.push_back(dyn);
+    plot.series.push_back(dyn_ends);
+  }
+  return plot;
+}
+
+// A rotation without a plane translation (SO3): the rotation vector w, exp(w) = R, over time, continuous through
+// |w| = pi, with its values after each cycle marked.
+PlotSpec rotation_plot(const std::string& name, const PhaseOptions& opt, const PhaseResult& result) {
+  PlotSpec plot;
+  plot.title =
+      name + ": rotation vector log R over " + std::to_string(opt.cycles) + " cycle(s), momentum " + opt.momentum;
+  plot.x_label = "t [s]";
+  plot.y_label = "rotation vector w, exp(w) = R [rad]";
+  const auto add = [&](const std::vector<GroupPose>& poses, const std::vector<GroupPose>& ends, const std::string& what,
+                       bool dashed) {
+    const std::vector<std::array<double, 3>> w = unwrapped_rotation_vectors(poses);
+    for (std::size_t i = 0; i < 3; ++i) {
+      PlotSeries line{std::string("w") + "xyz"[i] + what, {}, {}, true, false, dashed};
+      for (std::size_t k = 0; k < poses.size(); ++k) line.x.push_back(poses[k].t), line.y.push_back(w[k][i]);
+      plot.series.push_back(line);
+    }
+    // Each cycle's end continued from the trajectory sample nearest in time.
+    PlotSeries marks{"after each cycle" + what, {}, {}, false, true, false};
+    for (const GroupPose& e : ends) {
+      std::size_t nearest = 0;
+      for (std::size_t k = 1; k < poses.size(); ++k)
+        if (std::abs(poses[k].t - e.t) < std::abs(poses[nearest].t - e.t)) nearest = k;
+      const std::array<double, 3> v = rotation_vector_near(*e.R, w[nearest]);
+      for (std::size_t i = 0; i < 3; ++i) marks.x.push_back(e.t), marks.y.push_back(v[i]);
+    }
+    plot.series.push_back(marks);
+  };
+  add(result.trajectory, result.cycles, "", false);
+  if (!result.dynamic.empty()) add(result.dynamic_trajectory, result.dynamic, ", momentum only", true);
+  return plot;
+}
+
+// The trajectory (CSV) and its plot (SVG) in opt.out, their paths recorded in j.
+void write_files(const std::string& name, const PhaseOptions& opt, const PhaseResult& result, nlohmann::json& j) {
+  namespace fs = std::filesystem;
+  const std::string csv = (fs::path(opt.out) / (name + "_phase.csv")).string();
+  write_file_atomically(csv, trajectory_csv(result.trajectory), "--out");
+  j["trajectory"] = csv;
+  const GroupPose& first = result.trajectory.front();
+  if (first.p.size() < 2 && !first.R) return;
+  const PlotSpec plot = first.p.size() >= 2 ? translation_plot(name, opt, result) : rotation_plot(name, opt, result);
+  const std::string svg = (fs::path(opt.out) / (name + "_phase.svg")).string();
+  write_file_atomically(svg, render_svg(plot), "--out");
+  j["plot"] = svg;
+}
+
+void print_text(const nlohmann::json& j, const std::string& name, const PhaseOptions& opt, const PhaseResult& result) {
+  std::cout << "phase of " << name << " on " << result.group << ", momentum " << opt.momentum << ", " << result.steps
+            << " RKMK4 steps\n";
+  std::cout << std::setprecision(9);
+  for (const auto& c : j["cycles"]) {
+    std::cout << "  cycle " << c["cycle"] << " (t = " << c["t"].get<double>() << "):";
+    if (c.contains("R")) std::cout << " R = " << c["R"].dump();
+    if (c.contains("theta")) std::cout << " theta = " << c["theta"] << " x = " << c["x"] << " y = " << c["y"];
+    if (c.contains("p")) std::cout << " p = " << c["p"].dump();
+    std::cout << "\n";
+  }
+  if (j.contains("trajectory")) std::cout << "trajectory: " << j["trajectory"].get<std::string>() << "\n";
+  if (j.contains("plot")) std::cout << "plot: " << j["plot"].get<std::string>() << "\n";
+}
+
 void run(const PhaseOptions& opt) {
   if (opt.momentum != "zero" && opt.momentum != "rest")
     throw InputError("--momentum: expected zero or rest, got '" + opt.momentum + "'");
@@ -100,23 +202,7 @@ void run(const PhaseOptions& opt) {
   req.steps_per_cycle = opt.steps;
   req.samples_per_cycle = opt.samples;
   check_phase_request(model, req);  // before the derivation, which may take long
-  {
-    // A phase is the holonomy of a closed loop: warn when r(T) differs from r(0) (the cycles then drift).
-    GiNaC::exmap at0, atT;
-    for (std::size_t k = 0; k < model.parameters.size(); ++k)
-      at0[model.parameters[k].symbol] = atT[model.parameters[k].symbol] = params[k];
-    at0[model.time] = 0;
-    atT[model.time] = opt.period;
-    for (std::size_t I = 0; I < req.path.size(); ++I) {
-      const GiNaC::ex a = req.path[I].subs(at0).evalf(), b = req.path[I].subs(atT).evalf();
-      if (!GiNaC::is_a<GiNaC::numeric>(a) || !GiNaC::is_a<GiNaC::numeric>(b)) continue;
-      const double ra = GiNaC::ex_to<GiNaC::numeric>(a).to_double(), rb = GiNaC::ex_to<GiNaC::numeric>(b).to_double();
-      if (std::abs(rb - ra) > 1e-9 * std::max(1.0, std::abs(ra)))
-        std::cerr << "hamel: warning: the path does not close: " << model.coordinates[I].get_name() << "(0) = " << ra
-                  << " but " << model.coordinates[I].get_name() << "(" << opt.period << ") = " << rb
-                  << "; the per-cycle group elements are then not a geometric phase\n";
-    }
-  }
+  warn_if_open(model, params, req);
   std::cerr << "hamel: deriving " << model.name << " ...\n";
   // Trees: the recursive ep derivation, whose connection is solved numerically (phase.cpp); the momentum
   // form would inline the tree's kinetic energy and invert L symbolically.
@@ -135,86 +221,11 @@ void run(const PhaseOptions& opt) {
   for (std::size_t k = 0; k < result.dynamic.size(); ++k)
     j["dynamic"].push_back(pose_json(result.dynamic[k], static_cast<int>(k + 1)));
   j["steps"] = result.steps;
-
-  if (!opt.no_files) {
-    namespace fs = std::filesystem;
-    const std::string csv = (fs::path(opt.out) / (model.name + "_phase.csv")).string();
-    write_file_atomically(csv, trajectory_csv(result.trajectory), "--out");
-    j["trajectory"] = csv;
-    if (result.trajectory.front().p.size() >= 2) {
-      PlotSpec plot;
-      plot.title =
-          model.name + ": base translation over " + std::to_string(opt.cycles) + " cycle(s), momentum " + opt.momentum;
-      plot.x_label = "x [m]";
-      plot.y_label = "y [m]";
-      plot.equal_aspect = true;
-      PlotSeries path{"base trajectory", {}, {}, true, false, false};
-      for (const auto& p : result.trajectory) path.x.push_back(p.p[0]), path.y.push_back(p.p[1]);
-      PlotSeries ends{"after each cycle (phase)", {0.0}, {0.0}, false, true, false};
-      for (const auto& p : result.cycles) ends.x.push_back(p.p[0]), ends.y.push_back(p.p[1]);
-      plot.series = {path, ends};
-      if (!result.dynamic.empty()) {
-        PlotSeries dyn{"momentum only, shape at rest", {}, {}, true, false, true};
-        for (const auto& p : result.dynamic_trajectory) dyn.x.push_back(p.p[0]), dyn.y.push_back(p.p[1]);
-        PlotSeries dyn_ends{"its position after each cycle (dynamic phase)", {0.0}, {0.0}, false, true, false};
-        for (const auto& p : result.dynamic) dyn_ends.x.push_back(p.p[0]), dyn_ends.y.push_back(p.p[1]);
-        plot.series.push_back(dyn);
-        plot.series.push_back(dyn_ends);
-      }
-      const std::string svg = (fs::path(opt.out) / (model.name + "_phase.svg")).string();
-      write_file_atomically(svg, render_svg(plot), "--out");
-      j["plot"] = svg;
-    } else if (result.trajectory.front().R) {
-      // A rotation without a plane translation (SO3): the rotation vector w, exp(w) = R, over time,
-      // continuous through |w| = pi, with its values after each cycle marked.
-      PlotSpec plot;
-      plot.title = model.name + ": rotation vector log R over " + std::to_string(opt.cycles) + " cycle(s), momentum " +
-                   opt.momentum;
-      plot.x_label = "t [s]";
-      plot.y_label = "rotation vector w, exp(w) = R [rad]";
-      const auto add = [&](const std::vector<GroupPose>& poses, const std::vector<GroupPose>& ends,
-                           const std::string& what, bool dashed) {
-        const std::vector<std::array<double, 3>> w = unwrapped_rotation_vectors(poses);
-        for (std::size_t i = 0; i < 3; ++i) {
-          PlotSeries line{std::string("w") + "xyz"[i] + what, {}, {}, true, false, dashed};
-          for (std::size_t k = 0; k < poses.size(); ++k) line.x.push_back(poses[k].t), line.y.push_back(w[k][i]);
-          plot.series.push_back(line);
-        }
-        // Each cycle's end continued from the trajectory sample nearest in time.
-        PlotSeries marks{"after each cycle" + what, {}, {}, false, true, false};
-        for (const GroupPose& e : ends) {
-          std::size_t nearest = 0;
-          for (std::size_t k = 1; k < poses.size(); ++k)
-            if (std::abs(poses[k].t - e.t) < std::abs(poses[nearest].t - e.t)) nearest = k;
-          const std::array<double, 3> v = rotation_vector_near(*e.R, w[nearest]);
-          for (std::size_t i = 0; i < 3; ++i) marks.x.push_back(e.t), marks.y.push_back(v[i]);
-        }
-        plot.series.push_back(marks);
-      };
-      add(result.trajectory, result.cycles, "", false);
-      if (!result.dynamic.empty()) add(result.dynamic_trajectory, result.dynamic, ", momentum only", true);
-      const std::string svg = (fs::path(opt.out) / (model.name + "_phase.svg")).string();
-      write_file_atomically(svg, render_svg(plot), "--out");
-      j["plot"] = svg;
-    }
-  }
-
-  if (opt.json) {
+  if (!opt.no_files) write_files(model.name, opt, result, j);
+  if (opt.json)
     std::cout << j.dump(2) << "\n";
-    return;
-  }
-  std::cout << "phase of " << model.name << " on " << result.group << ", momentum " << opt.momentum << ", "
-            << result.steps << " RKMK4 steps\n";
-  std::cout << std::setprecision(9);
-  for (const auto& c : j["cycles"]) {
-    std::cout << "  cycle " << c["cycle"] << " (t = " << c["t"].get<double>() << "):";
-    if (c.contains("R")) std::cout << " R = " << c["R"].dump();
-    if (c.contains("theta")) std::cout << " theta = " << c["theta"] << " x = " << c["x"] << " y = " << c["y"];
-    if (c.contains("p")) std::cout << " p = " << c["p"].dump();
-    std::cout << "\n";
-  }
-  if (j.contains("trajectory")) std::cout << "trajectory: " << j["trajectory"].get<std::string>() << "\n";
-  if (j.contains("plot")) std::cout << "plot: " << j["plot"].get<std::string>() << "\n";
+  else
+    print_text(j, model.name, opt, result);
 }
 
 }  // namespace

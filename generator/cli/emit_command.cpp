@@ -169,7 +169,8 @@ Run add_emit_command(CLI::App& app) {
   cmd->add_option("--share", opt->settings.share_statements,
                   "Print work that several kernels use (N or more operations used by the same kernels) once, as a "
                   "function shared_<k> that each of them calls before its own work, instead of in every kernel "
-                  "(0: never). The 30-joint chain's jacobian then calls rhs's recursion instead of holding a copy")
+                  "(0: never). With --jacobian-solve ldlt, the 30-joint chain's jacobian then calls rhs's recursion "
+                  "instead of holding a copy")
       ->default_val(opt->settings.share_statements)
       ->check(whole_number("operations", "never"))
       ->type_name("N");
@@ -177,9 +178,9 @@ Run add_emit_command(CLI::App& app) {
          "--share-ratio", opt->settings.share_ratio,
          "Share such work only when its function computes at least R operations per value it leaves to "
          "later work, which every caller stores and reads back (0: any; the smallest package and the "
-         "shortest compile, the 30-joint chain's 2.0 MB and 14-15 s of g++ -O2 against 2.5 MB and "
-         "18-25 s in the same runs, but kernels that read many shared values run 10-35 % slower, a small "
-         "model's up to 80 %, docs/benchmarks.md). A kernel that would read less than a tenth of a shared function's "
+         "shortest compile, the 30-joint chain's 2.0 MB and 12-15 s of g++ -O2 against 2.5 MB and "
+         "17-21 s, but kernels that read many shared values run 10-35 % slower, a small "
+         "model's up to 80 %, docs/emit.md). A kernel that would read less than a tenth of a shared function's "
          "values computes that work itself")
       ->default_val(opt->settings.share_ratio)
       ->check(whole_number("operations per value", "any"))

@@ -86,7 +86,7 @@ void run(EmitOptions opt) {
   }
   const Model& model = target.model;
   check_package_folder(opt.output, model.name);  // a refused folder fails now, not after a long derivation
-  std::cerr << "hamel: deriving " << model.name << " ...\n";
+  progress::say("deriving " + model.name);
   const Derivation derivation = derive(model, target.settings);
   const KernelSet kernels = [&] {
     progress::Step step("building the kernels' expression graph");

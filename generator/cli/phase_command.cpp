@@ -11,6 +11,7 @@
 #include "model/load_model.hpp"
 #include "numeric/phase.hpp"
 #include "report/atomic_file.hpp"
+#include "report/progress.hpp"
 #include "report/svg_plot.hpp"
 
 #include <nlohmann/json.hpp>
@@ -203,13 +204,13 @@ void run(const PhaseOptions& opt) {
   req.samples_per_cycle = opt.samples;
   check_phase_request(model, req);  // before the derivation, which may take long
   warn_if_open(model, params, req);
-  std::cerr << "hamel: deriving " << model.name << " ...\n";
+  progress::say("deriving " + model.name);
   // Trees: the recursive ep derivation, whose connection is solved numerically (phase.cpp); the momentum
   // form would inline the tree's kinetic energy and invert L symbolically.
   const Derivation d = derive(model, DeriveSettings{model.bundle->tree         ? "ep"
                                                     : model.bundle->mechanical ? "momentum"
                                                                                : "ldap"});
-  std::cerr << "hamel: reconstructing " << opt.cycles << " cycle(s) on " << model.bundle->group << " ...\n";
+  progress::say("reconstructing " + std::to_string(opt.cycles) + " cycle(s) on " + model.bundle->group);
   const PhaseResult result = compute_phase(model, d, params, req);
 
   nlohmann::json j;

@@ -9,6 +9,7 @@
 #include "numeric/integrators.hpp"
 #include "numeric/work_precision.hpp"
 #include "report/atomic_file.hpp"
+#include "report/progress.hpp"
 
 #include <filesystem>
 #include <iostream>
@@ -37,7 +38,7 @@ void run(const ReportOptions& opt) {
   if (t_end == 0) t_end = 10;
   const std::map<std::string, double> init = parse_assignments(opt.init, "--init");
   for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
-  std::cerr << "hamel: deriving " << model.name << " ...\n";
+  progress::say("deriving " + model.name);
   const Derivation d = derive(model, target.settings);
   const KernelSet kernels = build_kernels(model, d);
 
@@ -71,8 +72,9 @@ void run(const ReportOptions& opt) {
   std::error_code ec;
   fs::create_directories(opt.out, ec);
   if (ec) throw InputError("--out: cannot create '" + opt.out + "': " + ec.message());
-  std::cerr << "hamel: work-precision study of " << model.name << " over t = 0 .. " << t_end << "\n";
-  const WorkPrecisionStudy study = work_precision(model, d, kernels, req, &std::cerr);
+  std::ostream* stream = progress::enabled() ? &std::cerr : nullptr;
+  if (stream) *stream << "hamel: work-precision study of " << model.name << " over t = 0 .. " << t_end << "\n";
+  const WorkPrecisionStudy study = work_precision(model, d, kernels, req, stream);
   const fs::path base = fs::path(opt.out) / (model.name + "_work_precision");
   write_file_atomically(base.string() + ".csv", work_precision_csv(study), "--out");
   write_file_atomically(base.string() + ".md", work_precision_markdown(model, study), "--out");

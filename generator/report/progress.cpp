@@ -37,6 +37,16 @@ class Reporter {
     enabled_ = enabled;
   }
 
+  bool enabled() {
+    std::lock_guard<std::mutex> lock(mutex_);
+    return enabled_;
+  }
+
+  void say(const std::string& what) {
+    std::lock_guard<std::mutex> lock(mutex_);
+    if (enabled_) std::fprintf(stderr, "hamel: %s ...\n", what.c_str());
+  }
+
   int push(std::string what) {
     std::lock_guard<std::mutex> lock(mutex_);
     if (enabled_ && !watcher_.joinable()) watcher_ = std::thread([this] { watch(); });
@@ -94,6 +104,8 @@ Reporter& reporter() {
 }  // namespace
 
 void set_enabled(bool enabled) { reporter().set_enabled(enabled); }
+void say(const std::string& what) { reporter().say(what); }
+bool enabled() { return reporter().enabled(); }
 
 Step::Step(std::string what) : id_(reporter().push(std::move(what))) {}
 Step::~Step() { reporter().pop(id_); }

@@ -10,6 +10,13 @@ namespace hamel::progress {
 
 void set_enabled(bool enabled);
 
+/// "hamel: <what> ..." on stderr now, unless progress is switched off: the start of a step that is long on large
+/// models (a derivation, an integration), said at once so that the user knows what the command does first.
+void say(const std::string& what);
+
+/// Whether progress is switched on (no `--quiet`): for commands that report their progress through a stream.
+bool enabled();
+
 /// One step, from construction to destruction; steps nest (the innermost is the one announced).
 class Step {
  public:

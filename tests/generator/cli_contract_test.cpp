@@ -244,4 +244,30 @@ TEST(Cli, HelpForEveryVerb) {
   }
 }
 
+// --quiet (-q) silences what a command says it is doing (derivation, reconstruction: "hamel: ... ..."), and only
+// that: emit still prints what it wrote, phase its result.
+TEST(Cli, QuietSilencesProgressOnly) {
+  const fs::path out = scratch("quiet");
+  const std::string emit = "emit " + source("models/double_pendulum.yaml") + " -o " + out.string() + " 2>&1";
+  const Outcome loud = hamel(emit);
+  ASSERT_EQ(loud.status, 0) << loud.out;
+  EXPECT_NE(loud.out.find("hamel: deriving double_pendulum ..."), std::string::npos) << loud.out;
+  for (const char* flag : {"--quiet ", "-q "}) {
+    const Outcome quiet = hamel(flag + emit);
+    ASSERT_EQ(quiet.status, 0) << quiet.out;
+    EXPECT_EQ(quiet.out.find("deriving"), std::string::npos) << quiet.out;
+    EXPECT_NE(quiet.out.find("hamel: wrote "), std::string::npos) << quiet.out;
+  }
+  const std::string phase = "phase " + source("models/planar_space_robot.yaml") +
+                            " --path \"0.5*sin(2*pi*t); 0.5*(1-cos(2*pi*t))\" --steps-per-cycle 200 --no-files 2>&1";
+  const Outcome phase_loud = hamel(phase);
+  ASSERT_EQ(phase_loud.status, 0) << phase_loud.out;
+  EXPECT_NE(phase_loud.out.find("hamel: reconstructing 1 cycle(s) on SE2 ..."), std::string::npos) << phase_loud.out;
+  const Outcome phase_quiet = hamel("--quiet " + phase);
+  ASSERT_EQ(phase_quiet.status, 0) << phase_quiet.out;
+  EXPECT_EQ(phase_quiet.out.find("hamel: "), std::string::npos) << phase_quiet.out;
+  EXPECT_NE(phase_quiet.out.find("cycle 1 (t = 1)"), std::string::npos) << phase_quiet.out;
+  fs::remove_all(out);
+}
+
 }  // namespace

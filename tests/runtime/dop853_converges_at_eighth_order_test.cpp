@@ -14,6 +14,7 @@
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
 #include "kepler_orbit.hpp"
+#include "reference_problems.hpp"
 
 namespace {
 
@@ -52,23 +53,6 @@ Dop853Options fixed_step(double h) {
   return opt;
 }
 
-// Least-squares slope of log(y) against log(x).
-double fitted_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    mx += std::log(x[i]);
-    my += std::log(y[i]);
-  }
-  mx /= static_cast<double>(x.size());
-  my /= static_cast<double>(x.size());
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxy += (std::log(x[i]) - mx) * (std::log(y[i]) - my);
-    sxx += (std::log(x[i]) - mx) * (std::log(x[i]) - mx);
-  }
-  return sxy / sxx;
-}
-
 // Steps from h = 0.2 (measured error 6e-7) to h = 0.025 (3e-14, still a few
 // times above rounding) over [0, 2], starting at periapsis where the orbit is
 // most curved. Pairwise orders are 8.8, 8.0, 7.7: the error constant is still
@@ -88,7 +72,7 @@ TEST(RuntimeDop853, FixedStepConvergesAtOrderEight) {
     if (errors.size() > 1) std::printf(" pairwise order=%.2f", std::log2(errors[errors.size() - 2] / errors.back()));
     std::printf("\n");
   }
-  const double order = fitted_slope(steps, errors);
+  const double order = hamel_test::fitted_slope(steps, errors);
   std::printf("fitted order %.3f\n", order);
   EXPECT_NEAR(order, 8.0, 0.5);
 }
@@ -188,7 +172,7 @@ TEST(RuntimeDop853, KeplerErrorFollowsTheTolerance) {
     errors.push_back(run.end_error);
     steps.push_back(s.steps);
   }
-  const double p = fitted_slope(tols, errors);
+  const double p = hamel_test::fitted_slope(tols, errors);
   std::printf("fitted error ~ tol^%.3f\n", p);
   EXPECT_GT(p, 0.65);
   EXPECT_LT(p, 1.1);
@@ -301,27 +285,16 @@ TEST(RuntimeDop853, MaximumAndInitialStepAreRespected) {
   EXPECT_EQ(r.stats.rhs_evals, 12 * r.stats.steps + 11 * r.stats.rejected + 1);  // no probe
 }
 
-// Arenstorf's restricted three-body orbit (Hairer, Norsett & Wanner, Sect.
-// II.0) must close after one period; the close approaches to the moon amplify
-// errors strongly (measured gaps 7e3 and 8e2 times the tolerance), so the test
-// relies mostly on the gap shrinking with the tolerance.
-void arenstorf_rhs(double, const double* y, double* f) {
-  constexpr double mu = 0.012277471;
-  constexpr double mu1 = 1.0 - mu;
-  const double d1 = std::pow((y[0] + mu) * (y[0] + mu) + y[1] * y[1], 1.5);
-  const double d2 = std::pow((y[0] - mu1) * (y[0] - mu1) + y[1] * y[1], 1.5);
-  f[0] = y[2];
-  f[1] = y[3];
-  f[2] = y[0] + 2 * y[3] - mu1 * (y[0] + mu) / d1 - mu * (y[0] - mu1) / d2;
-  f[3] = y[1] - 2 * y[2] - mu1 * y[1] / d1 - mu * y[1] / d2;
-}
-
+// Arenstorf's orbit (reference_problems.hpp) must close after one period; the close approaches to the moon
+// amplify errors strongly (measured gaps 7e3 and 8e2 times the tolerance), so the test relies mostly on the gap
+// shrinking with the tolerance.
 TEST(RuntimeDop853, ArenstorfOrbitCloses) {
-  const std::vector<double> start = {0.994, 0.0, 0.0, -2.00158510637908252240537862224};
-  constexpr double period = 17.0652165601579625588917206249;
+  const std::vector<double> start(hamel_test::arenstorf_start.begin(), hamel_test::arenstorf_start.end());
+  constexpr double period = hamel_test::arenstorf_period;
   double previous = 0.0;
   for (const double tol : {1e-7, 1e-11}) {
-    const IntegrationResult r = integrate_dop853(arenstorf_rhs, start, 0.0, period, tolerance(tol), 0.0, NoObserver{});
+    const IntegrationResult r =
+        integrate_dop853(hamel_test::arenstorf_rhs, start, 0.0, period, tolerance(tol), 0.0, NoObserver{});
     ASSERT_EQ(r.status, Status::ok);
     double gap = 0.0;
     for (std::size_t i = 0; i < 4; ++i) gap = std::fmax(gap, std::fabs(r.x[i] - start[i]));

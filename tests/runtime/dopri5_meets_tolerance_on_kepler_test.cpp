@@ -11,6 +11,7 @@
 #include "hamel/runtime/dopri5.hpp"
 #include "hamel/runtime/integration.hpp"
 #include "kepler_orbit.hpp"
+#include "reference_problems.hpp"
 
 namespace {
 
@@ -230,29 +231,16 @@ TEST(RuntimeDopri5, GivenInitialStepIsUsed) {
   EXPECT_EQ(r.stats.rhs_evals, 6 * (r.stats.steps + r.stats.rejected) + 1);  // no probe
 }
 
-// Arenstorf's restricted three-body orbit (Hairer, Norsett & Wanner, Sect. II.0)
-// is periodic but passes close to the moon, where the step must shrink by
-// orders of magnitude; after one period it must close on itself. The close
-// approaches amplify errors strongly (measured closure gaps are 1e4 to 3e4
-// times the tolerance), so the test relies mostly on the gap shrinking in
-// proportion to the tolerance.
-void arenstorf_rhs(double, const double* y, double* f) {
-  constexpr double mu = 0.012277471;
-  constexpr double mu1 = 1.0 - mu;
-  const double d1 = std::pow((y[0] + mu) * (y[0] + mu) + y[1] * y[1], 1.5);
-  const double d2 = std::pow((y[0] - mu1) * (y[0] - mu1) + y[1] * y[1], 1.5);
-  f[0] = y[2];
-  f[1] = y[3];
-  f[2] = y[0] + 2 * y[3] - mu1 * (y[0] + mu) / d1 - mu * (y[0] - mu1) / d2;
-  f[3] = y[1] - 2 * y[2] - mu1 * y[1] / d1 - mu * y[1] / d2;
-}
-
+// Arenstorf's orbit (reference_problems.hpp) must close on itself after one period. The close approaches to the
+// moon amplify errors strongly (measured closure gaps are 1e4 to 3e4 times the tolerance), so the test relies
+// mostly on the gap shrinking in proportion to the tolerance.
 TEST(RuntimeDopri5, ArenstorfOrbitCloses) {
-  const std::vector<double> start = {0.994, 0.0, 0.0, -2.00158510637908252240537862224};
-  constexpr double period = 17.0652165601579625588917206249;
+  const std::vector<double> start(hamel_test::arenstorf_start.begin(), hamel_test::arenstorf_start.end());
+  constexpr double period = hamel_test::arenstorf_period;
   double previous = 0.0;
   for (const double tol : {1e-7, 1e-10}) {
-    const IntegrationResult r = integrate_dopri5(arenstorf_rhs, start, 0.0, period, tolerance(tol), 0.0, NoObserver{});
+    const IntegrationResult r =
+        integrate_dopri5(hamel_test::arenstorf_rhs, start, 0.0, period, tolerance(tol), 0.0, NoObserver{});
     ASSERT_EQ(r.status, Status::ok);
     double gap = 0.0;
     for (std::size_t i = 0; i < 4; ++i) gap = std::fmax(gap, std::fabs(r.x[i] - start[i]));

@@ -14,6 +14,7 @@
 #include "hamel/runtime/integration.hpp"
 #include "hamel/runtime/radau5.hpp"
 #include "kepler_orbit.hpp"
+#include "reference_problems.hpp"
 #include "stiff_problems.hpp"
 
 namespace {
@@ -80,22 +81,6 @@ Radau5Options fixed_step(double h) {
   return opt;
 }
 
-double fitted_slope(const std::vector<double>& x, const std::vector<double>& y) {
-  double mx = 0, my = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    mx += std::log(x[i]);
-    my += std::log(y[i]);
-  }
-  mx /= static_cast<double>(x.size());
-  my /= static_cast<double>(x.size());
-  double sxy = 0, sxx = 0;
-  for (std::size_t i = 0; i < x.size(); ++i) {
-    sxy += (std::log(x[i]) - mx) * (std::log(y[i]) - my);
-    sxx += (std::log(x[i]) - mx) * (std::log(x[i]) - mx);
-  }
-  return sxy / sxx;
-}
-
 // Kepler over [0, 2] from periapsis; end errors measured 1.1e-5 .. 3.2e-10,
 // pairwise orders 5.02, 5.02, 5.02. Samples at odd multiples of h/2 come from
 // the cubic collocation polynomial, whose O(h^4) local error makes them
@@ -122,8 +107,8 @@ TEST(RuntimeRadau5, FixedStepConvergesAtOrderFive) {
     std::printf("fixed h=%-7g end error=%.3e sample error=%.3e rhs=%ld jac=%ld lu=%ld\n", h, errors.back(), worst,
                 r.stats.rhs_evals, r.stats.jac_evals, r.stats.lu_decompositions);
   }
-  const double order = fitted_slope(steps, errors);
-  const double sample_order = fitted_slope(steps, sample_errors);
+  const double order = hamel_test::fitted_slope(steps, errors);
+  const double sample_order = hamel_test::fitted_slope(steps, sample_errors);
   std::printf("fitted order %.3f, samples %.3f\n", order, sample_order);
   EXPECT_NEAR(order, 5.0, 0.3);
   EXPECT_NEAR(sample_order, 4.0, 0.4);
@@ -138,7 +123,7 @@ TEST(RuntimeRadau5, FixedStepConvergesAtOrderFiveOnRiccati) {
     ASSERT_EQ(r.status, Status::ok);
     errors.push_back(std::fabs(r.x[0] - riccati_exact(10.0)));
   }
-  const double order = fitted_slope(steps, errors);
+  const double order = hamel_test::fitted_slope(steps, errors);
   std::printf("riccati fitted order %.3f\n", order);
   EXPECT_NEAR(order, 5.0, 0.3);
 }
@@ -165,12 +150,12 @@ TEST(RuntimeRadau5, KeplerErrorFollowsTheTolerance) {
     errors.push_back(e);
     steps.push_back(r.stats.steps);
   }
-  const double p = fitted_slope(tols, errors);
+  const double p = hamel_test::fitted_slope(tols, errors);
   std::printf("fitted error ~ tol^%.3f\n", p);
   EXPECT_GT(p, 0.9);
   EXPECT_LT(p, 1.4);
   // The O(h^4) estimate sets h ~ tol^(1/4): steps ~ tol^(-1/4), measured -0.23.
-  const double q = fitted_slope(tols, std::vector<double>(steps.begin(), steps.end()));
+  const double q = hamel_test::fitted_slope(tols, std::vector<double>(steps.begin(), steps.end()));
   std::printf("fitted steps ~ tol^%.3f\n", q);
   EXPECT_NEAR(q, -0.25, 0.05);
 }

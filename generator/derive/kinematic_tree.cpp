@@ -178,6 +178,12 @@ bool forced(const Model& model, const KinematicTree& tree) {
   return any;
 }
 
+// Gravity as an upward acceleration of the base, (0, −g) (Featherstone): every body's wrench then carries its weight
+// without a separate potential gradient.
+Vec6 gravity_as_base_acceleration(const KinematicTree& tree) {
+  return join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
+}
+
 // The bodies in the order of the recursion: body 0 is the base, body k + 1 moves with r^k. Each body's parent, its
 // joint's pose in the parent's frame, its axis and its spatial inertia in its own frame.
 struct TreeBodies {
@@ -216,7 +222,7 @@ std::shared_ptr<TreeRecursion> tree_recursion(const Model& model, const Kinemati
   recursion->bodies.push_back(tree.base);
   for (const TreeBody& body : tree.bodies) recursion->bodies.push_back(body.body);
   recursion->base = base;
-  recursion->base_acceleration = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
+  recursion->base_acceleration = gravity_as_base_acceleration(tree);
   recursion->base_velocity.assign(group_velocity.begin(), group_velocity.end());
   recursion->coordinates.assign(model.coordinates.begin(), model.coordinates.end());
   recursion->rates.assign(model.rates.begin(), model.rates.end());
@@ -226,8 +232,7 @@ std::shared_ptr<TreeRecursion> tree_recursion(const Model& model, const Kinemati
 }
 
 // The body-frame pass at u̇ = 0: twists V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i, accelerations a_i (the velocity-product
-// terms ad_{V_i} S_i ṙ_i carried outward; gravity as an upward acceleration of the fixed base, Featherstone, so that
-// every body's wrench carries its weight without a separate potential gradient), momenta h_i = 𝕀_i V_i, the
+// terms ad_{V_i} S_i ṙ_i carried outward from gravity_as_base_acceleration), momenta h_i = 𝕀_i V_i, the
 // Euler–Poincaré wrenches F summed from the leaves to the base (children come after their parents, each body's
 // total named once), and the kinetic energy.
 struct BodyFramePass {
@@ -244,7 +249,7 @@ BodyFramePass body_frame_pass(const Model& model, const KinematicTree& tree, con
   for (std::size_t alpha = 0; alpha < group_velocity.size(); ++alpha)
     base_twist = base_twist + base[alpha] * group_velocity[alpha];
   pass.V[0] = base_twist;
-  pass.a[0] = join({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
+  pass.a[0] = gravity_as_base_acceleration(tree);
   for (std::size_t i = 0; i < N; ++i) {
     if (i > 0) {
       const std::size_t p = static_cast<std::size_t>(b.parent[i]);

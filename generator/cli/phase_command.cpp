@@ -111,19 +111,20 @@ PlotSpec translation_plot(const std::string& name, const PhaseOptions& opt, cons
   plot.x_label = "x [m]";
   plot.y_label = "y [m]";
   plot.equal_aspect = true;
-  PlotSeries path{"base trajectory", {}, {}, true, false, false};
-  for (const auto& p : result.trajectory) path.x.push_back(p.p[0]), path.y.push_back(p.p[1]);
-  PlotSeries ends{"after each cycle (phase)", {0.0}, {0.0}, false, true, false};
-  for (const auto& p : result.cycles) ends.x.push_back(p.p[0]), ends.y.push_back(p.p[1]);
-  plot.series = {path, ends};
-  if (!result.dynamic.empty()) {
-    PlotSeries dyn{"momentum only, shape at rest", {}, {}, true, false, true};
-    for (const auto& p : result.dynamic_trajectory) dyn.x.push_back(p.p[0]), dyn.y.push_back(p.p[1]);
-    PlotSeries dyn_ends{"its position after each cycle (dynamic phase)", {0.0}, {0.0}, false, true, false};
-    for (const auto& p : result.dynamic) dyn_ends.x.push_back(p.p[0]), dyn_ends.y.push_back(p.p[1]);
-    plot.series.push_back(dyn);
-    plot.series.push_back(dyn_ends);
-  }
+  // A trajectory as a line, and its positions after each cycle as marks starting at the origin.
+  const auto add = [&](const std::vector<GroupPose>& poses, const std::vector<GroupPose>& ends,
+                       const std::string& line_label, const std::string& marks_label, bool dashed) {
+    PlotSeries line{line_label, {}, {}, true, false, dashed};
+    for (const auto& p : poses) line.x.push_back(p.p[0]), line.y.push_back(p.p[1]);
+    PlotSeries marks{marks_label, {0.0}, {0.0}, false, true, false};
+    for (const auto& p : ends) marks.x.push_back(p.p[0]), marks.y.push_back(p.p[1]);
+    plot.series.push_back(line);
+    plot.series.push_back(marks);
+  };
+  add(result.trajectory, result.cycles, "base trajectory", "after each cycle (phase)", false);
+  if (!result.dynamic.empty())
+    add(result.dynamic_trajectory, result.dynamic, "momentum only, shape at rest",
+        "its position after each cycle (dynamic phase)", true);
   return plot;
 }
 

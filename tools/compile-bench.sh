@@ -5,8 +5,9 @@
 # the best of the rounds is the steadiest figure, and every round is listed. Not part of the test suite.
 #   tools/compile-bench.sh [--rounds N] [--out DIR] [--cxx "g++ -std=c++17 -O2"] [MODEL.yaml] [LABEL=FLAGS ...]
 # Without a model: the scaling benchmark's 30-joint chain (tools/scaling/models.py, needs /usr/bin/python3 with
-# numpy). Without variants: default (no flags), --share-ratio 0, --split 1000, --kernels rhs,jacobian,mass_matrix,
-# forcing and --kernels rhs,jacobian. Results: DIR/results.md (default build-compile-bench/).
+# numpy). Without variants: default (no flags), --share-ratio 32, --share-ratio 0, --split 1000,
+# --kernels rhs,jacobian,mass_matrix,forcing and --kernels rhs,jacobian. Results: DIR/results.md (default
+# build-compile-bench/).
 # HAMEL=<binary> selects the generator (default build/bin/hamel).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -37,7 +38,7 @@ if [[ -z $model ]]; then
 fi
 [[ -f $model ]] || { echo "compile-bench.sh: no model file $model" >&2; exit 2; }
 if [[ ${#variants[@]} -eq 0 ]]; then
-  variants=("default=" "share-ratio-0=--share-ratio 0" "split-1000=--split 1000"
+  variants=("default=" "share-ratio-32=--share-ratio 32" "share-ratio-0=--share-ratio 0" "split-1000=--split 1000"
             "rhs-jacobian-M-f=--kernels rhs,jacobian,mass_matrix,forcing" "rhs-jacobian=--kernels rhs,jacobian")
 fi
 

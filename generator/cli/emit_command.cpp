@@ -57,8 +57,7 @@ std::string given_options(const EmitOptions& opt) {
     add("--split", std::to_string(opt.settings.split_statements));
   if (opt.settings.share_statements != EmitSettings{}.share_statements)
     add("--share", std::to_string(opt.settings.share_statements));
-  if (opt.settings.share_ratio != EmitSettings{}.share_ratio)
-    add("--share-ratio", std::to_string(opt.settings.share_ratio));
+  if (opt.settings.share_ratio != kShareRatioAuto) add("--share-ratio", std::to_string(opt.settings.share_ratio));
   if (opt.settings.inline_calls) s += std::string(s.empty() ? "" : " ") + "--inline";
   return s;
 }
@@ -122,7 +121,8 @@ void run(EmitOptions opt) {
   std::cerr << "hamel: wrote " << printable(opt.output) << "/: " << files << " ("
             << (package.source.size() + 500) / 1000 << " kB of C++";
   if (package.shared_stages > 0)
-    std::cerr << ", " << package.shared_stages << " shared stage" << (package.shared_stages > 1 ? "s" : "");
+    std::cerr << ", " << package.shared_stages << " shared stage" << (package.shared_stages > 1 ? "s" : "")
+              << " at --share-ratio " << package.share_ratio;
   std::cerr << ")\n";
   // What one call of each kernel executes as printed (with its shared stages and calls).
   for (const auto& [name, c] : package.operations)
@@ -174,17 +174,29 @@ Run add_emit_command(CLI::App& app) {
       ->default_val(opt->settings.share_statements)
       ->check(whole_number("operations", "never"))
       ->type_name("N");
+  // --share-ratio takes `auto` too, read as kShareRatioAuto.
+  const auto ratio = [whole_number](std::string& value) {
+    if (value == "auto") {
+      value = std::to_string(kShareRatioAuto);
+      return std::string();
+    }
+    return whole_number("operations per value", "any")(value).empty()
+               ? std::string()
+               : "expected auto or a whole number of operations per value, 0 or more (0: any), got '" + value + "'";
+  };
   cmd->add_option(
          "--share-ratio", opt->settings.share_ratio,
          "Share such work only when its function computes at least R operations per value it leaves to "
-         "later work, which every caller stores and reads back (0: any; the smallest package and the "
-         "shortest compile, the 30-joint chain's 2.0 MB and 12-15 s of g++ -O2 against 2.5 MB and "
-         "17-21 s, but kernels that read many shared values run 10-35 % slower, a small "
-         "model's up to 80 %, docs/emit.md). A kernel that would read less than a tenth of a shared function's "
-         "values computes that work itself")
-      ->default_val(opt->settings.share_ratio)
-      ->check(whole_number("operations per value", "any"))
-      ->type_name("R");
+         "later work, which every caller stores and reads back. auto (default): " +
+             std::to_string(kShareRatioSmall) + ", or " + std::to_string(kShareRatioLarge) +
+             " when the kernels print " + std::to_string(kLargePackage) +
+             " operations or more together (the 30-joint chain: 13 s of g++ -O2 instead of 18, mass_matrix 5-21 % "
+             "slower on the large chains and trees measured). 0: any (the smallest package; energy and rhs then run "
+             "slower too). docs/emit.md. A kernel that would read less than a tenth of a shared function's values "
+             "computes that work itself")
+      ->default_str("auto")
+      ->transform(CLI::Validator(ratio, "", "operations per value"))
+      ->type_name("R|auto");
   cmd->add_option(
       "--jacobian-solve", opt->jacobian_solve,
       "Kinematic trees: how the jacobian solves M y = b for its columns: ldlt (the LDL^T of M, few operations "

@@ -1037,6 +1037,8 @@ class PackageWriter {
   std::string readme() const;    // README.md
   std::vector<std::pair<std::string, OpCounts>> operations() const;  // EmittedPackage::operations
   int shared_stages() const { return static_cast<int>(sharing.stages.size() + prepared_sharing.stages.size()); }
+  int share_ratio = 0;  // EmittedPackage::share_ratio
+  long statements = 0;  // EmittedPackage::statements
 
  private:
   // README.md's sections after its head, in order.
@@ -1127,7 +1129,12 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
     writes_out.push_back(!called && !is_checked_rhs(k));
     names.push_back(k.name);
   }
-  sharing = plan_shared_stages(kernels.graph, units, settings.share_statements, settings.share_ratio, writes_out);
+  statements = 0;
+  for (const std::vector<int>& unit : units) statements += kernels.graph.count(kernels.graph.schedule(unit)).total();
+  share_ratio = settings.share_ratio != kShareRatioAuto ? settings.share_ratio
+                : statements >= settings.large_package  ? kShareRatioLarge
+                                                        : kShareRatioSmall;
+  sharing = plan_shared_stages(kernels.graph, units, settings.share_statements, share_ratio, writes_out);
   const PrintedStages stages = print_stages(kernels.graph, sharing, s, "", names);
   stage_text = stages.text;
   for (std::size_t i = 0; i < kernels.kernels.size(); ++i)
@@ -1191,8 +1198,8 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
       prepared_writes_out.push_back(!(k.calls && s.calls));
       prepared_names.push_back(k.name);
     }
-    prepared_sharing = plan_shared_stages(kernels.graph, prepared_units, settings.share_statements,
-                                          settings.share_ratio, prepared_writes_out);
+    prepared_sharing =
+        plan_shared_stages(kernels.graph, prepared_units, settings.share_statements, share_ratio, prepared_writes_out);
     const PrintedStages prepared_stages =
         print_stages(kernels.graph, prepared_sharing, wide, "prepared_", prepared_names);
     prepared_stage_text = prepared_stages.text;
@@ -1615,6 +1622,8 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
   package.extra.push_back({"README.md", writer.readme()});
   package.operations = writer.operations();
   package.shared_stages = writer.shared_stages();
+  package.share_ratio = writer.share_ratio;
+  package.statements = writer.statements;
   return package;
 }
 

@@ -26,10 +26,24 @@ struct EmittedPackage {
   /// with its shared stages and, for a kernel with calls, every call's (what each kernel's comment reports).
   std::vector<std::pair<std::string, OpCounts>> operations;
   int shared_stages = 0;  ///< functions shared_<k> (and prepared_shared_<k>) printed
+  int share_ratio = 0;    ///< the --share-ratio the stages were planned with (auto resolved)
+  long statements = 0;    ///< the statements the kernels print together without shared stages
 
   /// Every file of the package, header and source first.
   std::vector<EmittedFile> files() const;
 };
+
+/// --share-ratio auto (EmitSettings::share_ratio): a package whose kernels print fewer than kLargePackage statements
+/// together (about 6 s of g++ -O2) shares only work of at least kShareRatioSmall statements per value it passes on,
+/// which costs no measurable run time; a larger one also work of at least kShareRatioLarge per value: the composite
+/// inertias that mass_matrix, connection, shape_inertia and a tree's jacobian all compute (9.5-10 per value on the
+/// scaling chains and trees). The 30-joint chain's package then compiles in 13 s instead of 18, for mass_matrix
+/// 5-21 % slower (docs/emit.md, "Large models: compile time against run time"). The bias forces rhs, forcing and
+/// energy share (5 per value) stay unshared: with them, energy ran 13-15 % and rhs 7-8 % slower.
+constexpr int kShareRatioAuto = -1;
+constexpr int kShareRatioSmall = 32;
+constexpr int kShareRatioLarge = 7;
+constexpr long kLargePackage = 50000;
 
 /// How kernels are printed.
 struct EmitSettings {
@@ -42,7 +56,10 @@ struct EmitSettings {
   int share_statements = 1000;
   /// ... and only when its shared function computes at least this many statements per value it leaves to later work
   /// (every caller stores and loads them all: a few statements per value made the kernels slower). 0: any.
-  int share_ratio = 32;
+  /// kShareRatioAuto: kShareRatioLarge when the kernels print at least `large_package` statements together (without
+  /// shared stages: EmittedPackage::statements), else kShareRatioSmall.
+  int share_ratio = kShareRatioAuto;
+  long large_package = kLargePackage;
   /// Print every kernel flat, also one whose repeated solve is a subroutine (Kernel::calls): each call inline.
   bool inline_calls = false;
   /// The options emit was given (without the model and -o), recorded in every file's first line: with the

@@ -18,7 +18,8 @@
 // reads them back. A stage of many statements per export (rhs's articulated-body recursion, which the jacobian
 // reuses with `--jacobian-solve ldlt`: 13 500 statements, 190 exports on the 30-joint chain) costs nothing measurable;
 // one of a few statements per export (the composite inertias that mass_matrix, connection and shape_inertia read, 7 per
-// export) made those kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio`. Two things make a stage cheaper
+// export) made those kernels 10-50 % slower (docs/benchmarks.md). Hence `min_ratio` (emit's default picks it by the
+// package's size: EmitSettings::share_ratio). Two things make a stage cheaper
 // for its callers: a kernel that would read few of a stage's exports (`min_read`) does not call it but computes that
 // work itself, as without stages (a kernel "using" statements, for the classes, means calling their stage); and a stage
 // writes the outputs of one of its callers straight into that caller's out[] (Stage::layout), so that the caller does

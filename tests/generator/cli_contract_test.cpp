@@ -188,6 +188,17 @@ TEST(Cli, EmitSharePrintsSharedWorkOnce) {
       EXPECT_NE(r.out.find(flag), std::string::npos) << r.out;
       EXPECT_FALSE(fs::exists(never));
     }
+  // auto, the default, by name: the package of no flag, stamped as such.
+  const fs::path automatic = scratch("share_auto"), plain = scratch("share_default");
+  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + automatic.string() +
+                  " --share 5 --share-ratio auto 2>/dev/null")
+                .status,
+            0);
+  ASSERT_EQ(hamel("emit " + source("models/double_pendulum.yaml") + " -o " + plain.string() + " --share 5 2>/dev/null")
+                .status,
+            0);
+  EXPECT_EQ(slurp(automatic / "double_pendulum.cpp"), slurp(plain / "double_pendulum.cpp"));
+  EXPECT_NE(slurp(plain / "double_pendulum.cpp").find("; emit --share 5). Do not edit."), std::string::npos);
 }
 
 TEST(Cli, BadInputExitsTwoAndWritesNothing) {

@@ -11,6 +11,7 @@
 #include "emit/shared_stages.hpp"
 #include "algebra/operations.hpp"
 #include "derive/derivation.hpp"
+#include "emit/cpp_emitter.hpp"
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
 #include "model/fold_parameters.hpp"
@@ -289,6 +290,36 @@ TEST(SharedStages, TreeKernelsRunAsTheirWholePrograms) {
   check_plan(set.graph, units, narrow, x, p, in);
   const SharingPlan read_most = hamel::plan_shared_stages(set.graph, units, 20, 0, writes_out, 0.5);
   check_plan(set.graph, units, read_most, x, p, in);
+}
+
+// --share-ratio auto (the default): the ratio of a small package, or of a large one when the kernels print at least
+// EmitSettings::large_package statements together; here the tree's package is made "large" by lowering that bound.
+// Each choice prints exactly what the explicit ratio prints, and the large package's lower ratio shares more.
+TEST(SharedStages, AutoRatioFollowsThePackageSize) {
+  const hamel::Model model = hamel::load_model(source_dir() + "/tests/kernels/calls/calls_floating.yaml");
+  const hamel::Derivation d = hamel::derive(model);
+  const hamel::KernelSet set = hamel::build_kernels(model, d);
+  const auto emit = [&](int ratio, long large) {
+    hamel::EmitSettings settings;
+    settings.share_statements = 20;
+    settings.share_ratio = ratio;
+    settings.large_package = large;
+    return hamel::emit_cpp(model, d, set, settings);
+  };
+  const hamel::EmittedPackage small = emit(hamel::kShareRatioAuto, hamel::kLargePackage);
+  ASSERT_GT(small.statements, 100);
+  ASSERT_LT(small.statements, hamel::kLargePackage);
+  EXPECT_EQ(small.share_ratio, hamel::kShareRatioSmall);
+  EXPECT_EQ(small.source, emit(hamel::kShareRatioSmall, hamel::kLargePackage).source);
+
+  const hamel::EmittedPackage large = emit(hamel::kShareRatioAuto, small.statements);
+  EXPECT_EQ(large.statements, small.statements);
+  EXPECT_EQ(large.share_ratio, hamel::kShareRatioLarge);
+  EXPECT_EQ(large.source, emit(hamel::kShareRatioLarge, hamel::kLargePackage).source);
+  EXPECT_GT(large.shared_stages, small.shared_stages);
+  EXPECT_LT(large.source.size(), small.source.size());
+  // An explicit ratio is kept whatever the size.
+  EXPECT_EQ(emit(0, 1).share_ratio, 0);
 }
 
 }  // namespace

@@ -2,12 +2,14 @@
 
 #include "algebra/simplify.hpp"
 #include "derive/riemann.hpp"
-#include "derive/tree_derivatives.hpp"
 #include "emit/kernel_registry.hpp"
 #include "emit/linear_solve.hpp"
 #include "emit/polynomial_form.hpp"
 #include "emit/zero_test.hpp"
 #include "model/input_error.hpp"
+#include "rbd/aba.hpp"
+#include "rbd/rnea.hpp"
+#include "rbd/rnea_derivatives.hpp"
 
 #include <cmath>
 #include <optional>
@@ -156,6 +158,10 @@ class KernelBuilder {
                   : name_of(eq_.independent[static_cast<std::size_t>(k - n_)]);
   }
   GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::ex& x) { return tape_.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); }
+  // Names expressions in the kernels' copy of the program.
+  rbd::Namer<GiNaC::ex> namer() {
+    return rbd::Namer<GiNaC::ex>([this](const GiNaC::ex& e) { return tape_.define(e); });
+  }
   // Forward mode through the rhs program: d(rhs)/d(argument k) for k < count, one tangent pass each.
   std::vector<std::vector<int>> forward_columns(Argument argument, int count) {
     std::vector<std::vector<int>> columns;
@@ -174,8 +180,8 @@ class KernelBuilder {
   void jacobian_columns();
   void drop_identical_zeros();
   std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                              const std::optional<InverseDynamicsJacobian>& id,
-                                              const std::optional<InverseDynamicsJacobian>& minus_id,
+                                              const std::optional<rbd::InverseDynamicsJacobian>& id,
+                                              const std::optional<rbd::InverseDynamicsJacobian>& minus_id,
                                               std::string& route);
   void call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve);
   Kernel linearization();
@@ -208,7 +214,10 @@ class KernelBuilder {
   std::optional<ArticulatedNodes> factor_;  ///< a tree's articulated factor in the common frame, once built
   /// The tree's articulated factor as nodes, built on first use.
   const ArticulatedNodes& articulated() {
-    if (!factor_) factor_ = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);
+    if (!factor_) {
+      const rbd::FrameView world(eq_.tree->model, eq_.tree->frame, namer());
+      factor_ = articulated_nodes(g_, *eq_.tree, rbd::articulated_factor(world, namer()), node_of_);
+    }
     return *factor_;
   }
   bool articulated_ = false;  ///< rhs by the articulated-body algorithm
@@ -281,7 +290,7 @@ void KernelBuilder::jacobian_columns() {
   std::vector<int> accelerations = accel_;
   if (eq_.tree && !exact_accel_ && articulated_ && column_solve_ != ColumnSolve::ldlt) {
     std::vector<int> f;
-    for (const GiNaC::ex& e : bias_forcing(*eq_.tree, tape_)) f.push_back(node_of_(e));
+    for (const GiNaC::ex& e : rbd::bias_forcing(*eq_.tree, namer())) f.push_back(node_of_(e));
     accelerations = articulated_solve_columns(g_, articulated(), {f}).front();
   }
   for (std::size_t j = 0; j < eq_.acceleration_symbols.size(); ++j)
@@ -290,12 +299,12 @@ void KernelBuilder::jacobian_columns() {
   for (int I : eq_.independent) state_symbols.push_back(sys_.velocities[static_cast<std::size_t>(I)]);
   const std::size_t nx = state_symbols.size();
   column_.assign(nx, {});
-  // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
+  // Trees: ∂ID/∂x analytically (rbd/rnea_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
   // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
   // The right sides are −∂ID/∂x (minus_id: P, V and Δ negated once per column instead of every row).
-  std::optional<InverseDynamicsJacobian> id, minus_id;
+  std::optional<rbd::InverseDynamicsJacobian> id, minus_id;
   if (eq_.tree && !exact_accel_) {
-    id = inverse_dynamics_jacobian(*eq_.tree, tape_);
+    id = rbd::rnea_derivatives(*eq_.tree, tape_);
     minus_id = id->negated(tape_);
   }
   const std::vector<std::vector<GiNaC::ex>> id_columns =
@@ -372,8 +381,8 @@ void KernelBuilder::drop_identical_zeros() {
 // M y = b_k for every right side: the LDLᵀ of M or (trees) the articulated-body recursion, as asked, or the
 // recursion when it is clearly the smaller program.
 std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                                           const std::optional<InverseDynamicsJacobian>& id,
-                                                           const std::optional<InverseDynamicsJacobian>& minus_id,
+                                                           const std::optional<rbd::InverseDynamicsJacobian>& id,
+                                                           const std::optional<rbd::InverseDynamicsJacobian>& minus_id,
                                                            std::string& route) {
   const ColumnSolver by_ldlt = [&](ExpressionGraph& s, const std::function<int(int)>& shared,
                                    const std::vector<std::vector<int>>& b) {

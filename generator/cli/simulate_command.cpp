@@ -135,6 +135,22 @@ Monitors parse_monitors(const std::string& list) {
   return m;
 }
 
+// The reconstruction starts the base at the identity, aligned with the world: gravity in its frame must then be the
+// world's g (the state default), else the state and the pose would describe two different motions.
+void check_gravity_at_identity(const Target& target, const std::vector<std::string>& columns,
+                               const std::vector<double>& x0) {
+  for (const auto& [name, g] : state_default_values(target)) {
+    const auto it = std::find(columns.begin() + 1, columns.end(), name);
+    if (it == columns.end()) continue;
+    const double start = x0[static_cast<std::size_t>(it - columns.begin() - 1)];
+    if (std::abs(start - g) > 1e-12 * (1 + std::abs(g)))
+      throw InputError("--integrator rkmk4: the reconstruction starts the base aligned with the world, where " + name +
+                       " is " + number_text(g) + ", but the initial state gives " + number_text(start) +
+                       "; expected gravity in the base frame equal to the world's at t = 0 (the default), or an "
+                       "integrator without reconstruction (dopri5)");
+  }
+}
+
 // The CSV's columns after t and the state: the pose (when reconstructed), then the monitors'.
 std::vector<std::string> monitor_columns(const Derivation& derivation, const Monitors& monitors) {
   const HamelSystem& sys = derivation.system;
@@ -356,6 +372,7 @@ void run(const SimulateOptions& given) {
   // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
   OutputFile output(opt.out, "--out");
   const bool reconstruct = model.bundle && info.name == "rkmk4";
+  if (reconstruct) check_gravity_at_identity(target, columns, x0);
   std::optional<GroupPose> pose;
   if (reconstruct)
     pose = with_group(model.bundle->group, [](auto tag) {

@@ -8,6 +8,7 @@
 #include "rbd/joint.hpp"
 #include "rbd/rnea.hpp"
 
+#include <algorithm>
 #include <string>
 
 namespace hamel {
@@ -35,9 +36,49 @@ BodyInertia inertial_data(const RigidBody& b) {
 }
 
 // Gravity as an upward acceleration of the base, (0, −g) (Featherstone): every body's wrench then carries its weight
-// without a separate potential gradient.
+// without a separate potential gradient. On a floating base g resolved in the base's frame: Γ, the state's when the
+// base turns relative to gravity, else the constant g.
 Vec6<Ex> gravity_as_base_acceleration(const KinematicTree& tree) {
+  if (!tree.gravity_state.empty())
+    return join<Ex>({0, 0, 0}, {-tree.gravity_state[0], -tree.gravity_state[1], -tree.gravity_state[2]});
   return join<Ex>({0, 0, 0}, {-tree.gravity[0], -tree.gravity[1], -tree.gravity[2]});
+}
+
+// The applied wrenches (model key `wrenches`) of each body, in its frame about its origin: (τ + ρ × f, f) for a force f
+// at the point ρ and a torque τ; a world-frame wrench (fixed base) turned into the body's frame by its pose in the
+// world.
+std::vector<Vec6<Ex>> applied_wrenches(const Model& model, const KinematicTree& tree, const CommonFrame& world,
+                                       const Namer<Ex>& name) {
+  const std::vector<std::string> names = tree_body_names(tree);
+  std::vector<Vec6<Ex>> out(names.size(), zero6<Ex>());
+  for (const AppliedWrench& w : model.wrenches) {
+    const std::size_t i = static_cast<std::size_t>(std::find(names.begin(), names.end(), w.body) - names.begin());
+    Vec3<Ex> f{w.force[0], w.force[1], w.force[2]}, tau{w.torque[0], w.torque[1], w.torque[2]};
+    if (w.world) {  // Rᵀ: the world's components in the body's frame
+      const Mat3<Ex>& R = world.R[i];
+      Vec3<Ex> fb, tb;
+      for (std::size_t r = 0; r < 3; ++r) {
+        fb[r] = R[0][r] * f[0] + R[1][r] * f[1] + R[2][r] * f[2];
+        tb[r] = R[0][r] * tau[0] + R[1][r] * tau[1] + R[2][r] * tau[2];
+      }
+      f = name(fb);
+      tau = tb;
+    }
+    const Vec3<Ex> moment = tau + cross(Vec3<Ex>{w.point[0], w.point[1], w.point[2]}, f);
+    out[i] = name(out[i] + join(moment, f));
+  }
+  return out;
+}
+
+// Γ̇ = Γ × ω (ω the base's angular velocity in its frame): gravity resolved in a turning base.
+std::vector<ex> gravity_kinematics(const KinematicTree& tree, const std::vector<Vec6<Ex>>& base,
+                                   const std::vector<GiNaC::realsymbol>& group_velocity) {
+  if (tree.gravity_state.empty()) return {};
+  Vec6<Ex> twist = zero6<Ex>();
+  for (std::size_t alpha = 0; alpha < base.size(); ++alpha) twist = twist + base[alpha] * Ex(group_velocity[alpha]);
+  const Vec3<Ex> G{tree.gravity_state[0], tree.gravity_state[1], tree.gravity_state[2]};
+  const Vec3<Ex> rate = cross(G, angular(twist));
+  return {rate[0], rate[1], rate[2]};
 }
 
 // The rigid-body model of the tree: body 0 is the base, body k + 1 moves with r^k; its joint's pose at the
@@ -109,10 +150,17 @@ HamelSystem tree_system(const Model& model, bool fixed, const std::vector<GiNaC:
   sys.form = fixed ? "Euler-Lagrange, recursive over the kinematic tree on a fixed base"
                    : "Euler-Poincare + Euler-Lagrange (HEorig1, HEorig2), recursive over the kinematic tree";
   sys.coordinates = model.coordinates;
+  const std::vector<GiNaC::realsymbol>& gravity =
+      fixed ? std::vector<GiNaC::realsymbol>{} : model.bundle->tree->gravity_state;
+  sys.coordinates.insert(sys.coordinates.end(), gravity.begin(), gravity.end());
   sys.velocities = group_velocity;
   sys.velocities.insert(sys.velocities.end(), model.rates.begin(), model.rates.end());
-  sys.B = GiNaC::matrix(un, um + un);
+  // q̇ = B u: ṙ = ṙ, and Γ̇ = Γ × ω, linear in ξ.
+  const unsigned nq = static_cast<unsigned>(sys.coordinates.size());
+  sys.B = GiNaC::matrix(nq, um + un);
   for (unsigned I = 0; I < un; ++I) sys.B(I, um + I) = 1;
+  for (unsigned k = un; k < nq; ++k)
+    for (unsigned alpha = 0; alpha < um; ++alpha) sys.B(k, alpha) = eq.kinematics[k].diff(group_velocity[alpha]);
   sys.lagrangian = eq.reduced_lagrangian;
   sys.forces = model.forces;
   for (const StructureConstant& s : geo.structure_constants)
@@ -133,7 +181,7 @@ ex weight_potential(const KinematicTree& tree, const CommonFrame& frame, const N
 
 // Whether forces or joint dampers act (the energy is then not an invariant).
 bool forced(const Model& model, const KinematicTree& tree) {
-  bool any = false;
+  bool any = !model.wrenches.empty();
   for (const ex& q : model.forces) any = any || !q.is_zero();
   for (const TreeBody& body : tree.bodies) any = any || !body.damping.is_zero();
   return any;
@@ -207,8 +255,10 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   dyn.base_velocity.assign(group_velocity.begin(), group_velocity.end());
   dyn.coordinates.assign(model.coordinates.begin(), model.coordinates.end());
   dyn.rates.assign(model.rates.begin(), model.rates.end());
+  dyn.gravity_state.assign(tree.gravity_state.begin(), tree.gravity_state.end());
   dyn.frame = forward_kinematics(dyn.model, name);
   composite_inertias(dyn.model, dyn.frame, name);
+  if (!model.wrenches.empty()) dyn.model.external = applied_wrenches(model, tree, dyn.frame, name);
 
   // The bodies' frames at u̇ = 0: twists, momenta, wrenches summed inward, the kinetic energy.
   const FrameView local(dyn.model);
@@ -238,17 +288,24 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   dyn.joint_force = joint_force;
   dyn.generalized_force.assign(m, ex(0));
   dyn.generalized_force.insert(dyn.generalized_force.end(), joint_force.begin(), joint_force.end());
+  if (dyn.model.has_external()) {  // Jᵀ f_ext, differentiated symbolically by the Jacobian
+    const std::vector<Ex> Q = applied_generalized_forces(FrameView(dyn.model, dyn.frame, name), name);
+    for (std::size_t k = 0; k < d; ++k) dyn.generalized_force[k] += Q[k];
+  }
 
   if (articulated) articulated_accelerations(dyn.model, motion, dyn.rates, joint_force, name, eq);
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children
   for (std::size_t I = 0; I < n; ++I) eq.kinematics.push_back(model.rates[I]);
+  for (const ex& rate : gravity_kinematics(tree, dyn.model.base, group_velocity)) eq.kinematics.push_back(rate);
   const ex T = name(kinetic);
-  const ex weight = weight_potential(tree, dyn.frame, name);
+  // The weight's potential needs the bodies' heights: on a fixed base they are known; a floating base's is not in
+  // the state, so its energy is no invariant under gravity (it falls).
+  const ex weight = fixed ? weight_potential(tree, dyn.frame, name) : ex(0);
   eq.reduced_lagrangian = T - base_potential - springs - weight;
   eq.energy_terms = {T + base_potential + springs + weight};
-  eq.conservative = !forced(model, tree);
+  eq.conservative = !forced(model, tree) && (fixed || !tree.has_gravity());
   eq.tree = dynamics;
 
   split_mass_matrix(eq.mass_matrix, static_cast<unsigned>(m), fixed, geo);

@@ -463,7 +463,7 @@ void KernelBuilder::bundle_kernels() {
   const BundleGeometry& geo = *derivation_.bundle;
   const Bundle& b = *model_.bundle;
   const std::size_t m = b.group_velocity.size();
-  const int n = n_;
+  const int n = static_cast<int>(model_.coordinates.size());  // shape coordinates (the state may also hold Γ)
   Kernel xi = registered("group_velocity");
   for (std::size_t a = 0; a < m; ++a) {
     xi.outputs.push_back(node_of_(derivation_.group_velocity[a]));

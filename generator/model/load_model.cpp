@@ -320,7 +320,9 @@ class Loader {
                               const GiNaC::symtab& velocities);
   void load_fixed_tree(Model& model);
   void declare_joints(const YAML::Node& tree, Model& model);
-  KinematicTree load_tree(const YAML::Node& tree, const Model& model);
+  void declare_gravity_state(const YAML::Node& gravity, const std::string& group, const Model& model);
+  void load_wrenches(Model& model, const KinematicTree& tree, const GiNaC::symtab& table);
+  KinematicTree load_tree(const YAML::Node& tree, Model& model);
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
                        const std::vector<std::string>& keys, const std::string& allowed,
                        const std::vector<std::string>& optional = {});
@@ -345,7 +347,9 @@ class Loader {
   std::string path_;
   YAML::Node root_;
   bool bundle_ = false;
-  std::map<std::string, std::string> declared_;  // name -> key that declared it
+  std::map<std::string, std::string> declared_;   // name -> key that declared it
+  std::vector<GiNaC::realsymbol> gravity_state_;  // Γ of a floating base that turns (declare_gravity_state)
+  SourceLocation gravity_location_;
   // Per definition (model key `definitions`): its symbol and the names of the model symbols it depends on,
   // through earlier definitions too; a key may use a definition only if it may use all of those.
   std::vector<std::pair<GiNaC::realsymbol, std::set<std::string>>> definition_uses_;
@@ -360,10 +364,12 @@ Model Loader::load() {
   if (bundle_)
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs", "definitions", "initial"});
+                "connection", "kinetic", "bodies", "tree", "potential", "forces", "wrenches", "inputs", "definitions",
+                "initial"});
   else if (root_["tree"])
     check_keys(root_, "",
-               {"schema", "name", "description", "parameters", "tree", "forces", "inputs", "definitions", "initial"});
+               {"schema", "name", "description", "parameters", "tree", "forces", "wrenches", "inputs", "definitions",
+                "initial"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
@@ -589,6 +595,7 @@ void Loader::load_bundle(Model& model) {
   GiNaC::symtab force_table = velocities;
   force_table["t"] = model.time;
   for (const auto& u : model.inputs) force_table[u.get_name()] = u;
+  for (const auto& g : gravity_state_) force_table[g.get_name()] = g;
   load_definitions(model, force_table);
   geometric = with_definitions(geometric);
   velocities = with_definitions(velocities);
@@ -600,6 +607,62 @@ void Loader::load_bundle(Model& model) {
   load_forces(model, force_table,
               "forces on the shape may use shape coordinates, their _dot rates, the group velocity, parameters, "
               "inputs and t");
+  if (YAML::Node w = root_["wrenches"]) {
+    if (!tree)
+      fail(w, "wrenches",
+           "applies to kinematic trees (key 'tree'); in a model with 'kinetic' or 'bodies' write the generalized "
+           "forces as 'forces'");
+    load_wrenches(model, *model.bundle->tree, force_table);
+  }
+  if (tree) {
+    const KinematicTree& t = *model.bundle->tree;
+    for (std::size_t i = 0; i < t.gravity_state.size(); ++i)
+      model.state_defaults[t.gravity_state[i].get_name()] = t.gravity[i];
+  }
+}
+
+// 'wrenches': forces and torques applied to bodies of the tree, each in the body's frame or the world's.
+void Loader::load_wrenches(Model& model, const KinematicTree& tree, const GiNaC::symtab& table) {
+  const YAML::Node list = root_["wrenches"];
+  model.locations["wrenches"] = where(list);
+  if (!list.IsSequence() || list.size() == 0)
+    fail(list, "wrenches", "expected a list of wrenches, each a map with body, frame, point, force, torque");
+  std::vector<std::string> bodies = tree_body_names(tree);
+  if (tree.fixed_base) bodies.erase(bodies.begin());  // the world takes no wrench
+  const std::string allowed =
+      "a wrench may use t, the coordinates, their _dot rates, the group velocity, inputs, parameters and definitions";
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "wrenches[" + std::to_string(i) + "]";
+    const YAML::Node w = list[i];
+    if (!w.IsMap()) fail(w, key, "expected a map with body, frame, point, force, torque");
+    check_keys(w, key, {"body", "frame", "point", "force", "torque"});
+    if (!w["body"]) fail(w, key + ".body", "missing; expected the name of a body of the tree: " + join(bodies));
+    AppliedWrench out;
+    out.body = scalar(w["body"], key + ".body");
+    if (std::find(bodies.begin(), bodies.end(), out.body) == bodies.end())
+      fail(w["body"], key + ".body",
+           quote(out.body) + " is not a body of the tree" + did_you_mean(out.body, bodies) +
+               "; expected one of: " + join(bodies));
+    if (YAML::Node f = w["frame"]) {
+      const std::string frame = scalar(f, key + ".frame");
+      if (frame != "body" && frame != "world")
+        fail(f, key + ".frame", "expected 'body' (the default) or 'world', got " + quote(frame));
+      out.world = frame == "world";
+      if (out.world && !tree.fixed_base)
+        fail(f, key + ".frame",
+             "'world' needs the base's orientation, which the state of a floating base does not hold (only the "
+             "direction of gravity in it); expected 'body', the wrench resolved in the body's frame");
+    }
+    if (!w["force"] && !w["torque"]) fail(w, key, "expected a force, a torque or both");
+    const std::pair<const char*, GiNaC::ex*> vectors[] = {
+        {"point", out.point}, {"force", out.force}, {"torque", out.torque}};
+    for (const auto& [k, target] : vectors)
+      if (YAML::Node v = w[k]) {
+        const std::vector<GiNaC::ex> e = vector_of(v, key + "." + k, 3, table, allowed);
+        for (std::size_t c = 0; c < 3; ++c) target[c] = e[c];
+      }
+    model.wrenches.push_back(out);
+  }
 }
 
 // 'group', 'trivialization' and 'group_velocity'; returns the group's dimension.
@@ -647,11 +710,8 @@ void Loader::load_shape(const YAML::Node& tree, Model& model, const Bundle& b) {
            "a kinematic tree's floating base must be " + tree_base_groups() +
                " (the group frame carries the base body), got '" + b.group + "'");
     model.locations["kinetic"] = where(tree);
-    if (tree.IsMap() && tree["gravity"])
-      fail(tree["gravity"], "tree.gravity",
-           "needs a fixed base (a model without 'group' and 'base: world'): on a floating base it would need the "
-           "base's orientation, which the state (r, xi, r_dot) does not hold (see docs/model-format.md)");
     declare_joints(tree, model);
+    if (tree.IsMap() && tree["gravity"]) declare_gravity_state(tree["gravity"], b.group, model);
   } else if (YAML::Node shape = root_["shape"]) {
     model.coordinates = name_list(shape, "shape");
   }
@@ -821,10 +881,7 @@ GiNaC::ex Loader::load_twist_body(Model& model, const YAML::Node& body, const st
 
 void Loader::declare_joints(const YAML::Node& tree, Model& model) {
   if (!tree.IsMap()) fail(tree, "tree", "expected a map with keys base and bodies");
-  if (bundle_)
-    check_keys(tree, "tree", {"base", "bodies"});
-  else
-    check_keys(tree, "tree", {"base", "gravity", "bodies"});
+  check_keys(tree, "tree", {"base", "gravity", "bodies"});
   YAML::Node list = tree["bodies"];
   if (!list) fail(tree, "tree.bodies", "missing; expected a list of bodies, each with a joint");
   if (!list.IsSequence() || list.size() == 0) fail(list, "tree.bodies", "expected a non-empty list of bodies");
@@ -837,6 +894,28 @@ void Loader::declare_joints(const YAML::Node& tree, Model& model) {
     if (!joint.IsMap() || !joint["name"]) fail(joint, key + ".name", "missing; expected the joint coordinate's name");
     model.coordinates.emplace_back(scalar(joint["name"], key + ".name"));
     declare_name(joint["name"], key + ".name", model.coordinates.back().get_name());
+  }
+}
+
+// The state Γ = Rᵀ g of a floating base that turns relative to gravity (model.hpp, KinematicTree::gravity): three
+// coordinates gravity_x, gravity_y, gravity_z, declared here so that later keys may use them. None when every direction
+// the base turns about is parallel to g (an SE2 base under vertical gravity) or the base only translates: Γ = g.
+void Loader::declare_gravity_state(const YAML::Node& gravity, const std::string& group, const Model& model) {
+  GiNaC::symtab constants;
+  for (const auto& p : model.parameters) constants[p.symbol.get_name()] = p.symbol;
+  const std::vector<GiNaC::ex> g = vector_of(gravity, "tree.gravity", 3, constants, "gravity may use parameters only");
+  bool component[3];  // which components are not identically zero
+  for (std::size_t i = 0; i < 3; ++i) component[i] = !g[i].is_zero();
+  bool turns = false;  // some angular direction e of the base with e × g ≠ 0
+  for (int k : tree_base_directions(group)) {
+    if (k >= 3) continue;
+    for (int j = 0; j < 3; ++j) turns = turns || (j != k && component[j]);
+  }
+  if (!turns) return;
+  for (const char* axis : {"x", "y", "z"}) {
+    const std::string name = std::string("gravity_") + axis;
+    declare_name(gravity, "tree.gravity", name);
+    gravity_state_.emplace_back(name);
   }
 }
 
@@ -873,9 +952,10 @@ void Loader::load_fixed_tree(Model& model) {
   load_forces(model, table,
               "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs, t and "
               "definitions of these");
+  if (root_["wrenches"]) load_wrenches(model, *model.tree, table);
 }
 
-KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
+KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model) {
   KinematicTree out;
   // Inertial data and joint geometry are constant: parameters only (the joints move the bodies).
   GiNaC::symtab constants;
@@ -900,13 +980,16 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
       out.base.com[i] = 0;
       for (int j = 0; j < 3; ++j) out.base.inertia[i][j] = 0;
     }
-    if (YAML::Node g = tree["gravity"]) {
-      const std::vector<GiNaC::ex> gv = vector_of(g, "tree.gravity", 3, constants, "gravity may use parameters only");
-      for (int i = 0; i < 3; ++i) out.gravity[i] = gv[static_cast<std::size_t>(i)];
-    }
   } else {
     out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"}, inertial);
     check_body(base, "tree.base", out.base);
+  }
+  if (YAML::Node g = tree["gravity"]) {
+    gravity_location_ = where(g);
+    const std::vector<GiNaC::ex> gv = vector_of(g, "tree.gravity", 3, constants, "gravity may use parameters only");
+    for (int i = 0; i < 3; ++i) out.gravity[i] = gv[static_cast<std::size_t>(i)];
+    out.gravity_state = gravity_state_;
+    model.locations["tree.gravity"] = gravity_location_;
   }
   std::vector<std::string> names{out.base.name};
   const YAML::Node list = tree["bodies"];

@@ -50,7 +50,23 @@ struct KinematicTree {
   RigidBody base;                ///< a fixed base's is the massless "world"
   std::vector<TreeBody> bodies;  ///< parents before children; body k moves with shape coordinate k
   bool fixed_base = false;
-  GiNaC::ex gravity[3] = {0, 0, 0};  ///< fixed base only: the gravitational acceleration in the world frame
+  /// The gravitational acceleration g in the world frame (key `tree.gravity`). On a floating base, resolved in the base
+  /// frame it is the advected quantity Γ = Rᵀ g (Holm, Marsden & Ratiu 1998; the heavy top's direction of gravity),
+  /// with Γ̇ = Γ × ω: a base that turns carries Γ in the state as `gravity_state`, Γ(0) = g (the base frame starts
+  /// aligned with the world); a base that only translates (R1–R3) has Γ = g.
+  GiNaC::ex gravity[3] = {0, 0, 0};
+  std::vector<GiNaC::realsymbol> gravity_state;  ///< Γ_x, Γ_y, Γ_z (named gravity_x, ...), or empty
+  bool has_gravity() const { return !gravity[0].is_zero() || !gravity[1].is_zero() || !gravity[2].is_zero(); }
+};
+
+/// A force and a torque applied to a body (model key `wrenches`): resolved in the body's frame or in the world's, the
+/// force acting at `point` (body frame; the torque is free). Expressions of t, the state, inputs and parameters.
+struct AppliedWrench {
+  std::string body;
+  bool world = false;
+  GiNaC::ex point[3] = {0, 0, 0};
+  GiNaC::ex force[3] = {0, 0, 0};
+  GiNaC::ex torque[3] = {0, 0, 0};
 };
 
 /// The base's name, then every body's, in file order.
@@ -98,8 +114,13 @@ struct Model {
   /// they stay intermediate symbols through the derivation into the emitted code.
   Intermediates definitions;
 
-  GiNaC::ex lagrangian;           ///< L(q, q̇, u, t); for bundle models l = T − V
-  std::vector<GiNaC::ex> forces;  ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape
+  GiNaC::ex lagrangian;                 ///< L(q, q̇, u, t); for bundle models l = T − V
+  std::vector<GiNaC::ex> forces;        ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape
+  std::vector<AppliedWrench> wrenches;  ///< key `wrenches` (kinematic trees)
+
+  /// State variables whose natural start is not 0, as expressions in the parameters: Γ(0) = g of a floating base
+  /// under gravity. Verbs start there unless the model's `initial`, a scene or --init say otherwise.
+  std::map<std::string, GiNaC::ex> state_defaults;
 
   /// A representative initial state (key `initial`): state variable name → value, the others 0; the default of
   /// `simulate` and `report`, which a scene's `initial` and --init override (cli/options.hpp: initial_state). Names

@@ -63,6 +63,18 @@ std::vector<Ex> forcing(const FrameView& view, const std::vector<Vec6<Ex>>& F, c
   return f;
 }
 
+std::vector<Ex> applied_generalized_forces(const FrameView& view, const Namer<Ex>& name) {
+  const TreeModel& model = view.model();
+  const std::size_t N = view.size(), m = model.base.size();
+  std::vector<Vec6<Ex>> F(N);
+  for (std::size_t i = 0; i < N; ++i) F[i] = view.external(i);
+  F = rnea_forces(view, F, name);
+  std::vector<Ex> Q(m + N - 1);
+  for (std::size_t alpha = 0; alpha < m; ++alpha) Q[alpha] = dot(model.base[alpha], F[0]);
+  for (std::size_t i = 1; i < N; ++i) Q[m + i - 1] = dot(view.axis(i), F[i]);
+  return Q;
+}
+
 std::vector<Ex> bias_forcing(const TreeDynamics& tree, const Namer<Ex>& name) {
   const FrameView view(tree.model, tree.frame, name);
   const Motion motion = rnea_motion(view, tree.base_velocity, tree.rates, {}, {}, name);

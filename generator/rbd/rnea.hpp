@@ -38,6 +38,10 @@ std::vector<Vec6<Ex>> with_applied(const FrameView& view, std::vector<Vec6<Ex>> 
 /// The inward pass: F_i = f_i + Σ over i's children X_cᵀ F_c, each body's named (a fixed base's F_0 is not formed).
 std::vector<Vec6<Ex>> rnea_forces(const FrameView& view, std::vector<Vec6<Ex>> f, const Namer<Ex>& name);
 
+/// Jᵀ f_ext: the generalized forces (m + n rows: ⟨e_α, F_0⟩, then ⟨S_i, F_i⟩) of the applied wrenches alone, summed
+/// inward without the bodies' inertia (F_i = Σ over i's subtree of f_ext). Empty wrenches give zeros.
+std::vector<Ex> applied_generalized_forces(const FrameView& view, const Namer<Ex>& name);
+
 /// −ID(r, u, 0) + τ: the forcing f of M u̇ = f (m + n rows: −⟨e_α, F_0⟩, then τ_i − ⟨S_i, F_i⟩), F from rnea_forces
 /// at zero accelerations and `joint_force` τ (n: applied joint forces, springs, dampers).
 std::vector<Ex> forcing(const FrameView& view, const std::vector<Vec6<Ex>>& F, const std::vector<Ex>& joint_force);

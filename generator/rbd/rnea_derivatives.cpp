@@ -136,6 +136,14 @@ InverseDynamicsJacobian rnea_derivatives(const TreeDynamics& t, Intermediates& t
     out.columns.push_back({K, c[K], psi[K], delta[K], {}});
     state.push_back(t.coordinates[K - 1]);
   }
+  // Γ_k (gravity in the base's frame, in the state after r): it moves every body's acceleration by
+  // ∂a_0/∂Γ_k = (0, −e_k), so rows I see 𝕀ᶜ_I (0, −e_k) and the base 𝕀ᶜ_0 (0, −e_k).
+  for (std::size_t k = 0; k < t.gravity_state.size(); ++k) {
+    Vec6<Ex> P = zero6<Ex>();
+    P[3 + k] = -1;
+    out.columns.push_back({0, P, zero6<Ex>(), name(Ic[0](P)), {}});
+    state.push_back(t.gravity_state[k]);
+  }
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
     const Vec6<Ex>& e = model.base[alpha];
     const Vec6<Ex> psi0 = name(ad(v[0], e));

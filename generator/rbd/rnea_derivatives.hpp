@@ -22,13 +22,14 @@
 
 namespace hamel::rbd {
 
-/// ∂ID/∂x for the state x = (r, ξ, ṙ), one column per x_k, at u̇ = tree.accelerations. Every column has one form:
-/// with per-body vectors u_i = 𝕀ᶜ_i s_i and b_i = Bᶜ_iᵀ s_i and per-column vectors P, V and Δ,
+/// ∂ID/∂x for the state x = (r, Γ, ξ, ṙ) (Γ when the tree carries gravity in its state), one column per x_k, at u̇ =
+/// tree.accelerations. Every column has one form: with per-body vectors u_i = 𝕀ᶜ_i s_i and b_i = Bᶜ_iᵀ s_i and
+/// per-column vectors P, V and Δ,
 ///   row of joint i:  [i inside] (⟨u_i, P⟩ + ⟨b_i, V⟩) + [i an ancestor] ⟨s_i, Δ⟩ − ∂Q_i/∂x_k,
 ///   base row α:      ⟨e_α, Δ⟩ − ∂Q_α/∂x_k,
 /// where for the columns of joint K's angle and rate (Column::body = K) the bodies inside are K's subtree and the
 /// ancestors K's strict ancestors, Δ being the force K's subtree passes inward (Δ_K or Δ'_K); for a base velocity
-/// (body 0) every body is inside and none an ancestor. A recursive solve takes Δ as that force (rbd/aba.hpp:
+/// (body 0) and for Γ every body is inside and none an ancestor. A recursive solve takes Δ as that force (rbd/aba.hpp:
 /// rows() lists the rows without it, inward() gives it); dense() adds its rows.
 struct InverseDynamicsJacobian {
   std::vector<Vec6<Ex>> u, b;  ///< per body i ≥ 1 (index 0 unused)

@@ -107,6 +107,8 @@ struct TreeDynamics {
   CommonFrame frame;
   std::vector<Ex> base_velocity;  ///< ξ^α (m)
   std::vector<Ex> coordinates;    ///< r^I (n)
+  std::vector<Ex> gravity_state;  ///< Γ (3) when the state carries gravity in the base's frame, else empty: then
+                                  ///< root_acceleration = (0, −Γ) and the state is (r, Γ, ξ, ṙ)
   std::vector<Ex> rates;          ///< ṙ^I (n)
   std::vector<Ex> accelerations;  ///< the m + n symbols standing for u̇
   std::vector<Ex> joint_force;    ///< τ_I(r, u, t, inputs): applied joint forces, springs, dampers (n)

@@ -46,12 +46,6 @@ std::string literal(double v) {
   return "real(" + s + ")";
 }
 
-const char* function_name(Op op) {
-  if (op == Op::pow) return "std::pow";
-  const Function* f = function_of(op);
-  return f ? f->cpp : nullptr;
-}
-
 const char* argument_name(Argument a) {
   switch (a) {
     case Argument::time:
@@ -89,52 +83,31 @@ struct PrintedKernel {
   int parts = 1;  ///< functions the kernel is printed as (emit --split)
 };
 
-// How tightly a node's expression binds: sums 1, products and quotients 2, a negation 3, a call 4 (names and
-// literals bind like calls).
-int binding(Op op) {
-  switch (op) {
-    case Op::add:
-    case Op::sub:
-      return 1;
-    case Op::mul:
-    case Op::div:
-      return 2;
-    case Op::neg:
-      return 3;
-    default:
-      return 4;
-  }
-}
-
 // The right-hand side of node i's statement: an operand printed inside it (`inside`, by node) as its own expression,
-// parenthesized where C++ would otherwise group it differently (a - (b + c), a * (b + c), a / (b * c), -(a * b)); any
-// other operand by the name `name_of` gives it. C++ groups a + b + c as (a + b) + c, so the operations and their
-// order are exactly those of one statement per node.
+// parenthesized where C++ would otherwise group it differently (a - (b + c), a * (b + c), a / (b * c), -(a * b): by
+// the operation table's binding); any other operand by the name `name_of` gives it. C++ groups a + b + c as
+// (a + b) + c, so the operations and their order are exactly those of one statement per node.
 std::string statement_text(const ExpressionGraph& g, int i, const std::vector<char>& inside,
                            const std::function<std::string(int)>& name_of) {
   const Node& n = g.node(i);
+  const Operation& op = operation(n.op);
   // Operand j, parenthesized when it binds no tighter than `needs`.
   const auto operand = [&](int j, int needs) {
     if (!inside[static_cast<std::size_t>(j)]) return name_of(j);
     const std::string text = statement_text(g, j, inside, name_of);
-    return binding(g.node(j).op) <= needs ? "(" + text + ")" : text;
+    return operation(g.node(j).op).binding <= needs ? "(" + text + ")" : text;
   };
-  switch (n.op) {
-    case Op::add:
-      return operand(n.a, 0) + " + " + operand(n.b, 1);
-    case Op::sub:
-      return operand(n.a, 0) + " - " + operand(n.b, 1);
-    case Op::mul:
-      return operand(n.a, 1) + " * " + operand(n.b, 2);
-    case Op::div:
-      return operand(n.a, 1) + " / " + operand(n.b, 2);
-    case Op::neg:
-      return "-" + operand(n.a, 3);
-    case Op::pow:
-      return std::string(function_name(n.op)) + "(" + operand(n.a, 0) + ", " + operand(n.b, 0) + ")";
-    default:
-      return std::string(function_name(n.op)) + "(" + operand(n.a, 0) + ")";
+  switch (op.notation) {
+    case Notation::infix:
+      return operand(n.a, op.binding - 1) + op.cpp + operand(n.b, op.binding);
+    case Notation::prefix:
+      return op.cpp + operand(n.a, op.binding);
+    case Notation::call:
+      return op.cpp + ("(" + operand(n.a, 0)) + (op.operands == 2 ? ", " + operand(n.b, 0) : std::string()) + ")";
+    case Notation::none:
+      break;
   }
+  throw std::logic_error("statement_text: node " + std::to_string(i) + " is not an operation");
 }
 
 // The statements printed inside the one statement that reads them (by node): a statement read exactly once, by a

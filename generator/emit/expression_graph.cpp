@@ -115,7 +115,7 @@ int ExpressionGraph::exact_constant(const GiNaC::numeric& v) {
 }
 
 int ExpressionGraph::folded(Op op, double x, double y, double r) {
-  const bool binary_op = op == Op::add || op == Op::sub || op == Op::mul || op == Op::div || op == Op::pow;
+  const bool binary_op = operation(op).operands == 2;
   const bool overflow = !std::isfinite(r) && std::isfinite(x) && (!binary_op || std::isfinite(y));
   const bool underflow =
       r == 0 && x != 0 &&
@@ -123,11 +123,7 @@ int ExpressionGraph::folded(Op op, double x, double y, double r) {
   if (!overflow && !underflow) return constant(r);
   std::ostringstream text;
   text.precision(6);
-  const char* symbol = op == Op::add   ? " + "
-                       : op == Op::sub ? " - "
-                       : op == Op::mul ? " * "
-                       : op == Op::div ? " / "
-                                       : "^";
+  const char* symbol = op == Op::pow ? "^" : operation(op).cpp;
   if (binary_op)
     text << x << symbol << y;
   else
@@ -380,22 +376,19 @@ std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs, cons
 OpCounts ExpressionGraph::count(const std::vector<int>& schedule) const {
   OpCounts c;
   for (int i : schedule) {
-    switch (node(i).op) {
-      case Op::constant:
-      case Op::input:
+    switch (operation(node(i).op).cost) {
+      case Cost::none:
         break;
-      case Op::add:
-      case Op::sub:
-      case Op::neg:
+      case Cost::add:
         ++c.add;
         break;
-      case Op::mul:
+      case Cost::mul:
         ++c.mul;
         break;
-      case Op::div:
+      case Cost::div:
         ++c.div;
         break;
-      default:
+      case Cost::call:
         ++c.call;
         break;
     }
@@ -558,92 +551,44 @@ bool hoist_shared_work(ExpressionGraph& g, Subroutine& sub) {
   return true;
 }
 
+namespace {
+
+// The graph's node constructors, as the operation table's derivative rules build their results.
+class GraphTerms final : public TermBuilder {
+ public:
+  explicit GraphTerms(ExpressionGraph& g) : g_(g) {}
+  int constant(double value) override { return g_.constant(value); }
+  int unary(Op op, int a) override { return g_.unary(op, a); }
+  int binary(Op op, int a, int b) override { return g_.binary(op, a, b); }
+  bool is_constant(int i, double& value) const override {
+    if (g_.node(i).op != Op::constant) return false;
+    value = g_.node(i).value;
+    return true;
+  }
+
+ private:
+  ExpressionGraph& g_;
+};
+
+}  // namespace
+
 std::vector<int> tangent(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& seed) {
   const std::vector<int> order = g.schedule(outputs);
-  const int zero = g.constant(0), one = g.constant(1);
+  const int zero = g.constant(0);
   std::vector<int> dot(static_cast<std::size_t>(g.size()), zero);
-  const auto mul = [&](int x, int y) { return g.binary(Op::mul, x, y); };
+  GraphTerms terms(g);
   for (int i : order) {
-    const Node n = g.node(i);  // a copy: the rules below grow the graph
-    int t = zero;
+    const Node n = g.node(i);  // a copy: the rules grow the graph
     if (n.op == Op::input) {
       const auto it = seed.find(i);
-      if (it != seed.end()) t = it->second;
-      dot[static_cast<std::size_t>(i)] = t;
+      dot[static_cast<std::size_t>(i)] = it != seed.end() ? it->second : zero;
       continue;
     }
     if (n.op == Op::constant) continue;
     const int da = dot[static_cast<std::size_t>(n.a)];
     const int db = n.b >= 0 ? dot[static_cast<std::size_t>(n.b)] : zero;
     if (da == zero && db == zero) continue;
-    switch (n.op) {
-      case Op::add:
-        t = g.binary(Op::add, da, db);
-        break;
-      case Op::sub:
-        t = g.binary(Op::sub, da, db);
-        break;
-      case Op::mul:
-        t = g.binary(Op::add, mul(da, n.b), mul(n.a, db));
-        break;
-      case Op::div:  // (a/b)' = (a' − (a/b) b') / b
-        t = g.binary(Op::div, g.binary(Op::sub, da, mul(i, db)), n.b);
-        break;
-      case Op::neg:
-        t = g.unary(Op::neg, da);
-        break;
-      case Op::sqrt:
-        t = g.binary(Op::div, da, mul(g.constant(2), i));
-        break;
-      case Op::sin:
-        t = mul(g.unary(Op::cos, n.a), da);
-        break;
-      case Op::cos:
-        t = g.unary(Op::neg, mul(g.unary(Op::sin, n.a), da));
-        break;
-      case Op::tan:
-        t = mul(g.binary(Op::add, one, mul(i, i)), da);
-        break;
-      case Op::exp:
-        t = mul(i, da);
-        break;
-      case Op::log:
-        t = g.binary(Op::div, da, n.a);
-        break;
-      case Op::asin:
-        t = g.binary(Op::div, da, g.unary(Op::sqrt, g.binary(Op::sub, one, mul(n.a, n.a))));
-        break;
-      case Op::acos:
-        t = g.unary(Op::neg, g.binary(Op::div, da, g.unary(Op::sqrt, g.binary(Op::sub, one, mul(n.a, n.a)))));
-        break;
-      case Op::atan:
-        t = g.binary(Op::div, da, g.binary(Op::add, one, mul(n.a, n.a)));
-        break;
-      case Op::sinh:
-        t = mul(g.unary(Op::cosh, n.a), da);
-        break;
-      case Op::cosh:
-        t = mul(g.unary(Op::sinh, n.a), da);
-        break;
-      case Op::tanh:
-        t = mul(g.binary(Op::sub, one, mul(i, i)), da);
-        break;
-      case Op::abs:  // sign(a) a' as a / |a|: branch-free, undefined at a = 0 like the derivative
-        t = mul(g.binary(Op::div, n.a, i), da);
-        break;
-      case Op::pow:
-        if (g.node(n.b).op == Op::constant) {
-          const double k = g.node(n.b).value;
-          t = mul(mul(g.constant(k), g.binary(Op::pow, n.a, g.constant(k - 1))), da);
-        } else {  // (a^b)' = a^b (b' log a + b a' / a)
-          t = mul(i, g.binary(Op::add, mul(db, g.unary(Op::log, n.a)), g.binary(Op::div, mul(n.b, da), n.a)));
-        }
-        break;
-      case Op::constant:
-      case Op::input:
-        break;
-    }
-    dot[static_cast<std::size_t>(i)] = t;
+    dot[static_cast<std::size_t>(i)] = operation(n.op).derivative(terms, TangentOf{n.a, n.b, i, da, db});
   }
   std::vector<int> out;
   for (int o : outputs) out.push_back(dot[static_cast<std::size_t>(o)]);

@@ -7,6 +7,7 @@
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/model.hpp"
+#include "report/folder_transaction.hpp"
 
 #include <string>
 #include <utility>
@@ -14,9 +15,8 @@
 
 namespace hamel {
 
-struct EmittedFile {
-  std::string name, text;
-};
+/// One file of a package.
+using EmittedFile = FolderFile;
 
 struct EmittedPackage {
   std::string header_name, header;
@@ -75,8 +75,8 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
 /// Throws InputError as write_package does (which checks again when it writes).
 void check_package_folder(const std::string& directory, const std::string& model_name);
 
-/// Writes the package into `directory` atomically: a temporary sibling folder is filled and renamed;
-/// an existing folder is replaced only once the new one is complete.
+/// Writes the package into `directory` atomically (report/folder_transaction.hpp): a temporary sibling folder is
+/// filled and renamed; an existing folder is replaced only once the new one is complete.
 void write_package(const EmittedPackage& package, const std::string& directory);
 
 /// The most operations one printed statement holds: a statement read once, by a later statement of the same

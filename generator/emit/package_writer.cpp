@@ -32,36 +32,12 @@ std::string array_decl(const std::string& type, const std::string& name, const s
   return s + "};\n";
 }
 
-// The fixed-step integrator of the package: classical RK4 on the rhs kernel, in place, with three stack
-// arrays of n_state reals (no allocation); inputs are held over the step.
-const char* rk4_source =
-    "\n"
-    "/* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, "
-    "rk4_stack_reals reals of stack */\n"
-    "void rk4_step(real t, real h, real* x, const real* p, const real* in) {\n"
-    "  real k[n_state];\n"
-    "  real xs[n_state];\n"
-    "  real sum[n_state];\n"
-    "  const real half = h * real(0.5);\n"
-    "  rhs(t, x, p, in, k);\n"
-    "  for (int i = 0; i < n_state; ++i) {\n"
-    "    sum[i] = k[i];\n"
-    "    xs[i] = x[i] + half * k[i];\n"
-    "  }\n"
-    "  rhs(t + half, xs, p, in, k);\n"
-    "  for (int i = 0; i < n_state; ++i) {\n"
-    "    sum[i] += real(2.0) * k[i];\n"
-    "    xs[i] = x[i] + half * k[i];\n"
-    "  }\n"
-    "  rhs(t + half, xs, p, in, k);\n"
-    "  for (int i = 0; i < n_state; ++i) {\n"
-    "    sum[i] += real(2.0) * k[i];\n"
-    "    xs[i] = x[i] + h * k[i];\n"
-    "  }\n"
-    "  rhs(t + h, xs, p, in, k);\n"
-    "  const real sixth = h / real(6.0);\n"
-    "  for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);\n"
-    "}\n";
+// The fixed-step integrator of the package: classical RK4 on the rhs kernel, in place, with three stack arrays of
+// n_state reals (no allocation); inputs are held over the step. The runtime's own rk4_step, printed as it stands
+// there (runtime/include/hamel/runtime/rk4.hpp, read at the generator's build by generator/embed_region.cmake).
+const char* const rk4_step_text =
+#include "emit/rk4_step.inc"
+    ;
 
 // Model descriptions are folded YAML text; keep them as one paragraph. They come from the model file, so
 // what reaches the package README is made inert: control characters (C0, DEL, and C1 such as U+009B, a
@@ -358,7 +334,7 @@ std::string PackageWriter::source() const {
       << "  for (int i = 0; i < n_out_rhs; ++i) out[i] = all[i];\n"
       << "  return 0;\n"
       << "}\n";
-    c << rk4_source;
+    c << "\n" << rk4_step_text;
   }
   if (prepared) {
     c << "\nnamespace {\n\n"

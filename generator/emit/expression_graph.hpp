@@ -128,6 +128,10 @@ class ExpressionGraph {
   /// `e` as (node, sign) with e = sign·node, the sign of every sum chosen structurally (its first term in
   /// structural order is added): GiNaC keeps a sum inside a product as S or −S depending on its term order.
   std::pair<int, int> signed_expression(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  /// The same for a sum, a product and a power: signed_expression's cases.
+  std::pair<int, int> signed_sum(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  std::pair<int, int> signed_product(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  std::pair<int, int> signed_power(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
   std::map<GiNaC::ex, std::pair<int, int>, GiNaC::ex_is_less> memo_;
 };
 

@@ -53,7 +53,9 @@ struct StatementSchedule {
 
 /// How a program is printed.
 struct ScheduleOptions {
-  int split = 0;                 ///< split into parts of at most this many statements per lane; 0: never
+  /// Split into parts of at most this many printed statements, all lanes together (split / lanes of the program's
+  /// own); 0: never.
+  int split = 0;
   bool outputs_in_parts = true;  ///< a part writes the outputs it computes; false: all are copied at the end
   int lanes = 1;                 ///< argument sets the program runs on at once (Subroutine::lanes)
 };

@@ -1,7 +1,7 @@
 // hamel: symbolic–numeric generator for the Hamel equations of constrained and floating multibody
 // systems (Müller, Proc. R. Soc. A 479, 2023). Exit status: 0 success, 2 input error, 1 internal error.
 #include "cli/commands.hpp"
-#include "emit/cpp_emitter.hpp"
+#include "emit/package_writer.hpp"
 #include "model/input_error.hpp"
 #include "report/atomic_file.hpp"
 #include "report/progress.hpp"

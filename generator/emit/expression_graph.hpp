@@ -128,6 +128,10 @@ class ExpressionGraph {
   /// `e` as (node, sign) with e = sign·node, the sign of every sum chosen structurally (its first term in
   /// structural order is added): GiNaC keeps a sum inside a product as S or −S depending on its term order.
   std::pair<int, int> signed_expression(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  /// The same for a sum, a product and a power: signed_expression's cases.
+  std::pair<int, int> signed_sum(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  std::pair<int, int> signed_product(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  std::pair<int, int> signed_power(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
   std::map<GiNaC::ex, std::pair<int, int>, GiNaC::ex_is_less> memo_;
 };
 
@@ -169,8 +173,10 @@ struct Kernel {
 
 /// The interpreter of the IR, one pass over `schedule` (operands before users) writing values[i] for every node
 /// in it: a constant is constant(node), an input argument(node.argument, node.index), and any other node
-/// operation(node, value of a, value of b), b being a's value for a one-operand node. GraphEvaluator (double) and
-/// the 50-digit evaluator of numeric/kernel_accuracy are this loop with their own arithmetic.
+/// operation(node, value of a, value of b), b being a's value for a one-operand node. The 50-digit evaluator of
+/// numeric/kernel_accuracy is this loop with its own arithmetic, and hoist_shared_work rebuilds nodes in another graph
+/// with it; GraphEvaluator (numeric/graph_evaluator.hpp) does not run it, but compiles the schedule into dense slots
+/// and an instruction list of its own, and is tested against it.
 template <class Value, class ConstantRule, class ArgumentRule, class OperationRule>
 void interpret(const ExpressionGraph& g, const std::vector<int>& schedule, std::vector<Value>& values,
                ConstantRule constant, ArgumentRule argument, OperationRule operation) {

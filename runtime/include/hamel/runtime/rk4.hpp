@@ -174,4 +174,42 @@ IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, dou
   return detail::to_result(outcome, std::move(x));
 }
 
+/// One classical fourth-order Runge-Kutta step of size h of an emitted package's rhs kernel, x in place, with
+/// three stack arrays of n_state reals (no allocation); the inputs `in` are held over the step. hamel emit prints the
+/// lines between the markers below into every package that has rhs, as the package's own rk4_step (the generator's
+/// build reads them into its emit/rk4_step.inc), so that a package needs nothing of the runtime; here the same code
+/// is a template over the package's scalar type, state size and rhs:
+/// hamel::runtime::rk4_step<pkg::real, pkg::n_state, pkg::rhs>(t, h, x, p, in). The text between the markers is
+/// printed as it stands, so it may use only what an emitted package defines (real, n_state, rhs) and <cmath>.
+template <class real, int n_state, void (*rhs)(real, const real*, const real*, const real*, real*)>
+// clang-format off
+// hamel emit: rk4_step begin
+/* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
+void rk4_step(real t, real h, real* x, const real* p, const real* in) {
+  real k[n_state];
+  real xs[n_state];
+  real sum[n_state];
+  const real half = h * real(0.5);
+  rhs(t, x, p, in, k);
+  for (int i = 0; i < n_state; ++i) {
+    sum[i] = k[i];
+    xs[i] = x[i] + half * k[i];
+  }
+  rhs(t + half, xs, p, in, k);
+  for (int i = 0; i < n_state; ++i) {
+    sum[i] += real(2.0) * k[i];
+    xs[i] = x[i] + half * k[i];
+  }
+  rhs(t + half, xs, p, in, k);
+  for (int i = 0; i < n_state; ++i) {
+    sum[i] += real(2.0) * k[i];
+    xs[i] = x[i] + h * k[i];
+  }
+  rhs(t + h, xs, p, in, k);
+  const real sixth = h / real(6.0);
+  for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
+}
+// hamel emit: rk4_step end
+// clang-format on
+
 }  // namespace hamel::runtime

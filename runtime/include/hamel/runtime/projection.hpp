@@ -28,12 +28,15 @@
 //
 //   using namespace hamel::runtime;
 //   constexpr std::size_t n = four_bar::n_state, nq = four_bar::n_coordinates, k = four_bar::n_out_constraint_position;
-//   static double pwork[ProjectionWorkspace::doubles(nq, k)];
-//   auto g = [](double t, const double* x, double* out) { four_bar::constraint_position(t, x, p, nullptr, out); };
-//   auto G = [](double t, const double* x, double* out) {
+//   const double* p = four_bar::default_parameters;
+//   auto g = [&](double t, const double* x, double* out) { four_bar::constraint_position(t, x, p, nullptr, out); };
+//   auto G = [&](double t, const double* x, double* out) {
 //     four_bar::constraint_position_jacobian(t, x, p, nullptr, out);
 //   };
-//   ConstraintProjector project(g, G, nq, k, ProjectionWorkspace{pwork, std::size(pwork)});
+//   static double pwork[ProjectionWorkspace::doubles(nq, k)];
+//   const ProjectionWorkspace pw{pwork, std::size(pwork)};
+//   project_positions(g, G, 0.0, x, nq, k, pw);  // the initial state, once
+//   ConstraintProjector project(g, G, nq, k, pw);
 //   integrate_dopri5(rhs, x, n, 0.0, 10.0, Dopri5Options{}, 0.0, NoObserver{}, Dopri5Workspace{work, size}, project);
 #pragma once
 

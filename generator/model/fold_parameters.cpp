@@ -27,6 +27,10 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
   for (auto& q : out.forces) q = sub(q);
   sub_matrix(out.A);
   sub_matrix(out.B);
+  for (HolonomicConstraint& h : out.holonomic) {
+    h.g = sub(h.g);
+    for (GiNaC::ex& e : h.gradient) e = sub(e);
+  }
   if (out.bundle) {
     out.bundle->kinetic = sub(out.bundle->kinetic);
     out.bundle->potential = sub(out.bundle->potential);

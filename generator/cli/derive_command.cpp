@@ -511,6 +511,21 @@ nlohmann::json derivation_json(const Model& model, const Derivation& d, const Gi
   j["constraints"] = nlohmann::json::array();
   for (int a : sys.constrained) j["constraints"].push_back(u_name(a));
   for (int a : eq.independent) j["independent"].push_back(u_name(a));
+  // Position constraints g(q) = 0 (key holonomic): g and its gradient; the partition hamel chose, if it did.
+  for (const PositionConstraint& c : sys.position_constraints) {
+    nlohmann::json e = entry(c.g, values);
+    e["name"] = c.name;
+    for (std::size_t a = 0; a < n; ++a) {
+      nlohmann::json g = entry(c.gradient[a], values);
+      g["coordinate"] = q_name(a);
+      e["gradient"].push_back(g);
+    }
+    j["position_constraints"].push_back(e);
+  }
+  if (!sys.position_constraints.empty()) {
+    j["dependent_coordinates"] = nlohmann::json::array();
+    for (int a : model.dependent_coordinates) j["dependent_coordinates"].push_back(q_name(static_cast<std::size_t>(a)));
+  }
   if (!model.bundle)
     for (unsigned r = 0; r < n; ++r)
       for (unsigned c = 0; c < n; ++c) {
@@ -583,6 +598,18 @@ void print_text(nlohmann::json j, const Model& model, const Derivation& d) {
   };
   std::cout << "model " << model.name << " (" << model.source_path << "): " << n << " coordinates, "
             << sys.constrained.size() << " constraints, " << m << " independent quasi-velocities\n";
+  if (j.contains("position_constraints")) {
+    std::cout << "\nposition constraints g(q) = 0, held as the quasi-velocities dg/dt = G(q) q_dot = 0, G = dg/dq "
+                 "(PfaffianConstr2):\n";
+    for (const auto& e : j["position_constraints"])
+      std::cout << "  " << e["name"].get<std::string>() << ": g = " << show(e) << "\n";
+    std::vector<std::string> dependent;
+    for (const auto& e : j["dependent_coordinates"]) dependent.push_back(e.get<std::string>());
+    if (!dependent.empty())
+      std::cout << "  dependent coordinates s = " << join(dependent)
+                << " (G_s regular at the initial configuration; the others' rates are the independent "
+                   "quasi-velocities, (sys1), (HE-holo))\n";
+  }
   if (d.bundle) {
     std::cout << "\nbundle: G = " << j["group"]["name"].get<std::string>() << ", "
               << j["group"]["trivialization"].get<std::string>() << " trivialization, "

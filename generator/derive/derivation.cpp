@@ -33,6 +33,8 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
     for (unsigned a = 0; a < n; ++a) row.push_back(qv.A(static_cast<unsigned>(alpha), a));
     sys.constraint_form.push_back(row);
   }
+  for (const HolonomicConstraint& h : model.holonomic)
+    sys.position_constraints.push_back({h.velocity.get_name(), h.g, h.gradient});
   sys.where =
       model.locations.count("lagrangian") ? model.locations.at("lagrangian") : SourceLocation{model.source_path, 0, 0};
   return sys;

@@ -126,13 +126,33 @@ class KernelBuilder {
 
     set_.kernels = {kinematics_, mass_, forcing_, gamma_, rhs_, jacobian_, energy};
     if (want("linearization")) set_.kernels.push_back(linearization());
-    if (!eq_.constraint_residual.empty()) {
-      Kernel residual = registered("constraint_residual");
+    const std::vector<PositionConstraint>& positions = sys_.position_constraints;
+    if (!eq_.constraint_residual.empty() || !positions.empty()) {
+      Kernel residual =
+          registered("constraint_residual", positions.empty() ? "" : ", then g(q) of the position constraints");
       for (std::size_t k = 0; k < eq_.constraint_residual.size(); ++k) {
         residual.outputs.push_back(node_of_(eq_.constraint_residual[k]));
         residual.output_names.push_back(name_of(sys_.constrained[k]));
       }
+      for (const PositionConstraint& c : positions) {
+        residual.outputs.push_back(node_of_(c.g));
+        residual.output_names.push_back("g[" + c.name + "]");
+      }
       set_.kernels.push_back(residual);
+    }
+    if (!positions.empty()) {
+      Kernel position = registered("constraint_position"), jacobian = registered("constraint_position_jacobian");
+      for (const PositionConstraint& c : positions) {
+        position.outputs.push_back(node_of_(c.g));
+        position.output_names.push_back(c.name);
+        for (int a = 0; a < n_; ++a) {
+          jacobian.outputs.push_back(node_of_(c.gradient[static_cast<std::size_t>(a)]));
+          jacobian.output_names.push_back("d" + c.name + "/d" +
+                                          sys_.coordinates[static_cast<std::size_t>(a)].get_name());
+        }
+      }
+      set_.kernels.push_back(position);
+      set_.kernels.push_back(jacobian);
     }
     if (derivation_.bundle) bundle_kernels();
     if (want("riemann_linearization")) set_.kernels.push_back(riemann_linearization());

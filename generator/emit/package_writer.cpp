@@ -111,11 +111,12 @@ class PackageWriter {
   void header_abi(std::ostream& h) const;
   void header_kernels(std::ostream& h) const;
   // README.md's sections after its head, in order.
-  void readme_kernels(std::ostream& md) const;     // the kernels' table, and the prepared ones'
-  void readme_layout(std::ostream& md) const;      // x, p and in, element by element
-  void readme_integrator(std::ostream& md) const;  // rk4_step, with a loop
-  void readme_build(std::ostream& md) const;       // with CMake and without
-  void readme_bad_input(std::ostream& md) const;   // what kernels return for bad input
+  void readme_kernels(std::ostream& md) const;               // the kernels' table, and the prepared ones'
+  void readme_layout(std::ostream& md) const;                // x, p and in, element by element
+  void readme_integrator(std::ostream& md) const;            // rk4_step, with a loop
+  void readme_position_constraints(std::ostream& md) const;  // the projector, with a run
+  void readme_build(std::ostream& md) const;                 // with CMake and without
+  void readme_bad_input(std::ostream& md) const;             // what kernels return for bad input
   static std::string quoted(const std::string& x) { return "\"" + x + "\""; }
   static std::string str(int x) { return std::to_string(x); }
   // The C signature <name>_<fn>(t, x, p, in, out) with the package's scalar macro.
@@ -547,6 +548,53 @@ void PackageWriter::readme_integrator(std::ostream& md) const {
        << "for (long tick = 0; tick < ticks; ++tick) " << model.name << "::rk4_step(tick * h, h, x, "
        << (s.n_p ? model.name + "::default_parameters" : std::string("nullptr")) << ", " << (s.n_in ? "in" : "nullptr")
        << ");\n```\n";
+  readme_position_constraints(md);
+}
+
+// Models with position constraints g(q) = 0 (holonomic constraints): how the runtime's projector keeps them.
+void PackageWriter::readme_position_constraints(std::ostream& md) const {
+  std::vector<std::string> names;
+  bool jacobian = false;
+  for (const Kernel& k : kernels.kernels) {
+    if (k.name == "constraint_position") names = k.output_names;
+    jacobian = jacobian || k.name == "constraint_position_jacobian";
+  }
+  if (names.empty() || !jacobian || !has_rhs) return;
+  const std::string& m = model.name;
+  const std::string p = s.n_p ? m + "::default_parameters" : std::string("nullptr");
+  const std::string in = s.n_in ? "in" : "nullptr";
+  md << "\n## Position constraints\n\n"
+     << "The model has " << names.size() << " position constraints g(q) = 0 (";
+  for (std::size_t i = 0; i < names.size(); ++i) md << (i ? ", " : "") << "`" << names[i] << "`";
+  md << ") that its equations hold in velocity form only: G(q) q_dot = 0 holds exactly along every computed motion "
+        "(G = dg/dq), but the integration error moves q off g(q) = 0, and that drift accumulates. "
+        "`constraint_position` gives g(q), `constraint_position_jacobian` G (row-major, `n_out_constraint_position` x "
+        "`n_coordinates`). The hamel runtime's projector (`hamel/runtime/projection.hpp`, in `"
+     << m
+     << "::with_runtime`) moves q back onto g(q) = 0 by Gauss-Newton with minimum-norm corrections q <- q - G^T (G "
+        "G^T)^-1 g(q) until they are at rounding level, in a work space of the caller's (no allocation); every "
+        "integrator of the runtime takes it as its last argument and projects each accepted state and each sample "
+        "(dopri5, dop853 and radau5 then evaluate `rhs` once more per step). Project the initial state too "
+        "(`project_positions`), as `hamel simulate` does. `rk4_step` does not project: call `project_positions` after "
+        "it.\n\n"
+     << "```cpp\n#include \"" << m << ".hpp\"\n#include <hamel/runtime/dopri5.hpp>\n#include "
+     << "<hamel/runtime/projection.hpp>\n\n"
+     << "using namespace hamel::runtime;\n"
+     << "constexpr std::size_t n = " << m << "::n_state, nq = " << m << "::n_coordinates, k = " << m
+     << "::n_out_constraint_position;\n"
+     << "auto rhs = [&](double t, const double* x, double* f) { " << m << "::rhs(t, x, " << p << ", " << in
+     << ", f); };\n"
+     << "auto g = [&](double t, const double* x, double* out) { " << m << "::constraint_position(t, x, " << p << ", "
+     << in << ", out); };\n"
+     << "auto G = [&](double t, const double* x, double* out) { " << m << "::constraint_position_jacobian(t, x, " << p
+     << ", " << in << ", out); };\n"
+     << "static double pwork[ProjectionWorkspace::doubles(nq, k)], work[Dopri5Workspace::doubles(n)];\n"
+     << "const ProjectionWorkspace pw{pwork, ProjectionWorkspace::doubles(nq, k)};\n"
+     << "double x[n] = {};  // initial state\n"
+     << "project_positions(g, G, 0.0, x, nq, k, pw);  // Status::ok: x is on g(q) = 0\n"
+     << "ConstraintProjector project(g, G, nq, k, pw);\n"
+     << "integrate_dopri5(rhs, x, n, 0.0, 10.0, Dopri5Options{}, 0.0, NoObserver{}, "
+        "Dopri5Workspace{work, Dopri5Workspace::doubles(n)}, project);\n```\n";
 }
 
 void PackageWriter::readme_build(std::ostream& md) const {

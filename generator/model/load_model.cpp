@@ -6,6 +6,7 @@
 #include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
 
+#include "derive/holonomic_constraints.hpp"
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
@@ -250,15 +251,15 @@ class Loader {
   // contact-point velocity written with definitions), whose coefficients are its derivatives by the rates
   // (taken through the definitions, so nothing is expanded). Linearity is decided exactly.
   GiNaC::matrix velocity_matrix(Model& model, const YAML::Node& node, const std::string& key,
-                                const GiNaC::symtab& geometric, const std::string& allowed) {
+                                const GiNaC::symtab& geometric, const std::string& allowed, std::size_t rows) {
     const std::size_t n = model.coordinates.size();
-    if (!node.IsSequence() || node.size() != n)
-      fail(node, key, "expected a list of " + std::to_string(n) + " rows (one per quasi-velocity)");
+    if (!node.IsSequence() || node.size() != rows)
+      fail(node, key, "expected a list of " + std::to_string(rows) + " rows (one per quasi-velocity)");
     GiNaC::symtab with_rates = geometric;
     for (const auto& r : model.rates) with_rates[r.get_name()] = r;
     with_rates = with_definitions(with_rates);
-    GiNaC::matrix m(static_cast<unsigned>(n), static_cast<unsigned>(n));
-    for (std::size_t i = 0; i < n; ++i) {
+    GiNaC::matrix m(static_cast<unsigned>(rows), static_cast<unsigned>(n));
+    for (std::size_t i = 0; i < rows; ++i) {
       const std::string row_key = key + "[" + std::to_string(i) + "]";
       if (node[i].IsSequence()) {
         if (node[i].size() != n)
@@ -341,6 +342,9 @@ class Loader {
   }
   void load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed);
   void load_definitions(Model& model, const GiNaC::symtab& all);
+  std::size_t declare_holonomic(Model& model);
+  void load_holonomic(Model& model, const GiNaC::symtab& all);
+  std::set<std::string> symbols_used(const GiNaC::ex& e) const;
   GiNaC::symtab with_definitions(GiNaC::symtab table) const;
 
   const std::string& text_;
@@ -373,7 +377,7 @@ Model Loader::load() {
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
-                "lagrangian", "forces", "inputs", "definitions", "initial", "bodies", "potential"});
+                "holonomic", "lagrangian", "forces", "inputs", "definitions", "initial", "bodies", "potential"});
 
   Model model;
   model.source_path = path_;
@@ -432,22 +436,84 @@ void Loader::load_definitions(Model& model, const GiNaC::symtab& all) {
         expression(kv.second, key, table,
                    "a definition may use the model's symbols (parameters, coordinates, rates, velocities, inputs, "
                    "t) and the definitions above it");
-    std::set<std::string> uses;
-    std::function<void(const GiNaC::ex&)> collect = [&](const GiNaC::ex& e) {
-      if (GiNaC::is_a<GiNaC::symbol>(e)) {
-        const std::string s = GiNaC::ex_to<GiNaC::symbol>(e).get_name();
-        bool is_definition = false;
-        for (const auto& [sym, deps] : definition_uses_)
-          if (sym.get_name() == s) is_definition = true, uses.insert(deps.begin(), deps.end());
-        if (!is_definition) uses.insert(s);
-        return;
-      }
-      for (std::size_t i = 0; i < e.nops(); ++i) collect(e.op(i));
-    };
-    collect(value);
+    const std::set<std::string> uses = symbols_used(value);
     const GiNaC::realsymbol symbol = model.definitions.define_named(name, value);
     definition_uses_.emplace_back(symbol, uses);
     table[name] = symbol;
+  }
+}
+
+// The names of the model symbols `e` uses, through the definitions it uses.
+std::set<std::string> Loader::symbols_used(const GiNaC::ex& e) const {
+  std::set<std::string> uses;
+  std::function<void(const GiNaC::ex&)> collect = [&](const GiNaC::ex& x) {
+    if (GiNaC::is_a<GiNaC::symbol>(x)) {
+      const std::string s = GiNaC::ex_to<GiNaC::symbol>(x).get_name();
+      bool is_definition = false;
+      for (const auto& [sym, deps] : definition_uses_)
+        if (sym.get_name() == s) is_definition = true, uses.insert(deps.begin(), deps.end());
+      if (!is_definition) uses.insert(s);
+      return;
+    }
+    for (std::size_t i = 0; i < x.nops(); ++i) collect(x.op(i));
+  };
+  collect(e);
+  return uses;
+}
+
+// The names of the holonomic constraints (key `holonomic`), declared before the quasi-velocities: each also names
+// the quasi-velocity ġ it becomes. Returns how many there are.
+std::size_t Loader::declare_holonomic(Model& model) {
+  const YAML::Node node = root_["holonomic"];
+  if (!node) return 0;
+  model.locations["holonomic"] = where(node);
+  if (!node.IsMap()) fail(node, "holonomic", "expected an ordered map of name: expression g(q) (the constraint g = 0)");
+  for (const auto& kv : node) {
+    const std::string name = scalar(kv.first, "holonomic");
+    const std::string key = "holonomic." + name;
+    declare_name(kv.first, key, name);
+    model.locations[key] = where(kv.second);
+    model.holonomic.push_back({GiNaC::realsymbol(name), 0, {}});
+  }
+  const std::size_t n = model.coordinates.size(), k = model.holonomic.size();
+  if (k >= n)
+    fail(node, "holonomic",
+         std::to_string(k) + " constraints on " + std::to_string(n) + " coordinates leave no degree of freedom; " +
+             "expected fewer constraints than coordinates");
+  return k;
+}
+
+// g(q) of each holonomic constraint: coordinates, parameters and definitions of these only.
+void Loader::load_holonomic(Model& model, const GiNaC::symtab& all) {
+  const YAML::Node node = root_["holonomic"];
+  if (!node) return;
+  const std::string allowed =
+      "a holonomic constraint g(q) = 0 may use coordinates, parameters and definitions of these";
+  std::size_t i = 0;
+  for (const auto& kv : node) {
+    HolonomicConstraint& c = model.holonomic[i++];
+    const std::string key = "holonomic." + c.velocity.get_name();
+    c.g = expression(kv.second, key, all, allowed);
+    for (const std::string& used : symbols_used(c.g)) {
+      bool geometric = false;
+      for (const auto& p : model.parameters) geometric = geometric || p.symbol.get_name() == used;
+      for (const auto& q : model.coordinates) geometric = geometric || q.get_name() == used;
+      if (geometric) continue;
+      std::string what = quote(used);
+      for (const auto& r : model.rates)
+        if (r.get_name() == used) what = "the rate " + quote(used);
+      for (const auto& u : model.inputs)
+        if (u.get_name() == used) what = "the input " + quote(used);
+      for (const auto& u : model.quasi_velocities)
+        if (u.get_name() == used) what = "the quasi-velocity " + quote(used);
+      if (used == "t")
+        fail(kv.second, key,
+             "uses the time 't': constraints g(q, t) = 0 that move with time are not supported; expected g(q), " +
+                 allowed);
+      fail(kv.second, key,
+           "uses " + what + ": expected g(q), a condition on the positions; " + allowed +
+               " (a condition on velocities is a Pfaffian constraint: a quasi-velocity listed in 'constraints')");
+    }
   }
 }
 
@@ -485,30 +551,54 @@ void Loader::load_core(Model& model) {
     model.rates.emplace_back(rate);
   }
   const std::size_t n = model.coordinates.size();
+  // Holonomic constraints g(q) = 0: k of them leave n − k other quasi-velocities, given or (without the key
+  // quasi_velocities) the rates of independent coordinates (derive/holonomic_constraints.hpp).
+  const std::size_t k = declare_holonomic(model);
+  const std::size_t others = n - k;
 
-  YAML::Node qv = require("quasi_velocities", YAML::NodeType::Map, "a map with keys names, A and optionally B");
-  check_keys(qv, "quasi_velocities", {"names", "A", "B"});
-  if (!qv["names"]) fail(qv, "quasi_velocities.names", "missing required key; expected a list of names");
-  model.quasi_velocities = name_list(qv["names"], "quasi_velocities.names");
-  if (model.quasi_velocities.size() != n)
-    fail(qv["names"], "quasi_velocities.names",
-         "expected " + std::to_string(n) + " names (one per coordinate), got " +
-             std::to_string(model.quasi_velocities.size()));
+  YAML::Node qv = root_["quasi_velocities"];
+  if (!qv && k == 0) qv = require("quasi_velocities", YAML::NodeType::Map, "a map with keys names, A and optionally B");
+  if (qv) {
+    if (!qv.IsMap()) fail(qv, "quasi_velocities", "expected a map with keys names, A and optionally B");
+    check_keys(qv, "quasi_velocities", {"names", "A", "B"});
+    if (!qv["names"]) fail(qv, "quasi_velocities.names", "missing required key; expected a list of names");
+    model.quasi_velocities = name_list(qv["names"], "quasi_velocities.names");
+    if (model.quasi_velocities.size() != others)
+      fail(qv["names"], "quasi_velocities.names",
+           k == 0 ? "expected " + std::to_string(n) + " names (one per coordinate), got " +
+                        std::to_string(model.quasi_velocities.size())
+                  : "expected " + std::to_string(others) +
+                        " names (one per coordinate, less one per holonomic "
+                        "constraint: " +
+                        std::to_string(n) + " - " + std::to_string(k) + "), got " +
+                        std::to_string(model.quasi_velocities.size()));
+    if (k > 0 && qv["B"])
+      fail(qv["B"], "quasi_velocities.B",
+           "cannot be given with 'holonomic': hamel inverts A = [dg/dq; A] itself; expected no B");
+  }
 
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
 
   load_definitions(model, model.symbols());
   const GiNaC::symtab all = with_definitions(model.symbols());
+  load_holonomic(model, all);
   GiNaC::symtab geometric;  // what A(q) and B(q) may use
   for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
   for (const auto& s : model.coordinates) geometric[s.get_name()] = s;
   geometric = with_definitions(geometric);
   const std::string geometric_allowed = "A(q) and B(q) may use coordinates and parameters only";
 
-  if (!qv["A"]) fail(qv, "quasi_velocities.A", "missing required key; expected an n x n matrix (list of rows)");
-  model.locations["quasi_velocities.A"] = where(qv["A"]);
-  model.A = velocity_matrix(model, qv["A"], "quasi_velocities.A", geometric, geometric_allowed);
-  if (YAML::Node b = qv["B"]) {
+  if (qv && !qv["A"])
+    fail(qv, "quasi_velocities.A",
+         k == 0 ? "missing required key; expected an n x n matrix (list of rows)"
+                : "missing required key; expected " + std::to_string(others) + " rows of " + std::to_string(n) +
+                      " entries (list of rows)");
+  if (qv) {
+    model.locations["quasi_velocities.A"] = where(qv["A"]);
+    model.A = velocity_matrix(model, qv["A"], "quasi_velocities.A", geometric, geometric_allowed, others);
+  }
+  if (qv && qv["B"]) {
+    const YAML::Node b = qv["B"];
     model.locations["quasi_velocities.B"] = where(b);
     model.B = matrix_of(b, "quasi_velocities.B", n, n, geometric, geometric_allowed);
     model.B_given = true;
@@ -532,12 +622,19 @@ void Loader::load_core(Model& model) {
         fail(cons[i], key, quote(cname) + " is listed twice");
       model.constrained.push_back(index);
     }
-    if (model.constrained.size() >= n) fail(cons, "constraints", "at least one quasi-velocity must stay independent");
+    if (model.constrained.size() >= others)
+      fail(cons, "constraints",
+           k == 0 ? "at least one quasi-velocity must stay independent"
+                  : "at least one quasi-velocity must stay independent (the holonomic constraints already hold " +
+                        std::to_string(k) + " of the " + std::to_string(n) + ")");
   }
 
   GiNaC::symtab lagrangian_table = model.symbols();
   for (const auto& s : model.inputs) lagrangian_table.erase(s.get_name());
   lagrangian_table = with_definitions(lagrangian_table);
+  // The constraint velocities ġ^α join the quasi-velocities (first, held at zero); the Lagrangian and the forces
+  // do not see them (they are zero on the motion).
+  add_holonomic_quasi_velocities(model, static_cast<bool>(qv));
   // With `bodies`, L = Σ T_body − V + (further terms under `lagrangian`, optional).
   const YAML::Node bodies = root_["bodies"];
   model.lagrangian = 0;

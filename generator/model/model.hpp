@@ -87,6 +87,14 @@ struct Bundle {
                                                   ///< `kinetic` is empty: see derive/kinematic_tree.hpp
 };
 
+/// A holonomic constraint g(q) = 0 (model key `holonomic`, general coordinates). It enters the derivation as the
+/// quasi-velocity u^α = ġ^α = G^α_a(q) q̇^a held at zero, named after the constraint (derive/holonomic_constraints.hpp).
+struct HolonomicConstraint {
+  GiNaC::realsymbol velocity;       ///< u^α = ġ^α; its name is the constraint's
+  GiNaC::ex g;                      ///< g(q), in coordinates, parameters and definitions of these
+  std::vector<GiNaC::ex> gradient;  ///< G^α_a = ∂g/∂q^a, a = 1..n, through the definitions
+};
+
 struct Model {
   std::string name;
   std::string description;
@@ -104,6 +112,12 @@ struct Model {
   GiNaC::matrix B;  ///< q̇ = B(q) u, only when given in the file
   bool B_given = false;
   std::vector<int> constrained;  ///< indices α of quasi-velocities held at zero, eq. (PfaffianConstr)
+  /// Holonomic constraints (key `holonomic`), in file order: their velocities ġ are the first quasi-velocities and
+  /// are constrained; A's first rows are their gradients (derive/holonomic_constraints.hpp).
+  std::vector<HolonomicConstraint> holonomic;
+  /// The dependent coordinates s of the partition q = (s, r) hamel chose (sys1), indices in file order; empty when
+  /// the model has no holonomic constraints or gives `quasi_velocities` itself.
+  std::vector<int> dependent_coordinates;
 
   std::optional<Bundle> bundle;  ///< set for bundle models; then coordinates are the shape r^I and A, B are empty
   /// A fixed-base tree (model key `tree` without `group`): coordinates are the joints, u = q̇ (A = B = 1),

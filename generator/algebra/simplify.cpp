@@ -256,12 +256,6 @@ std::size_t node_count(const ex& e, std::size_t limit) {
   return n;
 }
 
-std::size_t printed_size(const ex& e, std::size_t limit) {
-  std::size_t n = 1;
-  for (std::size_t i = 0; i < e.nops() && n <= limit; ++i) n += printed_size(e.op(i), limit - n);
-  return n;
-}
-
 bool numerically_nonzero(const ex& e) {
   std::set<ex, GiNaC::ex_is_less> symbols;
   collect_symbols(e, symbols);

@@ -49,14 +49,11 @@ bool numerically_nonzero(const GiNaC::ex& e);
 bool identically_singular(const GiNaC::matrix& m);
 
 /// The number of nodes of e's expression tree, counted up to a little past `limit`, without its signs: a factor −1
-/// and the product −x it leaves are not counted. The derivation's size thresholds use this count, so they do not
-/// depend on where GiNaC puts a sign (N/D or (−N)/(−D), −x·y or (−x)·y), which follows its term order and so the
-/// address layout (docs/errors.md, "Emission independent of the address layout").
+/// and the product −x it leaves are not counted. The derivation's size thresholds and the printed forms
+/// contract_trig chooses between use this count, so they do not depend on where GiNaC puts a sign (N/D or
+/// (−N)/(−D), −x·y or (−x)·y, a sum factor or its negative), which follows its term order and so the address
+/// layout.
 std::size_t node_count(const GiNaC::ex& e, std::size_t limit);
-
-/// The number of nodes of e's expression tree as GiNaC holds it, a factor −1 included, up to a little past `limit`:
-/// the size of an expression as printed (algebra/contract_trig.hpp chooses the shorter of printed forms with it).
-std::size_t printed_size(const GiNaC::ex& e, std::size_t limit);
 
 /// simplify(e) when e is small (at most `limit` nodes); a large e that is identically zero becomes 0; other
 /// large expressions are left as derived: their normal form costs more than it saves (the emitted code

@@ -509,6 +509,11 @@ bool structurally_less(const ex& a, const ex& b) {
   return compare(*canonical.of(a), *canonical.of(b)) < 0;
 }
 
+struct StructuralOrder::Forms : Canonical {};
+StructuralOrder::StructuralOrder() : forms_(std::make_unique<Forms>()) {}
+StructuralOrder::~StructuralOrder() = default;
+bool StructuralOrder::operator()(const ex& a, const ex& b) { return compare(*forms_->of(a), *forms_->of(b)) < 0; }
+
 std::string to_latex(const ex& e, const std::function<std::string(const std::string&)>& symbol_tex) {
   Canonical canonical;
   Printer printer(true, &symbol_tex);

@@ -19,6 +19,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <functional>
+#include <memory>
 #include <string>
 
 namespace hamel {
@@ -34,6 +35,18 @@ std::string to_latex(const GiNaC::ex& e, const std::function<std::string(const s
 /// run). Expressions that print alike are equivalent; for algorithms whose result depends on the order in which
 /// they visit expressions (the angles of algebra/contract_trig).
 bool structurally_less(const GiNaC::ex& a, const GiNaC::ex& b);
+
+/// structurally_less for many comparisons: keeps the canonical form of every expression it has compared.
+class StructuralOrder {
+ public:
+  StructuralOrder();
+  ~StructuralOrder();
+  bool operator()(const GiNaC::ex& a, const GiNaC::ex& b);
+
+ private:
+  struct Forms;
+  std::unique_ptr<Forms> forms_;
+};
 
 /// The shortest decimal spelling (15 to 17 significant digits) that reads back as exactly `value`.
 inline std::string shortest_decimal(double value) {

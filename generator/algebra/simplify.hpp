@@ -18,7 +18,12 @@ GiNaC::ex expand_trig(const GiNaC::ex& e);
 /// Normal form of `e`: one fraction, trigonometric polynomials reduced with sin² + cos² = 1. Where `e` holds a
 /// power of a sum (b^n, |n| >= 2) and its normal form grew beyond `e`, the fraction with those powers kept whole
 /// is made too and the smaller of the two (in nodes) returned, the normal form on a tie: an expanded power loses
-/// accuracy near a root of its base. Zero is always found (the normal form is canonical).
+/// accuracy near a root of its base. Zero is always found (the normal form is canonical up to sign).
+/// The sign is GiNaC's: normal() writes N/D or (−N)/(−D), and a product keeps a sum S or −S, by its term order,
+/// which follows hash values that include addresses. No GiNaC object can pin it (a product re-chooses the sign of
+/// a sum factor when it is built), so nothing that reads the result may depend on it: node_count (the size tests)
+/// does not count signs, the IR (emit/expression_graph) and the printers (algebra/expression_text) place them
+/// structurally, and the evaluators compute −(−x) exactly.
 GiNaC::ex simplify(const GiNaC::ex& e);
 
 /// e.expand(), except where `e` holds a power of a sum (b^n, |n| >= 2) and its expansion grew beyond `e`: then

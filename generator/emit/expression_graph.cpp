@@ -535,10 +535,14 @@ bool hoist_shared_work(ExpressionGraph& g, Subroutine& sub) {
     if (s.is_unrepresentable(i)) return false;
   // The frontier's program rebuilt in g, reading the shared values where s reads p[k].
   std::vector<int> in_g(static_cast<std::size_t>(s.size()), -1);
-  interpret(
-      s, order, in_g, [&](const Node& n) { return g.constant(n.value); },
-      [&](Argument, int k) { return sub.shared.at(static_cast<std::size_t>(k)); },
-      [&](const Node& n, int a, int b) { return n.b >= 0 ? g.binary(n.op, a, b) : g.unary(n.op, a); });
+  for (int i : order) {
+    const Node& n = s.node(i);
+    const auto at = [&](int j) { return in_g[static_cast<std::size_t>(j)]; };
+    in_g[static_cast<std::size_t>(i)] = n.op == Op::constant ? g.constant(n.value)
+                                        : n.op == Op::input  ? sub.shared.at(static_cast<std::size_t>(n.index))
+                                        : n.b >= 0           ? g.binary(n.op, at(n.a), at(n.b))
+                                                             : g.unary(n.op, at(n.a));
+  }
   // The frontier read as p[P + j] (P: the shared values so far), then every p[k] still read renumbered from 0.
   const int P = static_cast<int>(sub.shared.size());
   std::vector<int> value_of = sub.shared;  // the value in g of p[k]

@@ -1,8 +1,8 @@
 // A small intermediate representation between algebra and text (after CasADi's instruction list):
 // a DAG of scalar operations in which every node is created once (value numbering over operation and
 // operands), so common subexpressions are shared across all kernels of a model. Constants are folded
-// and trivial identities (x+0, x·1, x·0) removed while building. Printing and numeric evaluation are
-// passes over this list.
+// and trivial identities (x+0, x·1, x·0) removed while building. Printing (emit/cpp_emitter) and numeric
+// evaluation (emit/interpreter.hpp, in double, 50 digits or residues) are passes over this list.
 //
 // Canonical order: every node carries a structural key (a hash over its operation, constant, argument and
 // the keys of its operands) and nodes are totally ordered by key, ties broken by comparing structure. The
@@ -170,27 +170,6 @@ struct Kernel {
   /// `outputs` must clear this.
   std::shared_ptr<const Subroutine> calls;
 };
-
-/// The interpreter of the IR, one pass over `schedule` (operands before users) writing values[i] for every node
-/// in it: a constant is constant(node), an input argument(node.argument, node.index), and any other node
-/// operation(node, value of a, value of b), b being a's value for a one-operand node. The 50-digit evaluator of
-/// numeric/kernel_accuracy is this loop with its own arithmetic, and hoist_shared_work rebuilds nodes in another graph
-/// with it; GraphEvaluator (numeric/graph_evaluator.hpp) does not run it, but compiles the schedule into dense slots
-/// and an instruction list of its own, and is tested against it.
-template <class Value, class ConstantRule, class ArgumentRule, class OperationRule>
-void interpret(const ExpressionGraph& g, const std::vector<int>& schedule, std::vector<Value>& values,
-               ConstantRule constant, ArgumentRule argument, OperationRule operation) {
-  for (int i : schedule) {
-    const Node& n = g.node(i);
-    Value& v = values[static_cast<std::size_t>(i)];
-    if (n.op == Op::constant)
-      v = constant(n);
-    else if (n.op == Op::input)
-      v = argument(n.argument, n.index);
-    else
-      v = operation(n, values[static_cast<std::size_t>(n.a)], values[static_cast<std::size_t>(n.b >= 0 ? n.b : n.a)]);
-  }
-}
 
 /// Converts expressions that may use intermediate symbols (algebra/intermediates.hpp) into `graph`: each
 /// definition becomes a node when an expression first needs it, after the definitions it uses. `tape` may

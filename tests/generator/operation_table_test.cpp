@@ -4,6 +4,7 @@
 // with a constant exponent, which has a rule of its own, and with a variable one), at points inside its domain.
 #include "algebra/operations.hpp"
 #include "emit/expression_graph.hpp"
+#include "emit/interpreter.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,14 +18,12 @@ using hamel::Argument;
 using hamel::ExpressionGraph;
 using hamel::Op;
 
-// The value of `node` with x[0] = a, x[1] = b, node by node through the table's evaluation.
+// The value of `node` with x[0] = a, x[1] = b, through the IR's interpreter in double.
 double value_at(const ExpressionGraph& g, int node, double a, double b) {
-  std::vector<double> values(static_cast<std::size_t>(g.size()), 0.0);
-  hamel::interpret(
-      g, g.schedule({node}), values, [](const hamel::Node& n) { return n.value; },
-      [&](Argument, int index) { return index == 0 ? a : b; },
-      [](const hamel::Node& n, double x, double y) { return hamel::evaluate(n.op, x, y); });
-  return values[static_cast<std::size_t>(node)];
+  hamel::Interpreter<hamel::DoubleArithmetic> program(g);
+  const int slot = program.compile({node}).front();
+  program.run([&](Argument, int index) { return index == 0 ? a : b; });
+  return program.value(slot);
 }
 
 // d op(x0, x1) / d x<k> at (a, b) by the tangent pass, against a central difference of op itself.

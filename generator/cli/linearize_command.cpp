@@ -233,7 +233,7 @@ void print_crossings(const std::string& swept, const Sweep& result) {
 }
 
 // --plot: the eigenvalues against the swept quantity as SVG.
-void plot_sweep(const std::string& path, const std::string& model_name, const std::string& swept, const Sweep& result) {
+void plot_sweep(std::ostream& os, const std::string& model_name, const std::string& swept, const Sweep& result) {
   PlotSpec spec;
   spec.title = model_name + ": eigenvalues against " + swept;
   spec.x_label = swept;
@@ -249,8 +249,7 @@ void plot_sweep(const std::string& path, const std::string& model_name, const st
       if (e.im > 0) im.x.push_back(result.values[i]), im.y.push_back(e.im);
     }
   spec.series = {re, im};
-  write_file_atomically(path, render_svg(spec), "--plot");
-  std::cerr << "hamel: wrote " << path << "\n";
+  os << render_svg(spec);
 }
 
 // One linearization as JSON or text: the point, A, B, c and A's eigenvalues.
@@ -364,19 +363,22 @@ void run(const LinearizeOptions& opt) {
       progress::Step step("sweeping " + spec.name + " from " + number(spec.from) + " to " + number(spec.to));
       result = sweep(spectrum_at, spec.from, spec.to, spec.step);
     }
-    OutputFile out(opt.out, "--out");
-    write_sweep(out.stream(), opt.json, names, spec.name, result);
-    out.commit();
+    // The table and the plot are committed together: a plot that cannot be written keeps the old table too.
+    OutputTransaction outputs;
+    write_sweep(outputs.open(opt.out, "--out"), opt.json, names, spec.name, result);
+    if (!opt.plot.empty()) plot_sweep(outputs.open(opt.plot, "--plot"), model.name, spec.name, result);
+    outputs.commit();
     print_crossings(spec.name, result);
-    if (!opt.plot.empty()) plot_sweep(opt.plot, model.name, spec.name, result);
+    if (!opt.plot.empty()) std::cerr << "hamel: wrote " << printable(opt.plot) << "\n";
     return;
   }
 
   x = steady_point(x);
   const LinearSystem s = linearize_at(x);
-  OutputFile out(opt.out, "--out");
-  write_linearization(out.stream(), opt.json, model, names, x, s, steady ? &components.moving : nullptr, found);
-  out.commit();
+  OutputTransaction outputs;
+  write_linearization(outputs.open(opt.out, "--out"), opt.json, model, names, x, s,
+                      steady ? &components.moving : nullptr, found);
+  outputs.commit();
 }
 
 }  // namespace

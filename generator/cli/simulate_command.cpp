@@ -507,7 +507,8 @@ void run(const SimulateOptions& given) {
   // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
   // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
   // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
-  OutputFile output(opt.out, "--out");
+  OutputTransaction output;
+  std::ostream& csv = output.open(opt.out, "--out");
   const bool reconstruct = model.bundle && info.name == "rkmk4";
   if (reconstruct) check_gravity_at_identity(target, columns, x0);
   std::optional<GroupPose> pose;
@@ -516,7 +517,7 @@ void run(const SimulateOptions& given) {
       using G = typename decltype(tag)::type;
       return pose_of(0.0, G::identity());
     });
-  Recorder record(derivation, monitors, evaluate, output.stream(), columns, pose, x0);
+  Recorder record(derivation, monitors, evaluate, csv, columns, pose, x0);
   auto observe = [&](double t, const double* x) {
     record(t, x);
     output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing

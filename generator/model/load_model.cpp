@@ -11,6 +11,7 @@
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
 #include "model/yaml_document.hpp"
+#include "report/atomic_file.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -1178,6 +1179,7 @@ Model load_model_from_text(const std::string& text, const std::string& path) {
 
 std::string read_input_file(const std::string& path, const std::string& what) {
   namespace fs = std::filesystem;
+  note_input_file(path, "the " + what);  // no output of this run may replace it
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (fs::exists(status) && !fs::is_regular_file(status))

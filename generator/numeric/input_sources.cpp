@@ -2,9 +2,11 @@
 
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
+#include "report/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -118,6 +120,9 @@ void InputSources::add_assignments(const std::vector<std::string>& items, const 
 }
 
 void InputSources::load_csv(const std::string& path) {
+  note_input_file(path, "the --input-file");  // no output of this run may replace it
+  if (std::error_code ec; std::filesystem::is_directory(path, ec))
+    throw InputError(SourceLocation{path, 0, 0}, "--input-file", "is a folder; expected a CSV file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the input file");
   std::string line;

@@ -57,6 +57,7 @@ void run(const ImportCliOptions& opt) {
   const Warn warn = [](const std::string& w) { std::cerr << "hamel: warning: " << printable(w) << "\n"; };
   const ImportedTree tree =
       is_urdf(opt.input) ? import_urdf(opt.input, options, warn) : import_mjcf(opt.input, options, warn);
+  check_imported_tree(tree);  // bad numbers are the robot file's, named there
   const std::string yaml = tree_model_yaml(tree);
   // What we write must load: a failure here is ours, not the user's.
   try {

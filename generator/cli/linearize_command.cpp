@@ -176,6 +176,11 @@ SteadyComponents steady_components(const LinearizeOptions& opt, const Names& nam
     if (std::find(c.moving.begin(), c.moving.end(), k) == c.moving.end() &&
         std::find(held.begin(), held.end(), k) == held.end())
       c.free.push_back(k);
+  if (c.free.empty())
+    throw InputError("--hold: with --steady " + quote(opt.steady) +
+                     " it holds every other state component, so Newton's method has nothing to solve for; expected "
+                     "at least one component that is neither advancing (--steady) nor held (--hold" +
+                     (swept_state >= 0 ? std::string(", or swept") : std::string()) + ")");
   return c;
 }
 

@@ -130,6 +130,7 @@ void InputSources::load_csv(const std::string& path) {
   std::vector<std::size_t> targets;
   while (std::getline(in, line)) {
     ++line_no;
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
     if (trim(line).empty() || trim(line)[0] == '#') continue;
     std::vector<std::string> cells;
     std::stringstream ss(line);

@@ -16,6 +16,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 namespace hamel::cli {
@@ -132,8 +133,14 @@ struct SweepTarget {
   int state = -1, parameter = -1;
 };
 
-SweepTarget sweep_target(const std::string& text, const Names& names, const Model& model) {
+SweepTarget sweep_target(const std::string& text, const Names& names, const Model& model,
+                         const std::set<std::string>& folded) {
   SweepTarget s{parse_sweep(text)};
+  if (folded.count(s.spec.name))
+    throw InputError("--sweep: " + quote(s.spec.name) +
+                     " is folded into the equations as a number (--fold, or the scene's fixed), so every point of "
+                     "the sweep would have the same eigenvalues; expected a parameter that is not folded (leave it "
+                     "out of --fold, e.g. --fold none)");
   for (int k = 0; k < names.nx(); ++k)
     if (names.state[static_cast<std::size_t>(k)] == s.spec.name) s.state = k;
   for (std::size_t k = 0; k < model.parameters.size(); ++k)
@@ -331,7 +338,8 @@ void run(const LinearizeOptions& opt) {
   std::vector<double> x(static_cast<std::size_t>(nx), 0.0), in(static_cast<std::size_t>(ni), 0.0);
   set_point(opt, target, names, x, in);
   const std::optional<SweepTarget> swept =
-      opt.sweep.empty() ? std::nullopt : std::optional<SweepTarget>(sweep_target(opt.sweep, names, model));
+      opt.sweep.empty() ? std::nullopt
+                        : std::optional<SweepTarget>(sweep_target(opt.sweep, names, model, target.folded));
   const bool steady = !opt.steady.empty();
   const SteadyComponents components = steady_components(opt, names, sys.coordinates.size(), swept ? swept->state : -1);
 
@@ -412,7 +420,11 @@ Run add_linearize_command(CLI::App& app) {
   cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none)");
   return [opt] {
     if (!opt->plot.empty() && opt->sweep.empty()) throw InputError("--plot: goes with --sweep");
-    run(*opt);
+    try {
+      run(*opt);
+    } catch (const EigenvalueFailure& e) {
+      throw RunFailed(e.what());  // a failed run (exit 1) that says why, not an internal error
+    }
   };
 }
 

@@ -6,6 +6,7 @@
 #include "scene/scene.hpp"
 
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -22,7 +23,8 @@ std::vector<double> parameter_values(const Model& model, const std::map<std::str
 
 /// `model` with the parameters named by a --fold value folded in at `values` (see fold_parameters.hpp):
 /// "none" (or empty) folds nothing, "all" every parameter, otherwise a comma-separated list of names.
-Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec);
+Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec,
+                 std::set<std::string>* folded = nullptr);
 
 /// The help text of --fold.
 inline const char* fold_help() {
@@ -44,6 +46,7 @@ struct Target {
   DeriveSettings settings;         ///< --form, else the scene's form
   std::set<std::string> kernels;   ///< the scene's kernels; empty: all
   std::optional<Scene> scene;
+  std::set<std::string> folded;  ///< the parameters folded in as numbers (--fold, or the scene's `fixed`)
 };
 
 /// The values of the model's state_defaults (Γ(0) = g of a floating base under gravity) at the target's parameters.

@@ -25,6 +25,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <random>
 #include <set>
 #include <sstream>
 
@@ -925,6 +926,56 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
   return out;
 }
 
+// Why R is not a rotation (RᵀR = I, det R = 1), or "" when it is or when that cannot be decided. Numbers are
+// checked as a tree joint's rotation is (to 1e-6); expressions exactly at random points through the program
+// (algebra/identity_test.hpp), and where that cannot decide (floats, exp) numerically at random values of their
+// symbols. 2R, a shear, a reflection (det −1) and the zero matrix are refused.
+std::string rotation_problem(const GiNaC::matrix& R, const Intermediates& program) {
+  std::vector<std::pair<GiNaC::ex, std::string>> conditions;
+  for (unsigned r = 0; r < 3; ++r)
+    for (unsigned c = r; c < 3; ++c) {
+      GiNaC::ex dot = 0;
+      for (unsigned k = 0; k < 3; ++k) dot += R(k, r) * R(k, c);
+      conditions.emplace_back(dot - (r == c ? 1 : 0), "its columns are not orthonormal (R^T R != I)");
+    }
+  conditions.emplace_back(R.determinant() - 1, "its determinant is not 1 (a reflection or a singular matrix)");
+  const auto random_values = [&](const GiNaC::ex& e, unsigned seed) {
+    GiNaC::exmap values;
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> draw(0.3, 1.7);
+    std::set<GiNaC::ex, GiNaC::ex_is_less> free;
+    std::vector<GiNaC::ex> stack{e};
+    while (!stack.empty()) {
+      const GiNaC::ex x = stack.back();
+      stack.pop_back();
+      if (GiNaC::is_a<GiNaC::symbol>(x)) {
+        if (!program.is_intermediate(x)) free.insert(x);
+        if (const auto d = program.definition_of(x)) stack.push_back(*d);
+        continue;
+      }
+      for (std::size_t i = 0; i < x.nops(); ++i) stack.push_back(x.op(i));
+    }
+    for (const GiNaC::ex& s : free) values[s] = draw(random);
+    return program.evaluate(values);
+  };
+  for (const auto& [deviation, why] : conditions) {
+    const GiNaC::ex d = deviation.expand();
+    if (GiNaC::is_a<GiNaC::numeric>(d)) {
+      if (GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(d)) > GiNaC::numeric(1, 1000000)) return why;
+      continue;
+    }
+    const Identity zero = identically_zero(deviation, program);
+    if (zero == Identity::nonzero) return why;
+    if (zero == Identity::zero) continue;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const GiNaC::ex v = deviation.subs(random_values(deviation, seed)).evalf();
+      if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(v)) > GiNaC::numeric(1, 1000000))
+        return why;
+    }
+  }
+  return "";
+}
+
 // A rigid body of a model in general coordinates (key `bodies` beside `coordinates`): inertial data in its
 // own frame and its pose (R(q, t), p(q, t)) as expressions; its kinetic energy (model/body_energy.hpp).
 GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const std::string& key,
@@ -959,6 +1010,8 @@ GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const st
     }();
     for (unsigned i = 0; i < 3; ++i)
       for (unsigned j = 0; j < 3; ++j) R(i, j) = rows[i][j];
+    if (const std::string problem = rotation_problem(R, model.definitions); !problem.empty())
+      fail(rot, key + ".rotation", problem + "; expected a rotation matrix (orthonormal columns, det R = 1)");
   }
   const std::vector<GiNaC::ex> position = vector_of(body["position"], key + ".position", 3, table, allowed);
   return posed_body_kinetic_energy(model, rb, R, position);

@@ -14,6 +14,16 @@ namespace hamel {
 
 namespace {
 
+std::string to_text(const GiNaC::ex& e) {
+  std::ostringstream os;
+  os << e;
+  return os.str();
+}
+
+}  // namespace
+
+namespace {
+
 std::string trim(const std::string& s) {
   const std::size_t a = s.find_first_not_of(" \t\r"), b = s.find_last_not_of(" \t\r");
   return a == std::string::npos ? "" : s.substr(a, b - a + 1);
@@ -115,6 +125,11 @@ void InputSources::add_assignments(const std::vector<std::string>& items, const 
       claim(k, option, option);
       sources_[k].kind = Source::law;
       sources_[k].expression = e.subs(parameter_values_);
+      // A law without t or the state is a number now: it must be real (sqrt(-4), asin(3), log(-1), I are not).
+      const GiNaC::ex now = sources_[k].expression.evalf();
+      if (GiNaC::is_a<GiNaC::numeric>(now) && !GiNaC::ex_to<GiNaC::numeric>(now).is_real())
+        throw InputError(option + ": the law of " + quote(name) + " = " + quote(text) + " has the complex value " +
+                         quote(to_text(now)) + "; expected a real-valued input");
       varying_ = true;
     }
 }
@@ -212,6 +227,10 @@ void InputSources::evaluate(double t, const double* x, double* in) const {
       }
       case Source::law: {
         const GiNaC::ex v = s.expression.subs(at).evalf();
+        if (GiNaC::is_a<GiNaC::numeric>(v) && !GiNaC::ex_to<GiNaC::numeric>(v).is_real())  // not its real part
+          throw InputError(s.origin + ": the law of " + quote(model_.inputs[k].get_name()) +
+                           " takes the complex value " + quote(to_text(v)) + " at t = " + std::to_string(t) +
+                           "; expected a real-valued input");
         in[k] = GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : std::nan("");
         break;
       }

@@ -75,16 +75,27 @@ namespace {
 // A divisor of `e` (the base of a negative power) that is identically zero, such as sin(x)^2 + cos(x)^2 - 1:
 // GiNaC sees no zero while parsing, and the derivation's normal form would stop on it with no location.
 // Decided exactly: a 50-digit value clearly away from 0 answers "not zero"; otherwise the modular identity
-// test, and where that cannot read the divisor, is_zero_almost_surely. Returns the divisor, or nothing.
-std::optional<GiNaC::ex> zero_divisor(const GiNaC::ex& e) {
+// test, and where that cannot read the divisor, is_zero_almost_surely. A divisor that uses definitions (x/d with d:
+// sin(x)^2 + cos(x)^2 - 1) is decided through `program`, the definitions read where they are defined, never
+// inlined. Returns the divisor, or nothing.
+bool uses_intermediates(const GiNaC::ex& e, const Intermediates& program) {
+  if (GiNaC::is_a<GiNaC::symbol>(e)) return program.is_intermediate(e);
   for (std::size_t i = 0; i < e.nops(); ++i)
-    if (std::optional<GiNaC::ex> d = zero_divisor(e.op(i))) return d;
+    if (uses_intermediates(e.op(i), program)) return true;
+  return false;
+}
+
+std::optional<GiNaC::ex> zero_divisor(const GiNaC::ex& e, const Intermediates& program) {
+  for (std::size_t i = 0; i < e.nops(); ++i)
+    if (std::optional<GiNaC::ex> d = zero_divisor(e.op(i), program)) return d;
   if (!GiNaC::is_a<GiNaC::power>(e) || !GiNaC::is_a<GiNaC::numeric>(e.op(1)) ||
       !GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
     return std::nullopt;
   const GiNaC::ex base = e.op(0);
-  if (GiNaC::is_a<GiNaC::symbol>(base) || GiNaC::is_a<GiNaC::numeric>(base) || numerically_nonzero(base))
-    return std::nullopt;
+  if (GiNaC::is_a<GiNaC::numeric>(base)) return std::nullopt;
+  if (!program.empty() && uses_intermediates(base, program))
+    return identically_zero(base, program) == Identity::zero ? std::optional<GiNaC::ex>(base) : std::nullopt;
+  if (GiNaC::is_a<GiNaC::symbol>(base) || numerically_nonzero(base)) return std::nullopt;
   const Identity zero = identically_zero(base, Intermediates{});
   if (zero == Identity::zero || (zero == Identity::undecided && is_zero_almost_surely(base))) return base;
   return std::nullopt;
@@ -226,7 +237,8 @@ class Loader {
                ", which emitted code cannot evaluate; expected real "
                "numbers, names, + - * / ^, Pi and the functions " +
                emittable_functions());
-    if (const std::optional<GiNaC::ex> divisor = zero_divisor(e))
+    static const Intermediates no_definitions;
+    if (const std::optional<GiNaC::ex> divisor = zero_divisor(e, program_ ? *program_ : no_definitions))
       fail(node, key,
            "expression " + quote(text) + " divides by " + quote(to_text(*divisor)) +
                ", which is identically zero; expected denominators that are not identically zero");
@@ -351,6 +363,7 @@ class Loader {
 
   const std::string& text_;
   std::string path_;
+  const Intermediates* program_ = nullptr;  // the model's definitions, once load_definitions has read them
   YAML::Node root_;
   bool bundle_ = false;
   std::map<std::string, std::string> declared_;   // name -> key that declared it
@@ -429,6 +442,7 @@ void Loader::load_definitions(Model& model, const GiNaC::symtab& all) {
   const YAML::Node defs = root_["definitions"];
   if (!defs) return;
   if (!defs.IsMap()) fail(defs, "definitions", "expected an ordered map of name: expression");
+  program_ = &model.definitions;
   GiNaC::symtab table = all;
   for (const auto& kv : defs) {
     const std::string name = kv.first.as<std::string>();

@@ -52,9 +52,12 @@ void run(const ImportCliOptions& opt) {
     }
     options.ignore.insert(c);
   }
-  const Warn warn = [](const std::string& w) { std::cerr << "hamel: warning: " << w << "\n"; };
+  note_input_file(opt.input, "the robot file");  // -o must not replace it
+  // Warnings repeat names from the file: escaped as errors are (no escape sequence reaches the terminal).
+  const Warn warn = [](const std::string& w) { std::cerr << "hamel: warning: " << printable(w) << "\n"; };
   const ImportedTree tree =
       is_urdf(opt.input) ? import_urdf(opt.input, options, warn) : import_mjcf(opt.input, options, warn);
+  check_imported_tree(tree);  // bad numbers are the robot file's, named there
   const std::string yaml = tree_model_yaml(tree);
   // What we write must load: a failure here is ours, not the user's.
   try {
@@ -65,7 +68,7 @@ void run(const ImportCliOptions& opt) {
   if (opt.output == "-")
     std::cout << yaml;
   else
-    write_file_atomically(opt.output, yaml);
+    write_file_atomically(opt.output, yaml, "-o");
   std::cerr << "hamel: imported " << tree.name << " (" << tree.bodies.size() << " joints, "
             << (tree.floating ? "floating base '" + tree.base_name + "'" : std::string("fixed base")) << ", "
             << tree.inputs.size() << " inputs)" << (opt.output == "-" ? "" : " into " + opt.output) << "\n";

@@ -17,6 +17,7 @@
 #include <cmath>
 #include <cstdio>
 #include <iostream>
+#include <set>
 #include <sstream>
 
 namespace hamel::cli {
@@ -133,8 +134,14 @@ struct SweepTarget {
   int state = -1, parameter = -1;
 };
 
-SweepTarget sweep_target(const std::string& text, const Names& names, const Model& model) {
+SweepTarget sweep_target(const std::string& text, const Names& names, const Model& model,
+                         const std::set<std::string>& folded) {
   SweepTarget s{parse_sweep(text)};
+  if (folded.count(s.spec.name))
+    throw InputError("--sweep: " + quote(s.spec.name) +
+                     " is folded into the equations as a number (--fold, or the scene's fixed), so every point of "
+                     "the sweep would have the same eigenvalues; expected a parameter that is not folded (leave it "
+                     "out of --fold, e.g. --fold none)");
   for (int k = 0; k < names.nx(); ++k)
     if (names.state[static_cast<std::size_t>(k)] == s.spec.name) s.state = k;
   for (std::size_t k = 0; k < model.parameters.size(); ++k)
@@ -177,6 +184,11 @@ SteadyComponents steady_components(const LinearizeOptions& opt, const Names& nam
     if (std::find(c.moving.begin(), c.moving.end(), k) == c.moving.end() &&
         std::find(held.begin(), held.end(), k) == held.end())
       c.free.push_back(k);
+  if (c.free.empty())
+    throw InputError("--hold: with --steady " + quote(opt.steady) +
+                     " it holds every other state component, so Newton's method has nothing to solve for; expected "
+                     "at least one component that is neither advancing (--steady) nor held (--hold" +
+                     (swept_state >= 0 ? std::string(", or swept") : std::string()) + ")");
   return c;
 }
 
@@ -234,7 +246,7 @@ void print_crossings(const std::string& swept, const Sweep& result) {
 }
 
 // --plot: the eigenvalues against the swept quantity as SVG.
-void plot_sweep(const std::string& path, const std::string& model_name, const std::string& swept, const Sweep& result) {
+void plot_sweep(std::ostream& os, const std::string& model_name, const std::string& swept, const Sweep& result) {
   PlotSpec spec;
   spec.title = model_name + ": eigenvalues against " + swept;
   spec.x_label = swept;
@@ -250,8 +262,7 @@ void plot_sweep(const std::string& path, const std::string& model_name, const st
       if (e.im > 0) im.x.push_back(result.values[i]), im.y.push_back(e.im);
     }
   spec.series = {re, im};
-  write_file_atomically(path, render_svg(spec), "--plot");
-  std::cerr << "hamel: wrote " << path << "\n";
+  os << render_svg(spec);
 }
 
 // One linearization as JSON or text: the point, A, B, c and A's eigenvalues.
@@ -328,7 +339,8 @@ void run(const LinearizeOptions& opt) {
   std::vector<double> x(static_cast<std::size_t>(nx), 0.0), in(static_cast<std::size_t>(ni), 0.0);
   set_point(opt, target, names, x, in);
   const std::optional<SweepTarget> swept =
-      opt.sweep.empty() ? std::nullopt : std::optional<SweepTarget>(sweep_target(opt.sweep, names, model));
+      opt.sweep.empty() ? std::nullopt
+                        : std::optional<SweepTarget>(sweep_target(opt.sweep, names, model, target.folded));
   const bool steady = !opt.steady.empty();
   const SteadyComponents components = steady_components(opt, names, sys.coordinates.size(), swept ? swept->state : -1);
 
@@ -362,19 +374,22 @@ void run(const LinearizeOptions& opt) {
       progress::Step step("sweeping " + spec.name + " from " + number(spec.from) + " to " + number(spec.to));
       result = sweep(spectrum_at, spec.from, spec.to, spec.step);
     }
-    OutputFile out(opt.out, "--out");
-    write_sweep(out.stream(), opt.json, names, spec.name, result);
-    out.commit();
+    // The table and the plot are committed together: a plot that cannot be written keeps the old table too.
+    OutputTransaction outputs;
+    write_sweep(outputs.open(opt.out, "--out"), opt.json, names, spec.name, result);
+    if (!opt.plot.empty()) plot_sweep(outputs.open(opt.plot, "--plot"), model.name, spec.name, result);
+    outputs.commit();
     print_crossings(spec.name, result);
-    if (!opt.plot.empty()) plot_sweep(opt.plot, model.name, spec.name, result);
+    if (!opt.plot.empty()) std::cerr << "hamel: wrote " << printable(opt.plot) << "\n";
     return;
   }
 
   x = steady_point(x);
   const LinearSystem s = linearize_at(x);
-  OutputFile out(opt.out, "--out");
-  write_linearization(out.stream(), opt.json, model, names, x, s, steady ? &components.moving : nullptr, found);
-  out.commit();
+  OutputTransaction outputs;
+  write_linearization(outputs.open(opt.out, "--out"), opt.json, model, names, x, s,
+                      steady ? &components.moving : nullptr, found);
+  outputs.commit();
 }
 
 }  // namespace
@@ -399,7 +414,11 @@ Run add_linearize_command(CLI::App& app) {
   cmd->add_option("--plot", opt->plot, "With --sweep: an SVG plot of the eigenvalues against the swept quantity");
   return [opt] {
     if (!opt->plot.empty() && opt->sweep.empty()) throw InputError("--plot: goes with --sweep");
-    run(*opt);
+    try {
+      run(*opt);
+    } catch (const EigenvalueFailure& e) {
+      throw RunFailed(e.what());  // a failed run (exit 1) that says why, not an internal error
+    }
   };
 }
 

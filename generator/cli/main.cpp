@@ -8,12 +8,16 @@
 #include "report/temporaries.hpp"
 
 #include <ginac/ginac.h>
+#include <csignal>
 #include <iostream>
 #include <map>
 #include <stdexcept>
 
 int main(int argc, char** argv) {
   hamel::install_cleanup_signal_handlers();
+  // A closed pipe on stdout is a failed write (exit 1, "cannot write standard output"), not death by SIGPIPE: the
+  // streams' state is checked on every flush (report/atomic_file.hpp).
+  std::signal(SIGPIPE, SIG_IGN);
   CLI::App app{"hamel: derive Hamel coefficients and equations of motion, emit C++ kernels, simulate"};
   app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());
   app.require_subcommand(1);

@@ -71,7 +71,8 @@ std::vector<double> parameter_values(const Model& model, const std::map<std::str
 
 namespace hamel::cli {
 
-Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec) {
+Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec,
+                 std::set<std::string>* folded) {
   std::map<std::string, double> fold;
   if (spec == "none" || spec.empty()) return model;
   if (spec == "all") {
@@ -90,6 +91,8 @@ Model apply_fold(const Model& model, const std::vector<double>& values, const st
                          "'; expected all, none or a list of parameter names");
     }
   }
+  if (folded)
+    for (const auto& [name, value] : fold) folded->insert(name);
   return fold_parameters(model, fold);
 }
 

@@ -4,6 +4,7 @@
 #include "model/model.hpp"
 
 #include <map>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -20,7 +21,8 @@ std::vector<double> parameter_values(const Model& model, const std::map<std::str
 
 /// `model` with the parameters named by a --fold value folded in at `values` (see fold_parameters.hpp):
 /// "none" (or empty) folds nothing, "all" every parameter, otherwise a comma-separated list of names.
-Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec);
+Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec,
+                 std::set<std::string>* folded = nullptr);
 
 /// The help text of --fold.
 inline const char* fold_help() {

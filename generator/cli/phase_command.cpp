@@ -163,15 +163,18 @@ PlotSpec rotation_plot(const std::string& name, const PhaseOptions& opt, const P
 // The trajectory (CSV) and its plot (SVG) in opt.out, their paths recorded in j.
 void write_files(const std::string& name, const PhaseOptions& opt, const PhaseResult& result, nlohmann::json& j) {
   namespace fs = std::filesystem;
+  OutputTransaction outputs;  // both files or neither
   const std::string csv = (fs::path(opt.out) / (name + "_phase.csv")).string();
-  write_file_atomically(csv, trajectory_csv(result.trajectory), "--out");
+  outputs.open(csv, "--out") << trajectory_csv(result.trajectory);
   j["trajectory"] = csv;
   const GroupPose& first = result.trajectory.front();
-  if (first.p.size() < 2 && !first.R) return;
-  const PlotSpec plot = first.p.size() >= 2 ? translation_plot(name, opt, result) : rotation_plot(name, opt, result);
-  const std::string svg = (fs::path(opt.out) / (name + "_phase.svg")).string();
-  write_file_atomically(svg, render_svg(plot), "--out");
-  j["plot"] = svg;
+  if (first.p.size() >= 2 || first.R) {
+    const PlotSpec plot = first.p.size() >= 2 ? translation_plot(name, opt, result) : rotation_plot(name, opt, result);
+    const std::string svg = (fs::path(opt.out) / (name + "_phase.svg")).string();
+    outputs.open(svg, "--out") << render_svg(plot);
+    j["plot"] = svg;
+  }
+  outputs.commit();
 }
 
 void print_text(const nlohmann::json& j, const std::string& name, const PhaseOptions& opt, const PhaseResult& result) {

@@ -54,7 +54,8 @@ void add_pipeline_options(CLI::App* cmd, PipelineOptions& options, const Pipelin
 
 void Pipeline::refold(const std::vector<double>& parameters) {
   target_.parameters = parameters;
-  target_.model = apply_fold(loaded_, parameters, fold_);
+  target_.folded.clear();
+  target_.model = apply_fold(loaded_, parameters, fold_, &target_.folded);
   derivation_.reset();
 }
 

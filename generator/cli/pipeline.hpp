@@ -45,6 +45,7 @@ struct Target {
   DeriveSettings settings;         ///< --form, else the scene's form; --dynamics
   std::set<std::string> kernels;   ///< the scene's kernels; empty: all
   std::optional<Scene> scene;
+  std::set<std::string> folded;  ///< the parameters folded in as numbers (--fold, or the scene's `fixed`)
 };
 
 class Pipeline {

@@ -77,9 +77,11 @@ void run(const ReportOptions& opt) {
   if (stream) *stream << "hamel: work-precision study of " << model.name << " over t = 0 .. " << t_end << "\n";
   const WorkPrecisionStudy study = work_precision(model, d, kernels, req, stream);
   const fs::path base = fs::path(opt.out) / (model.name + "_work_precision");
-  write_file_atomically(base.string() + ".csv", work_precision_csv(study), "--out");
-  write_file_atomically(base.string() + ".md", work_precision_markdown(model, study), "--out");
-  write_file_atomically(base.string() + ".svg", work_precision_svg(model, study), "--out");
+  OutputTransaction outputs;  // all three files or none
+  outputs.open(base.string() + ".csv", "--out") << work_precision_csv(study);
+  outputs.open(base.string() + ".md", "--out") << work_precision_markdown(model, study);
+  outputs.open(base.string() + ".svg", "--out") << work_precision_svg(model, study);
+  outputs.commit();
   std::cout << "wrote " << base.string() << ".csv, .md and .svg (" << study.runs.size() << " runs; " << study.reference
             << ")\n";
 }

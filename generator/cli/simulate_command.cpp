@@ -24,6 +24,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <random>
 #include <sstream>
@@ -90,6 +91,12 @@ Settled settle(const SimulateOptions& given, const Target& target) {
   for (const auto& [k, v] : parse_assignments(opt.init, "--init")) s.init[k] = v;
   if (!(opt.t_end > 0) || !std::isfinite(opt.t_end))
     throw InputError("--t-end: expected a positive finite time (required unless the scene gives t_end)");
+  // A subnormal end time (1e-320) has too few digits for any step to reach it: the integrators would fail on
+  // "step size underflow" (exit 1) at t = 0.
+  if (opt.t_end < std::numeric_limits<double>::min())
+    throw InputError("--t-end: " + number_text(opt.t_end) +
+                     " is below the smallest normal double (2.2e-308), too small for a step to resolve; expected a "
+                     "positive time of at least 2.2e-308");
   const IntegratorInfo& info = *(s.info = &find_integrator(opt.integrator));
   if (!info.adaptive && !(opt.dt > 0)) throw InputError("--dt: expected a positive step");
   if (info.adaptive && !(opt.tol > 0)) throw InputError("--tol: expected a positive tolerance");
@@ -107,7 +114,8 @@ Settled settle(const SimulateOptions& given, const Target& target) {
                      "; expected a larger --dt or a shorter --t-end");
   const double rows = opt.sample > 0 ? opt.t_end / opt.sample : info.adaptive ? 0 : opt.t_end / opt.dt;
   if (rows > kMaxOutputRows)
-    throw InputError(std::string(opt.sample > 0 ? "--sample" : "--dt") + ": " + number_text(rows) +
+    throw InputError(std::string(opt.sample > 0 ? "--sample" : "--dt") + ": " +
+                     (std::isfinite(rows) ? number_text(rows) : std::string("more than 1e308")) +
                      " output rows, more than the limit of " + number_text(kMaxOutputRows) +
                      "; expected a larger --sample (output interval)");
   return s;
@@ -506,7 +514,8 @@ void run(const SimulateOptions& given) {
   // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
   // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
   // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
-  OutputFile output(opt.out, "--out");
+  OutputTransaction output;
+  std::ostream& csv = output.open(opt.out, "--out");
   const bool reconstruct = model.bundle && info.name == "rkmk4";
   if (reconstruct) check_gravity_at_identity(target, columns, x0);
   std::optional<GroupPose> pose;
@@ -515,7 +524,7 @@ void run(const SimulateOptions& given) {
       using G = typename decltype(tag)::type;
       return pose_of(0.0, G::identity());
     });
-  Recorder record(derivation, monitors, evaluate, output.stream(), columns, pose, x0);
+  Recorder record(derivation, monitors, evaluate, csv, columns, pose, x0);
   auto observe = [&](double t, const double* x) {
     record(t, x);
     output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing

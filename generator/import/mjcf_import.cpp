@@ -7,6 +7,7 @@
 
 #include <mujoco/mujoco.h>
 
+#include <algorithm>
 #include <map>
 #include <memory>
 
@@ -163,6 +164,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
         free_body = b;
         t.floating = true;
         t.base_pose = Y;  // the free body's frame in the world at qpos0
+        t.base_where = at(bname);
         t.base_name = identifier(bname, "base", labels);
         host[ub] = -1;
         in_host[ub] = Frame{};
@@ -175,6 +177,8 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
         gate.check("friction", at(jname), element("joint", jname, j) + " (frictionloss)",
                    "dry joint friction is not part of hamel's tree format");
       ImportedBody ib;
+      ib.where = at(jname);
+      ib.what = element("joint", jname, j) + " (body '" + bname + "')";
       ib.parent = host[ub] >= 0 ? host[ub] : -1;
       ib.joint = identifier(jname, "q" + std::to_string(j), symbols);
       ib.name = identifier(k + 1 == count ? bname : bname + "_" + jname, "body" + std::to_string(b), labels);
@@ -213,6 +217,12 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
     throw InputError(SourceLocation{path, 0, 0}, "", "the model has no hinge or slide joints; nothing to import");
 
   set_gravity(m, options, warn, t);
+  t.gravity_where = SourceLocation{path, 0, 0};
+  if (const std::size_t g = text.find("gravity="); g != std::string::npos) {
+    const std::size_t line_start = text.rfind('\n', g) == std::string::npos ? 0 : text.rfind('\n', g) + 1;
+    t.gravity_where.line = static_cast<int>(std::count(text.begin(), text.begin() + static_cast<long>(g), '\n')) + 1;
+    t.gravity_where.column = static_cast<int>(g - line_start) + 1;
+  }
 
   add_motors(m, gate, at, warn, body_of_joint, symbols, t);
   return t;

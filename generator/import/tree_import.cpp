@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <charconv>
 #include <cmath>
+#include <cstdio>
 #include <map>
 #include <sstream>
 
@@ -68,14 +69,89 @@ bool identity(const double R[3][3]) {
   return true;
 }
 
-// YAML double-quoted scalar.
+// YAML double-quoted scalar: quotes, backslashes and every control character escaped (a path with a newline or an
+// escape sequence in it stays one value).
 std::string yaml_string(const std::string& s) {
   std::string out = "\"";
-  for (char c : s) {
-    if (c == '"' || c == '\\') out += '\\';
-    out += c == '\n' ? ' ' : c;
+  for (const char c : s) {
+    const auto u = static_cast<unsigned char>(c);
+    if (c == '"' || c == '\\') {
+      out += '\\';
+      out += c;
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (u < 0x20 || u == 0x7f) {
+      char buf[8];
+      std::snprintf(buf, sizeof buf, "\\x%02x", u);
+      out += buf;
+    } else {
+      out += c;
+    }
   }
   return out + "\"";
+}
+
+bool finite(const double* v, int n) {
+  for (int i = 0; i < n; ++i)
+    if (!std::isfinite(v[i])) return false;
+  return true;
+}
+
+bool finite(const Frame& f) { return finite(f.p, 3) && finite(&f.R[0][0], 9); }
+
+// The eigenvalues of a symmetric 3×3 matrix, ascending (Smith's closed form).
+void symmetric_eigenvalues(const double A[3][3], double out[3]) {
+  const double p1 = A[0][1] * A[0][1] + A[0][2] * A[0][2] + A[1][2] * A[1][2];
+  const double q = (A[0][0] + A[1][1] + A[2][2]) / 3;
+  if (p1 == 0) {
+    out[0] = A[0][0], out[1] = A[1][1], out[2] = A[2][2];
+  } else {
+    const double p2 =
+        (A[0][0] - q) * (A[0][0] - q) + (A[1][1] - q) * (A[1][1] - q) + (A[2][2] - q) * (A[2][2] - q) + 2 * p1;
+    const double p = std::sqrt(p2 / 6);
+    double B[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) B[i][j] = (A[i][j] - (i == j ? q : 0)) / p;
+    const double det = B[0][0] * (B[1][1] * B[2][2] - B[1][2] * B[2][1]) -
+                       B[0][1] * (B[1][0] * B[2][2] - B[1][2] * B[2][0]) +
+                       B[0][2] * (B[1][0] * B[2][1] - B[1][1] * B[2][0]);
+    const double r = std::clamp(det / 2, -1.0, 1.0);
+    const double phi = std::acos(r) / 3;
+    out[2] = q + 2 * p * std::cos(phi);
+    out[0] = q + 2 * p * std::cos(phi + 2 * M_PI / 3);
+    out[1] = 3 * q - out[0] - out[2];
+  }
+  std::sort(out, out + 3);
+}
+
+// Mass properties as a body of the tree can have them; `who` names the body in the message.
+void check_mass_properties(const MassProperties& m, const SourceLocation& where, const std::string& who) {
+  if (!std::isfinite(m.mass) || !finite(m.moment, 3) || !finite(&m.origin_inertia[0][0], 9))
+    throw InputError(where, who, "its mass, centre of mass or inertia is not a finite number; expected finite values");
+  if (m.mass < 0) throw InputError(where, who, "its mass is " + number(m.mass) + "; expected a mass of at least 0");
+  double com[3], I[3][3];
+  m.about_com(com, I);
+  double scale = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) scale = std::max(scale, std::abs(I[i][j]));
+  const double eps = 1e-9 * scale;
+  for (int i = 0; i < 3; ++i)
+    for (int j = i + 1; j < 3; ++j)
+      if (std::abs(I[i][j] - I[j][i]) > eps)
+        throw InputError(where, who, "its inertia is not symmetric; expected a symmetric inertia tensor");
+  double l[3];
+  symmetric_eigenvalues(I, l);
+  if (l[0] < -eps)
+    throw InputError(where, who,
+                     "its inertia has a negative principal moment (" + number(l[0]) +
+                         "); expected a positive semi-definite inertia tensor");
+  if (l[2] > l[0] + l[1] + eps)
+    throw InputError(where, who,
+                     "its principal moments of inertia " + number(l[0]) + ", " + number(l[1]) + ", " + number(l[2]) +
+                         " violate the triangle inequality (the largest exceeds the sum of the others); expected "
+                         "the moments of a physical body");
 }
 
 void inertial_lines(std::ostringstream& y, const std::string& indent, const MassProperties& m) {
@@ -91,9 +167,51 @@ void inertial_lines(std::ostringstream& y, const std::string& indent, const Mass
 
 }  // namespace
 
+void check_imported_tree(const ImportedTree& t) {
+  if (!finite(t.gravity, 3))
+    throw InputError(t.gravity_where, "gravity", "is not a finite vector; expected three finite numbers");
+  if (!finite(t.base_pose))
+    throw InputError(t.base_where, "base", "its position or orientation is not finite; expected finite numbers");
+  if (t.floating) check_mass_properties(t.base, t.base_where, "base '" + t.base_name + "'");
+  // What each joint carries: its body and every body beyond it.
+  std::vector<double> carried(t.bodies.size(), 0.0);
+  for (std::size_t k = t.bodies.size(); k-- > 0;) {
+    const ImportedBody& b = t.bodies[k];
+    const std::string who = b.what.empty() ? "joint '" + b.joint + "'" : b.what;
+    if (!finite(b.joint_frame))
+      throw InputError(b.where, who,
+                       "its origin (position or orientation) is not finite, or its orientation is a zero "
+                       "quaternion; expected finite numbers and a non-zero quaternion");
+    const double n = std::sqrt(b.axis[0] * b.axis[0] + b.axis[1] * b.axis[1] + b.axis[2] * b.axis[2]);
+    if (!finite(b.axis, 3) || !(n > 0)) throw InputError(b.where, who + " axis", "expected a finite, non-zero axis");
+    for (const auto& [value, name] :
+         {std::pair{b.damping, "damping"}, std::pair{b.armature, "armature"}, std::pair{b.stiffness, "stiffness"},
+          std::pair{b.reference, "spring reference"}}) {
+      if (!std::isfinite(value))
+        throw InputError(b.where, who + " " + name, "is not a finite number; expected a finite value");
+      if (value < 0 && std::string(name) != "spring reference")
+        throw InputError(b.where, who + " " + name, "is " + number(value) + "; expected a value of at least 0");
+    }
+    for (const auto& [input, gain] : b.drives)
+      if (!std::isfinite(gain))
+        throw InputError(b.where, who, "the gain of its input " + input + " is not finite; expected a finite gain");
+    check_mass_properties(b.inertial, b.where, "body '" + b.name + "' (moved by " + who + ")");
+    double weight = b.inertial.mass;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) weight += std::abs(b.inertial.origin_inertia[i][j]);
+    carried[k] += weight;
+    if (b.parent >= 0) carried[static_cast<std::size_t>(b.parent)] += carried[k];
+    if (carried[k] == 0 && b.armature == 0)
+      throw InputError(b.where, who,
+                       "moves nothing: body '" + b.name +
+                           "' and every body beyond it have no mass and no inertia, so the mass matrix would be "
+                           "singular; expected an <inertial> with a positive mass on a body it moves (or armature)");
+  }
+}
+
 std::string tree_model_yaml(const ImportedTree& t) {
   std::ostringstream y;
-  y << "# Imported by `hamel import` from " << t.source << " (" << t.format << ").\n";
+  y << "# Imported by `hamel import` from " << printable(t.source) << " (" << t.format << ").\n";
   y << "schema: 1\n";
   y << "name: " << t.name << "\n";
   std::string description = "Imported from " + t.source + " (" + t.format + ")" +

@@ -3,6 +3,8 @@
 // tree, which tree_model_yaml writes as a model file (docs/model-format.md, "Kinematic trees").
 #pragma once
 
+#include "model/input_error.hpp"
+
 #include <functional>
 #include <set>
 #include <string>
@@ -38,6 +40,8 @@ struct ImportedBody {
   double armature = 0, damping = 0, stiffness = 0, reference = 0;
   MassProperties inertial;                             ///< in this body's frame
   std::vector<std::pair<std::string, double>> drives;  ///< generalized force Σ gain · input
+  SourceLocation where;  ///< the joint's element in the robot file, for check_imported_tree's messages
+  std::string what;      ///< "joint 'NAME'"
 };
 
 struct ImportedTree {
@@ -51,7 +55,8 @@ struct ImportedTree {
   double gravity[3] = {0, 0, 0};     ///< resolved in the world frame (fixed base: the base frame)
   Frame base_pose;                   ///< floating base: its frame in the world at the start (Γ(0) = Rᵀ g)
   std::vector<std::string> inputs;
-  std::vector<std::string> left_out;  ///< what --ignore dropped, for the description
+  std::vector<std::string> left_out;         ///< what --ignore dropped, for the description
+  SourceLocation base_where, gravity_where;  ///< the base's and gravity's elements (line 0: the file)
 };
 
 struct ImportOptions {
@@ -69,6 +74,12 @@ using Warn = std::function<void(const std::string&)>;
 ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, const Warn& warn);
 /// URDF through urdfdom.
 ImportedTree import_urdf(const std::string& path, const ImportOptions& options, const Warn& warn);
+
+/// Checks the numbers an import read before they become a model: finite frames, axes, gains and gravity; mass
+/// properties of a body (mass ≥ 0, inertia symmetric positive semi-definite with the triangle inequality);
+/// damping, armature, stiffness ≥ 0; no moving joint that carries nothing (a singular mass matrix). Throws an
+/// InputError naming the robot file's element (its joint, file:line), never one about the model it would write.
+void check_imported_tree(const ImportedTree& tree);
 
 /// The model file (YAML, schema 1) of an imported tree.
 std::string tree_model_yaml(const ImportedTree& tree);

@@ -6,11 +6,84 @@
 
 #include <urdf_parser/urdf_parser.h>
 
+#include <tinyxml.h>
+#include <charconv>
+
 namespace hamel {
 
 using namespace import_detail;
 
 namespace {
+
+// A number as URDF writes it: a finite decimal, surrounded by blanks at most (no nan, inf, hex, or overflow).
+bool parse_finite(const std::string& text, double& out) {
+  const std::size_t begin = text.find_first_not_of(" \t\r\n");
+  if (begin == std::string::npos) return false;
+  const std::size_t end = text.find_last_not_of(" \t\r\n") + 1;
+  const char* first = text.data() + begin;
+  const char* last = text.data() + end;
+  if (*first == '+') ++first;
+  const auto r = std::from_chars(first, last, out);
+  return r.ec == std::errc() && r.ptr == last && std::isfinite(out);
+}
+
+// urdfdom drops an <inertial> it cannot read (no <mass> or <inertia>, a value of nan, 1e400 or 0x10) with a
+// message and keeps the link with mass 0 and inertia 0: a silently different robot. Each <inertial> is checked here
+// first, and refused with its element's file:line.
+void check_inertials(const std::string& path, const std::string& text) {
+  TiXmlDocument doc;
+  doc.Parse(text.c_str());
+  if (doc.Error()) return;  // urdfdom says what is wrong
+  const TiXmlElement* robot = doc.FirstChildElement("robot");
+  if (!robot) return;
+  for (const TiXmlElement* link = robot->FirstChildElement("link"); link; link = link->NextSiblingElement("link")) {
+    const char* name = link->Attribute("name");
+    const std::string key = "link '" + std::string(name ? name : "") + "' <inertial>";
+    for (const TiXmlElement* inertial = link->FirstChildElement("inertial"); inertial;
+         inertial = inertial->NextSiblingElement("inertial")) {
+      const auto at = [&](const TiXmlElement* e) { return SourceLocation{path, e->Row(), e->Column()}; };
+      const auto number = [&](const TiXmlElement* e, const char* attribute, const std::string& what) {
+        const char* v = e->Attribute(attribute);
+        double x = 0;
+        if (!v)
+          throw InputError(at(e), key, "<" + e->ValueStr() + "> has no attribute " + attribute + "; expected " + what);
+        if (!parse_finite(v, x))
+          throw InputError(at(e), key,
+                           "<" + e->ValueStr() + " " + attribute + "=" + quote(v) +
+                               "> is not a finite decimal number; expected " + what);
+        return x;
+      };
+      const TiXmlElement* mass = inertial->FirstChildElement("mass");
+      if (!mass) throw InputError(at(inertial), key, "has no <mass value=...>; expected the link's mass");
+      (void)number(mass, "value", "the link's mass");
+      const TiXmlElement* inertia = inertial->FirstChildElement("inertia");
+      if (!inertia)
+        throw InputError(at(inertial), key,
+                         "has no <inertia ixx ixy ixz iyy iyz izz>; expected the link's inertia about its centre "
+                         "of mass");
+      for (const char* a : {"ixx", "ixy", "ixz", "iyy", "iyz", "izz"})
+        (void)number(inertia, a, "a component of the inertia");
+      if (const TiXmlElement* origin = inertial->FirstChildElement("origin"))
+        for (const char* a : {"xyz", "rpy"})
+          if (const char* v = origin->Attribute(a)) {
+            std::istringstream words(v);
+            std::string word;
+            int count = 0;
+            double x = 0;
+            while (words >> word) {
+              ++count;
+              if (!parse_finite(word, x))
+                throw InputError(at(origin), key,
+                                 "<origin " + std::string(a) + "=" + quote(v) +
+                                     "> holds something that is not a finite decimal number; expected three numbers");
+            }
+            if (count != 3)
+              throw InputError(at(origin), key,
+                               "<origin " + std::string(a) + "=" + quote(v) + "> does not hold three numbers");
+          }
+    }
+  }
+}
 
 struct Walker {
   ImportedTree& t;
@@ -21,6 +94,7 @@ struct Walker {
   Gate& gate;
   std::set<std::string> labels, symbols{"t", "wx", "wy", "wz", "vx", "vy", "vz"};
   bool limits_warned = false;
+  std::set<const urdf::Link*> placed;  ///< links already visited
 
   Frame pose(const urdf::Pose& p) const {
     const double x[3] = {p.position.x, p.position.y, p.position.z};
@@ -47,6 +121,13 @@ struct Walker {
       const urdf::JointSharedPtr& joint = child->parent_joint;
       const SourceLocation where = locate(path, text, joint->name);
       const std::string what = "joint '" + joint->name + "'";
+      // A joint whose child is its parent, or joints that lead back to a link already placed, would recurse
+      // forever: a URDF is a tree.
+      if (!placed.insert(child.get()).second)
+        throw InputError(where, what,
+                         "its child link '" + child->name +
+                             "' is already reached from the root (the joints form a cycle, or the joint's parent is "
+                             "its child); expected the joints to form a tree");
       const Frame origin = compose(in_host, pose(joint->parent_to_joint_origin_transform));
       if (joint->mimic)
         throw InputError(where, what, "mimic joints couple coordinates; hamel's tree joints are independent");
@@ -64,6 +145,8 @@ struct Walker {
                            "one (a floating root: import with --floating)");
       }
       ImportedBody b;
+      b.where = where;
+      b.what = what;
       b.parent = host >= 0 ? host : -1;
       b.joint = identifier(joint->name, "q" + std::to_string(t.bodies.size() + 1), symbols);
       b.name = identifier(child->name, "link" + std::to_string(t.bodies.size() + 1), labels);
@@ -103,6 +186,24 @@ ImportedTree import_urdf(const std::string& path, const ImportOptions& options, 
   t.format = "URDF, read by urdfdom";
   const std::string text = read_text(path);
   if (text.empty()) throw InputError(SourceLocation{path, 0, 0}, "", "cannot read the file (or it is empty)");
+  check_inertials(path, text);
+  // A joint that names one link as parent and child: urdfdom accepts it and links the link to itself.
+  {
+    TiXmlDocument doc;
+    doc.Parse(text.c_str());
+    if (const TiXmlElement* robot = doc.Error() ? nullptr : doc.FirstChildElement("robot"))
+      for (const TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
+        const TiXmlElement* parent = j->FirstChildElement("parent");
+        const TiXmlElement* child = j->FirstChildElement("child");
+        const char* p = parent ? parent->Attribute("link") : nullptr;
+        const char* c = child ? child->Attribute("link") : nullptr;
+        if (p && c && std::string(p) == c)
+          throw InputError(
+              SourceLocation{path, j->Row(), j->Column()},
+              "joint '" + std::string(j->Attribute("name") ? j->Attribute("name") : "") + "'",
+              "its parent and child are the same link '" + std::string(p) + "'; expected a joint between two links");
+      }
+  }
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);
   if (!model || !model->getRoot())
     throw InputError(SourceLocation{path, 0, 0}, "", "urdfdom cannot parse the file (its message is above)");
@@ -115,12 +216,20 @@ ImportedTree import_urdf(const std::string& path, const ImportOptions& options, 
   if (!is_valid_model_name(t.name, &why))
     throw InputError(SourceLocation{path, 0, 0}, "--name", quote(t.name) + ": " + why + "; choose one with --name");
   Gate gate(options, warn, t);
-  Walker w{t, options, warn, path, text, gate, {}, {}, false};
+  Walker w{t, options, warn, path, text, gate, {}, {}, false, {}};
   w.symbols = {"t", "wx", "wy", "wz", "vx", "vy", "vz"};
   t.floating = options.floating;
   const urdf::LinkConstSharedPtr root = model->getRoot();
   if (t.floating) t.base_name = identifier(root->name, "base", w.labels);
+  w.placed.insert(root.get());
+  t.base_where = locate(path, text, root->name);
   w.visit(root, t.floating ? -1 : -2, Frame{});
+  // Links the walk from the root never reached hang from a cycle of joints apart from the tree.
+  for (const auto& [name, link] : model->links_)
+    if (!w.placed.count(link.get()))
+      throw InputError(locate(path, text, name), "link '" + name + "'",
+                       "is not reached from the root link '" + root->name +
+                           "' (its joints form a cycle); expected the joints to form one tree");
   if (t.bodies.empty())
     throw InputError(SourceLocation{path, 0, 0}, "", "the robot has no revolute, continuous or prismatic joints");
   return t;

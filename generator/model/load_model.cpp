@@ -11,6 +11,7 @@
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
 #include "model/yaml_document.hpp"
+#include "report/atomic_file.hpp"
 
 #include <yaml-cpp/yaml.h>
 
@@ -24,6 +25,7 @@
 #include <functional>
 #include <map>
 #include <optional>
+#include <random>
 #include <set>
 #include <sstream>
 
@@ -73,16 +75,27 @@ namespace {
 // A divisor of `e` (the base of a negative power) that is identically zero, such as sin(x)^2 + cos(x)^2 - 1:
 // GiNaC sees no zero while parsing, and the derivation's normal form would stop on it with no location.
 // Decided exactly: a 50-digit value clearly away from 0 answers "not zero"; otherwise the modular identity
-// test, and where that cannot read the divisor, is_zero_almost_surely. Returns the divisor, or nothing.
-std::optional<GiNaC::ex> zero_divisor(const GiNaC::ex& e) {
+// test, and where that cannot read the divisor, is_zero_almost_surely. A divisor that uses definitions (x/d with d:
+// sin(x)^2 + cos(x)^2 - 1) is decided through `program`, the definitions read where they are defined, never
+// inlined. Returns the divisor, or nothing.
+bool uses_intermediates(const GiNaC::ex& e, const Intermediates& program) {
+  if (GiNaC::is_a<GiNaC::symbol>(e)) return program.is_intermediate(e);
   for (std::size_t i = 0; i < e.nops(); ++i)
-    if (std::optional<GiNaC::ex> d = zero_divisor(e.op(i))) return d;
+    if (uses_intermediates(e.op(i), program)) return true;
+  return false;
+}
+
+std::optional<GiNaC::ex> zero_divisor(const GiNaC::ex& e, const Intermediates& program) {
+  for (std::size_t i = 0; i < e.nops(); ++i)
+    if (std::optional<GiNaC::ex> d = zero_divisor(e.op(i), program)) return d;
   if (!GiNaC::is_a<GiNaC::power>(e) || !GiNaC::is_a<GiNaC::numeric>(e.op(1)) ||
       !GiNaC::ex_to<GiNaC::numeric>(e.op(1)).is_negative())
     return std::nullopt;
   const GiNaC::ex base = e.op(0);
-  if (GiNaC::is_a<GiNaC::symbol>(base) || GiNaC::is_a<GiNaC::numeric>(base) || numerically_nonzero(base))
-    return std::nullopt;
+  if (GiNaC::is_a<GiNaC::numeric>(base)) return std::nullopt;
+  if (!program.empty() && uses_intermediates(base, program))
+    return identically_zero(base, program) == Identity::zero ? std::optional<GiNaC::ex>(base) : std::nullopt;
+  if (GiNaC::is_a<GiNaC::symbol>(base) || numerically_nonzero(base)) return std::nullopt;
   const Identity zero = identically_zero(base, Intermediates{});
   if (zero == Identity::zero || (zero == Identity::undecided && is_zero_almost_surely(base))) return base;
   return std::nullopt;
@@ -224,7 +237,8 @@ class Loader {
                ", which emitted code cannot evaluate; expected real "
                "numbers, names, + - * / ^, Pi and the functions " +
                emittable_functions());
-    if (const std::optional<GiNaC::ex> divisor = zero_divisor(e))
+    static const Intermediates no_definitions;
+    if (const std::optional<GiNaC::ex> divisor = zero_divisor(e, program_ ? *program_ : no_definitions))
       fail(node, key,
            "expression " + quote(text) + " divides by " + quote(to_text(*divisor)) +
                ", which is identically zero; expected denominators that are not identically zero");
@@ -349,6 +363,7 @@ class Loader {
 
   const std::string& text_;
   std::string path_;
+  const Intermediates* program_ = nullptr;  // the model's definitions, once load_definitions has read them
   YAML::Node root_;
   bool bundle_ = false;
   std::map<std::string, std::string> declared_;   // name -> key that declared it
@@ -427,6 +442,7 @@ void Loader::load_definitions(Model& model, const GiNaC::symtab& all) {
   const YAML::Node defs = root_["definitions"];
   if (!defs) return;
   if (!defs.IsMap()) fail(defs, "definitions", "expected an ordered map of name: expression");
+  program_ = &model.definitions;
   GiNaC::symtab table = all;
   for (const auto& kv : defs) {
     const std::string name = kv.first.as<std::string>();
@@ -924,6 +940,56 @@ RigidBody Loader::rigid_body(const YAML::Node& body, const std::string& key, con
   return out;
 }
 
+// Why R is not a rotation (RᵀR = I, det R = 1), or "" when it is or when that cannot be decided. Numbers are
+// checked as a tree joint's rotation is (to 1e-6); expressions exactly at random points through the program
+// (algebra/identity_test.hpp), and where that cannot decide (floats, exp) numerically at random values of their
+// symbols. 2R, a shear, a reflection (det −1) and the zero matrix are refused.
+std::string rotation_problem(const GiNaC::matrix& R, const Intermediates& program) {
+  std::vector<std::pair<GiNaC::ex, std::string>> conditions;
+  for (unsigned r = 0; r < 3; ++r)
+    for (unsigned c = r; c < 3; ++c) {
+      GiNaC::ex dot = 0;
+      for (unsigned k = 0; k < 3; ++k) dot += R(k, r) * R(k, c);
+      conditions.emplace_back(dot - (r == c ? 1 : 0), "its columns are not orthonormal (R^T R != I)");
+    }
+  conditions.emplace_back(R.determinant() - 1, "its determinant is not 1 (a reflection or a singular matrix)");
+  const auto random_values = [&](const GiNaC::ex& e, unsigned seed) {
+    GiNaC::exmap values;
+    std::mt19937_64 random(seed);
+    std::uniform_real_distribution<double> draw(0.3, 1.7);
+    std::set<GiNaC::ex, GiNaC::ex_is_less> free;
+    std::vector<GiNaC::ex> stack{e};
+    while (!stack.empty()) {
+      const GiNaC::ex x = stack.back();
+      stack.pop_back();
+      if (GiNaC::is_a<GiNaC::symbol>(x)) {
+        if (!program.is_intermediate(x)) free.insert(x);
+        if (const auto d = program.definition_of(x)) stack.push_back(*d);
+        continue;
+      }
+      for (std::size_t i = 0; i < x.nops(); ++i) stack.push_back(x.op(i));
+    }
+    for (const GiNaC::ex& s : free) values[s] = draw(random);
+    return program.evaluate(values);
+  };
+  for (const auto& [deviation, why] : conditions) {
+    const GiNaC::ex d = deviation.expand();
+    if (GiNaC::is_a<GiNaC::numeric>(d)) {
+      if (GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(d)) > GiNaC::numeric(1, 1000000)) return why;
+      continue;
+    }
+    const Identity zero = identically_zero(deviation, program);
+    if (zero == Identity::nonzero) return why;
+    if (zero == Identity::zero) continue;
+    for (unsigned seed = 1; seed <= 3; ++seed) {
+      const GiNaC::ex v = deviation.subs(random_values(deviation, seed)).evalf();
+      if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(v)) > GiNaC::numeric(1, 1000000))
+        return why;
+    }
+  }
+  return "";
+}
+
 // A rigid body of a model in general coordinates (key `bodies` beside `coordinates`): inertial data in its
 // own frame and its pose (R(q, t), p(q, t)) as expressions; its kinetic energy (model/body_energy.hpp).
 GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const std::string& key,
@@ -958,6 +1024,8 @@ GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const st
     }();
     for (unsigned i = 0; i < 3; ++i)
       for (unsigned j = 0; j < 3; ++j) R(i, j) = rows[i][j];
+    if (const std::string problem = rotation_problem(R, model.definitions); !problem.empty())
+      fail(rot, key + ".rotation", problem + "; expected a rotation matrix (orthonormal columns, det R = 1)");
   }
   const std::vector<GiNaC::ex> position = vector_of(body["position"], key + ".position", 3, table, allowed);
   return posed_body_kinetic_energy(model, rb, R, position);
@@ -1178,6 +1246,7 @@ Model load_model_from_text(const std::string& text, const std::string& path) {
 
 std::string read_input_file(const std::string& path, const std::string& what) {
   namespace fs = std::filesystem;
+  note_input_file(path, "the " + what);  // no output of this run may replace it
   std::error_code ec;
   const fs::file_status status = fs::status(path, ec);
   if (fs::exists(status) && !fs::is_regular_file(status))

@@ -2,13 +2,25 @@
 
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
+#include "report/atomic_file.hpp"
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
 namespace hamel {
+
+namespace {
+
+std::string to_text(const GiNaC::ex& e) {
+  std::ostringstream os;
+  os << e;
+  return os.str();
+}
+
+}  // namespace
 
 namespace {
 
@@ -113,11 +125,19 @@ void InputSources::add_assignments(const std::vector<std::string>& items, const 
       claim(k, option, option);
       sources_[k].kind = Source::law;
       sources_[k].expression = e.subs(parameter_values_);
+      // A law without t or the state is a number now: it must be real (sqrt(-4), asin(3), log(-1), I are not).
+      const GiNaC::ex now = sources_[k].expression.evalf();
+      if (GiNaC::is_a<GiNaC::numeric>(now) && !GiNaC::ex_to<GiNaC::numeric>(now).is_real())
+        throw InputError(option + ": the law of " + quote(name) + " = " + quote(text) + " has the complex value " +
+                         quote(to_text(now)) + "; expected a real-valued input");
       varying_ = true;
     }
 }
 
 void InputSources::load_csv(const std::string& path) {
+  note_input_file(path, "the --input-file");  // no output of this run may replace it
+  if (std::error_code ec; std::filesystem::is_directory(path, ec))
+    throw InputError(SourceLocation{path, 0, 0}, "--input-file", "is a folder; expected a CSV file");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the input file");
   std::string line;
@@ -125,6 +145,7 @@ void InputSources::load_csv(const std::string& path) {
   std::vector<std::size_t> targets;
   while (std::getline(in, line)) {
     ++line_no;
+    if (line_no == 1 && line.rfind("\xEF\xBB\xBF", 0) == 0) line.erase(0, 3);  // a UTF-8 byte order mark
     if (trim(line).empty() || trim(line)[0] == '#') continue;
     std::vector<std::string> cells;
     std::stringstream ss(line);
@@ -206,6 +227,10 @@ void InputSources::evaluate(double t, const double* x, double* in) const {
       }
       case Source::law: {
         const GiNaC::ex v = s.expression.subs(at).evalf();
+        if (GiNaC::is_a<GiNaC::numeric>(v) && !GiNaC::ex_to<GiNaC::numeric>(v).is_real())  // not its real part
+          throw InputError(s.origin + ": the law of " + quote(model_.inputs[k].get_name()) +
+                           " takes the complex value " + quote(to_text(v)) + " at t = " + std::to_string(t) +
+                           "; expected a real-valued input");
         in[k] = GiNaC::is_a<GiNaC::numeric>(v) ? GiNaC::ex_to<GiNaC::numeric>(v).to_double() : std::nan("");
         break;
       }

@@ -10,6 +10,14 @@ namespace hamel {
 
 Spectrum spectrum(const LinearSystem& s) {
   const int n = s.nx;
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k)
+      if (!std::isfinite(s.a(i, k)))
+        throw EigenvalueFailure("the linearization has a non-finite entry A[" + std::to_string(i + 1) + "][" +
+                                std::to_string(k + 1) +
+                                "] = d x'/d x at this point (the equations are singular or overflow there), so A "
+                                "has no eigenvalues; expected a point where the equations and their derivatives are "
+                                "finite");
   double scale = 1;
   for (double v : s.A) scale = std::max(scale, std::fabs(v));
   const double zero = 1e-12 * scale;
@@ -41,7 +49,11 @@ Spectrum spectrum(const LinearSystem& s) {
       for (Eigen::Index j = 0; j < m; ++j)
         a(i, j) = s.a(rest[static_cast<std::size_t>(i)], rest[static_cast<std::size_t>(j)]);
     Eigen::EigenSolver<Eigen::MatrixXd> solver(a, false);
-    if (solver.info() != Eigen::Success) throw std::runtime_error("the eigenvalue iteration did not converge");
+    if (solver.info() != Eigen::Success)
+      throw EigenvalueFailure(
+          "the eigenvalue iteration (Eigen's real Schur form of A) did not converge at this point; "
+          "the matrix A is printed by linearize without --sweep, expected a point where A is "
+          "not badly scaled");
     for (Eigen::Index i = 0; i < m; ++i)
       out.values.push_back({solver.eigenvalues()(i).real(), solver.eigenvalues()(i).imag()});
   }
@@ -83,12 +95,18 @@ SteadyResult find_steady_motion(const std::function<LinearSystem(const std::vect
     for (int k : equations) r = std::max(r, std::fabs(s.residual[static_cast<std::size_t>(k)]));
     return r;
   };
+  // Convergence is judged on x' alone, never on |x| (a point far out is not steadier): max |x'_k| over the equations
+  // against 1 or, if larger, the rates at which the moving coordinates advance (the motion's own scale of x').
+  const auto rate_scale = [&](const LinearSystem& s) {
+    double m = 1;
+    for (int k : moving) m = std::max(m, std::fabs(s.residual[static_cast<std::size_t>(k)]));
+    return std::isfinite(m) ? m : 1.0;
+  };
   LinearSystem s = linearize(x);
   double r = norm(s);
-  double scale = 1;
-  for (double v : x) scale = std::max(scale, std::fabs(v));
   SteadyResult out;
-  for (int it = 0; it < 60 && r > 1e-13 * scale; ++it) {
+  // Without a free component (or an equation) there is no Newton system: the point is steady or it is not.
+  for (int it = 0; it < 60 && !free.empty() && !equations.empty() && r > 1e-13 * rate_scale(s); ++it) {
     Eigen::MatrixXd J(static_cast<Eigen::Index>(equations.size()), static_cast<Eigen::Index>(free.size()));
     Eigen::VectorXd f(static_cast<Eigen::Index>(equations.size()));
     for (std::size_t i = 0; i < equations.size(); ++i) {
@@ -115,7 +133,7 @@ SteadyResult find_steady_motion(const std::function<LinearSystem(const std::vect
   }
   out.x = x;
   out.residual = r;
-  if (!(r <= 1e-9 * scale))
+  if (!(r <= 1e-9 * rate_scale(s)))
     throw std::runtime_error("Newton's method found no steady motion near the given point (max |x'| = " +
                              std::to_string(r) + " after " + std::to_string(out.iterations) + " steps)");
   return out;

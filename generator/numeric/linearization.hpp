@@ -10,6 +10,7 @@
 #include "numeric/graph_evaluator.hpp"
 
 #include <functional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -34,6 +35,13 @@ struct Spectrum {
   std::vector<int> decoupled;
 };
 
+/// The eigenvalues of A could not be computed (a non-finite entry, or the iteration did not converge): what() says
+/// which; the CLI reports it without the "internal error" label.
+class EigenvalueFailure : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
 /// Eigenvalues of A (Eigen's real Schur form) after deflating the decoupled components.
 Spectrum spectrum(const LinearSystem& s);
 
@@ -53,7 +61,9 @@ class Linearizer {
 /// A relative equilibrium near x: the components `free` are solved for (minimum-norm Newton steps, so they
 /// move as little as possible), the others keep their values; the equations are x'_k = 0 for every k not in
 /// `moving` (the cyclic coordinates that advance at a constant rate). Returns the number of Newton steps;
-/// throws RunFailed-style std::runtime_error when it does not converge.
+/// throws RunFailed-style std::runtime_error when it does not converge. Converged means max |x'_k| over the equations
+/// ≤ 1e-9 · max(1, max |x'_m| over the moving coordinates): absolute on x', relative only to the motion's own rates,
+/// never to |x|. With no free component it only checks that x is steady.
 struct SteadyResult {
   std::vector<double> x;
   int iterations = 0;

@@ -20,6 +20,34 @@ namespace {
 
 std::string prefix(const std::string& option) { return option.empty() ? std::string() : option + ": "; }
 
+struct NotedInput {
+  std::string path, identity, what;
+};
+std::vector<NotedInput>& noted_inputs() {
+  static std::vector<NotedInput> inputs;
+  return inputs;
+}
+
+std::string identity_of(const std::string& path) {
+  std::error_code ec;
+  const fs::path p = fs::weakly_canonical(fs::absolute(path, ec), ec);
+  return ec ? std::string() : p.string();
+}
+
+// Whether `a` and `b` name the same file: the same canonical path, or (hard links) the same inode.
+bool same_file(const std::string& a, const std::string& identity_a, const std::string& b,
+               const std::string& identity_b) {
+  if (!identity_a.empty() && identity_a == identity_b) return true;
+  std::error_code ec;
+  return fs::equivalent(a, b, ec) && !ec;
+}
+
+// A regular file nobody may write: not replaced (a rename would succeed, and leave a writable file).
+bool read_only(const std::string& path, const fs::file_status& status) {
+  const fs::perms write = fs::perms::owner_write | fs::perms::group_write | fs::perms::others_write;
+  return ::access(path.c_str(), W_OK) != 0 || (status.permissions() & write) == fs::perms::none;
+}
+
 }  // namespace
 
 // fsync through a second descriptor: std::ofstream does not expose its own.
@@ -36,6 +64,8 @@ OutputFile::OutputFile(const std::string& path, const std::string& option) : pat
     return;
   }
   const std::string where = prefix(option) + quote(path);
+  if (path.empty())
+    throw InputError(prefix(option) + "the file name is empty; expected a file name, or - for standard output");
   std::error_code ec;
   const fs::file_status link = fs::symlink_status(path, ec);
   const fs::file_status status = fs::status(path, ec);
@@ -53,6 +83,13 @@ OutputFile::OutputFile(const std::string& path, const std::string& option) : pat
   // A link to a regular file: replace the file it points to, keep the link.
   target_ = fs::is_symlink(link) ? fs::canonical(path, ec).string() : path;
   if (target_.empty()) throw InputError(where + ": cannot resolve the symbolic link");
+  identity_ = identity_of(path);
+  for (const NotedInput& input : noted_inputs())
+    if (same_file(path, identity_, input.path, input.identity))
+      throw InputError(where + " is " + input.what + " of this run; expected another file (an output never replaces " +
+                       "an input)");
+  if (fs::exists(status) && read_only(target_, status))
+    throw InputError(where + " is read-only; expected a file hamel may write (a read-only file is not replaced)");
   sweep_stale_temporaries(target_);
   staging_ = temporary_name_for(target_);
   slot_ = register_temporary(staging_, false);
@@ -64,6 +101,7 @@ OutputFile::OutputFile(const std::string& path, const std::string& option) : pat
     staging_.clear();
     throw InputError(where + ": cannot write: " + std::strerror(error));
   }
+  if (fs::exists(status)) fs::permissions(staging_, status.permissions(), ec);  // the replacement keeps the mode
 }
 
 OutputFile::~OutputFile() {
@@ -84,6 +122,11 @@ void OutputFile::check() {
 }
 
 void OutputFile::commit() {
+  prepare();
+  publish();
+}
+
+void OutputFile::prepare() {
   if (to_stdout_) {
     flush_stdout_or_throw();
     return;
@@ -95,15 +138,44 @@ void OutputFile::commit() {
   if (!file_) throw OutputError("cannot write " + quote(path_) + ": " + std::strerror(errno ? errno : EIO));
   if (staging_.empty()) return;  // written through
   if (!sync_file(staging_)) throw OutputError("cannot write " + quote(path_) + ": " + std::strerror(errno));
+}
+
+void OutputFile::publish() {
+  if (to_stdout_ || staging_.empty()) return;
   std::error_code ec;
   fs::rename(staging_, target_, ec);
   if (ec) throw OutputError("cannot write " + quote(path_) + ": " + ec.message());
   staging_.clear();
 }
 
+std::ostream& OutputTransaction::open(const std::string& path, const std::string& option) {
+  auto file = std::make_unique<OutputFile>(path, option);
+  if (!file->identity().empty())
+    for (const auto& other : files_)
+      if (same_file(path, file->identity(), other->path_, other->identity()))
+        throw InputError(prefix(option) + quote(path) + " is also the output " + other->option_ + " " +
+                         quote(other->path_) + "; expected a different file for each output");
+  files_.push_back(std::move(file));
+  return files_.back()->stream();
+}
+
+void OutputTransaction::check() {
+  for (const auto& f : files_) f->check();
+}
+
+void OutputTransaction::commit() {
+  for (const auto& f : files_) f->prepare();
+  for (const auto& f : files_) f->publish();
+}
+
+void note_input_file(const std::string& path, const std::string& what) {
+  if (path.empty() || path == "-") return;
+  noted_inputs().push_back({path, identity_of(path), what});
+}
+
 void write_file_atomically(const std::string& path, const std::string& content, const std::string& option) {
-  OutputFile out(path, option);
-  out.stream() << content;
+  OutputTransaction out;
+  out.open(path, option) << content;
   out.commit();
 }
 

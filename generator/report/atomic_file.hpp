@@ -3,12 +3,19 @@
 // not regular files are never replaced: a character device or FIFO (/dev/null, /dev/stdout, a named pipe) is
 // written through, a folder or block device is refused, and a symbolic link to a regular file keeps the link
 // and replaces the file it points to.
+//
+// Every output of a run goes through one OutputTransaction (write_file_atomically is a transaction of one file):
+// its files are all written and synced to temporaries first and renamed into place only when every one of them
+// succeeded, so a run that fails on its second output keeps the first one's old content. An output is refused
+// (an InputError, exit 2, before anything is written) when it is empty, a folder, a read-only file, one of the
+// run's inputs (note_input_file: the model, scene, --input-file, robot file) or another output of the same run.
 #pragma once
 
 #include <fstream>
 #include <memory>
 #include <stdexcept>
 #include <string>
+#include <vector>
 
 namespace hamel {
 
@@ -20,6 +27,8 @@ class OutputError : public std::runtime_error {
 
 /// An output being written: `path` "-" is standard output. Opening problems (a folder, a path that cannot be
 /// created) are InputErrors naming `option`; failures while writing or committing are OutputErrors.
+class OutputTransaction;
+
 class OutputFile {
  public:
   OutputFile(const std::string& path, const std::string& option);
@@ -32,13 +41,38 @@ class OutputFile {
   void check();
   /// Flushes, syncs and closes; a regular target is then renamed into place.
   void commit();
+  /// commit() in two halves, for a transaction: everything that can fail while writing (flush, sync, close)...
+  void prepare();
+  /// ...and the rename into place.
+  void publish();
+  /// What identifies the output's file (its canonical path; empty for standard output and devices).
+  const std::string& identity() const { return identity_; }
 
  private:
-  std::string path_, option_, target_, staging_;
+  friend class OutputTransaction;
+  std::string path_, option_, target_, staging_, identity_;
   std::ofstream file_;
   int slot_ = -1;
   bool to_stdout_ = false;
 };
+
+/// All outputs of one run, committed together (see above). Files not committed are removed with the transaction.
+class OutputTransaction {
+ public:
+  /// Opens `path` (named `option` in messages) as one more output; refuses a path another output of the
+  /// transaction already names.
+  std::ostream& open(const std::string& path, const std::string& option);
+  /// Throws OutputError if a write to any output has failed.
+  void check();
+  /// Prepares every output (flush, sync), and only when all succeeded renames each into place.
+  void commit();
+
+ private:
+  std::vector<std::unique_ptr<OutputFile>> files_;
+};
+
+/// Records `path` as an input of this run (`what`: "the model file", ...): no output may then name it.
+void note_input_file(const std::string& path, const std::string& what);
 
 /// Writes `content` to `path` atomically (see OutputFile); `option` names the path in messages.
 void write_file_atomically(const std::string& path, const std::string& content, const std::string& option = "");

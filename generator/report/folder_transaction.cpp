@@ -112,6 +112,7 @@ bool write_and_sync(const fs::path& path, const std::string& text) {
 
 // The folder -o names, normalized; an InputError for names that are no folder hamel could replace.
 fs::path folder_target(const std::string& directory) {
+  if (directory.empty()) throw InputError("-o: the folder name is empty; expected a folder name");
   fs::path target = fs::path(directory).lexically_normal();
   if (!target.has_filename()) target = target.parent_path();  // "out/" -> "out"
   if (target.empty() || target.filename() == "." || target.filename() == ".." || target == target.root_path())

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Scaling benchmark (docs/benchmarks.md, "Scaling: kinematic trees"): hamel against SymPy
+# Scaling benchmark (docs/benchmarks-notes.md, "Scaling: kinematic trees"; headline tables in docs/benchmarks.md): hamel against SymPy
 # (derivation) and MuJoCo (ns per call, agreement of accelerations) on floating-base serial chains and
 # binary trees with n = 1, 2, 4, 8, 16, 30 revolute joints. A command, not a test; runs everything one
 # process at a time. Installs nothing: it names what is missing and stops (exit 2).

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Symbolic against folded parameters (docs/benchmarks.md, "Symbolic vs folded parameters"):
+# Symbolic against folded parameters (docs/benchmarks-notes.md, "Symbolic vs folded parameters"):
 # emits each model twice (`hamel emit MODEL -o DIR` with p[] read at run time, and `--fold all`), compiles
 # both packages at -O2 into one binary (namespaces renamed <model>_symbolic / <model>_folded, each package
 # and its adapter its own translation unit), checks that the two rhs (and rhs_prepared, when the symbolic

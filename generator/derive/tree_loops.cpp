@@ -220,19 +220,37 @@ void close_tree_loops(Model& model, const std::vector<TreeLoop>& loops) {
     dropped.push_back(row.name + " (identically zero)");
   }
 
-  // A maximal independent subset of the others at the initial configuration.
-  std::vector<std::vector<double>> G;
-  for (const Row& row : varying) {
-    G.emplace_back();
-    for (const ex& e : row.gradient) G.back().push_back(value_at(e, initial));
-    for (double v : G.back())
-      if (!std::isfinite(v))
-        throw InputError(row.loop->where, "loops." + row.loop->name,
-                         "the gradient of the loop's equation " + row.name +
-                             " is not finite at the initial configuration; expected a configuration where the "
-                             "tree's kinematics are defined");
+  // A maximal independent subset of the others: at the initial configuration, unless the rows have a larger rank at
+  // one of three generic configurations (the initial one is then singular for the loops, as a four-bar stretched
+  // straight is, and its rank would drop an equation that holds elsewhere): then at the first such configuration.
+  std::vector<GiNaC::exmap> points{initial};
+  for (std::size_t k = 0; k < 3; ++k) {
+    GiNaC::exmap at = defaults;
+    for (std::size_t a = 0; a < n; ++a)
+      at[model.coordinates[a]] =
+          exact_number(static_cast<double>((31 + 17 * a + 53 * k) % 89 + 5) / 71.0 * ((a + k) % 2 ? -1.0 : 1.0));
+    points.push_back(at);
   }
-  const std::vector<std::size_t> kept = independent_rows(G);
+  std::vector<std::size_t> kept;
+  bool at_initial = true;
+  for (std::size_t c = 0; c < points.size(); ++c) {
+    std::vector<std::vector<double>> G;
+    bool finite = true;
+    for (const Row& row : varying) {
+      G.emplace_back();
+      for (const ex& e : row.gradient) G.back().push_back(value_at(e, points[c]));
+      for (double v : G.back()) finite = finite && std::isfinite(v);
+    }
+    if (!finite) {
+      if (c == 0)
+        throw InputError(loops.front().where, "loops",
+                         "the gradients of the loops' equations are not finite at the initial configuration; "
+                         "expected a configuration where the tree's kinematics are defined");
+      continue;
+    }
+    const std::vector<std::size_t> rows_here = independent_rows(G);
+    if (rows_here.size() > kept.size()) kept = rows_here, at_initial = c == 0;
+  }
   const SourceLocation where = model.locations.count("loops") ? model.locations.at("loops") : loops.front().where;
   if (kept.empty())
     throw InputError(where, "loops",
@@ -245,7 +263,9 @@ void close_tree_loops(Model& model, const std::vector<TreeLoop>& loops) {
                          " joints; expected fewer independent equations than joints");
   for (std::size_t i = 0; i < varying.size(); ++i)
     if (std::find(kept.begin(), kept.end(), i) == kept.end())
-      dropped.push_back(varying[i].name + " (dependent on the others at the initial configuration)");
+      dropped.push_back(varying[i].name + (at_initial ? " (dependent on the others at the initial configuration)"
+                                                      : " (dependent on the others at a generic configuration; the "
+                                                        "initial configuration is singular for the loops)"));
   if (!dropped.empty()) {
     std::string text;
     for (const std::string& s : dropped) text += (text.empty() ? "" : ", ") + s;

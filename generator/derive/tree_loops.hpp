@@ -19,8 +19,10 @@
 // that vanishes identically, and a loop between two revolute joints on parallel axes repeats one equation. Rows whose
 // gradient vanishes identically are dropped when g vanishes with them (a row that is a non-zero constant is a loop
 // that cannot close: an error); of the others a maximal independent subset at the initial configuration is kept (the
-// rows a QR factorization with row pivoting picks, 1e-9 of the largest row norm). A note on stderr names the dropped
-// rows.
+// rows a QR factorization with row pivoting picks, 1e-9 of the largest row norm), or at the first of three generic
+// configurations where the rank is larger (an initial configuration that is singular for the loops, as a four-bar
+// stretched straight, would otherwise drop an equation that holds everywhere else). A note on stderr names the
+// dropped rows.
 #pragma once
 
 #include "model/model.hpp"

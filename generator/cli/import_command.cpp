@@ -63,6 +63,12 @@ void run(const ImportCliOptions& opt) {
   try {
     (void)load_model_from_text(yaml, opt.output);
   } catch (const InputError& e) {
+    // A loop that closes the tree rigidly (or cannot close) is the file's: say so, with the way out.
+    const std::string what = e.what();
+    if (!tree.loops.empty() && what.find("'loops") != std::string::npos)
+      throw InputError(SourceLocation{opt.input, 0, 0}, "equality",
+                       "the file's connect/weld constraints, as closed loops of the imported tree, are refused: " +
+                           what.substr(what.find("'loops")) + "; pass --ignore equality to cut the loops open");
     throw std::runtime_error(std::string("the imported model does not load: ") + e.what());
   }
   if (opt.output == "-")

@@ -109,10 +109,14 @@ struct Names {
 };
 
 // The point x₀ and the inputs in₀: zero but for the model's state defaults (Γ = g of a floating base under gravity),
-// the scene's values and --at / --input over them.
+// the scene's values and --at / --input over them. A model with position constraints g(q) = 0 (holonomic, closed
+// loops) starts from its `initial` instead of zero, which is in general not on the constraints (where G_s, and with it
+// the equations, may even be singular).
 void set_point(const LinearizeOptions& opt, const Target& target, const Names& names, std::vector<double>& x,
                std::vector<double>& in) {
   std::map<std::string, double> initial = state_default_values(target);
+  if (!target.model.holonomic.empty())
+    for (const auto& [k, v] : target.model.initial) initial[k] = v;
   if (target.scene)
     for (const auto& [k, v] : target.scene->initial) initial[k] = v;
   for (const auto& [k, v] : parse_assignments(opt.at, "--at")) initial[k] = v;

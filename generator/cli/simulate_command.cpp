@@ -412,9 +412,11 @@ class PositionConstraints {
                         : o.status == runtime::Status::projection_failure
                             ? "it did not converge in " + std::to_string(options.max_iterations) + " corrections"
                             : "it met a non-finite value";
-      const auto it = model.locations.find("holonomic." + name);
+      // A tree's closed loop (key loops) is named as the file names it, its equations <loop>_x, ...
+      const std::string key = (model.locations.count("loops." + name) ? "loops." : "holonomic.") + name;
+      const auto it = model.locations.find(key);
       const SourceLocation where = it != model.locations.end() ? it->second : SourceLocation{model.source_path, 0, 0};
-      throw InputError(where, "holonomic." + name,
+      throw InputError(where, key,
                        "the initial state (" + state_text(given) +
                            ") violates this constraint by g = " + shortest_decimal(before[worst]) +
                            ", and Newton's method on the coordinates cannot close it (" + why +

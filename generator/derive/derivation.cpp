@@ -56,6 +56,10 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
   const bool tree_ep =
       model.bundle && model.bundle->tree &&
       (settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form)) == BundleForm::euler_poincare;
+  if (!settings.dynamics.empty() && model.locations.count("loops"))
+    throw InputError("--dynamics applies to the recursive derivation of kinematic trees; '" + model.source_path +
+                     "' is a tree with closed loops (key loops), derived as holonomic constraints on its joints "
+                     "(docs/model-format.md, Closed loops); expected no --dynamics");
   if (settings.dynamics == "aba" && !tree_ep && !model.tree)
     throw InputError(
         "--dynamics aba applies to kinematic tree models (key 'tree'; on a floating base in the ep "

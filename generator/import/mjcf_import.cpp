@@ -35,9 +35,11 @@ void check_unsupported(const mjModel* m, Gate& gate, const At& at, const std::st
     gate.check("tendons", at(n), element("tendon", n, i), "tendons are not part of hamel's tree format");
   }
   for (int i = 0; i < m->neq; ++i) {
+    if (m->eq_type[i] == mjEQ_CONNECT || m->eq_type[i] == mjEQ_WELD) continue;  // closed loops (add_loops)
     const std::string n = mj_name(m, mjOBJ_EQUALITY, i);
     gate.check("equality", at(n), element("equality constraint", n, i),
-               "equality constraints (closed loops, welds) are not part of hamel's tree format");
+               "equality constraints on joints and tendons are not part of hamel's tree format (connect and weld "
+               "are: closed loops)");
   }
   if (!(m->opt.disableflags & mjDSBL_CONTACT))
     for (int i = 0; i < m->ngeom; ++i)
@@ -88,6 +90,86 @@ void add_motors(const mjModel* m, Gate& gate, const At& at, const Warn& warn,
     t.bodies[body].drives.emplace_back(input, m->actuator_gear[6 * a] * m->actuator_gainprm[mjNGAIN * a]);
     if (m->actuator_ctrllimited[a] && a == 0)
       warn("actuator control ranges (ctrlrange) are not applied: hamel's inputs are used as given");
+  }
+}
+
+// x ↦ X x of a point.
+void transform(const Frame& X, const double* x, double out[3]) {
+  for (int r = 0; r < 3; ++r) out[r] = X.p[r] + X.R[r][0] * x[0] + X.R[r][1] * x[1] + X.R[r][2] * x[2];
+}
+
+// <equality> connect and weld as closed loops (model key `loops`), on a fixed base. MuJoCo's compiled data, each in
+// its body's frame at qpos0 (where the constraint holds by definition): connect, the anchor in body1 (eq_data 0..2) and
+// the same point in body2 (3..5); weld, the anchor in body2 (0..2), the same point in body1 (3..5) and body2's
+// orientation in body1's frame (quaternion, 6..9). A body rides on the tree body `host` (−2: the world) with its frame
+// `in_host` in that body's frame; `names` are the tree bodies' names.
+template <class At>
+void add_loops(const mjModel* m, const ImportOptions& options, Gate& gate, const At& at, const Warn& warn,
+               const std::vector<int>& host, const std::vector<Frame>& in_host, std::set<std::string>& symbols,
+               ImportedTree& t) {
+  for (int i = 0; i < m->neq; ++i) {
+    const bool weld = m->eq_type[i] == mjEQ_WELD;
+    if (m->eq_type[i] != mjEQ_CONNECT && !weld) continue;
+    const std::string n = mj_name(m, mjOBJ_EQUALITY, i);
+    const std::string what = element(weld ? "weld" : "connect", n, i);
+    if (options.ignore.count("equality")) {  // cut open, with a warning
+      gate.check("equality", at(n), what, "");
+      continue;
+    }
+    if (!m->eq_active[i]) {
+      warn("left out: " + what + " is inactive (active=\"false\")");
+      continue;
+    }
+    if (t.floating)
+      throw InputError(at(n), what,
+                       "closed loops are supported on trees fixed to the world; this model's base floats (a "
+                       "<freejoint/>); pass --ignore equality to cut the loop open");
+    const double* data = m->eq_data + static_cast<std::size_t>(i) * mjNEQDATA;
+    int b1 = m->eq_obj1id[i], b2 = m->eq_obj2id[i];
+    double a1[3], a2[3];  // the two points in their bodies' frames
+    double R[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    if (weld) {
+      for (int c = 0; c < 3; ++c) a1[c] = data[3 + c], a2[c] = data[c];
+      const double zero[3] = {0, 0, 0};
+      const Frame q = from_quaternion(zero, data[6], data[7], data[8], data[9]);
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c) R[r][c] = q.R[r][c];
+    } else {
+      for (int c = 0; c < 3; ++c) a1[c] = data[c], a2[c] = data[3 + c];
+    }
+    const int h1 = host[static_cast<std::size_t>(b1)], h2 = host[static_cast<std::size_t>(b2)];
+    if (h1 == h2)
+      throw InputError(at(n), what,
+                       "both bodies ride on the same " + std::string(h1 == -2 ? "world" : "tree body") +
+                           ": the constraint holds nothing, or nothing but a rigid body; expected bodies that move "
+                           "relative to each other");
+    ImportedLoop loop;
+    loop.name = identifier(n, "loop" + std::to_string(i), symbols);
+    for (const char* suffix : {"_x", "_y", "_z", "_rx", "_ry", "_rz"}) symbols.insert(loop.name + suffix);
+    loop.weld = weld;
+    // The loader's `body` is a moving body: with the world as body1, the ends swap (the same constraint).
+    bool swap = h1 == -2;
+    const int hb = swap ? h2 : h1, ht = swap ? h1 : h2;
+    const Frame& Xb = in_host[static_cast<std::size_t>(swap ? b2 : b1)];
+    const Frame& Xt = in_host[static_cast<std::size_t>(swap ? b1 : b2)];
+    loop.body = t.bodies[static_cast<std::size_t>(hb)].name;
+    loop.to = ht == -2 ? "world" : t.bodies[static_cast<std::size_t>(ht)].name;
+    transform(Xb, swap ? a2 : a1, loop.point);
+    transform(Xt, swap ? a1 : a2, loop.to_point);
+    // Frames: body1's is R (body2's orientation at qpos0) in body1, body2's its own axes.
+    double F1[3][3], F2[3][3];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        F1[r][c] = 0;
+        for (int k = 0; k < 3; ++k) F1[r][c] += in_host[static_cast<std::size_t>(b1)].R[r][k] * R[k][c];
+        F2[r][c] = in_host[static_cast<std::size_t>(b2)].R[r][c];
+      }
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c) {
+        loop.rotation[r][c] = swap ? F2[r][c] : F1[r][c];
+        loop.to_rotation[r][c] = swap ? F1[r][c] : F2[r][c];
+      }
+    t.loops.push_back(loop);
   }
 }
 
@@ -225,6 +307,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
   }
 
   add_motors(m, gate, at, warn, body_of_joint, symbols, t);
+  add_loops(m, options, gate, at, warn, host, in_host, symbols, t);
   return t;
 }
 

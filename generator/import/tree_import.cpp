@@ -278,6 +278,19 @@ std::string tree_model_yaml(const ImportedTree& t) {
     for (std::size_t i = 0; i < t.inputs.size(); ++i) y << (i ? ", " : "") << t.inputs[i];
     y << "]\n";
   }
+  if (!t.loops.empty()) {
+    y << "loops:   # closed loops (MJCF <equality>): a point, or a frame, of body held on one of to\n";
+    for (const ImportedLoop& l : t.loops) {
+      y << "  - name: " << l.name << "\n";
+      y << "    type: " << (l.weld ? "weld" : "connect") << "\n";
+      y << "    body: " << l.body << "\n";
+      y << "    point: " << vec(l.point) << "\n";
+      if (l.weld && !identity(l.rotation)) y << "    rotation: " << mat(l.rotation) << "\n";
+      y << "    to: " << l.to << "\n";
+      y << "    to_point: " << vec(l.to_point) << "\n";
+      if (l.weld) y << "    to_rotation: " << mat(l.to_rotation) << "\n";
+    }
+  }
   return y.str();
 }
 

@@ -44,6 +44,16 @@ struct ImportedBody {
   std::string what;      ///< "joint 'NAME'"
 };
 
+/// A closed loop (MJCF <equality> connect or weld): a point (and for a weld a frame) of body `body` held on one of
+/// `to` (a body's name or "world"), each in its body's frame (the model key `loops`).
+struct ImportedLoop {
+  std::string name;
+  bool weld = false;
+  std::string body, to;
+  double point[3] = {0, 0, 0}, to_point[3] = {0, 0, 0};
+  double rotation[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, to_rotation[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+};
+
 struct ImportedTree {
   std::string source;  ///< the file as given
   std::string format;  ///< "MJCF (MuJoCo 2.2.2)" or "URDF (urdfdom)"
@@ -55,6 +65,7 @@ struct ImportedTree {
   double gravity[3] = {0, 0, 0};     ///< resolved in the world frame (fixed base: the base frame)
   Frame base_pose;                   ///< floating base: its frame in the world at the start (Γ(0) = Rᵀ g)
   std::vector<std::string> inputs;
+  std::vector<ImportedLoop> loops;           ///< fixed base only
   std::vector<std::string> left_out;         ///< what --ignore dropped, for the description
   SourceLocation base_where, gravity_where;  ///< the base's and gravity's elements (line 0: the file)
 };

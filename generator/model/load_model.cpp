@@ -7,6 +7,7 @@
 #include "algebra/simplify.hpp"
 
 #include "derive/holonomic_constraints.hpp"
+#include "derive/tree_loops.hpp"
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
@@ -337,6 +338,7 @@ class Loader {
   void declare_joints(const YAML::Node& tree, Model& model);
   void declare_gravity_state(const YAML::Node& gravity, const std::string& group, const Model& model);
   void load_wrenches(Model& model, const KinematicTree& tree, const GiNaC::symtab& table);
+  std::vector<TreeLoop> load_loops(const Model& model, const KinematicTree& tree);
   KinematicTree load_tree(const YAML::Node& tree, Model& model);
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
                        const std::vector<std::string>& keys, const std::string& allowed,
@@ -383,12 +385,12 @@ Model Loader::load() {
   if (bundle_)
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "tree", "potential", "forces", "wrenches", "inputs", "definitions",
-                "initial"});
+                "connection", "kinetic", "bodies", "tree", "potential", "forces", "wrenches", "loops", "inputs",
+                "definitions", "initial"});
   else if (root_["tree"])
     check_keys(root_, "",
-               {"schema", "name", "description", "parameters", "tree", "forces", "wrenches", "inputs", "definitions",
-                "initial"});
+               {"schema", "name", "description", "parameters", "tree", "forces", "wrenches", "loops", "inputs",
+                "definitions", "initial"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
@@ -727,6 +729,12 @@ void Loader::load_bundle(Model& model) {
            "forces as 'forces'");
     load_wrenches(model, *model.bundle->tree, force_table);
   }
+  if (YAML::Node loops = root_["loops"])
+    fail(loops, "loops",
+         tree ? "closed loops are supported on trees fixed to the world (base: world, no 'group'); on a floating base "
+                "they are not implemented yet; expected a fixed-base tree, or the loop cut open"
+              : "applies to kinematic trees (key 'tree'); in general coordinates write the loop's closure as "
+                "'holonomic' constraints");
   if (tree) {
     const KinematicTree& t = *model.bundle->tree;
     for (std::size_t i = 0; i < t.gravity_state.size(); ++i)
@@ -1118,6 +1126,89 @@ void Loader::load_fixed_tree(Model& model) {
               "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs, t and "
               "definitions of these");
   if (root_["wrenches"]) load_wrenches(model, *model.tree, table);
+  if (YAML::Node loops = root_["loops"]) {
+    model.locations["loops"] = where(loops);
+    close_tree_loops(model, load_loops(model, *model.tree));
+  }
+}
+
+// 'loops': closures of a fixed-base tree, each a connect (a point of a body on a point of another, or of the world)
+// or a weld (a frame of a body on a frame of another).
+std::vector<TreeLoop> Loader::load_loops(const Model& model, const KinematicTree& tree) {
+  const YAML::Node list = root_["loops"];
+  if (!list.IsSequence() || list.size() == 0)
+    fail(list, "loops", "expected a list of loops, each a map with name, type (connect or weld), body, point, to");
+  GiNaC::symtab constants;
+  for (const auto& p : model.parameters) constants[p.symbol.get_name()] = p.symbol;
+  const std::string allowed = "loop points and rotations are fixed in the bodies: they may use parameters only";
+  const std::vector<std::string> bodies = tree_body_names(tree);
+  std::vector<std::string> movable(bodies.begin() + 1, bodies.end());
+  std::vector<TreeLoop> out;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "loops[" + std::to_string(i) + "]";
+    const YAML::Node l = list[i];
+    if (!l.IsMap()) fail(l, key, "expected a map with name, type (connect or weld), body, point, to");
+    check_keys(l, key, {"name", "type", "body", "point", "rotation", "to", "to_point", "to_rotation"});
+    for (const char* k : {"name", "type", "body", "to"})
+      if (!l[k]) fail(l, key + "." + k, "missing required key of a loop (name, type, body, to)");
+    TreeLoop loop;
+    loop.where = where(l);
+    loop.name = scalar(l["name"], key + ".name");
+    const std::string type = scalar(l["type"], key + ".type");
+    if (type != "connect" && type != "weld")
+      fail(
+          l["type"], key + ".type",
+          "expected 'connect' (a point on a point: 3 equations) or 'weld' (a frame on a frame: 6), got " + quote(type));
+    loop.weld = type == "weld";
+    // The closure's equations are named <name>_x, _y, _z (and _rx, _ry, _rz for a weld): declared like any name.
+    for (const char* suffix : {"_x", "_y", "_z", "_rx", "_ry", "_rz"}) {
+      if (!loop.weld && suffix[1] == 'r') break;
+      declare_name(l["name"], key + ".name", loop.name + suffix);
+    }
+    const std::pair<const char*, std::string*> ends[] = {{"body", &loop.body}, {"to", &loop.to}};
+    for (const auto& [k, target] : ends) {
+      *target = scalar(l[k], key + "." + k);
+      const std::vector<std::string>& allowed_bodies = std::string(k) == "body" ? movable : bodies;
+      if (std::find(allowed_bodies.begin(), allowed_bodies.end(), *target) == allowed_bodies.end())
+        fail(l[k], key + "." + k,
+             quote(*target) + " is not a " + (std::string(k) == "body" ? "moving " : "") + "body of the tree" +
+                 did_you_mean(*target, allowed_bodies) + "; expected one of: " + join(allowed_bodies));
+    }
+    if (loop.body == loop.to)
+      fail(l["to"], key + ".to", "a loop joins two different bodies; both are " + quote(loop.to));
+    if (l["point"]) {
+      const std::vector<GiNaC::ex> v = vector_of(l["point"], key + ".point", 3, constants, allowed);
+      for (std::size_t c = 0; c < 3; ++c) loop.point[c] = v[c];
+    }
+    if (l["to_point"]) loop.to_point = vector_of(l["to_point"], key + ".to_point", 3, constants, allowed);
+    for (const char* k : {"rotation", "to_rotation"}) {
+      const YAML::Node rot = l[k];
+      if (!rot) continue;
+      if (!loop.weld) fail(rot, key + "." + k, "a connect holds points only; a frame's rotation belongs to a weld");
+      if (!rot.IsSequence() || rot.size() != 3) fail(rot, key + "." + k, "expected 3 rows of a 3x3 rotation");
+      std::vector<GiNaC::ex> entries;
+      for (std::size_t r = 0; r < 3; ++r)
+        for (const GiNaC::ex& e :
+             vector_of(rot[r], key + "." + k + "[" + std::to_string(r) + "]", 3, constants, allowed))
+          entries.push_back(e);
+      for (std::size_t r = 0; r < 3; ++r)  // RᵀR = I where numbers decide it
+        for (std::size_t c = 0; c < 3; ++c) {
+          GiNaC::ex dot = 0;
+          for (std::size_t m = 0; m < 3; ++m) dot += entries[3 * m + r] * entries[3 * m + c];
+          const GiNaC::ex dev = (dot - (r == c ? 1 : 0)).expand();
+          if (GiNaC::is_a<GiNaC::numeric>(dev) &&
+              GiNaC::abs(GiNaC::ex_to<GiNaC::numeric>(dev)) > GiNaC::numeric(1, 1000000))
+            fail(rot, key + "." + k, "expected a rotation matrix (orthonormal columns, R^T R = I)");
+        }
+      if (std::string(k) == "rotation")
+        for (std::size_t r = 0; r < 3; ++r)
+          for (std::size_t c = 0; c < 3; ++c) loop.rotation[r][c] = entries[3 * r + c];
+      else
+        loop.to_rotation = entries;
+    }
+    out.push_back(loop);
+  }
+  return out;
 }
 
 KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model) {

@@ -60,7 +60,17 @@ KernelReferences kernel_references(const Model& model, const Derivation& derivat
   }
   r.kernels["rhs"] = {Kind::rhs, {}};
   r.kernels["energy"] = {Kind::direct, {eq.energy_terms.at(0)}};
-  if (!eq.constraint_residual.empty()) r.kernels["constraint_residual"] = {Kind::direct, eq.constraint_residual};
+  {  // the velocity residuals, then g(q) of the position constraints (as emit/kernels.cpp emits them)
+    std::vector<ex> residual = eq.constraint_residual, g, G;
+    for (const PositionConstraint& c : sys.position_constraints) {
+      residual.push_back(c.g);
+      g.push_back(c.g);
+      G.insert(G.end(), c.gradient.begin(), c.gradient.end());
+    }
+    if (!residual.empty()) r.kernels["constraint_residual"] = {Kind::direct, residual};
+    if (!g.empty()) r.kernels["constraint_position"] = {Kind::direct, g};
+    if (!G.empty()) r.kernels["constraint_position_jacobian"] = {Kind::direct, G};
+  }
   if (derivation.bundle) {
     const BundleGeometry& geo = *derivation.bundle;
     const std::size_t m = model.bundle->group_velocity.size();

@@ -197,7 +197,7 @@ WorkPrecisionRun timed_run(StudyKernels& k, const Derivation& d, const WorkPreci
   k.energy_kernel.evaluate(0.0, req.x0.data(), k.p, k.in, &e0);
   runtime::DriftMonitor energy(e0);
   double residual = 0, observer_s = 0;
-  std::vector<double> r(d.equations.constraint_residual.size());
+  std::vector<double> r(d.equations.constraint_residual.size() + d.system.position_constraints.size());
   const bool observed = d.equations.conservative || k.constrained;
   const ObserveFunction observe = [&](double t, const double* x) {
     if (!observed) return;

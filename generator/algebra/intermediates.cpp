@@ -163,6 +163,36 @@ ex Intermediates::inline_all(const ex& e) const {
   return map.empty() ? e : e.subs(map);
 }
 
+ex Intermediates::value_at(const ex& e, const GiNaC::exmap& values, ValueMemo& memo) const {
+  if (memo.value.size() < definitions_.size()) memo.value.resize(definitions_.size());
+  GiNaC::exmap floats;  // exact values would make exact arithmetic: d = d^2 + d doubles its digits per definition
+  for (const auto& [symbol, v] : values) floats[symbol] = v.evalf();
+  std::set<std::size_t> top;
+  collect(e, position_, top);
+  std::vector<std::pair<std::size_t, bool>> stack;  // (position, its dependencies are done)
+  for (std::size_t k : top) stack.emplace_back(k, false);
+  while (!stack.empty()) {
+    const auto [k, ready] = stack.back();
+    stack.pop_back();
+    if (memo.value[k]) continue;
+    std::set<std::size_t> used;
+    collect(definitions_[k].value, position_, used);
+    if (!ready) {
+      stack.emplace_back(k, true);
+      for (std::size_t j : used)
+        if (!memo.value[j]) stack.emplace_back(j, false);
+      continue;
+    }
+    GiNaC::exmap at = floats;
+    for (std::size_t j : used) at[definitions_[j].symbol] = *memo.value[j];
+    const ex v = definitions_[k].value.subs(at).evalf();
+    memo.value[k] = GiNaC::is_a<GiNaC::numeric>(v) ? v : ex(definitions_[k].symbol);
+  }
+  GiNaC::exmap at = floats;
+  for (std::size_t j : top) at[definitions_[j].symbol] = *memo.value[j];
+  return e.subs(at).evalf();
+}
+
 GiNaC::exmap Intermediates::evaluate(const GiNaC::exmap& values) const {
   GiNaC::exmap out = values;
   for (const Definition& d : definitions_) out[d.symbol] = d.value.subs(out).evalf();

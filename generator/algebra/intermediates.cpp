@@ -69,7 +69,20 @@ Intermediates::Partials Intermediates::partials_of(const ex& e) const {
   Partials out;
   std::set<std::size_t> used;
   collect(e, position_, used);
-  for (std::size_t k : used) out.emplace_back(k, e.diff(definitions_[k].symbol));
+  if (!GiNaC::is_a<GiNaC::add>(e) || used.size() < 2) {
+    for (std::size_t k : used) out.emplace_back(k, e.diff(definitions_[k].symbol));
+    return out;
+  }
+  // A sum, term by term: each term is differentiated only by the intermediates it uses. e.diff(s_k) for every k
+  // would differentiate every term by every intermediate of the sum, time n^2 for a Lagrangian that sums n bodies'
+  // energies (100 bodies on 2 coordinates: 40 s).
+  std::map<std::size_t, GiNaC::exvector> terms;
+  for (std::size_t i = 0; i < e.nops(); ++i) {
+    std::set<std::size_t> in_term;
+    collect(e.op(i), position_, in_term);
+    for (std::size_t k : in_term) terms[k].push_back(e.op(i).diff(definitions_[k].symbol));
+  }
+  for (std::size_t k : used) out.emplace_back(k, GiNaC::add(terms[k]));
   return out;
 }
 

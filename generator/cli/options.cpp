@@ -155,10 +155,8 @@ Target resolve_target(const std::string& file, const std::vector<std::string>& p
     // The emitted code is the scene's: its namespace and its stamp (scene file, hash of scene + model).
     model.name = scene.name;
     model.source_path = scene.path;
-    std::ifstream a(scene.path, std::ios::binary), b(scene.model_path, std::ios::binary);
-    std::ostringstream both;
-    both << a.rdbuf() << b.rdbuf();
-    model.source_hash = content_hash(both.str());
+    model.source_hash =
+        content_hash(read_input_file(scene.path, "scene file") + read_input_file(scene.model_path, "model file"));
   } else {
     model = load_model(file);
   }

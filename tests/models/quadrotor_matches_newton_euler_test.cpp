@@ -149,7 +149,7 @@ std::vector<Sample> integrate_hamel(const std::vector<double>& x0, bool spatial)
   hamel::runtime::Dop853Options opt;
   opt.rtol = opt.atol = 1e-13;
   const auto result = hamel::runtime::integrate_dop853(f, y, 0.0, 10.0, opt, 0.002, [&](double t, const double* x) {
-    Sample s{t, M3(), V3(), V3(), V3(x[2], x[3], x[4])};
+    Sample s{t, M3::Zero(), V3::Zero(), V3::Zero(), V3(x[2], x[3], x[4])};
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) s.R(i, j) = x[n + 3 * i + j];
       s.p[i] = x[n + 9 + i];
@@ -181,7 +181,7 @@ std::vector<Sample> integrate_reference(const VX& y0, bool spatial) {
   hamel::runtime::Dop853Options opt;
   opt.rtol = opt.atol = 1e-13;
   const auto result = hamel::runtime::integrate_dop853(f, start, 0.0, 10.0, opt, 0.002, [&](double t, const double* x) {
-    Sample s{t, M3(), V3(), V3(), V3()};
+    Sample s{t, M3::Zero(), V3::Zero(), V3::Zero(), V3::Zero()};  // gamma stays 0: the reference has none
     for (int i = 0; i < 3; ++i) {
       for (int j = 0; j < 3; ++j) s.R(i, j) = x[3 * i + j];
       s.p[i] = x[9 + i];

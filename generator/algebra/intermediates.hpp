@@ -77,6 +77,16 @@ class Intermediates {
   /// the current GiNaC precision; the result extends `values`.
   GiNaC::exmap evaluate(const GiNaC::exmap& values) const;
 
+  /// The value of `e` at `values` (symbols of the model → numbers), evaluated with evalf through only the
+  /// definitions it uses, in order and iteratively (the program may be deep), never by inlining them: a definition
+  /// that does not evaluate to a number stays its symbol, so the result is then not a number, but never large.
+  /// Memoized in `memo` (one per `values`) across calls; floating-point overflow and the like propagate as
+  /// exceptions.
+  struct ValueMemo {
+    std::vector<std::optional<GiNaC::ex>> value;  ///< by position
+  };
+  GiNaC::ex value_at(const GiNaC::ex& e, const GiNaC::exmap& values, ValueMemo& memo) const;
+
  private:
   std::vector<Definition> definitions_;
   std::map<GiNaC::ex, std::size_t, GiNaC::ex_is_less> position_;

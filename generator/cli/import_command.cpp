@@ -3,6 +3,7 @@
 #include "cli/options.hpp"
 #include "import/tree_import.hpp"
 #include "model/input_error.hpp"
+#include "model/input_file.hpp"
 #include "model/load_model.hpp"
 #include "report/atomic_file.hpp"
 
@@ -27,11 +28,7 @@ bool ends_with(const std::string& s, const std::string& tail) {
 bool is_urdf(const std::string& path) {
   if (ends_with(path, ".urdf")) return true;
   if (ends_with(path, ".xml") || ends_with(path, ".mjcf")) return false;
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the file");
-  std::ostringstream s;
-  s << in.rdbuf();
-  const std::string text = s.str();
+  const std::string text = InputFile(path, "robot file", kMaxRobotFileBytes).read_all();
   const std::size_t robot = text.find("<robot"), mujoco = text.find("<mujoco");
   if (robot == std::string::npos && mujoco == std::string::npos)
     throw InputError(SourceLocation{path, 0, 0}, "",

@@ -54,7 +54,8 @@ int main(int argc, char** argv) {
     std::cerr << "hamel: " << e.what() << "\n";
     return 1;
   } catch (const hamel::InputError& e) {
-    std::cerr << hamel::printable(e.what()) << "\n";
+    std::cerr << hamel::printable(e.headline()) << "\n";
+    for (const std::string& note : e.notes()) std::cerr << "  " << hamel::printable(note) << "\n";
     return 2;
   } catch (const GiNaC::pole_error& e) {
     // A denominator that simplifies to zero: the loader finds those written in the model (x/(sin(x)^2+cos(x)^2-1),

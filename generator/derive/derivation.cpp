@@ -74,7 +74,8 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
     progress::Step step("deriving the equations of motion of " + model.name + " (recursive over the tree, " + dynamics +
                         ")");
     TreeDerivation tree = derive_tree(model, dynamics == "aba");
-    d.quasi_velocities = {model.A, model.B};
+    const GiNaC::matrix identity = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(model.n()));  // u = q̇
+    d.quasi_velocities = {identity, identity};
     d.system = std::move(tree.system);
     d.equations = std::move(tree.equations);
     step.detail(std::to_string(d.equations.intermediates.size()) + " intermediates");

@@ -147,7 +147,7 @@ void add_holonomic_quasi_velocities(Model& model, bool others_given) {
       zero = zero && (e.is_zero() || identically_zero(e, program) == Identity::zero);
     if (zero)
       throw InputError(location_of(model, key_of(h)), key_of(h),
-                       "the constraint " + quote(to_text(program.inline_all(h.g)), 120) +
+                       "the constraint " + quote(to_text(program.inline_bounded(h.g, 200).value_or(h.g)), 120) +
                            " does not depend on the coordinates (its gradient dg/dq is identically zero): it is a "
                            "condition on the parameters, not a constraint on the motion; expected g(q) = 0 that "
                            "depends on the coordinates");

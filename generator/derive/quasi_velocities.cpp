@@ -276,7 +276,13 @@ QuasiVelocities derive_quasi_velocities(const Model& model, Intermediates& progr
         std::string evidence;
         bool checked = false;
         for (const SamplePoint& p : points) {
-          const std::optional<double> v = value_at(program.inline_all(deviation), p);
+          // Through the definitions, never inlining them (a chain of squares is exponentially long inlined).
+          std::optional<double> v;
+          try {
+            Intermediates::ValueMemo memo;
+            v = value_at(program.value_at(deviation, p.values, memo), p);
+          } catch (const std::exception&) {
+          }
           if (!v) continue;
           checked = true;
           if (std::fabs(*v) > inverse_tolerance) {

@@ -8,8 +8,12 @@
 #include <mujoco/mujoco.h>
 
 #include <algorithm>
+#include <cctype>
+#include <filesystem>
 #include <map>
 #include <memory>
+#include <set>
+#include <vector>
 
 namespace hamel {
 
@@ -26,18 +30,65 @@ std::string element(const char* kind, const std::string& name, int id) {
   return std::string(kind) + " " + (name.empty() ? "#" + std::to_string(id) : "'" + name + "'");
 }
 
+// The values of attribute `name` (name="..." or name='...') in an XML text, in order.
+std::vector<std::string> attribute_values(const std::string& text, const std::string& name) {
+  std::vector<std::string> out;
+  const std::string key = name + "=";
+  for (std::size_t at = text.find(key); at != std::string::npos; at = text.find(key, at + 1)) {
+    if (at > 0 && (std::isalnum(static_cast<unsigned char>(text[at - 1])) || text[at - 1] == '_')) continue;
+    const std::size_t open = at + key.size();
+    if (open >= text.size() || (text[open] != '"' && text[open] != '\'')) continue;
+    const std::size_t close = text.find(text[open], open + 1);
+    if (close == std::string::npos) break;
+    out.push_back(text.substr(open + 1, close - open - 1));
+  }
+  return out;
+}
+
+// MuJoCo opens the files an MJCF file names itself (includes, meshes, textures), and would read a device or block on
+// a FIFO: every file named by a file="..." attribute, looked up where MuJoCo looks (the model's folder and its
+// meshdir, texturedir and assetdir), in the main file and the files it includes, is checked as the robot file is
+// (model/input_file.hpp) before MuJoCo sees any of them.
+void check_mjcf_files(const std::string& path) {
+  namespace fs = std::filesystem;
+  const fs::path folder = fs::path(path).parent_path();
+  std::set<std::string> seen{path};
+  std::vector<std::string> texts{read_text(path)};
+  std::vector<fs::path> dirs{folder};
+  for (std::size_t i = 0; i < texts.size(); ++i) {
+    for (const char* attribute : {"meshdir", "texturedir", "assetdir"})
+      for (const std::string& d : attribute_values(texts[i], attribute)) dirs.push_back(folder / d);
+    for (const std::string& file : attribute_values(texts[i], "file")) {
+      if (file.empty()) continue;
+      for (const fs::path& dir : dirs) {
+        const std::string candidate = (fs::path(file).is_absolute() ? fs::path(file) : dir / file).string();
+        std::error_code ec;
+        if (!fs::exists(fs::symlink_status(candidate, ec)) || !seen.insert(candidate).second) continue;
+        check_input_file(candidate, "robot file", kMaxRobotFileBytes);
+        const std::string lower = [&] {
+          std::string s = candidate;
+          for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+          return s;
+        }();
+        if (lower.size() > 4 && lower.compare(lower.size() - 4, 4, ".xml") == 0) texts.push_back(read_text(candidate));
+      }
+    }
+  }
+}
+
 // What hamel's tree format has no place for: tendons, equality constraints, contacts, fluid forces. Each is an
 // error, or left out with a warning when its category is in --ignore.
 template <class At>
 void check_unsupported(const mjModel* m, Gate& gate, const At& at, const std::string& path) {
   for (int i = 0; i < m->ntendon; ++i) {
     const std::string n = mj_name(m, mjOBJ_TENDON, i);
-    gate.check("tendons", at(n), element("tendon", n, i), "tendons are not part of hamel's tree format");
+    gate.check("tendons", at(n, {"spatial", "fixed"}), element("tendon", n, i),
+               "tendons are not part of hamel's tree format");
   }
   for (int i = 0; i < m->neq; ++i) {
     if (m->eq_type[i] == mjEQ_CONNECT || m->eq_type[i] == mjEQ_WELD) continue;  // closed loops (add_loops)
     const std::string n = mj_name(m, mjOBJ_EQUALITY, i);
-    gate.check("equality", at(n), element("equality constraint", n, i),
+    gate.check("equality", at(n, {"joint", "tendon", "flex", "distance"}), element("equality constraint", n, i),
                "equality constraints on joints and tendons are not part of hamel's tree format (connect and weld "
                "are: closed loops)");
   }
@@ -45,7 +96,7 @@ void check_unsupported(const mjModel* m, Gate& gate, const At& at, const std::st
     for (int i = 0; i < m->ngeom; ++i)
       if (m->geom_contype[i] || m->geom_conaffinity[i]) {
         const std::string n = mj_name(m, mjOBJ_GEOM, i);
-        gate.check("contacts", at(n), element("geom", n, i) + " (contacts)",
+        gate.check("contacts", at(n, {"geom"}), element("geom", n, i) + " (contacts)",
                    "it can collide (contype/conaffinity), and hamel's trees have no contact model");
         break;
       }
@@ -79,11 +130,15 @@ void add_motors(const mjModel* m, Gate& gate, const At& at, const Warn& warn,
                        m->actuator_gaintype[a] == mjGAIN_FIXED && m->actuator_biastype[a] == mjBIAS_NONE &&
                        m->jnt_type[j] != mjJNT_FREE;
     if (!motor) {
-      gate.check("actuators", at(aname), element("actuator", aname, a),
+      gate.check("actuators",
+                 at(aname, {"motor", "position", "velocity", "general", "muscle", "cylinder", "damper", "adhesion",
+                            "intvelocity", "plugin"}),
+                 element("actuator", aname, a),
                  "only motors on hinge or slide joints (force = gear * gain * ctrl) become inputs");
       continue;
     }
     const std::string jname = mj_name(m, mjOBJ_JOINT, j);
+    if (!body_of_joint.count(j)) continue;  // its joint was refused (a ball joint): reported with it
     const std::size_t body = body_of_joint.at(j);
     std::string input = identifier("u_" + (aname.empty() ? jname : aname), "u" + std::to_string(a), symbols);
     t.inputs.push_back(input);
@@ -120,10 +175,12 @@ void add_loops(const mjModel* m, const ImportOptions& options, Gate& gate, const
       warn("left out: " + what + " is inactive (active=\"false\")");
       continue;
     }
-    if (t.floating)
-      throw InputError(at(n), what,
-                       "closed loops are supported on trees fixed to the world; this model's base floats (a "
-                       "<freejoint/>); pass --ignore equality to cut the loop open");
+    if (t.floating) {  // refused with everything else hamel has no place for (Gate)
+      gate.refuse(at(n), what,
+                  "closed loops are supported on trees fixed to the world; this model's base floats (a "
+                  "<freejoint/>); pass --ignore equality to cut the loop open");
+      continue;
+    }
     const double* data = m->eq_data + static_cast<std::size_t>(i) * mjNEQDATA;
     int b1 = m->eq_obj1id[i], b2 = m->eq_obj2id[i];
     double a1[3], a2[3];  // the two points in their bodies' frames
@@ -138,11 +195,13 @@ void add_loops(const mjModel* m, const ImportOptions& options, Gate& gate, const
       for (int c = 0; c < 3; ++c) a1[c] = data[c], a2[c] = data[3 + c];
     }
     const int h1 = host[static_cast<std::size_t>(b1)], h2 = host[static_cast<std::size_t>(b2)];
-    if (h1 == h2)
-      throw InputError(at(n), what,
-                       "both bodies ride on the same " + std::string(h1 == -2 ? "world" : "tree body") +
-                           ": the constraint holds nothing, or nothing but a rigid body; expected bodies that move "
-                           "relative to each other");
+    if (h1 == h2) {
+      gate.refuse(at(n), what,
+                  "both bodies ride on the same " + std::string(h1 == -2 ? "world" : "tree body") +
+                      ": the constraint holds nothing, or nothing but a rigid body; expected bodies that move "
+                      "relative to each other");
+      continue;
+    }
     ImportedLoop loop;
     loop.name = identifier(n, "loop" + std::to_string(i), symbols);
     for (const char* suffix : {"_x", "_y", "_z", "_rx", "_ry", "_rz"}) symbols.insert(loop.name + suffix);
@@ -179,13 +238,14 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
   ImportedTree t;
   t.source = path;
   t.format = "MJCF, compiled by MuJoCo " + std::string(mj_versionString());
+  check_mjcf_files(path);
   char err[1000] = "";
   std::unique_ptr<mjModel, void (*)(mjModel*)> owned(mj_loadXML(path.c_str(), nullptr, err, sizeof err),
                                                      mj_deleteModel);
   const mjModel* m = owned.get();
   if (!m) throw InputError(SourceLocation{path, 0, 0}, "", std::string("MuJoCo cannot compile the file: ") + err);
   const std::string text = read_text(path);
-  const auto at = [&](const std::string& name) { return locate(path, text, name); };
+  const Locator at(path, text);
   Gate gate(options, warn, t);
   if (options.floating)
     throw InputError(SourceLocation{path, 0, 0}, "--floating",
@@ -226,21 +286,24 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
       const std::string jname = mj_name(m, mjOBJ_JOINT, j);
       const int type = m->jnt_type[j];
       const int dof = m->jnt_dofadr[j], qadr = m->jnt_qposadr[j];
-      if (type == mjJNT_BALL)
-        throw InputError(at(jname), element("joint", jname, j) + " (body '" + bname + "')",
-                         "ball joints have three degrees of freedom; hamel's trees have one per joint (hinge, slide)");
+      if (type == mjJNT_BALL) {
+        gate.refuse(at(jname, {"joint", "freejoint"}), element("joint", jname, j) + " (body '" + bname + "')",
+                    "ball joints have three degrees of freedom; hamel's trees have one per joint (hinge, slide)");
+        continue;
+      }
       if (type == mjJNT_FREE) {
         if (parent != 0 || count != 1)
-          throw InputError(at(jname), element("free joint", jname, j) + " (body '" + bname + "')",
+          throw InputError(at(jname, {"joint", "freejoint"}),
+                           element("free joint", jname, j) + " (body '" + bname + "')",
                            "only a body hanging from the world by its only joint can float (the SE3 base)");
         if (free_body >= 0)
-          throw InputError(at(jname), element("free joint", jname, j),
+          throw InputError(at(jname, {"joint", "freejoint"}), element("free joint", jname, j),
                            "a second floating body; hamel's trees have one floating base (body '" +
                                mj_name(m, mjOBJ_BODY, free_body) + "' floats already)");
         for (int d = 0; d < 6; ++d)
           if (m->dof_armature[dof + d] != 0 || m->dof_damping[dof + d] != 0 || m->jnt_stiffness[j] != 0 ||
               m->dof_frictionloss[dof + d] != 0)
-            throw InputError(at(jname), element("free joint", jname, j),
+            throw InputError(at(jname, {"joint", "freejoint"}), element("free joint", jname, j),
                              "armature, damping, stiffness or friction on the floating base is not part of hamel's "
                              "tree format (forces act on the joints only)");
         free_body = b;
@@ -253,10 +316,10 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
         continue;
       }
       if (m->jnt_limited[j])
-        gate.check("limits", at(jname), element("joint", jname, j) + " (range)",
+        gate.check("limits", at(jname, {"joint", "freejoint"}), element("joint", jname, j) + " (range)",
                    "joint limits are constraint forces that hamel's trees do not model");
       if (m->dof_frictionloss[dof] != 0)
-        gate.check("friction", at(jname), element("joint", jname, j) + " (frictionloss)",
+        gate.check("friction", at(jname, {"joint", "freejoint"}), element("joint", jname, j) + " (frictionloss)",
                    "dry joint friction is not part of hamel's tree format");
       ImportedBody ib;
       ib.where = at(jname);
@@ -292,8 +355,12 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
     MassProperties& target = h == -1 ? t.base : t.bodies[static_cast<std::size_t>(h)].inertial;
     add_in_frame(target, in_host[ub], m->body_mass[b], iframe.p, I);
   }
+  // Actuators before anything else is decided: every element hamel has no place for goes into one message.
+  add_motors(m, gate, at, warn, body_of_joint, symbols, t);
+  add_loops(m, options, gate, at, warn, host, in_host, symbols, t);
+  gate.finish();
   if (t.floating && world_jointed)
-    throw InputError(at(mj_name(m, mjOBJ_BODY, free_body)), "body '" + t.base_name + "'",
+    throw InputError(at(mj_name(m, mjOBJ_BODY, free_body), {"body"}), "body '" + t.base_name + "'",
                      "floats while other bodies hang from the world by joints; hamel's trees have one base");
   if (t.bodies.empty())
     throw InputError(SourceLocation{path, 0, 0}, "", "the model has no hinge or slide joints; nothing to import");
@@ -306,8 +373,6 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
     t.gravity_where.column = static_cast<int>(g - line_start) + 1;
   }
 
-  add_motors(m, gate, at, warn, body_of_joint, symbols, t);
-  add_loops(m, options, gate, at, warn, host, in_host, symbols, t);
   return t;
 }
 

@@ -8,6 +8,8 @@
 
 #include <tinyxml.h>
 #include <charconv>
+#include <set>
+#include <vector>
 
 namespace hamel {
 
@@ -90,7 +92,7 @@ struct Walker {
   const ImportOptions& options;
   const Warn& warn;
   const std::string& path;
-  const std::string& text;
+  const Locator& locate;
   Gate& gate;
   std::set<std::string> labels, symbols{"t", "wx", "wy", "wz", "vx", "vy", "vz"};
   bool limits_warned = false;
@@ -101,39 +103,40 @@ struct Walker {
     return from_quaternion(x, p.rotation.w, p.rotation.x, p.rotation.y, p.rotation.z);
   }
 
-  // `host`: tree body index (−1 base, −2 world); `in_host`: the link's frame in the host's frame.
-  void visit(const urdf::LinkConstSharedPtr& link, int host, const Frame& in_host) {
-    if (link->inertial && host != -2) {
-      const urdf::Inertial& in = *link->inertial;
-      const Frame f = pose(in.origin);
-      const double local[3][3] = {{in.ixx, in.ixy, in.ixz}, {in.ixy, in.iyy, in.iyz}, {in.ixz, in.iyz, in.izz}};
-      double I[3][3];
-      for (int i = 0; i < 3; ++i)
-        for (int j = 0; j < 3; ++j) {
-          I[i][j] = 0;
-          for (int k = 0; k < 3; ++k)
-            for (int l = 0; l < 3; ++l) I[i][j] += f.R[i][k] * local[k][l] * f.R[j][l];
-        }
-      MassProperties& target = host == -1 ? t.base : t.bodies[static_cast<std::size_t>(host)].inertial;
-      add_in_frame(target, in_host, in.mass, f.p, I);
-    }
-    for (const urdf::LinkSharedPtr& child : link->child_links) {
+  // `host`: tree body index (−1 base, −2 world); `in_host`: the link's frame in the host's frame. Depth first, the
+  // children of a link in order (the order of the tree's bodies), with a stack of its own: a chain of 10 000 links
+  // overflowed the call stack when this recursed. A link reached twice (joints that form a cycle) is refused
+  // (`placed` holds the root on entry).
+  void visit(const urdf::LinkConstSharedPtr& root, int root_host, const Frame& root_in_host) {
+    struct Pending {
+      urdf::LinkConstSharedPtr link;
+      int host;
+      Frame in_host;
+    };
+    std::vector<Pending> stack;
+    add_inertial(*root, root_host, root_in_host);
+    push_children(root, root_host, root_in_host, stack);
+    while (!stack.empty()) {
+      const Pending p = stack.back();
+      stack.pop_back();
+      const urdf::LinkConstSharedPtr& child = p.link;
       const urdf::JointSharedPtr& joint = child->parent_joint;
-      const SourceLocation where = locate(path, text, joint->name);
+      const SourceLocation where = locate(joint->name, {"joint"});
       const std::string what = "joint '" + joint->name + "'";
-      // A joint whose child is its parent, or joints that lead back to a link already placed, would recurse
+      // A joint whose child is its parent, or joints that lead back to a link already placed, would loop
       // forever: a URDF is a tree.
       if (!placed.insert(child.get()).second)
         throw InputError(where, what,
                          "its child link '" + child->name +
                              "' is already reached from the root (the joints form a cycle, or the joint's parent is "
                              "its child); expected the joints to form a tree");
-      const Frame origin = compose(in_host, pose(joint->parent_to_joint_origin_transform));
+      const Frame origin = compose(p.in_host, pose(joint->parent_to_joint_origin_transform));
       if (joint->mimic)
         throw InputError(where, what, "mimic joints couple coordinates; hamel's tree joints are independent");
       switch (joint->type) {
         case urdf::Joint::FIXED:
-          visit(child, host, origin);
+          add_inertial(*child, p.host, origin);
+          push_children(child, p.host, origin, stack);
           continue;
         case urdf::Joint::REVOLUTE:
         case urdf::Joint::CONTINUOUS:
@@ -147,7 +150,7 @@ struct Walker {
       ImportedBody b;
       b.where = where;
       b.what = what;
-      b.parent = host >= 0 ? host : -1;
+      b.parent = p.host >= 0 ? p.host : -1;
       b.joint = identifier(joint->name, "q" + std::to_string(t.bodies.size() + 1), symbols);
       b.name = identifier(child->name, "link" + std::to_string(t.bodies.size() + 1), labels);
       b.prismatic = joint->type == urdf::Joint::PRISMATIC;
@@ -173,8 +176,32 @@ struct Walker {
       b.drives.emplace_back(input, 1.0);
       const int index = static_cast<int>(t.bodies.size());
       t.bodies.push_back(b);
-      visit(child, index, Frame{});
+      add_inertial(*child, index, Frame{});
+      push_children(child, index, Frame{}, stack);
     }
+  }
+
+  // The children of `link`, last first: popped, they are taken in order.
+  template <class Stack>
+  static void push_children(const urdf::LinkConstSharedPtr& link, int host, const Frame& in_host, Stack& stack) {
+    for (auto it = link->child_links.rbegin(); it != link->child_links.rend(); ++it)
+      stack.push_back({*it, host, in_host});
+  }
+
+  void add_inertial(const urdf::Link& link, int host, const Frame& in_host) {
+    if (!link.inertial || host == -2) return;
+    const urdf::Inertial& in = *link.inertial;
+    const Frame f = pose(in.origin);
+    const double local[3][3] = {{in.ixx, in.ixy, in.ixz}, {in.ixy, in.iyy, in.iyz}, {in.ixz, in.iyz, in.izz}};
+    double I[3][3];
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        I[i][j] = 0;
+        for (int k = 0; k < 3; ++k)
+          for (int l = 0; l < 3; ++l) I[i][j] += f.R[i][k] * local[k][l] * f.R[j][l];
+      }
+    MassProperties& target = host == -1 ? t.base : t.bodies[static_cast<std::size_t>(host)].inertial;
+    add_in_frame(target, in_host, in.mass, f.p, I);
   }
 };
 
@@ -216,20 +243,22 @@ ImportedTree import_urdf(const std::string& path, const ImportOptions& options, 
   if (!is_valid_model_name(t.name, &why))
     throw InputError(SourceLocation{path, 0, 0}, "--name", quote(t.name) + ": " + why + "; choose one with --name");
   Gate gate(options, warn, t);
-  Walker w{t, options, warn, path, text, gate, {}, {}, false, {}};
+  const Locator locate(path, text);
+  Walker w{t, options, warn, path, locate, gate, {}, {}, false, {}};
   w.symbols = {"t", "wx", "wy", "wz", "vx", "vy", "vz"};
   t.floating = options.floating;
   const urdf::LinkConstSharedPtr root = model->getRoot();
   if (t.floating) t.base_name = identifier(root->name, "base", w.labels);
   w.placed.insert(root.get());
-  t.base_where = locate(path, text, root->name);
+  t.base_where = locate(root->name, {"link"});
   w.visit(root, t.floating ? -1 : -2, Frame{});
   // Links the walk from the root never reached hang from a cycle of joints apart from the tree.
   for (const auto& [name, link] : model->links_)
     if (!w.placed.count(link.get()))
-      throw InputError(locate(path, text, name), "link '" + name + "'",
+      throw InputError(locate(name, {"link"}), "link '" + name + "'",
                        "is not reached from the root link '" + root->name +
                            "' (its joints form a cycle); expected the joints to form one tree");
+  gate.finish();  // every element left out or refused, in one message
   if (t.bodies.empty())
     throw InputError(SourceLocation{path, 0, 0}, "", "the robot has no revolute, continuous or prismatic joints");
   return t;

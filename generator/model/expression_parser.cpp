@@ -148,11 +148,38 @@ void check_constants_and_powers(const GiNaC::ex& e) {
 
 GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) {
   check_structure(text);
+  // Only the names the text uses: GiNaC's parser copies its table, and a table of every symbol of a large model
+  // (10 000 definitions, a URDF chain of 10 000 links) made every parse, and so loading, linear in the model's size.
   // `pi` is accepted as well as GiNaC's `Pi` (both are reserved as names).
-  GiNaC::symtab with_pi = table;
-  with_pi.emplace("pi", GiNaC::Pi);
-  GiNaC::parser reader(with_pi, /*strict=*/true);
-  const GiNaC::ex parsed = reader(exact_decimals(text));
+  const std::string exact = exact_decimals(text);
+  GiNaC::symtab used;
+  for (std::size_t i = 0; i < exact.size();) {
+    const unsigned char c = static_cast<unsigned char>(exact[i]);
+    if (std::isalpha(c) || c == '_') {
+      std::size_t end = i + 1;
+      while (end < exact.size() && (std::isalnum(static_cast<unsigned char>(exact[end])) || exact[end] == '_')) ++end;
+      const std::string name = exact.substr(i, end - i);
+      if (const auto it = table.find(name); it != table.end()) used.insert(*it);
+      i = end;
+    } else if (std::isdigit(c) || c == '.') {  // a number, with its exponent (1e5 names no symbol e5)
+      auto digit = [&](std::size_t k) {
+        return k < exact.size() && std::isdigit(static_cast<unsigned char>(exact[k]));
+      };
+      while (digit(i) || (i < exact.size() && exact[i] == '.')) ++i;
+      if (i < exact.size() && (exact[i] == 'e' || exact[i] == 'E')) {
+        const std::size_t k = i + 1 + (i + 1 < exact.size() && (exact[i + 1] == '+' || exact[i + 1] == '-'));
+        if (digit(k)) {
+          i = k;
+          while (digit(i)) ++i;
+        }
+      }
+    } else {
+      ++i;
+    }
+  }
+  used.emplace("pi", GiNaC::Pi);
+  GiNaC::parser reader(used, /*strict=*/true);
+  const GiNaC::ex parsed = reader(exact);
   check_constants_and_powers(parsed);
   return parsed;
 }

@@ -1,5 +1,7 @@
 #include "model/input_error.hpp"
 
+#include <utility>
+
 namespace hamel {
 
 namespace {
@@ -76,6 +78,18 @@ static std::string format(const SourceLocation& where, const std::string& key, c
 }
 
 InputError::InputError(const SourceLocation& where, const std::string& key, const std::string& problem)
-    : std::runtime_error(format(where, key, problem)) {}
+    : std::runtime_error(format(where, key, problem)), headline_(format(where, key, problem)) {}
+
+static std::string with_notes(const std::string& headline, const std::vector<std::string>& notes) {
+  std::string s = headline;
+  for (const std::string& n : notes) s += "\n  " + n;
+  return s;
+}
+
+InputError::InputError(const SourceLocation& where, const std::string& key, const std::string& problem,
+                       std::vector<std::string> notes)
+    : std::runtime_error(with_notes(format(where, key, problem), notes)),
+      headline_(format(where, key, problem)),
+      notes_(std::move(notes)) {}
 
 }  // namespace hamel

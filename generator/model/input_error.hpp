@@ -33,7 +33,20 @@ class InputError : public std::runtime_error {
  public:
   /// "file:line:column: error: 'key': problem" (the key quoted as by quote()).
   InputError(const SourceLocation& where, const std::string& key, const std::string& problem);
-  explicit InputError(const std::string& message) : std::runtime_error(message) {}
+  explicit InputError(const std::string& message) : std::runtime_error(message), headline_(message) {}
+  /// The same with further lines (one problem per line, as when several elements of a file are refused at once):
+  /// what() is the message and each note on a line of its own, indented.
+  InputError(const SourceLocation& where, const std::string& key, const std::string& problem,
+             std::vector<std::string> notes);
+
+  /// The first line (what() without the notes) and the notes: the CLI escapes each (printable) and prints it on
+  /// a line of its own, so no input can forge a line.
+  const std::string& headline() const { return headline_; }
+  const std::vector<std::string>& notes() const { return notes_; }
+
+ private:
+  std::string headline_;
+  std::vector<std::string> notes_;
 };
 
 }  // namespace hamel

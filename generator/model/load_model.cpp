@@ -11,6 +11,7 @@
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
+#include "model/input_file.hpp"
 #include "model/yaml_document.hpp"
 #include "report/atomic_file.hpp"
 
@@ -374,6 +375,7 @@ class Loader {
   // Per definition (model key `definitions`): its symbol and the names of the model symbols it depends on,
   // through earlier definitions too; a key may use a definition only if it may use all of those.
   std::vector<std::pair<GiNaC::realsymbol, std::set<std::string>>> definition_uses_;
+  std::map<std::string, std::size_t> definition_index_;  // name -> position in definition_uses_
 };
 
 Model Loader::load() {
@@ -456,6 +458,7 @@ void Loader::load_definitions(Model& model, const GiNaC::symtab& all) {
                    "t) and the definitions above it");
     const std::set<std::string> uses = symbols_used(value);
     const GiNaC::realsymbol symbol = model.definitions.define_named(name, value);
+    definition_index_[name] = definition_uses_.size();
     definition_uses_.emplace_back(symbol, uses);
     table[name] = symbol;
   }
@@ -467,10 +470,12 @@ std::set<std::string> Loader::symbols_used(const GiNaC::ex& e) const {
   std::function<void(const GiNaC::ex&)> collect = [&](const GiNaC::ex& x) {
     if (GiNaC::is_a<GiNaC::symbol>(x)) {
       const std::string s = GiNaC::ex_to<GiNaC::symbol>(x).get_name();
-      bool is_definition = false;
-      for (const auto& [sym, deps] : definition_uses_)
-        if (sym.get_name() == s) is_definition = true, uses.insert(deps.begin(), deps.end());
-      if (!is_definition) uses.insert(s);
+      if (const auto it = definition_index_.find(s); it != definition_index_.end()) {
+        const std::set<std::string>& deps = definition_uses_[it->second].second;
+        uses.insert(deps.begin(), deps.end());
+      } else {
+        uses.insert(s);
+      }
       return;
     }
     for (std::size_t i = 0; i < x.nops(); ++i) collect(x.op(i));
@@ -1106,9 +1111,7 @@ void Loader::load_fixed_tree(Model& model) {
     model.rates.emplace_back(rate);
   }
   model.quasi_velocities = model.rates;
-  const unsigned n = static_cast<unsigned>(model.coordinates.size());
-  model.A = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(n));
-  model.B = model.A;
+  // u = q̇: A = B = I, not stored (n^2 entries: 1.6 GB for a chain of 10 000 joints); the derivation states them.
   model.B_given = true;
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
   model.locations["lagrangian"] = where(tree);
@@ -1248,6 +1251,7 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model) {
     model.locations["tree.gravity"] = gravity_location_;
   }
   std::vector<std::string> names{out.base.name};
+  std::map<std::string, int> position{{out.base.name, 0}};  // name -> index in `names` (a lookup per body)
   const YAML::Node list = tree["bodies"];
   const std::string geometry = "joint axes, offsets and rotations may use parameters only";
   for (std::size_t i = 0; i < list.size(); ++i) {
@@ -1255,15 +1259,16 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model) {
     TreeBody tb;
     tb.body = rigid_body(list[i], key, constants, {"name", "parent", "joint", "mass", "com", "inertia"}, inertial);
     check_body(list[i], key, tb.body);
-    if (std::find(names.begin(), names.end(), tb.body.name) != names.end())
+    if (position.count(tb.body.name))
       fail(list[i]["name"], key + ".name", "the body '" + tb.body.name + "' is listed twice");
     const std::string parent = scalar(list[i]["parent"], key + ".parent");
-    const auto it = std::find(names.begin(), names.end(), parent);
-    if (it == names.end())
+    const auto it = position.find(parent);
+    if (it == position.end())
       fail(list[i]["parent"], key + ".parent",
            quote(parent) + " is not an earlier body" + did_you_mean(parent, names) +
                "; expected the base or a body listed before this one: " + join(names));
-    tb.parent = static_cast<int>(it - names.begin()) - 1;
+    tb.parent = it->second - 1;
+    position.emplace(tb.body.name, static_cast<int>(names.size()));
     names.push_back(tb.body.name);
 
     const YAML::Node joint = list[i]["joint"];
@@ -1336,28 +1341,8 @@ Model load_model_from_text(const std::string& text, const std::string& path) {
 }
 
 std::string read_input_file(const std::string& path, const std::string& what) {
-  namespace fs = std::filesystem;
   note_input_file(path, "the " + what);  // no output of this run may replace it
-  std::error_code ec;
-  const fs::file_status status = fs::status(path, ec);
-  if (fs::exists(status) && !fs::is_regular_file(status))
-    throw InputError(SourceLocation{path, 0, 0}, "",
-                     "the " + what + " is not a regular file (a device, pipe or folder); expected a YAML file");
-  const std::uintmax_t size = fs::file_size(path, ec);
-  if (!ec && size > kMaxInputFileBytes)
-    throw InputError(SourceLocation{path, 0, 0}, "",
-                     "the " + what + " has " + std::to_string(size) + " bytes, more than the limit of " +
-                         std::to_string(kMaxInputFileBytes) + "; expected a model of at most 1 MiB");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{path, 0, 0}, "", "cannot open the " + what);
-  // Read at most one byte beyond the limit: a file that grows while it is read is bounded too.
-  std::string text(kMaxInputFileBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  if (text.size() > kMaxInputFileBytes)
-    throw InputError(SourceLocation{path, 0, 0}, "",
-                     "the " + what + " is larger than the limit of " + std::to_string(kMaxInputFileBytes) + " bytes");
-  return text;
+  return InputFile(path, what, kMaxInputFileBytes).read_all();
 }
 
 Model load_model(const std::string& path) { return load_model_from_text(read_input_file(path, "model file"), path); }

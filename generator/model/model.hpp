@@ -108,8 +108,8 @@ struct Model {
   std::vector<GiNaC::realsymbol> quasi_velocities;  ///< u^a, eq. (u2)
   std::vector<GiNaC::realsymbol> inputs;            ///< run-time inputs in forces
 
-  GiNaC::matrix A;  ///< u = A(q) q̇, eq. (u2); rows: u^a, columns: q^b
-  GiNaC::matrix B;  ///< q̇ = B(q) u, only when given in the file
+  GiNaC::matrix A;  ///< u = A(q) q̇, eq. (u2); rows: u^a, columns: q^b (not stored for a fixed-base tree: u = q̇)
+  GiNaC::matrix B;  ///< q̇ = B(q) u, only when given in the file (a fixed-base tree: not stored, the identity)
   bool B_given = false;
   std::vector<int> constrained;  ///< indices α of quasi-velocities held at zero, eq. (PfaffianConstr)
   /// Holonomic constraints (key `holonomic`), in file order: their velocities ġ are the first quasi-velocities and

@@ -111,53 +111,65 @@ std::string joint_property_problem(const GiNaC::ex& value, const GiNaC::exmap& v
 std::string kinetic_energy_problem(const Model& model) {
   const std::size_t n = model.n();
   if (model.bundle || n == 0 || model.A.rows() != n || model.A.cols() != n) return "";
+  // Everything below works on the program (algebra/intermediates.hpp), never on its expansion: the substitution
+  // u = A q_dot, the numbers of a configuration and the derivatives by the rates become definitions of a copy, and
+  // values are taken through the definitions. Inlined, 60 definitions d_k = d_{k-1}^2 + d_{k-1} are 2^60 terms.
+  Intermediates program = model.definitions;
   // u = A(q) q_dot, eq. (u2): the Lagrangian as a function of q and q_dot alone.
   GiNaC::exmap u_of_rates;
   for (std::size_t a = 0; a < model.quasi_velocities.size() && a < n; ++a) {
     GiNaC::ex row = 0;
     for (std::size_t b = 0; b < n; ++b)
-      row += model.definitions.inline_all(model.A(static_cast<unsigned>(a), static_cast<unsigned>(b))) * model.rates[b];
+      row += model.A(static_cast<unsigned>(a), static_cast<unsigned>(b)) * model.rates[b];
     u_of_rates[model.quasi_velocities[a]] = row;
   }
-  const GiNaC::ex L = model.definitions.inline_all(model.lagrangian).subs(u_of_rates);  // through `definitions`
-  GiNaC::exmap at_rest;                                                                 // q_dot = 0
+  GiNaC::exmap at_rest;  // q_dot = 0
   for (std::size_t a = 0; a < n; ++a) at_rest[model.rates[a]] = 0;
-  for (std::size_t k = 0; k < 3; ++k) {
-    GiNaC::exmap values = parameter_defaults(model);
-    std::string point;
-    for (std::size_t a = 0; a < n; ++a) {
-      // The sample configurations of the A checks (derive/quasi_velocities.cpp), chosen the same way.
-      const long numerator = static_cast<long>((31 + 17 * a + 53 * k) % 89 + 5);
-      const GiNaC::numeric v = GiNaC::numeric(numerator, 71) * ((a + k) % 2 ? -1 : 1);
-      values[model.coordinates[a]] = v;
-      point += (point.empty() ? "" : ", ") + model.coordinates[a].get_name() + " = " + number(v.to_double());
-    }
-    values[model.time] = 0;
-    for (const auto& u : model.quasi_velocities) values[u] = 0;
-    // L at this configuration in floating point, a function of the rates alone, differentiated twice: far cheaper
-    // than the Hessian of the symbolic L evaluated entry by entry (`hamel derive` of the Whipple bicycle: 2.5 -> 1.6
-    // s).
-    GiNaC::ex L_here;
-    try {
-      L_here = L.subs(values).evalf();
-    } catch (const std::exception&) {
-      return "";  // not a number at the defaults: nothing to decide here
-    }
-    std::vector<double> h(n * n);
-    for (std::size_t a = 0; a < n; ++a) {
-      const GiNaC::ex dL = L_here.diff(model.rates[a]);
-      for (std::size_t b = a; b < n; ++b) {
-        h[a * n + b] = h[b * n + a] = value_at(dL.diff(model.rates[b]), at_rest);
-        if (std::isnan(h[a * n + b])) return "";
+  try {
+    Intermediates::SubstitutionMemo through_rates;
+    const GiNaC::ex L = program.substitute(model.lagrangian, u_of_rates, through_rates);
+    for (std::size_t k = 0; k < 3; ++k) {
+      GiNaC::exmap values = parameter_defaults(model);
+      std::string point;
+      for (std::size_t a = 0; a < n; ++a) {
+        // The sample configurations of the A checks (derive/quasi_velocities.cpp), chosen the same way.
+        const long numerator = static_cast<long>((31 + 17 * a + 53 * k) % 89 + 5);
+        const GiNaC::numeric v = GiNaC::numeric(numerator, 71) * ((a + k) % 2 ? -1 : 1);
+        values[model.coordinates[a]] = v;
+        point += (point.empty() ? "" : ", ") + model.coordinates[a].get_name() + " = " + number(v.to_double());
       }
+      values[model.time] = 0;
+      for (const auto& u : model.quasi_velocities) values[u] = 0;
+      // L at this configuration in floating point (floats, not exact numbers: exact arithmetic through definitions
+      // can double the digits per definition), a function of the rates alone, differentiated twice: far cheaper than
+      // the Hessian of the symbolic L evaluated entry by entry (`hamel derive` of the Whipple bicycle: 2.5 -> 1.6 s).
+      for (auto& [symbol, v] : values) v = v.evalf();
+      Intermediates::SubstitutionMemo here;
+      const GiNaC::ex L_here = program.substitute(L, values, here);
+      const std::vector<GiNaC::symbol> rates(model.rates.begin(), model.rates.end());
+      const std::vector<GiNaC::ex> dL = program.diff(L_here, rates);
+      Intermediates::ValueMemo rest;
+      std::vector<double> h(n * n);
+      for (std::size_t a = 0; a < n; ++a) {
+        const std::vector<GiNaC::ex> d2L = program.diff(dL[a], rates);
+        for (std::size_t b = a; b < n; ++b) {
+          const GiNaC::ex v = program.value_at(d2L[b], at_rest, rest);
+          if (!GiNaC::is_a<GiNaC::numeric>(v) || !GiNaC::ex_to<GiNaC::numeric>(v).is_real())
+            return "";  // not a number at the defaults: nothing to decide here
+          h[a * n + b] = h[b * n + a] = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+          if (!std::isfinite(h[a * n + b])) return "";
+        }
+      }
+      const std::vector<double> e = symmetric_eigenvalues(h, n);
+      const double scale = std::max({std::fabs(e.front()), std::fabs(e.back()), 1e-300});
+      if (e.front() < -1e-9 * scale)
+        return "the kinetic energy is not positive semi-definite: d^2L/dq_dot^2 has the eigenvalue " +
+               number(e.front()) + " at " + point +
+               ", q_dot = 0, parameters at their defaults; expected a positive "
+               "kinetic energy";
     }
-    const std::vector<double> e = symmetric_eigenvalues(h, n);
-    const double scale = std::max({std::fabs(e.front()), std::fabs(e.back()), 1e-300});
-    if (e.front() < -1e-9 * scale)
-      return "the kinetic energy is not positive semi-definite: d^2L/dq_dot^2 has the eigenvalue " + number(e.front()) +
-             " at " + point +
-             ", q_dot = 0, parameters at their defaults; expected a positive "
-             "kinetic energy";
+  } catch (const std::exception&) {
+    return "";  // not a number at the defaults (a division by zero, an overflow): nothing to decide here
   }
   return "";
 }

@@ -5,6 +5,7 @@
 
 #include "model/model.hpp"
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -20,13 +21,18 @@ class InputSources {
   /// names the command-line option in errors).
   void add_assignments(const std::vector<std::string>& items, const std::string& option);
   void set_constant(const std::string& name, double value, const std::string& option);
-  /// Columns t, then input names; linear interpolation. Throws InputError naming file:line:column.
+  /// Columns t, then input names; linear interpolation. Throws InputError naming file:line:column. The file is
+  /// read line by line (at most kMaxTableFileBytes, a regular file: model/input_file.hpp), in time and memory
+  /// linear in its size (8 bytes per value).
   void load_csv(const std::string& path);
 
   /// True when some input depends on t or the state (else one evaluation serves the whole run).
   bool varying() const { return varying_; }
-  /// in[k] for the model's k-th input at (t, x).
+  /// in[k] for the model's k-th input at (t, x). Laws run compiled, in the IR's interpreter in double
+  /// (numeric/graph_evaluator.hpp, as the model's kernels do), not through GiNaC on every call.
   void evaluate(double t, const double* x, double* in) const;
+  /// Whether the model's k-th input is a law that runs compiled (what the IR does not hold stays with GiNaC).
+  bool compiled(std::size_t k) const { return sources_.at(k).kind == Source::law && sources_.at(k).compiled >= 0; }
 
  private:
   struct Source {
@@ -35,7 +41,10 @@ class InputSources {
     GiNaC::ex expression;
     int column = 0;      // into the table
     std::string origin;  // where it was set, for "given twice"
+    int compiled = -1;   // a law's position among the compiled laws' outputs (-1: evaluated through GiNaC)
   };
+  struct CompiledLaws;  // the laws' graph and its evaluator
+  void compile_laws();
   std::size_t index_of(const std::string& name, const std::string& option) const;
   void claim(std::size_t k, const std::string& origin, const std::string& option);
 
@@ -46,8 +55,10 @@ class InputSources {
   GiNaC::exmap parameter_values_;
   std::vector<GiNaC::realsymbol> state_symbols_;
   std::vector<double> times_;
-  std::vector<std::vector<double>> rows_;  // per time: one value per table column
+  std::vector<double> rows_;  // per time, one value per table column, row after row (no allocation per row)
+  std::size_t columns_ = 0;   // table columns besides t
   bool varying_ = false;
+  std::shared_ptr<CompiledLaws> compiled_;
 };
 
 }  // namespace hamel

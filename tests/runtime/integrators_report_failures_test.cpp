@@ -425,3 +425,39 @@ TEST(RuntimeFailure, AdaptiveIntegratorsRejectSettingsThatMakeNoSense) {
 }
 
 }  // namespace
+
+// A sampling interval below the resolution of t (t + dt == t: the next sample never moves) or asking for more
+// samples than any run can observe never returned (issue 46); it is the caller's mistake, invalid_argument before
+// any work.
+TEST(RuntimeFailure, IntegratorsRejectASamplingIntervalBelowTheResolutionOfTime) {
+  struct Bad {
+    const char* what;
+    double t0, t_end, sample_dt;
+  };
+  const Bad cases[] = {{"1e-300 on [0, 1]", 0.0, 1.0, 1e-300},
+                       {"1e-17 at t0 = 1", 1.0, 1.001, 1e-17},
+                       {"1e-17 at t0 = 1, backwards", 1.0, 0.999, 1e-17},
+                       {"denormal", 0.0, 1.0, 5e-324}};
+  int observed = 0;
+  auto count = [&](double, const double*) { ++observed; };
+  for (const Bad& c : cases) {
+    const IntegrationResult k = integrate_rk4(blow_up_rhs, {0.5}, c.t0, c.t_end, 1e-3, c.sample_dt, count);
+    const IntegrationResult a =
+        integrate_dopri5(blow_up_rhs, {0.5}, c.t0, c.t_end, Dopri5Options{}, c.sample_dt, count);
+    const IntegrationResult b =
+        integrate_dop853(blow_up_rhs, {0.5}, c.t0, c.t_end, Dop853Options{}, c.sample_dt, count);
+    const IntegrationResult r =
+        integrate_radau5(blow_up_rhs, blow_up_jac, {0.5}, c.t0, c.t_end, Radau5Options{}, c.sample_dt, count);
+    for (const IntegrationResult* x : {&k, &a, &b, &r}) {
+      EXPECT_EQ(x->status, Status::invalid_argument) << c.what;
+      EXPECT_EQ(x->stats.rhs_evals, 0) << c.what;
+      EXPECT_EQ(x->t, c.t0) << c.what;
+    }
+  }
+  EXPECT_EQ(observed, 0);
+  // What stays valid: no sampling (0, negative, NaN), an interval of a few ulps of t, one longer than the run.
+  for (const double dt : {0.0, -1.0, kNaN, 1e-15, 10.0}) {
+    const IntegrationResult k = integrate_rk4(blow_up_rhs, {0.5}, 1.0, 1.0 + 1e-12, 1e-13, dt, NoObserver{});
+    EXPECT_EQ(k.status, Status::ok) << dt;
+  }
+}

@@ -193,7 +193,8 @@ struct Dop853Workspace {
 /// suffice.
 ///
 /// invalid_argument, before any work: a tolerance that is negative or not
-/// finite, opt.h0 not finite, opt.h_max negative or NaN; in the heap-free form
+/// finite, opt.h0 not finite, opt.h_max negative or NaN, a sample_dt below the
+/// resolution of t or asking for more than 1e15 samples (detail::sampling_valid); in the heap-free form
 /// also a work space smaller than Dop853Workspace::doubles(n) (or null).
 ///
 /// Heap-free form: x holds the n initial values on entry and the state at the
@@ -212,7 +213,7 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
                                     Dop853Workspace work, Projector&& project) {
   namespace k = detail::dop853;
   detail::AdaptiveSteps<Dop853Options> steps(t0, t_end, opt);
-  if (!steps.start(x, n, work.data, work.size, Dop853Workspace::doubles(n), observe)) {
+  if (!steps.start(x, n, work.data, work.size, Dop853Workspace::doubles(n), sample_dt, observe)) {
     return steps.result;
   }
 

@@ -86,7 +86,8 @@ struct Dopri5Workspace {
 /// underflow limit; too_many_steps when opt.max_steps attempts do not suffice.
 ///
 /// invalid_argument, before any work: a tolerance that is negative or not
-/// finite, opt.h0 not finite, opt.h_max negative or NaN; in the heap-free form
+/// finite, opt.h0 not finite, opt.h_max negative or NaN, a sample_dt below the
+/// resolution of t or asking for more than 1e15 samples (detail::sampling_valid); in the heap-free form
 /// also a work space smaller than Dopri5Workspace::doubles(n) (or null).
 ///
 /// Heap-free form: x holds the n initial values on entry and the state at the
@@ -106,7 +107,7 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
                                     Dopri5Workspace work, Projector&& project) {
   namespace k = detail::dopri5;
   detail::AdaptiveSteps<Dopri5Options> steps(t0, t_end, opt);
-  if (!steps.start(x, n, work.data, work.size, Dopri5Workspace::doubles(n), observe)) {
+  if (!steps.start(x, n, work.data, work.size, Dopri5Workspace::doubles(n), sample_dt, observe)) {
     return steps.result;
   }
 

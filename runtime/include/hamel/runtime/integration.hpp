@@ -115,6 +115,19 @@ inline bool adaptive_settings_valid(double rtol, double atol, double h0, double 
   return rtol >= 0 && std::isfinite(rtol) && atol >= 0 && std::isfinite(atol) && std::isfinite(h0) && h_max >= 0;
 }
 
+/// Whether sampling every dt on [t0, t_end] can be done: true when sampling is off (dt <= 0 or NaN), the interval is
+/// empty or t0, t_end are not finite (reported otherwise); false, for invalid_argument before any work, when dt is
+/// below the resolution of t on the interval (t + dt == t for some t in it: consecutive samples would be the same
+/// time) or asks for more than 1e15 samples (the limit on fixed steps): either never finishes.
+inline bool sampling_valid(double t0, double t_end, double dt) {
+  if (!(dt > 0) || t0 == t_end || !std::isfinite(t0) || !std::isfinite(t_end)) {
+    return true;
+  }
+  const double t_max = std::max(std::fabs(t0), std::fabs(t_end));
+  const double resolution = 2 * std::numeric_limits<double>::epsilon() * t_max;
+  return dt > resolution && std::fabs(t_end - t0) / dt <= 1e15;
+}
+
 /// Smallest step the integrators accept at time t. Below it t + h is no longer
 /// meaningfully different from t, so continuing would only burn time.
 inline double min_step(double t) { return 1e-14 * std::max(1.0, std::fabs(t)); }
@@ -196,6 +209,9 @@ class SampleClock {
         guard_(std::max(1e-9 * dt_,
                         8 * std::numeric_limits<double>::epsilon() * std::max(std::fabs(t0), std::fabs(t_end)))) {}
 
+  /// Whether the sampling can be done (sampling_valid).
+  bool valid() const { return sampling_valid(t0_, t_end_, dt_); }
+
   /// Whether sampling was requested at all.
   bool enabled() const { return dt_ > 0; }
 
@@ -246,12 +262,13 @@ struct AdaptiveSteps {
   }
 
   /// The checks before any work, then the observation of t0: false when the run ends there, invalid_argument for
-  /// settings that make no sense or buffers (x, and `size` doubles of work where `needed` are required) that do not
-  /// fit, non_finite_state for a non-finite t0, t_end or state, ok when t_end == t0.
+  /// settings that make no sense (sampling_valid too) or buffers (x, and `size` doubles of work where `needed` are
+  /// required) that do not fit, non_finite_state for a non-finite t0, t_end or state, ok when t_end == t0.
   template <class Observer>
-  bool start(const double* x, std::size_t n, const double* work, std::size_t size, std::size_t needed,
+  bool start(const double* x, std::size_t n, const double* work, std::size_t size, std::size_t needed, double sample_dt,
              Observer& observe) {
-    if (!buffers_fit(x, n, work, size, needed) || !adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max)) {
+    if (!buffers_fit(x, n, work, size, needed) || !adaptive_settings_valid(opt.rtol, opt.atol, opt.h0, opt.h_max) ||
+        !sampling_valid(t0, t_end, sample_dt)) {
       return end(Status::invalid_argument);
     }
     if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {

@@ -218,7 +218,8 @@ class Run {
   Next start() {
     if (!detail::buffers_fit(x_, n_, work_.data, work_.size, Radau5Workspace::doubles(n_)) ||
         (work_.pivots == nullptr && Radau5Workspace::ints(n_) > 0) || work_.pivot_count < Radau5Workspace::ints(n_) ||
-        !detail::adaptive_settings_valid(opt_.rtol, opt_.atol, opt_.h0, opt_.h_max) || !(opt_.fixed_step >= 0)) {
+        !detail::adaptive_settings_valid(opt_.rtol, opt_.atol, opt_.h0, opt_.h_max) || !(opt_.fixed_step >= 0) ||
+        !clock_.valid()) {
       return stop(Status::invalid_argument);
     }
     if (!std::isfinite(t0_) || !std::isfinite(t_end_) || !all_finite(x_, n_)) {
@@ -735,7 +736,8 @@ class Run {
 /// and 4 n ints (Radau5Workspace).
 ///
 /// invalid_argument, before any work: a tolerance that is negative or not
-/// finite, opt.h0 not finite, opt.h_max or opt.fixed_step negative or NaN; in
+/// finite, opt.h0 not finite, opt.h_max or opt.fixed_step negative or NaN, a
+/// sample_dt below the resolution of t or asking for more than 1e15 samples (detail::sampling_valid); in
 /// the heap-free form also a work space smaller than Radau5Workspace::doubles(n)
 /// doubles and Radau5Workspace::ints(n) ints (or null).
 ///

@@ -52,7 +52,8 @@ struct Rk4Workspace {
 ///
 /// Failures: a non-finite t0, t_end, initial state or state derivative, or a
 /// non-finite state after a step, gives non_finite_state with the last finite
-/// state and its time; h <= 0 (or NaN) gives invalid_argument; a step below
+/// state and its time; h <= 0 (or NaN), or a sample_dt below the resolution of t
+/// or asking for more than 1e15 samples (detail::sampling_valid), gives invalid_argument; a step below
 /// 1e-14 * max(1, |t|) gives step_size_underflow; more than 1e15 steps gives
 /// too_many_steps.
 ///
@@ -70,7 +71,8 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
                                  double sample_dt, Observer&& observe, Rk4Workspace work, Projector&& project) {
   IntegrationOutcome result;
   result.t = t0;
-  if (!detail::buffers_fit(x_io, n, work.data, work.size, Rk4Workspace::doubles(n))) {
+  if (!detail::buffers_fit(x_io, n, work.data, work.size, Rk4Workspace::doubles(n)) ||
+      !detail::sampling_valid(t0, t_end, sample_dt)) {
     result.status = Status::invalid_argument;
     return result;
   }

@@ -75,7 +75,8 @@ std::array<double, N> scaled(double a, const std::array<double, N>& x) {
 /// first) plus one when a sample falls inside the last step.
 ///
 /// Failures: a non-finite t0, t_end or g0, or a non-finite velocity or state,
-/// gives non_finite_state with the last finite state and its time; h <= 0 gives invalid_argument, a
+/// gives non_finite_state with the last finite state and its time; h <= 0, or a sample_dt that
+/// detail::sampling_valid refuses, gives invalid_argument, a
 /// step below 1e-14 * max(1, |t|) gives step_size_underflow; more than 1e15
 /// steps gives too_many_steps.
 ///
@@ -97,6 +98,9 @@ GroupIntegrationResult<Group> integrate_rkmk4(Trivialization side, Xi&& xi, cons
     result.status = status;
     return result;
   };
+  if (!hamel::runtime::detail::sampling_valid(t0, t_end, sample_dt)) {
+    return finish(Status::invalid_argument);
+  }
   if (!std::isfinite(t0) || !std::isfinite(t_end) || !Group::is_finite(g0)) {
     return finish(Status::non_finite_state);
   }

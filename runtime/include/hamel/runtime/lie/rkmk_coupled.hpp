@@ -106,8 +106,8 @@ struct RkmkCoupledWorkspace {
 /// evaluations of the pair (f, xi): 4 per step, plus one when a sample falls
 /// inside the last step. A non-finite t0, t_end, g0 or x0, or a non-finite f,
 /// xi or state, gives non_finite_state with the last finite state and its time;
-/// h <= 0 gives invalid_argument, a step below 1e-14 * max(1, |t|) gives step_size_underflow; more
-/// than 1e15 steps gives too_many_steps.
+/// h <= 0, or a sample_dt that detail::sampling_valid refuses, gives invalid_argument, a step below 1e-14 * max(1, |t|)
+/// gives step_size_underflow; more than 1e15 steps gives too_many_steps.
 ///
 /// Heap-free form: x holds the n initial values on entry and the vector state at the returned t on
 /// return, the outcome the group state at t; work is RkmkCoupledWorkspace::doubles(n) doubles of the
@@ -127,7 +127,8 @@ CoupledIntegrationOutcome<Group> integrate_rkmk4_coupled(Trivialization side, F&
   CoupledIntegrationOutcome<Group> result;
   result.t = t0;
   result.g = g0;
-  if (!hamel::runtime::detail::buffers_fit(x_io, n, work.data, work.size, RkmkCoupledWorkspace::doubles(n))) {
+  if (!hamel::runtime::detail::buffers_fit(x_io, n, work.data, work.size, RkmkCoupledWorkspace::doubles(n)) ||
+      !hamel::runtime::detail::sampling_valid(t0, t_end, sample_dt)) {
     result.status = Status::invalid_argument;
     return result;
   }

@@ -1,5 +1,6 @@
 #include "algebra/contract_trig.hpp"
 
+#include "algebra/expression_text.hpp"
 #include "algebra/simplify.hpp"
 
 #include <algorithm>
@@ -202,7 +203,7 @@ std::optional<LinearTerm> linearize_term(const ex& term, Angles& angles) {
 // Coefficients collected exactly where that is cheap (terms that cancel only once expanded).
 void tidy(Fourier& f) {
   for (auto it = f.begin(); it != f.end();) {
-    if (printed_size(it->second, 200) <= 200) it->second = it->second.expand();
+    if (node_count(it->second, 200) <= 200) it->second = it->second.expand();
     it = it->second.is_zero() ? f.erase(it) : std::next(it);
   }
 }
@@ -219,11 +220,8 @@ ex as_ex(const Fourier& f, const Angles& angles) {
       out += c * GiNaC::cos(negative_angle(angle) ? -angle : angle);
       continue;
     }
-    // c sin(a) or −c sin(−a): the one with fewer nodes (l sin(a−b), not −l sin(b−a)), whichever order GiNaC
-    // gave the terms of a; on a tie the angle whose leading term is positive.
-    const ex plain = c * GiNaC::sin(angle), flipped = -c * GiNaC::sin(-angle);
-    const std::size_t n_plain = printed_size(plain, 1000), n_flipped = printed_size(flipped, 1000);
-    out += n_plain < n_flipped || (n_plain == n_flipped && !negative_angle(angle)) ? plain : flipped;
+    // c sin(a), or −c sin(−a) for an angle whose leading term is negative (how it prints, algebra/expression_text).
+    out += negative_angle(angle) ? -c * GiNaC::sin(-angle) : c * GiNaC::sin(angle);
   }
   return out;
 }
@@ -258,7 +256,7 @@ bool may_contract(const std::vector<ex>& terms) {
 // The nodes of a sum are 1 + those of its terms: the nodes its terms add to another sum.
 std::size_t terms_size(const ex& x) {
   if (x.is_zero()) return 0;
-  const std::size_t n = printed_size(x, unlimited);
+  const std::size_t n = node_count(x, unlimited);
   return is_a<GiNaC::add>(x) ? n - 1 : n;
 }
 
@@ -306,16 +304,27 @@ class SumContraction {
 };
 
 SumContraction::SumContraction(const std::vector<ex>& terms) {
+  // The angles are numbered in structural order, not in GiNaC's term order (which follows hash values that include
+  // addresses): the numbering orders the groups, and ties between equally short forms go to the first group.
+  std::vector<ex> bases;
+  for (const ex& t : terms)
+    for (std::size_t i = 0; i < (is_a<GiNaC::mul>(t) ? t.nops() : 1); ++i) {
+      const ex x = is_a<GiNaC::mul>(t) ? t.op(i) : t;
+      const ex base = is_a<GiNaC::power>(x) ? x.op(0) : x;
+      if (trig_kind(base)) bases.push_back(base.op(0));
+    }
+  std::sort(bases.begin(), bases.end(), structurally_less);
+  for (const ex& b : bases) angles_.index(b);
   for (const ex& t : terms) {
     std::optional<LinearTerm> l = linearize_term(t, angles_);
     if (!l) {
       fixed_ += t;
-      fixed_size_ += printed_size(t, unlimited);
+      fixed_size_ += node_count(t, unlimited);
       continue;
     }
     Group& g = by_atoms_[l->bases];
     g.original += t;
-    g.original_size += printed_size(t, unlimited);
+    g.original_size += node_count(t, unlimited);
     ++g.terms;
     g.degree = std::max(g.degree, trig_degree(l->monomial));
     g.by_monomial[l->monomial] += l->coefficient;
@@ -332,9 +341,9 @@ void SumContraction::complete_groups() {
     // their own linear form: linearized, they merge with the modes of other linearized groups.
     g.linearizable = g.linear.size() <= g.by_monomial.size() + 1;
     for (const auto& [monomial, c] : g.by_monomial) {
-      const ex term = (printed_size(c, 200) <= 200 ? c.expand() : c) * monomial;
+      const ex term = (node_count(c, 200) <= 200 ? c.expand() : c) * monomial;
       g.collected += term;
-      g.collected_size += printed_size(term, unlimited);
+      g.collected_size += node_count(term, unlimited);
     }
     groups_.push_back(std::move(g));
   }
@@ -352,7 +361,7 @@ ex SumContraction::linear_part(const std::vector<Form>& form) {
       }
   // Each group's coefficients are collected already: only modes shared by groups need it again.
   for (auto it = pool.begin(); it != pool.end();) {
-    if (contributions[it->first] > 1 && printed_size(it->second, 200) <= 200) it->second = it->second.expand();
+    if (contributions[it->first] > 1 && node_count(it->second, 200) <= 200) it->second = it->second.expand();
     it = it->second.is_zero() ? pool.erase(it) : std::next(it);
   }
   return fixed_ + as_ex(pool, angles_);
@@ -434,11 +443,11 @@ ex SumContraction::best(const ex& e) {
   // The estimate ignores merges of the linear part with the fixed terms: the choice and each group's own best are
   // built and counted.
   ex best = e;
-  std::size_t size = printed_size(e, unlimited);
+  std::size_t size = node_count(e, unlimited);
   for (const std::vector<Form>& form : {choice, local}) {
     if (std::all_of(form.begin(), form.end(), [](Form f) { return f == original; })) continue;
     const ex x = built(form);
-    const std::size_t n = printed_size(x, size);
+    const std::size_t n = node_count(x, size);
     if (n < size) best = x, size = n;
   }
   return best;

@@ -1,12 +1,13 @@
 #include "algebra/identity_test.hpp"
 
+#include "algebra/expression_text.hpp"
 #include "algebra/modular_arithmetic.hpp"
 #include "algebra/simplify.hpp"
 
 #include <cstdint>
 #include <map>
 #include <optional>
-#include <random>
+#include <string>
 #include <unordered_map>
 #include <utility>
 #include <vector>
@@ -19,51 +20,35 @@ using GiNaC::is_a;
 
 namespace {
 
-using modular::add_mod;
+using modular::Circle;
+using modular::inverse_of_nonzero;
 using modular::mul_mod;
-using modular::pow_mod;
+using modular::Pole;
 using modular::prime;
+using modular::Residue;
 using modular::sub_mod;
 using modular::u64;
 
-struct Pole {};         // a denominator vanishes at this point: draw another
 struct Undecidable {};  // the expression is not a rational function of symbols and circle points
 
-u64 inverse(u64 a) {
-  if (a == 0) throw Pole{};
-  return modular::inverse_of_nonzero(a);
-}
-
-// The square root of a modulo p ≡ 3 (mod 4): a^((p+1)/4) when a is a square. x^(j/2) is read as r^j with
-// this one root r of x (memoized per expression, so √x, 1/√x and x^(3/2) and their derivatives agree): the
-// identities of the algebraic extension by √x hold. A point where x is not a square is drawn again (Pole);
-// identities that depend on the branch of two different roots (√a √b = √(ab)) are not recognised.
-u64 square_root(u64 a) {
-  if (a == 0) return 0;
-  const u64 r = pow_mod(a, (prime + 1) / 4);
-  if (mul_mod(r, r) != a) throw Pole{};
-  return r;
-}
-
-u64 residue(const GiNaC::numeric& n) {
+Residue residue(const GiNaC::numeric& n) {
   if (!n.is_rational()) throw Undecidable{};
   static const GiNaC::numeric p(static_cast<long>(prime));
   const u64 num = static_cast<u64>(GiNaC::mod(n.numer(), p).to_long());
   const u64 den = static_cast<u64>(GiNaC::mod(n.denom(), p).to_long());
-  return mul_mod(num, inverse(den));
+  return modular::divide({num}, {den});
 }
-
-using modular::Circle;
 
 struct ExHash {
   std::size_t operator()(const ex& e) const { return e.gethash(); }
 };
 
-// One random point: residues for symbols and constants, circle points for angles, and every
-// intermediate through its definition (memoized).
+// One random point: residues for symbols and constants, circle points for angles, and every intermediate through its
+// definition (memoized). The values are drawn for names (a symbol's, a constant's, an angle's as printed,
+// algebra/expression_text), not in the order this walk meets them, which follows GiNaC's term order.
 class ModularPoint {
  public:
-  ModularPoint(const Intermediates& program, u64 seed) : program_(program), rng_(seed) {}
+  ModularPoint(const Intermediates& program, u64 seed) : program_(program), point_(seed) {}
 
   u64 value(const ex& e) {
     if (auto it = memo_.find(e); it != memo_.end()) return it->second;
@@ -73,43 +58,38 @@ class ModularPoint {
   }
 
  private:
-  u64 draw() { return std::uniform_int_distribution<u64>(1, prime - 1)(rng_); }
-
   u64 compute(const ex& e) {
-    if (is_a<GiNaC::numeric>(e)) return residue(ex_to<GiNaC::numeric>(e));
+    if (is_a<GiNaC::numeric>(e)) return residue(ex_to<GiNaC::numeric>(e)).value;
     if (is_a<GiNaC::symbol>(e)) {
       if (const std::optional<ex> def = program_.definition_of(e)) return value(*def);
       return free_value(e);
     }
     if (is_a<GiNaC::constant>(e)) return free_value(e);  // π, e: transcendental, so independent
-    if (is_a<GiNaC::add>(e)) {
-      u64 s = 0;
-      for (std::size_t i = 0; i < e.nops(); ++i) s = add_mod(s, value(e.op(i)));
-      return s;
-    }
-    if (is_a<GiNaC::mul>(e)) {
-      u64 s = 1;
-      for (std::size_t i = 0; i < e.nops(); ++i) s = mul_mod(s, value(e.op(i)));
-      return s;
+    if (is_a<GiNaC::add>(e) || is_a<GiNaC::mul>(e)) {
+      const bool sum = is_a<GiNaC::add>(e);
+      Residue s{sum ? 0U : 1U};
+      for (std::size_t i = 0; i < e.nops(); ++i) {
+        const Residue x{value(e.op(i))};
+        s = sum ? s + x : s * x;
+      }
+      return s.value;
     }
     if (is_a<GiNaC::power>(e)) {
       const ex k = e.op(1);
       if (!is_a<GiNaC::numeric>(k) || !ex_to<GiNaC::numeric>(k).is_rational()) throw Undecidable{};
       GiNaC::numeric kk = ex_to<GiNaC::numeric>(k);
-      u64 base = value(e.op(0));
+      Residue base{value(e.op(0))};
       if (!kk.is_integer()) {  // x^(j/2): the canonical square root of x, read as one algebraic element
         if (kk.denom() != 2) throw Undecidable{};
-        base = square_root(base);
+        base = modular::square_root(base);
         kk = kk * 2;
       }
-      if (base == 0) {
+      if (base.is_zero()) {
         if (kk.is_negative()) throw Pole{};
         return 0;
       }
-      const u64 magnitude =
-          static_cast<u64>(GiNaC::mod(GiNaC::abs(kk), GiNaC::numeric(static_cast<long>(prime - 1))).to_long());
-      const u64 r = pow_mod(base, magnitude);
-      return kk.is_negative() ? inverse(r) : r;
+      const long magnitude = GiNaC::mod(GiNaC::abs(kk), GiNaC::numeric(static_cast<long>(prime - 1))).to_long();
+      return modular::power(base, kk.is_negative() ? -magnitude : magnitude).value;
     }
     if (is_a<GiNaC::function>(e)) {
       const std::string name = ex_to<GiNaC::function>(e).get_name();
@@ -117,24 +97,30 @@ class ModularPoint {
         const Circle z = angle(e.op(0));
         if (name == "sin") return z.s;
         if (name == "cos") return z.c;
-        return mul_mod(z.s, inverse(z.c));
+        return modular::divide({z.s}, {z.c}).value;
       }
     }
     throw Undecidable{};
   }
 
+  // The residue of a free symbol or constant, drawn for its name; distinct symbols that share a name (never in a
+  // model, whose names are unique) are told apart by the order they are met in.
   u64 free_value(const ex& s) {
     auto it = free_.find(s);
-    if (it == free_.end()) it = free_.emplace(s, draw()).first;
+    if (it == free_.end()) it = free_.emplace(s, point_.residue(key(s, free_names_)).value).first;
     return it->second;
   }
 
-  Circle circle_for(const ex& key) {
-    auto it = circles_.find(key);
-    if (it == circles_.end()) {
-      it = circles_.emplace(key, Circle::at(draw())).first;
-    }
+  Circle circle_for(const ex& angle) {
+    auto it = circles_.find(angle);
+    if (it == circles_.end()) it = circles_.emplace(angle, point_.circle(key(angle, circle_names_))).first;
     return it->second;
+  }
+
+  // The key of `e`'s value: its text, and how many distinct expressions of that text came before it.
+  static u64 key(const ex& e, std::map<std::string, u64>& seen) {
+    const std::string text = to_text(e);
+    return modular::key_of(text) + seen[text]++;
   }
 
   // e^{iθ} for θ = Σ k_i x_i + rest: integer multiples of symbols (read through linear definitions)
@@ -173,10 +159,11 @@ class ModularPoint {
   }
 
   const Intermediates& program_;
-  std::mt19937_64 rng_;
+  modular::RandomPoint point_;
   std::unordered_map<ex, u64, ExHash, GiNaC::ex_is_equal> memo_;
   std::map<ex, u64, GiNaC::ex_is_less> free_;
   std::map<ex, Circle, GiNaC::ex_is_less> circles_;
+  std::map<std::string, u64> free_names_, circle_names_;  ///< distinct expressions met per text
 };
 
 u64 determinant_mod(std::vector<std::vector<u64>> a) {
@@ -188,7 +175,7 @@ u64 determinant_mod(std::vector<std::vector<u64>> a) {
     if (pivot == n) return 0;
     if (pivot != c) std::swap(a[pivot], a[c]), det = sub_mod(0, det);
     det = mul_mod(det, a[c][c]);
-    const u64 inv = inverse(a[c][c]);
+    const u64 inv = inverse_of_nonzero(a[c][c]);
     for (std::size_t r = c + 1; r < n; ++r) {
       const u64 f = mul_mod(a[r][c], inv);
       if (f == 0) continue;
@@ -230,6 +217,18 @@ Identity identically_singular(const GiNaC::matrix& m, const Intermediates& progr
       for (unsigned j = 0; j < m.cols(); ++j) a[i][j] = point.value(m(i, j));
     return determinant_mod(std::move(a)) == 0;
   });
+}
+
+bool shown_singular(const GiNaC::matrix& m, const Intermediates& program) {
+  switch (identically_singular(m, program)) {
+    case Identity::zero:
+      return true;
+    case Identity::nonzero:
+      return false;
+    case Identity::undecided:
+      break;
+  }
+  return is_zero_almost_surely(m.determinant());
 }
 
 bool shown_zero(const ex& e, const Intermediates& program) {

@@ -13,6 +13,14 @@
 // Square roots are algebraic elements (x^(j/2) = r^j for one root r of x). Expressions this cannot read
 // (exp, a float, sin of a non-linear argument mixed with its expansion) answer `undecided`, and callers
 // fall back to what they did before.
+//
+// The arithmetic is algebra/modular_arithmetic's Residue and its random points (RandomPoint, values drawn for the
+// names of symbols and the printed text of angles, so a decision does not follow GiNaC's term order), the number
+// type the IR's zero test (emit/zero_test, through emit/interpreter.hpp) computes in too. This test walks GiNaC
+// expressions instead of the IR because it decides during the derivation, before any graph exists, on expressions
+// whose coefficients are exact rationals (the graph holds doubles: 1/3 would not be 1/3), and because it must also
+// answer "nonzero" soundly: a function it cannot relate to its argument makes it undecided, where the IR's test,
+// which only ever answers "zero", reads it as a free variable.
 #pragma once
 
 #include "algebra/intermediates.hpp"
@@ -28,6 +36,10 @@ Identity identically_zero(const GiNaC::ex& e, const Intermediates& program);
 
 /// Is det(m) identically zero? (Gaussian elimination modulo p at random points.)
 Identity identically_singular(const GiNaC::matrix& m, const Intermediates& program);
+
+/// True when det(m) is shown identically zero: by identically_singular() above, or where that cannot decide, by
+/// is_zero_almost_surely (algebra/simplify.hpp) of the symbolic determinant (intermediates read as free symbols).
+bool shown_singular(const GiNaC::matrix& m, const Intermediates& program);
 
 /// True when `e` is shown identically zero: by identically_zero() above, or where that cannot decide,
 /// by the normal form of simplify_bounded() (intermediates read as free symbols: "zero" is then still a

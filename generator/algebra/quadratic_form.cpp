@@ -1,6 +1,7 @@
 #include "algebra/quadratic_form.hpp"
 
 #include "algebra/identity_test.hpp"
+#include "rbd/ldlt.hpp"
 
 #include <string>
 
@@ -29,36 +30,19 @@ bool is_quadratic_form(const ex& T, const std::vector<GiNaC::realsymbol>& v, con
 
 matrix solve_positive_definite(const matrix& L, const matrix& K, Intermediates& program, std::size_t inline_size) {
   const unsigned m = L.rows(), d = K.cols();
-  matrix F(m, m);  // unit lower triangle
-  std::vector<ex> D(m);
-  for (unsigned k = 0; k < m; ++k) {
-    ex pivot = L(k, k);
-    for (unsigned j = 0; j < k; ++j)
-      if (!F(k, j).is_zero()) pivot -= F(k, j) * F(k, j) * D[j];
-    D[k] = program.keep(pivot);
-    for (unsigned i = k + 1; i < m; ++i) {
-      ex e = L(i, k);
-      for (unsigned j = 0; j < k; ++j)
-        if (!F(i, j).is_zero() && !F(k, j).is_zero()) e -= F(i, j) * F(k, j) * D[j];
-      F(i, k) = e.is_zero() ? ex(0) : program.keep(e / D[k]);
-    }
-  }
+  rbd::LdltOptions<ex> o;
+  const rbd::Namer<ex> keep([&program](const ex& e) { return program.keep(e); });
+  o.pivot = o.factor = o.forward = keep;
+  o.solution = rbd::Namer<ex>([&program, inline_size](const ex& e) { return program.keep(e, inline_size); });
+  std::vector<std::vector<ex>> S(m, std::vector<ex>(m)), columns(d, std::vector<ex>(m));
+  for (unsigned i = 0; i < m; ++i)
+    for (unsigned j = 0; j < m; ++j) S[i][j] = L(i, j);
+  for (unsigned c = 0; c < d; ++c)
+    for (unsigned i = 0; i < m; ++i) columns[c][i] = K(i, c);
+  const std::vector<std::vector<ex>> solved = rbd::ldlt_solve(S, columns, o);
   matrix X(m, d);
-  for (unsigned c = 0; c < d; ++c) {
-    std::vector<ex> y(m);
-    for (unsigned i = 0; i < m; ++i) {
-      ex e = K(i, c);
-      for (unsigned j = 0; j < i; ++j)
-        if (!F(i, j).is_zero()) e -= F(i, j) * y[j];
-      y[i] = program.keep(e);
-    }
-    for (unsigned i = m; i-- > 0;) {
-      ex e = y[i] / D[i];
-      for (unsigned j = i + 1; j < m; ++j)
-        if (!F(j, i).is_zero()) e -= F(j, i) * X(j, c);
-      X(i, c) = program.keep(e, inline_size);
-    }
-  }
+  for (unsigned c = 0; c < d; ++c)
+    for (unsigned i = 0; i < m; ++i) X(i, c) = solved[c][i];
   return X;
 }
 

@@ -18,8 +18,8 @@ namespace hamel {
 bool is_quadratic_form(const GiNaC::ex& T, const std::vector<GiNaC::realsymbol>& v, const GiNaC::matrix& H,
                        Intermediates& program);
 
-/// X with S X = K for S symmetric positive definite (no pivoting), by LDLᵀ and two triangular solves; every
-/// pivot, factor and entry kept through `program` (Intermediates::keep), entries of X with inline size
+/// X with S X = K for S symmetric positive definite (no pivoting), by LDLᵀ and two triangular solves (rbd/ldlt.hpp);
+/// every pivot, factor and entry kept through `program` (Intermediates::keep), entries of X with inline size
 /// `inline_size`.
 GiNaC::matrix solve_positive_definite(const GiNaC::matrix& S, const GiNaC::matrix& K, Intermediates& program,
                                       std::size_t inline_size = 400);

@@ -1,12 +1,12 @@
 #include "algebra/simplify.hpp"
 
-#include "algebra/digits_guard.hpp"
+#include "algebra/high_precision.hpp"
 #include "algebra/identity_test.hpp"
+#include "algebra/modular_arithmetic.hpp"
 
 #include <algorithm>
 #include <limits>
 #include <optional>
-#include <random>
 #include <set>
 #include <unordered_map>
 
@@ -256,119 +256,39 @@ std::size_t node_count(const ex& e, std::size_t limit) {
   return n;
 }
 
-std::size_t printed_size(const ex& e, std::size_t limit) {
-  std::size_t n = 1;
-  for (std::size_t i = 0; i < e.nops() && n <= limit; ++i) n += printed_size(e.op(i), limit - n);
-  return n;
-}
-
 bool numerically_nonzero(const ex& e) {
   std::set<ex, GiNaC::ex_is_less> symbols;
   collect_symbols(e, symbols);
-  const DigitsGuard digits(50);
-  bool nonzero = false;
-  // Two fixed pseudo-random points in [0.31, 1.3]: deterministic, and away from the integers and zero.
-  for (int point = 0; point < 2 && !nonzero; ++point) {
-    GiNaC::exmap values;
-    unsigned state = 12345u + 7919u * static_cast<unsigned>(point);
+  HighPrecisionExpressionEvaluator evaluator(50);
+  // Two fixed pseudo-random points in [0.31, 1.3]: deterministic, and away from the integers and zero. Each symbol's
+  // value is a function of its name and the point, not of the order GiNaC keeps the symbols in.
+  for (int point = 0; point < 2; ++point) {
+    std::map<ex, GiNaC::numeric, GiNaC::ex_is_less> values;
     for (const ex& s : symbols) {
-      state = state * 1103515245u + 12345u;
-      values[s] = GiNaC::numeric(31 + static_cast<int>((state >> 8) % 1000u), 100);
+      const modular::u64 h = modular::RandomPoint(0x2545f4914f6cdd1dULL + static_cast<modular::u64>(point))
+                                 .residue(modular::key_of(ex_to<GiNaC::symbol>(s).get_name()))
+                                 .value;
+      values[s] = GiNaC::numeric(31 + static_cast<int>(h % 1000u), 100);
     }
-    const ex v = e.subs(values).evalf();
-    if (is_a<GiNaC::numeric>(v)) nonzero = GiNaC::abs(ex_to<GiNaC::numeric>(v)) > GiNaC::pow(GiNaC::numeric(10), -25);
-  }
-  return nonzero;
-}
-
-namespace {
-
-// Schwartz–Zippel with exact arithmetic: after expand_trig, each entry is a rational function of the symbols
-// and of sin/cos of single angles. Each (sin θ, cos θ) is replaced by a random rational point of the unit
-// circle, (2τ/(1+τ²), (1−τ²)/(1+τ²)), every other symbol by a random rational; values are exact rationals.
-// A non-zero rational function of total degree D vanishes at such a point with probability at most D/N
-// (N = 2^31 values per coordinate), so three independent zero values bound the error by (D/N)³.
-// `test(values)` returns 1 (zero here), 0 (non-zero here: decided) or -1 (not decidable); poles are skipped.
-// The result: 1 identically zero, 0 not, -1 undecided.
-template <class Test>
-int zero_at_three_points(const std::vector<ex>& entries, Test test) {
-  TrigSymbols trig;
-  std::vector<ex> xs;
-  std::set<ex, GiNaC::ex_is_less> symbols;
-  for (const ex& e : entries) {
-    xs.push_back(trig.to_symbols(expand_trig(e)));
-    collect_symbols(xs.back(), symbols);
-  }
-  std::mt19937_64 rng(0x9e3779b97f4a7c15ULL);
-  std::uniform_int_distribution<long> draw(1, (1L << 31) - 1);
-  const auto random_rational = [&] { return GiNaC::numeric(draw(rng)) / GiNaC::numeric(draw(rng)); };
-  int zeros = 0;
-  for (int attempt = 0; attempt < 12 && zeros < 3; ++attempt) {
-    GiNaC::exmap values;
-    for (const auto& [sn, cs] : trig.pairs()) {
-      const GiNaC::numeric tau = random_rational();
-      values[sn] = 2 * tau / (1 + tau * tau);
-      values[cs] = (1 - tau * tau) / (1 + tau * tau);
-    }
-    for (const ex& s : symbols)
-      if (!values.count(s)) values[s] = random_rational();
-    std::vector<ex> at;
+    evaluator.assign(values);
     try {
-      for (const ex& x : xs) at.push_back(x.subs(values));
+      if (GiNaC::abs(evaluator.value(e)) > GiNaC::pow(GiNaC::numeric(10), -25)) return true;
     } catch (const std::exception&) {
-      continue;  // a pole at this point: draw another
+      // a pole, a value off the real line or a function the evaluator does not know: this point says nothing
     }
-    const int r = test(at);
-    if (r <= 0) return r;
-    ++zeros;
   }
-  return zeros == 3 ? 1 : -1;
-}
-
-}  // namespace
-
-bool identically_zero(const ex& e) {
-  return zero_at_three_points({e}, [](const std::vector<ex>& v) {
-           if (!is_a<GiNaC::numeric>(v[0])) return -1;  // something not rational (e.g. sqrt, exp)
-           return v[0].is_zero() ? 1 : 0;
-         }) == 1;
-}
-
-bool identically_singular(const GiNaC::matrix& m) {
-  std::vector<ex> entries;
-  for (unsigned i = 0; i < m.rows(); ++i)
-    for (unsigned j = 0; j < m.cols(); ++j) entries.push_back(m(i, j));
-  const int zero = zero_at_three_points(entries, [&](const std::vector<ex>& v) {
-    GiNaC::matrix at(m.rows(), m.cols());
-    for (unsigned i = 0; i < m.rows(); ++i)
-      for (unsigned j = 0; j < m.cols(); ++j) {
-        if (!is_a<GiNaC::numeric>(v[i * m.cols() + j])) return -1;
-        at(i, j) = v[i * m.cols() + j];
-      }
-    return at.determinant().is_zero() ? 1 : 0;
-  });
-  if (zero >= 0) return zero == 1;
-  const ex det = m.determinant();
-  return is_zero_almost_surely(det);
+  return false;
 }
 
 bool is_zero_almost_surely(const ex& e) {
   if (numerically_nonzero(e)) return false;
-  return identically_zero(e) || simplify(e).is_zero();
+  return identically_zero(e, Intermediates{}) == Identity::zero || simplify(e).is_zero();
 }
 
 ex simplify_bounded(const ex& e, std::size_t limit) {
   if (node_count(e, limit) <= limit) return simplify(e);
-  switch (hamel::identically_zero(e, Intermediates{})) {  // modular evaluation: cheap for large e
-    case Identity::zero:
-      return 0;
-    case Identity::nonzero:
-      return e;
-    case Identity::undecided:
-      break;
-  }
-  if (!numerically_nonzero(e) && identically_zero(e)) return 0;
-  return e;
+  // modular evaluation: cheap for large e; where it cannot decide, e is left as derived
+  return identically_zero(e, Intermediates{}) == Identity::zero ? ex(0) : e;
 }
 
 namespace {

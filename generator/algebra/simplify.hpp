@@ -18,7 +18,12 @@ GiNaC::ex expand_trig(const GiNaC::ex& e);
 /// Normal form of `e`: one fraction, trigonometric polynomials reduced with sin² + cos² = 1. Where `e` holds a
 /// power of a sum (b^n, |n| >= 2) and its normal form grew beyond `e`, the fraction with those powers kept whole
 /// is made too and the smaller of the two (in nodes) returned, the normal form on a tie: an expanded power loses
-/// accuracy near a root of its base. Zero is always found (the normal form is canonical).
+/// accuracy near a root of its base. Zero is always found (the normal form is canonical up to sign).
+/// The sign is GiNaC's: normal() writes N/D or (−N)/(−D), and a product keeps a sum S or −S, by its term order,
+/// which follows hash values that include addresses. No GiNaC object can pin it (a product re-chooses the sign of
+/// a sum factor when it is built), so nothing that reads the result may depend on it: node_count (the size tests)
+/// does not count signs, the IR (emit/expression_graph) and the printers (algebra/expression_text) place them
+/// structurally, and the evaluators compute −(−x) exactly.
 GiNaC::ex simplify(const GiNaC::ex& e);
 
 /// e.expand(), except where `e` holds a power of a sum (b^n, |n| >= 2) and its expansion grew beyond `e`: then
@@ -28,38 +33,27 @@ GiNaC::ex simplify(const GiNaC::ex& e);
 /// inertia, offsets and rotations and its inlined kinetic energy (a body mass "(m+1)^20" became 21 monomials).
 GiNaC::ex expand_keeping_powers_of_sums(const GiNaC::ex& e);
 
-/// Zero test, exact except for a negligible chance of a wrong "zero": a 50-digit evaluation at two fixed
-/// points first answers "not zero" when the value is clearly away from 0; otherwise identically_zero()
-/// decides (randomized, exact rational arithmetic: "zero" is wrong with probability below (degree / 2^31)^3),
-/// and if it cannot (expressions with functions other than sin/cos), the normal form of simplify(), which
-/// does not see every identity of such functions.
+/// Zero test without a program of intermediates, exact except for a negligible chance of a wrong "zero": a
+/// 50-digit evaluation at two fixed points first answers "not zero" when the value is clearly away from 0
+/// (numerically_nonzero); otherwise the modular identity test (algebra/identity_test.hpp, identically_zero with no
+/// intermediates) decides, and where it cannot (functions other than sin, cos, tan and square roots), the normal
+/// form of simplify(), which does not see every identity of such functions.
 bool is_zero_almost_surely(const GiNaC::ex& e);
 
-/// Randomized identity test with exact rational arithmetic (Schwartz–Zippel): sin/cos pairs at random
-/// rational points of the unit circle, other symbols at random rationals; zero at three independent points
-/// means zero (error probability below (degree / 2^31)^3). False when non-zero or not decidable this way.
-bool identically_zero(const GiNaC::ex& e);
-
-/// True when a 50-digit evaluation at one of two fixed points is clearly non-zero (|v| > 1e-25): then e is
-/// certainly not identically zero. False says nothing.
+/// True when a 50-digit evaluation (algebra/high_precision.hpp) at one of two fixed points is clearly non-zero
+/// (|v| > 1e-25): then e is certainly not identically zero. False says nothing. Each symbol's value at a point is a
+/// function of its name.
 bool numerically_nonzero(const GiNaC::ex& e);
 
-/// True iff det(m) is identically zero: decided by exact determinants at random rational points (as
-/// identically_zero), falling back to the symbolic determinant only for entries that test cannot evaluate.
-bool identically_singular(const GiNaC::matrix& m);
-
 /// The number of nodes of e's expression tree, counted up to a little past `limit`, without its signs: a factor −1
-/// and the product −x it leaves are not counted. The derivation's size thresholds use this count, so they do not
-/// depend on where GiNaC puts a sign (N/D or (−N)/(−D), −x·y or (−x)·y), which follows its term order and so the
-/// address layout (docs/errors.md, "Emission independent of the address layout").
+/// and the product −x it leaves are not counted. The derivation's size thresholds and the printed forms
+/// contract_trig chooses between use this count, so they do not depend on where GiNaC puts a sign (N/D or
+/// (−N)/(−D), −x·y or (−x)·y, a sum factor or its negative), which follows its term order and so the address
+/// layout.
 std::size_t node_count(const GiNaC::ex& e, std::size_t limit);
 
-/// The number of nodes of e's expression tree as GiNaC holds it, a factor −1 included, up to a little past `limit`:
-/// the size of an expression as printed (algebra/contract_trig.hpp chooses the shorter of printed forms with it).
-std::size_t printed_size(const GiNaC::ex& e, std::size_t limit);
-
-/// simplify(e) when e is small (at most `limit` nodes); a large e that is identically zero becomes 0; other
-/// large expressions are left as derived: their normal form costs more than it saves (the emitted code
+/// simplify(e) when e is small (at most `limit` nodes); a large e that the modular identity test shows zero becomes
+/// 0; other large expressions are left as derived: their normal form costs more than it saves (the emitted code
 /// shares subexpressions anyway).
 GiNaC::ex simplify_bounded(const GiNaC::ex& e, std::size_t limit = 400);
 

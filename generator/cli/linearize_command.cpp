@@ -106,10 +106,13 @@ struct Names {
   }
 };
 
-// The point x₀ and the inputs in₀: zero but for the scene's values and --at / --input over them.
+// The point x₀ and the inputs in₀: zero but for the model's state defaults (Γ = g of a floating base under gravity),
+// the scene's values and --at / --input over them.
 void set_point(const LinearizeOptions& opt, const Target& target, const Names& names, std::vector<double>& x,
                std::vector<double>& in) {
-  std::map<std::string, double> initial = target.scene ? target.scene->initial : std::map<std::string, double>{};
+  std::map<std::string, double> initial = state_default_values(target);
+  if (target.scene)
+    for (const auto& [k, v] : target.scene->initial) initial[k] = v;
   for (const auto& [k, v] : parse_assignments(opt.at, "--at")) initial[k] = v;
   for (const auto& [name, v] : initial) x[static_cast<std::size_t>(names.state_index(name, "--at"))] = v;
   std::map<std::string, double> input_values = target.scene ? target.scene->inputs : std::map<std::string, double>{};

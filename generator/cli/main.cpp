@@ -1,41 +1,18 @@
 // hamel: symbolic–numeric generator for the Hamel equations of constrained and floating multibody
 // systems (Müller, Proc. R. Soc. A 479, 2023). Exit status: 0 success, 2 input error, 1 internal error.
 #include "cli/commands.hpp"
-#include "emit/cpp_emitter.hpp"
+#include "emit/package_writer.hpp"
 #include "model/input_error.hpp"
 #include "report/atomic_file.hpp"
 #include "report/progress.hpp"
 #include "report/temporaries.hpp"
 
-#include <sys/personality.h>
-#include <unistd.h>
-
 #include <ginac/ginac.h>
-#include <cstdlib>
 #include <iostream>
 #include <map>
 #include <stdexcept>
 
-namespace {
-
-// GiNaC orders terms by hash values that include the address of type information, so with address-space
-// randomisation the same model can print with terms in another order from run to run. Emitted packages do not
-// follow that order (the expression graph orders structurally and the derivation's size tests ignore signs:
-// docs/errors.md, "Emission independent of the address layout"), but what `derive` prints is GiNaC's own printing.
-// For that text to be the same on every run, the generator re-executes once with randomisation off. Where the
-// kernel refuses, we go on (the output stays correct, only possibly printed in another term order).
-void fix_address_layout(char** argv) {
-  const int persona = personality(0xffffffff);
-  if (persona == -1 || (persona & ADDR_NO_RANDOMIZE) || std::getenv("HAMEL_NO_REEXEC")) return;
-  if (personality(static_cast<unsigned long>(persona) | ADDR_NO_RANDOMIZE) == -1) return;
-  setenv("HAMEL_NO_REEXEC", "1", 1);
-  execv("/proc/self/exe", argv);
-}
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  fix_address_layout(argv);
   hamel::install_cleanup_signal_handlers();
   CLI::App app{"hamel: derive Hamel coefficients and equations of motion, emit C++ kernels, simulate"};
   app.set_version_flag("--version", std::string("hamel ") + hamel::generator_version());

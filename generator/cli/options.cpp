@@ -97,6 +97,18 @@ Model apply_fold(const Model& model, const std::vector<double>& values, const st
 
 namespace hamel::cli {
 
+std::map<std::string, double> state_default_values(const Target& target) {
+  GiNaC::exmap values;
+  for (std::size_t k = 0; k < target.model.parameters.size() && k < target.parameters.size(); ++k)
+    values[target.model.parameters[k].symbol] = target.parameters[k];
+  std::map<std::string, double> out;
+  for (const auto& [name, e] : target.model.state_defaults) {
+    const GiNaC::ex v = e.subs(values).evalf();
+    if (GiNaC::is_a<GiNaC::numeric>(v)) out[name] = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+  }
+  return out;
+}
+
 std::vector<double> initial_state(const Target& target, const std::vector<std::string>& names, std::vector<double> x0,
                                   const std::map<std::string, double>& init) {
   const Model& model = target.model;
@@ -115,7 +127,11 @@ std::vector<double> initial_state(const Target& target, const std::vector<std::s
       return InputError(locations.at("initial." + name), "initial." + name, problem);
     };
   };
-  if (!model.initial.empty()) x0.assign(names.size(), 0.0);  // the model's state in full: what it does not name is 0
+  if (!model.initial.empty()) x0.assign(names.size(), 0.0);     // the model's state in full: what it does not name is 0
+  for (const auto& [name, v] : state_default_values(target)) {  // Γ(0) = g: where such a variable starts
+    const auto it = std::find(names.begin(), names.end(), name);
+    if (it != names.end()) x0[static_cast<std::size_t>(it - names.begin())] = v;
+  }
   apply(model.initial, at_key(model.locations));
   if (target.scene) apply(target.scene->initial, at_key(target.scene->locations));
   apply(init, [](const std::string&, const std::string& problem) { return InputError("--init: " + problem); });

@@ -46,8 +46,12 @@ struct Target {
   std::optional<Scene> scene;
 };
 
+/// The values of the model's state_defaults (Γ(0) = g of a floating base under gravity) at the target's parameters.
+std::map<std::string, double> state_default_values(const Target& target);
+
 /// x(0) over the state variables `names` (coordinates, then independent quasi-velocities): the model's key `initial`
-/// when it has one (the variables it does not name 0), else `defaults`; overridden by the scene's `initial`, then by
+/// when it has one (the variables it does not name 0, but those with a state default), else `defaults` with the
+/// state defaults over them; overridden by the scene's `initial`, then by
 /// --init (`init`, parsed). A name that is not a state variable is an input error that says where it was given:
 /// file:line and key for the model's and the scene's values, the option for --init.
 std::vector<double> initial_state(const Target& target, const std::vector<std::string>& names,

@@ -1,6 +1,7 @@
 // `hamel simulate MODEL --t-end T ...`: integrates the model's right-hand side kernel (evaluated from
 // the same expression graph that `emit` prints) with the runtime's integrators; CSV out, summary and
 // invariant monitors on stderr.
+#include "algebra/expression_text.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
 #include "derive/derivation.hpp"
@@ -16,6 +17,7 @@
 #include <hamel/runtime/csv.hpp>
 #include <hamel/runtime/lie/rkmk_coupled.hpp>
 #include <hamel/runtime/monitor.hpp>
+#include <hamel/runtime/projection.hpp>
 
 #include <cmath>
 #include <cstdio>
@@ -135,7 +137,26 @@ Monitors parse_monitors(const std::string& list) {
   return m;
 }
 
-// The CSV's columns after t and the state: the pose (when reconstructed), then the monitors'.
+// The reconstruction starts the base at the identity, aligned with the world: gravity in its frame must then be the
+// world's g (the state default), else the state and the pose would describe two different motions.
+void check_gravity_at_identity(const Target& target, const std::vector<std::string>& columns,
+                               const std::vector<double>& x0) {
+  for (const auto& [name, g] : state_default_values(target)) {
+    const auto it = std::find(columns.begin() + 1, columns.end(), name);
+    if (it == columns.end()) continue;
+    const double start = x0[static_cast<std::size_t>(it - columns.begin() - 1)];
+    if (std::abs(start - g) > 1e-12 * (1 + std::abs(g)))
+      throw InputError("--integrator rkmk4: the reconstruction starts the base aligned with the world, where " + name +
+                       " is " + number_text(g) + ", but the initial state gives " + number_text(start) +
+                       "; expected gravity in the base frame equal to the world's at t = 0 (the default), or an "
+                       "integrator without reconstruction (dopri5)");
+  }
+}
+
+// The CSV's columns after t and the state: the pose (when reconstructed), then the monitors'. The constraint residual
+// monitor has the velocity residuals residual_<u> = A^alpha(q) q_dot of the constrained quasi-velocities, then the
+// position residuals position_residual_<c> = g_c(q) of the position constraints (the outputs of the
+// constraint_residual kernel, in order).
 std::vector<std::string> monitor_columns(const Derivation& derivation, const Monitors& monitors) {
   const HamelSystem& sys = derivation.system;
   std::vector<std::string> header;
@@ -147,6 +168,7 @@ std::vector<std::string> monitor_columns(const Derivation& derivation, const Mon
       header.push_back("residual_" + (held.size() == n_res
                                           ? sys.velocities[static_cast<std::size_t>(held[k])].get_name()
                                           : std::to_string(k)));
+    for (const PositionConstraint& c : sys.position_constraints) header.push_back("position_residual_" + c.name);
   }
   if (monitors.momentum)
     for (int I : derivation.equations.independent)
@@ -179,10 +201,17 @@ runtime::IntegrationResult integrate_with_pose(const Model& model, const Simulat
   });
 }
 
+// What the projection onto the position constraints did in a run (for the summary).
+struct ProjectionSummary {
+  double position_max = 0;  ///< max |g_c(q)| over the observed states
+  runtime::ProjectionStats stats;
+};
+
 // The run's summary on stderr, or, when the integration failed, where it failed (then RunFailed).
 void print_outcome(const Model& model, const SimulateOptions& opt, const Derivation& derivation,
                    const std::vector<std::string>& columns, const runtime::IntegrationResult& result,
-                   const runtime::DriftMonitor& energy, const double* residual_max) {
+                   const runtime::DriftMonitor& energy, const double* residual_max,
+                   const std::optional<ProjectionSummary>& projection) {
   std::ostringstream state;
   for (std::size_t k = 0; k + 1 < columns.size(); ++k) state << (k ? ", " : "") << columns[k + 1] << "=" << result.x[k];
   if (result.status != runtime::Status::ok) {
@@ -200,6 +229,11 @@ void print_outcome(const Model& model, const SimulateOptions& opt, const Derivat
                     : " (an invariant only while the model's forces vanish and L has no explicit t)")
             << "\n";
   if (residual_max) std::cerr << "  constraint residual |A_alpha(q) q_dot|: max " << *residual_max << "\n";
+  if (projection)
+    std::cerr << "  position residual |g(q)|: max " << projection->position_max << " (projected onto g(q) = 0 "
+              << projection->stats.projections << " times, " << projection->stats.iterations
+              << " Gauss-Newton corrections; largest |g| before a projection " << projection->stats.largest_residual
+              << ")\n";
   std::cerr << "  final state: " << state.str() << "\n";
 }
 
@@ -239,14 +273,17 @@ class Recorder {
       : monitors_(monitors),
         evaluate_(evaluate),
         energy_kernel_(evaluate.kernel("energy", true)),
-        residual_kernel_(evaluate.kernel("constraint_residual", !derivation.equations.constraint_residual.empty())),
+        residual_kernel_(evaluate.kernel("constraint_residual", !derivation.equations.constraint_residual.empty() ||
+                                                                    !derivation.system.position_constraints.empty())),
         mass_kernel_(evaluate.kernel("mass_matrix", monitors.momentum)),
-        constrained_(!derivation.equations.constraint_residual.empty()),
+        constrained_(!derivation.equations.constraint_residual.empty() ||
+                     !derivation.system.position_constraints.empty()),
         n_x_(columns.size() - 1),
         n_q_(derivation.system.coordinates.size()),
         n_u_(derivation.equations.independent.size()),
+        n_velocity_residuals_(derivation.equations.constraint_residual.size()),
         energy_(energy_at(0.0, x0.data())),
-        residual_(derivation.equations.constraint_residual.size()),
+        residual_(derivation.equations.constraint_residual.size() + derivation.system.position_constraints.size()),
         mass_(monitors.momentum ? n_u_ * n_u_ : 0),
         header_(columns) {
     if (pose) {
@@ -261,7 +298,9 @@ class Recorder {
   /// The pose written with the next row (bundle models integrated with rkmk4).
   GroupPose& pose() { return *pose_; }
   const runtime::DriftMonitor& energy() const { return energy_; }
-  const double* residual_max() const { return constrained_ ? &residual_max_ : nullptr; }
+  const double* residual_max() const { return n_velocity_residuals_ > 0 ? &residual_max_ : nullptr; }
+  /// max |g_c(q)| over the observed states (0 without position constraints).
+  double position_residual_max() const { return position_max_; }
 
   void operator()(double t, const double* x) {
     row_[0] = t;
@@ -274,7 +313,10 @@ class Recorder {
     energy_.update(e);
     if (constrained_) {
       evaluate_.again(residual_kernel_, t, x, residual_.data());
-      for (double r : residual_) residual_max_ = std::max(residual_max_, std::fabs(r));
+      for (std::size_t k = 0; k < residual_.size(); ++k) {
+        double& worst = k < n_velocity_residuals_ ? residual_max_ : position_max_;
+        worst = std::max(worst, std::fabs(residual_[k]));
+      }
     }
     std::size_t col = first_monitor_;
     if (monitors_.energy) row_[col++] = e;
@@ -303,15 +345,119 @@ class Recorder {
   Evaluation& evaluate_;
   GraphEvaluator energy_kernel_, residual_kernel_, mass_kernel_;
   bool constrained_;
-  std::size_t n_x_, n_q_, n_u_;
+  std::size_t n_x_, n_q_, n_u_, n_velocity_residuals_;
   runtime::DriftMonitor energy_;
-  double residual_max_ = 0;
+  double residual_max_ = 0, position_max_ = 0;
   std::vector<double> residual_, mass_;
   std::optional<GroupPose> pose_;
   std::vector<std::string> header_;
   std::size_t first_monitor_ = 0;
   std::vector<double> row_;
   std::optional<runtime::CsvWriter> csv_;
+};
+
+// The position constraints g(q) = 0 of a run, evaluated by the constraint_position kernels, for the projection of the
+// initial state and the projector after every step (runtime/projection.hpp). Needs nothing but the two kernels.
+class PositionConstraints {
+ public:
+  PositionConstraints(const HamelSystem& sys, Evaluation& evaluate)
+      : sys_(sys),
+        evaluate_(evaluate),
+        n_q_(sys.coordinates.size()),
+        k_(sys.position_constraints.size()),
+        g_(evaluate.kernel("constraint_position", k_ > 0)),
+        G_(evaluate.kernel("constraint_position_jacobian", k_ > 0)),
+        work_(runtime::ProjectionWorkspace::doubles(n_q_, k_)),
+        projector_(Position{this}, Jacobian{this}, n_q_, k_, runtime::ProjectionWorkspace{work_.data(), work_.size()}) {
+  }
+
+  PositionConstraints(const PositionConstraints&) = delete;  // its callables point to it
+  PositionConstraints& operator=(const PositionConstraints&) = delete;
+
+  std::size_t size() const { return k_; }
+  /// g(q) at x.
+  std::vector<double> residuals(const double* x) {
+    std::vector<double> r(k_);
+    evaluate_.again(g_, 0.0, x, r.data());
+    return r;
+  }
+
+  /// Moves the coordinates of x0 onto g(q) = 0 (Newton on q from the given q, minimum-norm corrections; the
+  /// velocities u_I are the state and need nothing), saying on stderr what it changed; an InputError naming the
+  /// violated constraint and its residual where Newton does not get there.
+  void project_initial_state(const Model& model, std::vector<double>& x0) {
+    if (k_ == 0) return;
+    const std::vector<double> given = x0;
+    runtime::ProjectionOptions options;
+    options.max_iterations = 50;
+    const runtime::ProjectionOutcome o =
+        runtime::project_positions(Position{this}, Jacobian{this}, 0.0, x0.data(), n_q_, k_,
+                                   runtime::ProjectionWorkspace{work_.data(), work_.size()}, options);
+    const std::vector<double> before = residuals(given.data());
+    std::size_t worst = 0;
+    for (std::size_t c = 0; c < k_; ++c)
+      if (std::fabs(before[c]) > std::fabs(before[worst])) worst = c;
+    const std::string& name = sys_.position_constraints[worst].name;
+    if (o.status != runtime::Status::ok) {
+      const std::vector<double> after = residuals(x0.data());
+      double left = 0;
+      for (double r : after) left = std::max(left, std::fabs(r));
+      std::string why = o.status == runtime::Status::singular_constraint_jacobian
+                            ? "the constraint gradients dg/dq became dependent on the way (G G^T singular)"
+                        : o.status == runtime::Status::projection_failure
+                            ? "it did not converge in " + std::to_string(options.max_iterations) + " corrections"
+                            : "it met a non-finite value";
+      const auto it = model.locations.find("holonomic." + name);
+      const SourceLocation where = it != model.locations.end() ? it->second : SourceLocation{model.source_path, 0, 0};
+      throw InputError(where, "holonomic." + name,
+                       "the initial state (" + state_text(given) +
+                           ") violates this constraint by g = " + shortest_decimal(before[worst]) +
+                           ", and Newton's method on the coordinates cannot close it (" + why +
+                           "; max |g| = " + shortest_decimal(left) + " after " + std::to_string(o.iterations) +
+                           " corrections): the constraints have no solution near it; expected an initial state "
+                           "near one that meets every position constraint (key initial, --init, or the "
+                           "parameters)");
+    }
+    if (o.iterations < 2) {  // the first correction was already at rounding level: the state stays as given
+      x0 = given;
+      return;
+    }
+    std::cerr << "hamel: note: the initial state violates the position constraints (max |g| = "
+              << shortest_decimal(o.residual) << ", at " << name
+              << "); projected it onto g(q) = 0 by Newton's method on the "
+              << "coordinates (" << o.iterations << " corrections, minimum-norm), the velocities unchanged:\n";
+    for (std::size_t a = 0; a < n_q_; ++a)
+      if (x0[a] != given[a])
+        std::cerr << "  " << sys_.coordinates[a].get_name() << ": " << shortest_decimal(given[a]) << " -> "
+                  << shortest_decimal(x0[a]) << "\n";
+  }
+
+  /// The projector the integrators call after every accepted step (and on every sample).
+  runtime::Status project(double t, double* x) { return projector_(t, x); }
+  const runtime::ProjectionStats& stats() const { return projector_.stats(); }
+
+ private:
+  struct Position {
+    PositionConstraints* self;
+    void operator()(double t, const double* x, double* out) const { self->evaluate_.again(self->g_, t, x, out); }
+  };
+  struct Jacobian {
+    PositionConstraints* self;
+    void operator()(double t, const double* x, double* out) const { self->evaluate_.again(self->G_, t, x, out); }
+  };
+  std::string state_text(const std::vector<double>& x) const {
+    std::string text;
+    for (std::size_t a = 0; a < n_q_; ++a)
+      text += (a ? ", " : "") + sys_.coordinates[a].get_name() + " = " + shortest_decimal(x[a]);
+    return text;
+  }
+
+  const HamelSystem& sys_;
+  Evaluation& evaluate_;
+  std::size_t n_q_, k_;
+  GraphEvaluator g_, G_;
+  std::vector<double> work_;
+  runtime::ConstraintProjector<Position, Jacobian> projector_;
 };
 
 void run(const SimulateOptions& given) {
@@ -325,7 +471,9 @@ void run(const SimulateOptions& given) {
 
   const Derivation derivation = derive(model, target.settings);
   const Monitors monitors = parse_monitors(opt.monitors);
-  std::set<std::string> needed = {"kinematics", "rhs", "energy", "constraint_residual", "group_velocity"};
+  std::set<std::string> needed = {
+      "kinematics",    "rhs", "energy", "constraint_residual", "constraint_position", "constraint_position_jacobian",
+      "group_velocity"};
   if (monitors.momentum) needed.insert("mass_matrix");
   if (info.uses_jacobian) needed.insert("jacobian");
   KernelSet kernels = build_kernels(model, derivation, needed);
@@ -336,8 +484,8 @@ void run(const SimulateOptions& given) {
   for (const auto& q : sys.coordinates) columns.push_back(q.get_name());
   for (int I : derivation.equations.independent)
     columns.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
-  const std::vector<double> x0 = initial_state(target, std::vector<std::string>(columns.begin() + 1, columns.end()),
-                                               std::vector<double>(columns.size() - 1, 0.0), settled.init);
+  std::vector<double> x0 = initial_state(target, std::vector<std::string>(columns.begin() + 1, columns.end()),
+                                         std::vector<double>(columns.size() - 1, 0.0), settled.init);
 
   // Inputs: the scene's constants, then --input-file (tables) and --input (constants or laws in t and the
   // state), each input set once on the command line.
@@ -346,6 +494,11 @@ void run(const SimulateOptions& given) {
   if (!opt.input_file.empty()) sources.load_csv(opt.input_file);
   sources.add_assignments(opt.inputs, "--input");
   Evaluation evaluate(kernels, p, sources, model.inputs.size());
+  evaluate.inputs_at(0.0, x0.data());
+  // Position constraints g(q) = 0: the initial state is projected onto them (before anything reads it), and so is
+  // every accepted state of the run.
+  PositionConstraints positions(sys, evaluate);
+  positions.project_initial_state(model, x0);
   evaluate.inputs_at(0.0, x0.data());
   GraphEvaluator rhs_kernel = evaluate.kernel("rhs", true),
                  jacobian_kernel = evaluate.kernel("jacobian", info.uses_jacobian);
@@ -356,6 +509,7 @@ void run(const SimulateOptions& given) {
   // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
   OutputFile output(opt.out, "--out");
   const bool reconstruct = model.bundle && info.name == "rkmk4";
+  if (reconstruct) check_gravity_at_identity(target, columns, x0);
   std::optional<GroupPose> pose;
   if (reconstruct)
     pose = with_group(model.bundle->group, [](auto tag) {
@@ -373,15 +527,23 @@ void run(const SimulateOptions& given) {
   auto jacobian = [&](double t, const double* x, double* J) { evaluate(jacobian_kernel, t, x, J); };
   runtime::IntegrationResult result;
   if (reconstruct) {
+    if (positions.size() > 0)
+      throw InputError(
+          "--integrator rkmk4: the group reconstruction does not project onto position constraints; "
+          "expected another integrator for a model with position constraints");
     GraphEvaluator xi_kernel = evaluate.kernel("group_velocity", true);
     auto xi = [&](double t, const double* x, double* out) { evaluate(xi_kernel, t, x, out); };
     result = integrate_with_pose(model, opt, x0, rhs, xi, record.pose(), observe);
   } else {
+    ProjectFunction project;
+    if (positions.size() > 0) project = [&](double t, double* x) { return positions.project(t, x); };
     result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
-                       observe);
+                       observe, 0, project);
   }
   if (result.status == runtime::Status::ok) output.commit();
-  print_outcome(model, opt, derivation, columns, result, record.energy(), record.residual_max());
+  std::optional<ProjectionSummary> projection;
+  if (positions.size() > 0) projection = ProjectionSummary{record.position_residual_max(), positions.stats()};
+  print_outcome(model, opt, derivation, columns, result, record.energy(), record.residual_max(), projection);
 }
 
 }  // namespace

@@ -33,6 +33,8 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
     for (unsigned a = 0; a < n; ++a) row.push_back(qv.A(static_cast<unsigned>(alpha), a));
     sys.constraint_form.push_back(row);
   }
+  for (const HolonomicConstraint& h : model.holonomic)
+    sys.position_constraints.push_back({h.velocity.get_name(), h.g, h.gradient});
   sys.where =
       model.locations.count("lagrangian") ? model.locations.at("lagrangian") : SourceLocation{model.source_path, 0, 0};
   return sys;
@@ -87,7 +89,17 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
       d.group_velocity.assign(model.bundle->group_velocity.begin(), model.bundle->group_velocity.end());
       return d;
     }
-    // The other forms differentiate T as a whole: the tree's kinetic energy as one expression.
+    // The other forms differentiate T as a whole: the tree's kinetic energy as one expression. They rest on the
+    // group symmetry (the connection, the conserved momentum), which gravity and applied wrenches break.
+    if (model.bundle->tree->has_gravity() || !model.wrenches.empty())
+      throw InputError(model.locations.count(model.wrenches.empty() ? "tree.gravity" : "wrenches")
+                           ? model.locations.at(model.wrenches.empty() ? "tree.gravity" : "wrenches")
+                           : SourceLocation{model.source_path, 0, 0},
+                       model.wrenches.empty() ? "tree.gravity" : "wrenches",
+                       std::string(model.wrenches.empty() ? "gravity" : "applied wrenches") +
+                           " break the symmetry of the floating base, on which the form '" + settings.form +
+                           "' rests (the momentum is no longer conserved); expected --form ep, the "
+                           "Euler-Poincare equations with gravity resolved in the base's frame");
     return derive(with_inlined_tree(model), settings);
   }
   if (model.bundle) {

@@ -93,8 +93,7 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
   }
 
   // A "singular" answer with intermediates read as free symbols is still a proof.
-  const Identity singular = identically_singular(eq.mass_matrix, program);
-  if (singular == Identity::zero || (singular == Identity::undecided && identically_singular(eq.mass_matrix)))
+  if (shown_singular(eq.mass_matrix, program))
     throw InputError(sys.where, "lagrangian",
                      "the mass matrix ∂²L/∂u^I∂u^J of the independent quasi-velocities is identically singular; "
                      "every independent quasi-velocity must carry kinetic energy");

@@ -11,7 +11,9 @@
 
 namespace hamel {
 
-struct TreeRecursion;  // derive/tree_derivatives.hpp
+namespace rbd {
+struct TreeDynamics;  // rbd/tree.hpp
+}
 
 struct HamelEquations {
   std::vector<int> independent;                ///< indices I of the independent quasi-velocities
@@ -22,16 +24,16 @@ struct HamelEquations {
   std::vector<GiNaC::ex> energy_terms;         ///< {E}: E = ∂ℒ/∂u^I u^I − ℒ (Jacobi integral)
   bool conservative = false;                   ///< no forces and no explicit time: E is an invariant
   std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0), if Pfaffian
-  std::vector<GiNaC::realsymbol> acceleration_symbols;  ///< trees: symbols for u̇ in TreeRecursion (the Jacobian
+  std::vector<GiNaC::realsymbol> acceleration_symbols;  ///< trees: symbols for u̇ in TreeDynamics (the Jacobian
                                                         ///< maps them to the solved accelerations)
   std::vector<GiNaC::ex> recursive_accelerations;       ///< u̇ by the articulated-body algorithm (trees with
                                                         ///< --dynamics aba), in the intermediates; empty otherwise
-  std::vector<GiNaC::ex> recursive_pivots;    ///< its pivots (articulated inertias D_i, the base's LDLᵀ d_k)
-  std::shared_ptr<const TreeRecursion> tree;  ///< trees: the inverse dynamics by recursion, for the
-                                              ///< Jacobian's analytical ∂ID/∂x (derive/tree_derivatives.hpp)
-  bool factor_last_first = false;             ///< solve M u̇ = f eliminating from the last index (trees: no fill-in)
-  Intermediates intermediates;                ///< definitions of the intermediate symbols the expressions above may use
-                                              ///< (recursive derivations, derive/kinematic_tree.hpp); empty otherwise
+  std::vector<GiNaC::ex> recursive_pivots;        ///< its pivots (articulated inertias D_i, the base's LDLᵀ d_k)
+  std::shared_ptr<const rbd::TreeDynamics> tree;  ///< trees: the rigid-body model and its state, for the
+                                                  ///< Jacobian's ∂ID/∂x (rbd/rnea_derivatives.hpp) and solves
+  bool factor_last_first = false;  ///< solve M u̇ = f eliminating from the last index (trees: no fill-in)
+  Intermediates intermediates;     ///< definitions of the intermediate symbols the expressions above may use
+                                   ///< (recursive derivations, derive/kinematic_tree.hpp); empty otherwise
 };
 
 /// Derives the equations of motion of `system` (with time symbol `t`); throws InputError if the mass matrix

@@ -3,13 +3,12 @@
 // revolute or prismatic joint whose coordinate is a shape coordinate r^I.
 //
 // The equations are the paper's Euler–Poincaré + Euler–Lagrange form (HEorig1, HEorig2) in u = (ξ, ṙ),
-// derived as Hamel's equations of the bodies: every body i has its own body twist V_i as quasi-velocity
-// with the Euler–Poincaré equation d/dt(𝕀_i V_i) − ad*_{V_i} 𝕀_i V_i = W_i (BHEqu2 with γ = c of se(3)),
-// and the joints are the Pfaffian constraints V_i = Ad_{g_pi⁻¹} V_p + S_i ṙ_i that leave u independent
-// (BHconstr). Projected onto u they read M(r) u̇ = f(r, u): M by composite inertias, f by the recursion of
-// twists, velocity-product accelerations and wrenches from the leaves to the base. Every quantity is
-// an intermediate symbol (algebra/intermediates.hpp), so the program has O(n) definitions for f and
-// O(n·depth) for M instead of the expanded formula's exponential size.
+// derived as Hamel's equations of the bodies (rbd/rnea.hpp) and projected onto u: M(r) u̇ = f(r, u), M by
+// composite inertias (rbd/crba.hpp), f by the recursive Newton–Euler algorithm, u̇ itself by the
+// articulated-body algorithm (rbd/aba.hpp) when asked. Every quantity is an intermediate symbol
+// (algebra/intermediates.hpp), so the program has O(n) definitions for f and O(n·depth) for M instead of the
+// expanded formula's exponential size. This file builds the rigid-body model (rbd/tree.hpp) from the model file's
+// tree and assembles the equations; the algorithms are in rbd/.
 #pragma once
 
 #include "algebra/intermediates.hpp"

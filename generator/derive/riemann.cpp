@@ -112,8 +112,7 @@ void metric_and_potential(const Model& model, Intermediates& program, InRates& l
                          std::string(purpose) + " needs a metric g_ab(q) that does not depend on t; d2L/d" +
                              rate[a].get_name() + " d" + rate[b].get_name() + " does (a rheonomic system)");
     }
-  const Identity singular = identically_singular(r.metric, program);
-  if (singular == Identity::zero || (singular == Identity::undecided && identically_singular(r.metric)))
+  if (shown_singular(r.metric, program))
     throw InputError(where, "lagrangian",
                      std::string(purpose) +
                          ": the metric d2L/dq_dot dq_dot is identically singular; every "

@@ -115,7 +115,7 @@ int ExpressionGraph::exact_constant(const GiNaC::numeric& v) {
 }
 
 int ExpressionGraph::folded(Op op, double x, double y, double r) {
-  const bool binary_op = op == Op::add || op == Op::sub || op == Op::mul || op == Op::div || op == Op::pow;
+  const bool binary_op = operation(op).operands == 2;
   const bool overflow = !std::isfinite(r) && std::isfinite(x) && (!binary_op || std::isfinite(y));
   const bool underflow =
       r == 0 && x != 0 &&
@@ -123,11 +123,7 @@ int ExpressionGraph::folded(Op op, double x, double y, double r) {
   if (!overflow && !underflow) return constant(r);
   std::ostringstream text;
   text.precision(6);
-  const char* symbol = op == Op::add   ? " + "
-                       : op == Op::sub ? " - "
-                       : op == Op::mul ? " * "
-                       : op == Op::div ? " / "
-                                       : "^";
+  const char* symbol = op == Op::pow ? "^" : operation(op).cpp;
   if (binary_op)
     text << x << symbol << y;
   else
@@ -218,128 +214,139 @@ int ExpressionGraph::from_expression(const ex& e, const std::map<ex, int, GiNaC:
   return sign < 0 ? unary(Op::neg, id) : id;
 }
 
+namespace {
+
+// Orders (node, sign) pairs structurally: by node, then by sign.
+struct Structural {
+  const ExpressionGraph& g;
+  bool operator()(const std::pair<int, int>& p, const std::pair<int, int>& q) const {
+    if (p.first != q.first) return g.structurally_less(p.first, q.first);
+    return p.second < q.second;
+  }
+};
+
+}  // namespace
+
 std::pair<int, int> ExpressionGraph::signed_expression(const ex& e,
                                                        const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
   if (auto it = memo_.find(e); it != memo_.end()) return it->second;
-  int id = -1, sign = 1;
-  const auto structural = [this](const std::pair<int, int>& p, const std::pair<int, int>& q) {
-    if (p.first != q.first) return structurally_less(p.first, q.first);
-    return p.second < q.second;
-  };
+  std::pair<int, int> result{-1, 1};  // node, sign
   if (is_a<GiNaC::numeric>(e)) {
     const GiNaC::numeric& v = ex_to<GiNaC::numeric>(e);
     if (!v.is_real())
       throw std::logic_error("expression graph: complex number " + std::to_string(v.real().to_double()));
-    id = exact_constant(abs(v));
-    sign = v.is_negative() ? -1 : 1;
+    result = {exact_constant(abs(v)), v.is_negative() ? -1 : 1};
   } else if (is_a<GiNaC::constant>(e)) {
-    id = constant(ex_to<GiNaC::numeric>(e.evalf()).to_double());
+    result.first = constant(ex_to<GiNaC::numeric>(e.evalf()).to_double());
   } else if (is_a<GiNaC::symbol>(e)) {
     auto it = leaves.find(e);
     if (it == leaves.end())
       throw std::logic_error("expression graph: symbol '" + ex_to<GiNaC::symbol>(e).get_name() + "' is not an input");
-    id = it->second;
+    result.first = it->second;
   } else if (is_a<GiNaC::add>(e)) {
-    // The terms in structural order (not GiNaC's address-dependent one), each added or subtracted by its
-    // sign, so no constant -1 multiplies remain; the first term is added, the sum's sign returned apart.
-    std::vector<std::pair<int, int>> terms;  // node, sign
-    // Terms that are 0 in the graph (a factor is a constrained velocity) are left out: their sign, which
-    // depends on how GiNaC wrote them, would otherwise decide the sign of the sum when they sort first.
-    for (std::size_t i = 0; i < e.nops(); ++i) {
-      const std::pair<int, int> term = signed_expression(e.op(i), leaves);
-      if (!is_constant(term.first, 0)) terms.push_back(term);
-    }
-    std::sort(terms.begin(), terms.end(), structural);
-    // Terms GiNaC keeps apart that are the same node (the same value written differently, which depends
-    // on GiNaC's term order in earlier steps) are collected: x − x vanishes, x + x becomes 2·x.
-    std::vector<std::pair<int, int>> collected;
-    for (std::size_t i = 0; i < terms.size();) {
-      std::size_t j = i;
-      int count = 0;
-      for (; j < terms.size() && terms[j].first == terms[i].first; ++j) count += terms[j].second;
-      if (count == 1 || count == -1) collected.emplace_back(terms[i].first, count);
-      if (count > 1 || count < -1)
-        collected.emplace_back(binary(Op::mul, constant(std::abs(count)), terms[i].first), count > 0 ? 1 : -1);
-      i = j;
-    }
-    if (collected.size() != terms.size()) std::sort(collected.begin(), collected.end(), structural);
-    terms.swap(collected);
-    if (!terms.empty() && terms.front().second < 0) {
-      sign = -1;
-      for (auto& t : terms) t.second = -t.second;
-    }
-    id = constant(0);
-    for (const auto& [term, s] : terms) id = binary(s < 0 ? Op::sub : Op::add, id, term);
+    result = signed_sum(e, leaves);
   } else if (is_a<GiNaC::mul>(e)) {
-    // Numerator and denominator factors, each chained in structural order, their signs collected.
-    std::vector<std::pair<int, int>> numerator, denominator;
-    GiNaC::numeric coefficient = 1;
-    for (std::size_t i = 0; i < e.nops(); ++i) {
-      const ex factor = e.op(i);
-      if (is_a<GiNaC::numeric>(factor)) {
-        coefficient *= ex_to<GiNaC::numeric>(factor);
-      } else if (is_a<GiNaC::power>(factor) && is_a<GiNaC::numeric>(factor.op(1)) &&
-                 ex_to<GiNaC::numeric>(factor.op(1)).is_negative()) {
-        denominator.push_back(signed_expression(GiNaC::pow(factor.op(0), -factor.op(1)), leaves));
-      } else {
-        numerator.push_back(signed_expression(factor, leaves));
-      }
-    }
-    if (coefficient.is_negative()) {
-      sign = -sign;
-      coefficient = -coefficient;
-    }
-    const auto chain = [&](std::vector<std::pair<int, int>>& factors) {
-      std::sort(factors.begin(), factors.end(), structural);
-      int product = constant(1);
-      for (const auto& [f, s] : factors) {
-        product = binary(Op::mul, product, f);
-        sign *= s;
-      }
-      return product;
-    };
-    const int num = chain(numerator);
-    const int den = chain(denominator);
-    const int c = exact_constant(coefficient);
-    id = binary(Op::mul, c, binary(Op::div, num, den));
+    result = signed_product(e, leaves);
   } else if (is_a<GiNaC::power>(e)) {
-    const ex base = e.op(0), exponent = e.op(1);
-    bool integer = false;
-    long m = 0;
-    if (is_a<GiNaC::numeric>(exponent) && ex_to<GiNaC::numeric>(exponent).is_integer()) {
-      integer = true;
-      m = ex_to<GiNaC::numeric>(exponent).to_long();
-    }
-    if (integer) {  // (s·b)^m = s^m · b^m
-      const auto [b, s] = signed_expression(base, leaves);
-      id = m >= 0 ? integer_power(b, m) : binary(Op::div, constant(1), integer_power(b, -m));
-      sign = (s < 0 && m % 2 != 0) ? -1 : 1;
-    } else {
-      const int b = from_expression(base, leaves);
-      if (is_a<GiNaC::numeric>(exponent)) {
-        const GiNaC::numeric k = ex_to<GiNaC::numeric>(exponent);
-        if ((2 * k).is_integer()) {
-          const long h = (2 * k).to_long();  // base^(h/2) = sqrt(base)^h
-          const int root = unary(Op::sqrt, b);
-          id = h >= 0 ? integer_power(root, h) : binary(Op::div, constant(1), integer_power(root, -h));
-        } else {
-          id = binary(Op::pow, b, constant(k.to_double()));
-        }
-      } else {
-        id = binary(Op::pow, b, from_expression(exponent, leaves));
-      }
-    }
+    result = signed_power(e, leaves);
   } else if (is_a<GiNaC::function>(e)) {
     const std::string name = ex_to<GiNaC::function>(e).get_name();
     if (e.nops() != 1) throw std::logic_error("expression graph: function '" + name + "' cannot be emitted");
-    id = unary(function_op(name), from_expression(e.op(0), leaves));
+    result.first = unary(function_op(name), from_expression(e.op(0), leaves));
   } else {
     throw std::logic_error("expression graph: unsupported expression type");
   }
-  if (is_constant(id, 0)) sign = 1;  // 0 has no sign to carry
-  const std::pair<int, int> result{id, sign};
+  if (is_constant(result.first, 0)) result.second = 1;  // 0 has no sign to carry
   memo_.emplace(e, result);
   return result;
+}
+
+std::pair<int, int> ExpressionGraph::signed_sum(const ex& e, const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
+  // The terms in structural order (not GiNaC's address-dependent one), each added or subtracted by its
+  // sign, so no constant -1 multiplies remain; the first term is added, the sum's sign returned apart.
+  const Structural structural{*this};
+  std::vector<std::pair<int, int>> terms;  // node, sign
+  // Terms that are 0 in the graph (a factor is a constrained velocity) are left out: their sign, which
+  // depends on how GiNaC wrote them, would otherwise decide the sign of the sum when they sort first.
+  for (std::size_t i = 0; i < e.nops(); ++i) {
+    const std::pair<int, int> term = signed_expression(e.op(i), leaves);
+    if (!is_constant(term.first, 0)) terms.push_back(term);
+  }
+  std::sort(terms.begin(), terms.end(), structural);
+  // Terms GiNaC keeps apart that are the same node (the same value written differently, which depends
+  // on GiNaC's term order in earlier steps) are collected: x − x vanishes, x + x becomes 2·x.
+  std::vector<std::pair<int, int>> collected;
+  for (std::size_t i = 0; i < terms.size();) {
+    std::size_t j = i;
+    int count = 0;
+    for (; j < terms.size() && terms[j].first == terms[i].first; ++j) count += terms[j].second;
+    if (count == 1 || count == -1) collected.emplace_back(terms[i].first, count);
+    if (count > 1 || count < -1)
+      collected.emplace_back(binary(Op::mul, constant(std::abs(count)), terms[i].first), count > 0 ? 1 : -1);
+    i = j;
+  }
+  if (collected.size() != terms.size()) std::sort(collected.begin(), collected.end(), structural);
+  terms.swap(collected);
+  int sign = 1;
+  if (!terms.empty() && terms.front().second < 0) {
+    sign = -1;
+    for (auto& t : terms) t.second = -t.second;
+  }
+  int id = constant(0);
+  for (const auto& [term, s] : terms) id = binary(s < 0 ? Op::sub : Op::add, id, term);
+  return {id, sign};
+}
+
+std::pair<int, int> ExpressionGraph::signed_product(const ex& e, const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
+  // Numerator and denominator factors, each chained in structural order, their signs collected.
+  std::vector<std::pair<int, int>> numerator, denominator;
+  GiNaC::numeric coefficient = 1;
+  for (std::size_t i = 0; i < e.nops(); ++i) {
+    const ex factor = e.op(i);
+    if (is_a<GiNaC::numeric>(factor)) {
+      coefficient *= ex_to<GiNaC::numeric>(factor);
+    } else if (is_a<GiNaC::power>(factor) && is_a<GiNaC::numeric>(factor.op(1)) &&
+               ex_to<GiNaC::numeric>(factor.op(1)).is_negative()) {
+      denominator.push_back(signed_expression(GiNaC::pow(factor.op(0), -factor.op(1)), leaves));
+    } else {
+      numerator.push_back(signed_expression(factor, leaves));
+    }
+  }
+  int sign = 1;
+  if (coefficient.is_negative()) {
+    sign = -sign;
+    coefficient = -coefficient;
+  }
+  const auto chain = [&](std::vector<std::pair<int, int>>& factors) {
+    std::sort(factors.begin(), factors.end(), Structural{*this});
+    int product = constant(1);
+    for (const auto& [f, s] : factors) {
+      product = binary(Op::mul, product, f);
+      sign *= s;
+    }
+    return product;
+  };
+  const int num = chain(numerator);
+  const int den = chain(denominator);
+  const int c = exact_constant(coefficient);
+  return {binary(Op::mul, c, binary(Op::div, num, den)), sign};
+}
+
+std::pair<int, int> ExpressionGraph::signed_power(const ex& e, const std::map<ex, int, GiNaC::ex_is_less>& leaves) {
+  const ex base = e.op(0), exponent = e.op(1);
+  if (is_a<GiNaC::numeric>(exponent) && ex_to<GiNaC::numeric>(exponent).is_integer()) {  // (s·b)^m = s^m · b^m
+    const long m = ex_to<GiNaC::numeric>(exponent).to_long();
+    const auto [b, s] = signed_expression(base, leaves);
+    const int id = m >= 0 ? integer_power(b, m) : binary(Op::div, constant(1), integer_power(b, -m));
+    return {id, (s < 0 && m % 2 != 0) ? -1 : 1};
+  }
+  const int b = from_expression(base, leaves);
+  if (!is_a<GiNaC::numeric>(exponent)) return {binary(Op::pow, b, from_expression(exponent, leaves)), 1};
+  const GiNaC::numeric k = ex_to<GiNaC::numeric>(exponent);
+  if (!(2 * k).is_integer()) return {binary(Op::pow, b, constant(k.to_double())), 1};
+  const long h = (2 * k).to_long();  // base^(h/2) = sqrt(base)^h
+  const int root = unary(Op::sqrt, b);
+  return {h >= 0 ? integer_power(root, h) : binary(Op::div, constant(1), integer_power(root, -h)), 1};
 }
 
 std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs) const {
@@ -380,22 +387,19 @@ std::vector<int> ExpressionGraph::schedule(const std::vector<int>& outputs, cons
 OpCounts ExpressionGraph::count(const std::vector<int>& schedule) const {
   OpCounts c;
   for (int i : schedule) {
-    switch (node(i).op) {
-      case Op::constant:
-      case Op::input:
+    switch (operation(node(i).op).cost) {
+      case Cost::none:
         break;
-      case Op::add:
-      case Op::sub:
-      case Op::neg:
+      case Cost::add:
         ++c.add;
         break;
-      case Op::mul:
+      case Cost::mul:
         ++c.mul;
         break;
-      case Op::div:
+      case Cost::div:
         ++c.div;
         break;
-      default:
+      case Cost::call:
         ++c.call;
         break;
     }
@@ -531,10 +535,14 @@ bool hoist_shared_work(ExpressionGraph& g, Subroutine& sub) {
     if (s.is_unrepresentable(i)) return false;
   // The frontier's program rebuilt in g, reading the shared values where s reads p[k].
   std::vector<int> in_g(static_cast<std::size_t>(s.size()), -1);
-  interpret(
-      s, order, in_g, [&](const Node& n) { return g.constant(n.value); },
-      [&](Argument, int k) { return sub.shared.at(static_cast<std::size_t>(k)); },
-      [&](const Node& n, int a, int b) { return n.b >= 0 ? g.binary(n.op, a, b) : g.unary(n.op, a); });
+  for (int i : order) {
+    const Node& n = s.node(i);
+    const auto at = [&](int j) { return in_g[static_cast<std::size_t>(j)]; };
+    in_g[static_cast<std::size_t>(i)] = n.op == Op::constant ? g.constant(n.value)
+                                        : n.op == Op::input  ? sub.shared.at(static_cast<std::size_t>(n.index))
+                                        : n.b >= 0           ? g.binary(n.op, at(n.a), at(n.b))
+                                                             : g.unary(n.op, at(n.a));
+  }
   // The frontier read as p[P + j] (P: the shared values so far), then every p[k] still read renumbered from 0.
   const int P = static_cast<int>(sub.shared.size());
   std::vector<int> value_of = sub.shared;  // the value in g of p[k]
@@ -558,92 +566,44 @@ bool hoist_shared_work(ExpressionGraph& g, Subroutine& sub) {
   return true;
 }
 
+namespace {
+
+// The graph's node constructors, as the operation table's derivative rules build their results.
+class GraphTerms final : public TermBuilder {
+ public:
+  explicit GraphTerms(ExpressionGraph& g) : g_(g) {}
+  int constant(double value) override { return g_.constant(value); }
+  int unary(Op op, int a) override { return g_.unary(op, a); }
+  int binary(Op op, int a, int b) override { return g_.binary(op, a, b); }
+  bool is_constant(int i, double& value) const override {
+    if (g_.node(i).op != Op::constant) return false;
+    value = g_.node(i).value;
+    return true;
+  }
+
+ private:
+  ExpressionGraph& g_;
+};
+
+}  // namespace
+
 std::vector<int> tangent(ExpressionGraph& g, const std::vector<int>& outputs, const std::map<int, int>& seed) {
   const std::vector<int> order = g.schedule(outputs);
-  const int zero = g.constant(0), one = g.constant(1);
+  const int zero = g.constant(0);
   std::vector<int> dot(static_cast<std::size_t>(g.size()), zero);
-  const auto mul = [&](int x, int y) { return g.binary(Op::mul, x, y); };
+  GraphTerms terms(g);
   for (int i : order) {
-    const Node n = g.node(i);  // a copy: the rules below grow the graph
-    int t = zero;
+    const Node n = g.node(i);  // a copy: the rules grow the graph
     if (n.op == Op::input) {
       const auto it = seed.find(i);
-      if (it != seed.end()) t = it->second;
-      dot[static_cast<std::size_t>(i)] = t;
+      dot[static_cast<std::size_t>(i)] = it != seed.end() ? it->second : zero;
       continue;
     }
     if (n.op == Op::constant) continue;
     const int da = dot[static_cast<std::size_t>(n.a)];
     const int db = n.b >= 0 ? dot[static_cast<std::size_t>(n.b)] : zero;
     if (da == zero && db == zero) continue;
-    switch (n.op) {
-      case Op::add:
-        t = g.binary(Op::add, da, db);
-        break;
-      case Op::sub:
-        t = g.binary(Op::sub, da, db);
-        break;
-      case Op::mul:
-        t = g.binary(Op::add, mul(da, n.b), mul(n.a, db));
-        break;
-      case Op::div:  // (a/b)' = (a' − (a/b) b') / b
-        t = g.binary(Op::div, g.binary(Op::sub, da, mul(i, db)), n.b);
-        break;
-      case Op::neg:
-        t = g.unary(Op::neg, da);
-        break;
-      case Op::sqrt:
-        t = g.binary(Op::div, da, mul(g.constant(2), i));
-        break;
-      case Op::sin:
-        t = mul(g.unary(Op::cos, n.a), da);
-        break;
-      case Op::cos:
-        t = g.unary(Op::neg, mul(g.unary(Op::sin, n.a), da));
-        break;
-      case Op::tan:
-        t = mul(g.binary(Op::add, one, mul(i, i)), da);
-        break;
-      case Op::exp:
-        t = mul(i, da);
-        break;
-      case Op::log:
-        t = g.binary(Op::div, da, n.a);
-        break;
-      case Op::asin:
-        t = g.binary(Op::div, da, g.unary(Op::sqrt, g.binary(Op::sub, one, mul(n.a, n.a))));
-        break;
-      case Op::acos:
-        t = g.unary(Op::neg, g.binary(Op::div, da, g.unary(Op::sqrt, g.binary(Op::sub, one, mul(n.a, n.a)))));
-        break;
-      case Op::atan:
-        t = g.binary(Op::div, da, g.binary(Op::add, one, mul(n.a, n.a)));
-        break;
-      case Op::sinh:
-        t = mul(g.unary(Op::cosh, n.a), da);
-        break;
-      case Op::cosh:
-        t = mul(g.unary(Op::sinh, n.a), da);
-        break;
-      case Op::tanh:
-        t = mul(g.binary(Op::sub, one, mul(i, i)), da);
-        break;
-      case Op::abs:  // sign(a) a' as a / |a|: branch-free, undefined at a = 0 like the derivative
-        t = mul(g.binary(Op::div, n.a, i), da);
-        break;
-      case Op::pow:
-        if (g.node(n.b).op == Op::constant) {
-          const double k = g.node(n.b).value;
-          t = mul(mul(g.constant(k), g.binary(Op::pow, n.a, g.constant(k - 1))), da);
-        } else {  // (a^b)' = a^b (b' log a + b a' / a)
-          t = mul(i, g.binary(Op::add, mul(db, g.unary(Op::log, n.a)), g.binary(Op::div, mul(n.b, da), n.a)));
-        }
-        break;
-      case Op::constant:
-      case Op::input:
-        break;
-    }
-    dot[static_cast<std::size_t>(i)] = t;
+    dot[static_cast<std::size_t>(i)] = operation(n.op).derivative(terms, TangentOf{n.a, n.b, i, da, db});
   }
   std::vector<int> out;
   for (int o : outputs) out.push_back(dot[static_cast<std::size_t>(o)]);

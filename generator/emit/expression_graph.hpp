@@ -1,8 +1,8 @@
 // A small intermediate representation between algebra and text (after CasADi's instruction list):
 // a DAG of scalar operations in which every node is created once (value numbering over operation and
 // operands), so common subexpressions are shared across all kernels of a model. Constants are folded
-// and trivial identities (x+0, x·1, x·0) removed while building. Printing and numeric evaluation are
-// passes over this list.
+// and trivial identities (x+0, x·1, x·0) removed while building. Printing (emit/cpp_emitter) and numeric
+// evaluation (emit/interpreter.hpp, in double, 50 digits or residues) are passes over this list.
 //
 // Canonical order: every node carries a structural key (a hash over its operation, constant, argument and
 // the keys of its operands) and nodes are totally ordered by key, ties broken by comparing structure. The
@@ -128,6 +128,10 @@ class ExpressionGraph {
   /// `e` as (node, sign) with e = sign·node, the sign of every sum chosen structurally (its first term in
   /// structural order is added): GiNaC keeps a sum inside a product as S or −S depending on its term order.
   std::pair<int, int> signed_expression(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  /// The same for a sum, a product and a power: signed_expression's cases.
+  std::pair<int, int> signed_sum(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  std::pair<int, int> signed_product(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
+  std::pair<int, int> signed_power(const GiNaC::ex& e, const std::map<GiNaC::ex, int, GiNaC::ex_is_less>& leaves);
   std::map<GiNaC::ex, std::pair<int, int>, GiNaC::ex_is_less> memo_;
 };
 
@@ -166,25 +170,6 @@ struct Kernel {
   /// `outputs` must clear this.
   std::shared_ptr<const Subroutine> calls;
 };
-
-/// The interpreter of the IR, one pass over `schedule` (operands before users) writing values[i] for every node
-/// in it: a constant is constant(node), an input argument(node.argument, node.index), and any other node
-/// operation(node, value of a, value of b), b being a's value for a one-operand node. GraphEvaluator (double) and
-/// the 50-digit evaluator of numeric/kernel_accuracy are this loop with their own arithmetic.
-template <class Value, class ConstantRule, class ArgumentRule, class OperationRule>
-void interpret(const ExpressionGraph& g, const std::vector<int>& schedule, std::vector<Value>& values,
-               ConstantRule constant, ArgumentRule argument, OperationRule operation) {
-  for (int i : schedule) {
-    const Node& n = g.node(i);
-    Value& v = values[static_cast<std::size_t>(i)];
-    if (n.op == Op::constant)
-      v = constant(n);
-    else if (n.op == Op::input)
-      v = argument(n.argument, n.index);
-    else
-      v = operation(n, values[static_cast<std::size_t>(n.a)], values[static_cast<std::size_t>(n.b >= 0 ? n.b : n.a)]);
-  }
-}
 
 /// Converts expressions that may use intermediate symbols (algebra/intermediates.hpp) into `graph`: each
 /// definition becomes a node when an expression first needs it, after the definitions it uses. `tape` may

@@ -18,6 +18,12 @@ const std::vector<KernelSpec>& kernel_registry() {
        "otherwise forward mode through rhs",
        false},
       {"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", true, true},
+      // Models with position constraints g(q) = 0 only (holonomic constraints): what the projector needs.
+      {"constraint_position", "g(q) of the position constraints g = 0, for the projector (runtime/projection.hpp)",
+       true},
+      {"constraint_position_jacobian",
+       "G = dg/dq, row-major n_out_constraint_position x n_coordinates, for the projector (runtime/projection.hpp)",
+       true},
       {"group_velocity", "xi^alpha = u^alpha - A^alpha_I r_dot^I for the reconstruction, eq. (KinRec)", true},
       {"connection", "A^alpha_I(r), row-major, eq. (KinConnect)/(mechConn)", true},
       {"locked_inertia", "L_alpha_beta(r) = d2T/dxi^alpha dxi^beta, row-major, eq. (M)", true},

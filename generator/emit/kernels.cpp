@@ -2,12 +2,14 @@
 
 #include "algebra/simplify.hpp"
 #include "derive/riemann.hpp"
-#include "derive/tree_derivatives.hpp"
 #include "emit/kernel_registry.hpp"
 #include "emit/linear_solve.hpp"
 #include "emit/polynomial_form.hpp"
 #include "emit/zero_test.hpp"
 #include "model/input_error.hpp"
+#include "rbd/aba.hpp"
+#include "rbd/rnea.hpp"
+#include "rbd/rnea_derivatives.hpp"
 
 #include <cmath>
 #include <optional>
@@ -124,13 +126,33 @@ class KernelBuilder {
 
     set_.kernels = {kinematics_, mass_, forcing_, gamma_, rhs_, jacobian_, energy};
     if (want("linearization")) set_.kernels.push_back(linearization());
-    if (!eq_.constraint_residual.empty()) {
-      Kernel residual = registered("constraint_residual");
+    const std::vector<PositionConstraint>& positions = sys_.position_constraints;
+    if (!eq_.constraint_residual.empty() || !positions.empty()) {
+      Kernel residual =
+          registered("constraint_residual", positions.empty() ? "" : ", then g(q) of the position constraints");
       for (std::size_t k = 0; k < eq_.constraint_residual.size(); ++k) {
         residual.outputs.push_back(node_of_(eq_.constraint_residual[k]));
         residual.output_names.push_back(name_of(sys_.constrained[k]));
       }
+      for (const PositionConstraint& c : positions) {
+        residual.outputs.push_back(node_of_(c.g));
+        residual.output_names.push_back("g[" + c.name + "]");
+      }
       set_.kernels.push_back(residual);
+    }
+    if (!positions.empty()) {
+      Kernel position = registered("constraint_position"), jacobian = registered("constraint_position_jacobian");
+      for (const PositionConstraint& c : positions) {
+        position.outputs.push_back(node_of_(c.g));
+        position.output_names.push_back(c.name);
+        for (int a = 0; a < n_; ++a) {
+          jacobian.outputs.push_back(node_of_(c.gradient[static_cast<std::size_t>(a)]));
+          jacobian.output_names.push_back("d" + c.name + "/d" +
+                                          sys_.coordinates[static_cast<std::size_t>(a)].get_name());
+        }
+      }
+      set_.kernels.push_back(position);
+      set_.kernels.push_back(jacobian);
     }
     if (derivation_.bundle) bundle_kernels();
     if (want("riemann_linearization")) set_.kernels.push_back(riemann_linearization());
@@ -156,6 +178,10 @@ class KernelBuilder {
                   : name_of(eq_.independent[static_cast<std::size_t>(k - n_)]);
   }
   GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::ex& x) { return tape_.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); }
+  // Names expressions in the kernels' copy of the program.
+  rbd::Namer<GiNaC::ex> namer() {
+    return rbd::Namer<GiNaC::ex>([this](const GiNaC::ex& e) { return tape_.define(e); });
+  }
   // Forward mode through the rhs program: d(rhs)/d(argument k) for k < count, one tangent pass each.
   std::vector<std::vector<int>> forward_columns(Argument argument, int count) {
     std::vector<std::vector<int>> columns;
@@ -174,8 +200,8 @@ class KernelBuilder {
   void jacobian_columns();
   void drop_identical_zeros();
   std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                              const std::optional<InverseDynamicsJacobian>& id,
-                                              const std::optional<InverseDynamicsJacobian>& minus_id,
+                                              const std::optional<rbd::InverseDynamicsJacobian>& id,
+                                              const std::optional<rbd::InverseDynamicsJacobian>& minus_id,
                                               std::string& route);
   void call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve);
   Kernel linearization();
@@ -208,7 +234,10 @@ class KernelBuilder {
   std::optional<ArticulatedNodes> factor_;  ///< a tree's articulated factor in the common frame, once built
   /// The tree's articulated factor as nodes, built on first use.
   const ArticulatedNodes& articulated() {
-    if (!factor_) factor_ = articulated_nodes(g_, *eq_.tree, articulated_factor(*eq_.tree, tape_), node_of_);
+    if (!factor_) {
+      const rbd::FrameView world(eq_.tree->model, eq_.tree->frame, namer());
+      factor_ = articulated_nodes(g_, *eq_.tree, rbd::articulated_factor(world, namer()), node_of_);
+    }
     return *factor_;
   }
   bool articulated_ = false;  ///< rhs by the articulated-body algorithm
@@ -281,7 +310,7 @@ void KernelBuilder::jacobian_columns() {
   std::vector<int> accelerations = accel_;
   if (eq_.tree && !exact_accel_ && articulated_ && column_solve_ != ColumnSolve::ldlt) {
     std::vector<int> f;
-    for (const GiNaC::ex& e : bias_forcing(*eq_.tree, tape_)) f.push_back(node_of_(e));
+    for (const GiNaC::ex& e : rbd::bias_forcing(*eq_.tree, namer())) f.push_back(node_of_(e));
     accelerations = articulated_solve_columns(g_, articulated(), {f}).front();
   }
   for (std::size_t j = 0; j < eq_.acceleration_symbols.size(); ++j)
@@ -290,12 +319,12 @@ void KernelBuilder::jacobian_columns() {
   for (int I : eq_.independent) state_symbols.push_back(sys_.velocities[static_cast<std::size_t>(I)]);
   const std::size_t nx = state_symbols.size();
   column_.assign(nx, {});
-  // Trees: ∂ID/∂x analytically (derive/tree_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
+  // Trees: ∂ID/∂x analytically (rbd/rnea_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
   // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
   // The right sides are −∂ID/∂x (minus_id: P, V and Δ negated once per column instead of every row).
-  std::optional<InverseDynamicsJacobian> id, minus_id;
+  std::optional<rbd::InverseDynamicsJacobian> id, minus_id;
   if (eq_.tree && !exact_accel_) {
-    id = inverse_dynamics_jacobian(*eq_.tree, tape_);
+    id = rbd::rnea_derivatives(*eq_.tree, tape_);
     minus_id = id->negated(tape_);
   }
   const std::vector<std::vector<GiNaC::ex>> id_columns =
@@ -372,8 +401,8 @@ void KernelBuilder::drop_identical_zeros() {
 // M y = b_k for every right side: the LDLᵀ of M or (trees) the articulated-body recursion, as asked, or the
 // recursion when it is clearly the smaller program.
 std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                                           const std::optional<InverseDynamicsJacobian>& id,
-                                                           const std::optional<InverseDynamicsJacobian>& minus_id,
+                                                           const std::optional<rbd::InverseDynamicsJacobian>& id,
+                                                           const std::optional<rbd::InverseDynamicsJacobian>& minus_id,
                                                            std::string& route) {
   const ColumnSolver by_ldlt = [&](ExpressionGraph& s, const std::function<int(int)>& shared,
                                    const std::vector<std::vector<int>>& b) {
@@ -454,7 +483,7 @@ void KernelBuilder::bundle_kernels() {
   const BundleGeometry& geo = *derivation_.bundle;
   const Bundle& b = *model_.bundle;
   const std::size_t m = b.group_velocity.size();
-  const int n = n_;
+  const int n = static_cast<int>(model_.coordinates.size());  // shape coordinates (the state may also hold Γ)
   Kernel xi = registered("group_velocity");
   for (std::size_t a = 0; a < m; ++a) {
     xi.outputs.push_back(node_of_(derivation_.group_velocity[a]));

@@ -1,7 +1,9 @@
 // The kernels of a model, built on one shared expression graph (so CSE spans all of them):
 // kinematics (qadot), mass_matrix and forcing (BHconstr), hamel_coefficients (gamma), rhs (state
-// derivative with an unrolled LDLᵀ solve of M u̇ = f), energy and constraint_residual (monitors); on request
-// only, riemann_linearization (the covariant linearization of the Riemannian view, derive/riemann.hpp).
+// derivative with an unrolled LDLᵀ solve of M u̇ = f), energy and constraint_residual (monitors); for systems with
+// position constraints g(q) = 0 (HamelSystem::position_constraints) constraint_position and its Jacobian, for the
+// runtime's projector; on request only, riemann_linearization (the covariant linearization of the Riemannian view,
+// derive/riemann.hpp).
 #pragma once
 
 #include "derive/derivation.hpp"

@@ -1,5 +1,7 @@
 #include "emit/linear_solve.hpp"
 
+#include "rbd/ldlt.hpp"
+
 #include <algorithm>
 #include <array>
 #include <map>
@@ -8,101 +10,56 @@ namespace hamel {
 
 namespace {
 
-// M = L D Lᵀ (unit lower L) as graph nodes, M in natural order. The entries before their division by the pivot,
-// S = L D, are kept as well, so that every term of the elimination, S_ik L_jk = L_ik d_k L_jk, costs one
-// multiplication (Golub & Van Loan, Algorithm 4.1.2).
-struct LdltFactors {
-  std::vector<std::vector<int>> L;
-  std::vector<int> d;
-};
+using rbd::Vec6;
 
-LdltFactors ldlt_factor(ExpressionGraph& g, const std::vector<std::vector<int>>& M, std::vector<int>* pivots) {
-  const std::size_t n = M.size();
-  const int zero = g.constant(0);
-  LdltFactors F{std::vector<std::vector<int>>(n, std::vector<int>(n, zero)), std::vector<int>(n)};
-  std::vector<std::vector<int>> S(n, std::vector<int>(n, zero));  // S_ik = L_ik d_k
-  for (std::size_t j = 0; j < n; ++j) {
-    int dj = M[j][j];
-    for (std::size_t k = 0; k < j; ++k) dj = g.binary(Op::sub, dj, g.binary(Op::mul, S[j][k], F.L[j][k]));
-    F.d[j] = dj;
-    if (pivots) pivots->push_back(dj);
-    for (std::size_t i = j + 1; i < n; ++i) {
-      int s = M[i][j];
-      for (std::size_t k = 0; k < j; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, S[i][k], F.L[j][k]));
-      S[i][j] = s;
-      F.L[i][j] = g.binary(Op::div, s, dj);
-    }
-  }
-  return F;
+std::vector<GraphScalar> scalars(const std::vector<int>& nodes) {
+  std::vector<GraphScalar> out;
+  for (int n : nodes) out.push_back(GraphScalar::node(n));
+  return out;
+}
+std::vector<std::vector<GraphScalar>> scalars(const std::vector<std::vector<int>>& nodes) {
+  std::vector<std::vector<GraphScalar>> out;
+  for (const std::vector<int>& row : nodes) out.push_back(scalars(row));
+  return out;
+}
+std::vector<int> ids(const std::vector<GraphScalar>& values) {
+  std::vector<int> out;
+  for (const GraphScalar& v : values) out.push_back(v.id());
+  return out;
+}
+std::vector<std::vector<int>> ids(const std::vector<std::vector<GraphScalar>>& values) {
+  std::vector<std::vector<int>> out;
+  for (const std::vector<GraphScalar>& v : values) out.push_back(ids(v));
+  return out;
 }
 
-// y = L⁻¹ f, then x = D⁻¹ y − Lᵀ x from the last row up: dividing by d, or multiplying by `inverse` (1/d)
-// when given.
-std::vector<int> ldlt_substitute(ExpressionGraph& g, const LdltFactors& F, const std::vector<int>& f,
-                                 const std::vector<int>* inverse) {
-  const std::size_t n = f.size();
-  std::vector<int> y(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    int s = f[i];
-    for (std::size_t k = 0; k < i; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, F.L[i][k], y[k]));
-    y[i] = s;
-  }
-  std::vector<int> x(n);
-  for (std::size_t i = n; i-- > 0;) {
-    int s = inverse ? g.binary(Op::mul, y[i], (*inverse)[i]) : g.binary(Op::div, y[i], F.d[i]);
-    for (std::size_t k = i + 1; k < n; ++k) s = g.binary(Op::sub, s, g.binary(Op::mul, F.L[k][i], x[k]));
-    x[i] = s;
-  }
-  return x;
-}
-
-// P v: v reversed (P the exchange matrix), and P M Pᵀ.
-std::vector<int> reversed(std::vector<int> v) {
-  std::reverse(v.begin(), v.end());
-  return v;
-}
-std::vector<std::vector<int>> reversed(const std::vector<std::vector<int>>& M) {
-  const std::size_t n = M.size();
-  std::vector<std::vector<int>> R(n, std::vector<int>(n));
-  for (std::size_t i = 0; i < n; ++i)
-    for (std::size_t j = 0; j < n; ++j) R[i][j] = M[n - 1 - i][n - 1 - j];
-  return R;
-}
-
-// ⟨a, b⟩ of two 6-vectors of nodes, summed in pairs: shorter chains of dependent additions.
-int paired_dot(ExpressionGraph& g, const std::array<int, 6>& a, const std::array<int, 6>& b) {
-  int pair[3];
-  for (std::size_t k = 0; k < 3; ++k)
-    pair[k] = g.binary(Op::add, g.binary(Op::mul, a[2 * k], b[2 * k]), g.binary(Op::mul, a[2 * k + 1], b[2 * k + 1]));
-  return g.binary(Op::add, g.binary(Op::add, pair[0], pair[1]), pair[2]);
+// The graph's LDLᵀ: every term of the elimination is (the numerator of L_ik) · L_jk, one multiplication.
+rbd::LdltOptions<GraphScalar> graph_ldlt(bool last_first, bool reciprocal) {
+  rbd::LdltOptions<GraphScalar> o;
+  o.numerator_products = true;
+  o.reciprocal = reciprocal ? rbd::LdltOptions<GraphScalar>::Reciprocal::substitution
+                            : rbd::LdltOptions<GraphScalar>::Reciprocal::none;
+  o.last_first = last_first;
+  return o;
 }
 
 }  // namespace
 
-// Solves M y = f for symmetric positive definite M as straight-line code (LDLᵀ, no pivoting, no
-// square roots): no loops or branches are left in the emitted kernel. With `last_first`, the same
-// factorization of the reversed system, P M Pᵀ (P y) = P f.
 std::vector<int> ldlt_solve(ExpressionGraph& g, const std::vector<std::vector<int>>& M, const std::vector<int>& f,
                             bool last_first, std::vector<int>* pivots) {
-  if (last_first) return reversed(ldlt_solve(g, reversed(M), reversed(f), false, pivots));
-  return ldlt_substitute(g, ldlt_factor(g, M, pivots), f, nullptr);
+  const GraphScope scope(g);
+  std::vector<GraphScalar> d;
+  const std::vector<int> x =
+      ids(rbd::ldlt_solve(scalars(M), {scalars(f)}, graph_ldlt(last_first, false), pivots ? &d : nullptr).front());
+  if (pivots)
+    for (const GraphScalar& p : d) pivots->push_back(p.id());
+  return x;
 }
 
 std::vector<std::vector<int>> ldlt_solve_columns(ExpressionGraph& g, const std::vector<std::vector<int>>& M,
                                                  const std::vector<std::vector<int>>& columns, bool last_first) {
-  if (last_first) {
-    std::vector<std::vector<int>> flipped;
-    for (const std::vector<int>& f : columns) flipped.push_back(reversed(f));
-    std::vector<std::vector<int>> out = ldlt_solve_columns(g, reversed(M), flipped, false);
-    for (std::vector<int>& x : out) x = reversed(x);
-    return out;
-  }
-  const LdltFactors F = ldlt_factor(g, M, nullptr);
-  std::vector<int> inverse;
-  for (int d : F.d) inverse.push_back(g.binary(Op::div, g.constant(1), d));
-  std::vector<std::vector<int>> out;
-  for (const std::vector<int>& f : columns) out.push_back(ldlt_substitute(g, F, f, &inverse));
-  return out;
+  const GraphScope scope(g);
+  return ids(rbd::ldlt_solve(scalars(M), scalars(columns), graph_ldlt(last_first, true)));
 }
 
 std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const BundleGeometry& geo,
@@ -120,40 +77,34 @@ std::vector<std::vector<int>> solved_connection(ExpressionGraph& g, const Bundle
   return A;
 }
 
-ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree, const ArticulatedFactor& factor,
-                                   ProgramConverter& node_of) {
-  using Vec = ArticulatedNodes::Vec;
-  const std::size_t N = tree.parent.size(), m = tree.base.size();
-  const int zero = g.constant(0);
-  const auto nodes = [&](const spatial::Vec6& v) {
-    Vec out;
-    for (std::size_t k = 0; k < 6; ++k) out[k] = node_of(v[k]);
+ArticulatedNodes articulated_nodes(ExpressionGraph& g, const rbd::TreeDynamics& tree,
+                                   const rbd::ArticulatedFactor& factor, ProgramConverter& node_of) {
+  const std::size_t N = tree.model.size(), m = tree.model.base.size();
+  const GraphScope scope(g);
+  const auto nodes = [&](const Vec6<GiNaC::ex>& v) {
+    Vec6<GraphScalar> out = rbd::zero6<GraphScalar>();
+    for (std::size_t k = 0; k < 6; ++k) out[k] = GraphScalar::node(node_of(v[k]));
     return out;
   };
-  const Vec none = {zero, zero, zero, zero, zero, zero};
-  ArticulatedNodes f{tree.parent,
-                     std::vector<Vec>(N, none),
-                     std::vector<Vec>(N, none),
-                     std::vector<Vec>(N, none),
-                     {},
-                     std::vector<int>(N, zero),
-                     std::vector<std::vector<int>>(m, std::vector<int>(m)),
-                     std::vector<int>(N, zero),
-                     std::vector<int>(N, zero)};
+  ArticulatedNodes f;
+  f.parent = tree.model.parent;
+  f.s = f.U = f.W = std::vector<Vec6<GraphScalar>>(N, rbd::zero6<GraphScalar>());
+  f.inverse_D = f.sigma = f.omega = std::vector<GraphScalar>(N, GraphScalar(0));
+  f.base_inertia.assign(m, std::vector<GraphScalar>(m, GraphScalar(0)));
   for (std::size_t i = 1; i < N; ++i) {
     f.s[i] = nodes(tree.frame.axis[i]);
     f.U[i] = nodes(factor.U[i]);
-    f.inverse_D[i] = node_of(factor.inverse_pivot[i]);
+    f.inverse_D[i] = GraphScalar::node(node_of(factor.inverse_D[i]));
     f.W[i] = nodes(factor.W[i]);
-    const std::size_t l = static_cast<std::size_t>(tree.parent[i]);
+    const std::size_t l = static_cast<std::size_t>(tree.model.parent[i]);
     if (l == 0) continue;
-    f.sigma[i] = paired_dot(g, f.s[l], f.U[i]);
-    f.omega[i] = g.binary(Op::mul, f.sigma[i], f.inverse_D[i]);
+    f.sigma[i] = rbd::paired_dot(f.s[l], f.U[i]);
+    f.omega[i] = f.sigma[i] * f.inverse_D[i];
   }
   for (std::size_t alpha = 0; alpha < m; ++alpha) {
-    f.e.push_back(nodes(tree.base[alpha]));
+    f.e.push_back(nodes(tree.model.base[alpha]));
     for (std::size_t beta = 0; beta < m; ++beta)
-      f.base_inertia[alpha][beta] = node_of(factor.base_inertia[alpha][beta]);
+      f.base_inertia[alpha][beta] = GraphScalar::node(node_of(factor.base_inertia[alpha][beta]));
   }
   return f;
 }
@@ -161,71 +112,16 @@ ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree
 std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const ArticulatedNodes& factor,
                                                         const std::vector<std::vector<int>>& columns,
                                                         const std::vector<InwardForce>& inward) {
-  using Vec = ArticulatedNodes::Vec;
-  const std::size_t N = factor.parent.size(), m = factor.e.size();
-  const int zero = g.constant(0);
-  const auto dot = [&](const Vec& a, const Vec& b) { return paired_dot(g, a, b); };
-  // y + a x, of numbers and of 6-vectors
-  const auto multiply_add = [&](int y, int a, int x) { return g.binary(Op::add, y, g.binary(Op::mul, a, x)); };
-  const auto axpy = [&](const Vec& y, const Vec& a, int x) {
-    Vec out;
-    for (std::size_t k = 0; k < 6; ++k) out[k] = multiply_add(y[k], a[k], x);
-    return out;
-  };
-  const std::vector<Vec>&s = factor.s, &U = factor.U, &W = factor.W, &e = factor.e;
-  const std::vector<int>& inverse_D = factor.inverse_D;
-  const std::vector<int>& parent = factor.parent;
-  const Vec none = {zero, zero, zero, zero, zero, zero};
-
-  // Inward, per column: μ_i and the base's right-hand side. q_i is p_i without its children's U_c μ_c, which
-  // reach ⟨s_i, p_i⟩ as σ_c μ_c in `s_p`.
-  std::vector<std::vector<int>> mu(columns.size(), std::vector<int>(N, zero)), base_rhs(columns.size());
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    const std::vector<int>& b = columns[c];
-    std::vector<Vec> p(N, none), q(N, none);
-    std::vector<int> s_p(N, zero);
-    // b_I = −⟨s_I, F⟩ on the ancestors of the force's body: μ_I = (b_I − ⟨s_I, p_I⟩) / D_I with p_I + F in place
-    // of p_I, and F passes inward with p unchanged.
-    if (!inward.empty() && inward[c].body > 0) {
-      const std::size_t entry = static_cast<std::size_t>(parent[inward[c].body]);
-      p[entry] = q[entry] = inward[c].force;
-    }
-    for (std::size_t i = N; i-- > 1;) {
-      const int s_pi = g.binary(Op::add, dot(s[i], q[i]), s_p[i]);  // ⟨s_i, p_i⟩
-      mu[c][i] = g.binary(Op::mul, g.binary(Op::sub, b[m + i - 1], s_pi), inverse_D[i]);
-      const std::size_t l = static_cast<std::size_t>(parent[i]);
-      if (l == 0 && m == 0) continue;
-      const Vec pi = axpy(p[i], U[i], mu[c][i]);
-      for (std::size_t k = 0; k < 6; ++k) {
-        p[l][k] = g.binary(Op::add, p[l][k], pi[k]);
-        q[l][k] = g.binary(Op::add, q[l][k], p[i][k]);
-      }
-      s_p[l] = multiply_add(s_p[l], factor.sigma[i], mu[c][i]);
-    }
-    for (std::size_t alpha = 0; alpha < m; ++alpha)
-      base_rhs[c].push_back(g.binary(Op::sub, b[alpha], dot(e[alpha], p[0])));
+  const GraphScope scope(g);
+  std::vector<rbd::InwardForce<GraphScalar>> forces;
+  for (const InwardForce& f : inward) {
+    rbd::InwardForce<GraphScalar> force{f.body, rbd::zero6<GraphScalar>()};
+    for (std::size_t k = 0; k < 6; ++k) force.force[k] = GraphScalar::node(f.force[k]);
+    forces.push_back(force);
   }
-  std::vector<std::vector<int>> base_rate(columns.size());
-  if (m > 0) base_rate = ldlt_solve_columns(g, factor.base_inertia, base_rhs);
-
-  // Outward: the base's acceleration (zero on a fixed base: M carries no gravity), then the joints'.
-  std::vector<std::vector<int>> out(columns.size());
-  for (std::size_t c = 0; c < columns.size(); ++c) {
-    std::vector<Vec> a(N, none);
-    for (std::size_t alpha = 0; alpha < m; ++alpha) a[0] = axpy(a[0], e[alpha], base_rate[c][alpha]);
-    out[c] = base_rate[c];
-    for (std::size_t i = 1; i < N; ++i) {
-      const std::size_t l = static_cast<std::size_t>(parent[i]);
-      // ⟨W_i, a_λ⟩ = ⟨W_i, a_λλ⟩ + ω_i ÿ_λ below a joint λ.
-      const int W_a =
-          l == 0 ? dot(W[i], a[0])
-                 : multiply_add(dot(W[i], a[static_cast<std::size_t>(parent[l])]), factor.omega[i], out[c][m + l - 1]);
-      const int rate = g.binary(Op::sub, mu[c][i], W_a);
-      out[c].push_back(rate);
-      a[i] = axpy(a[l], s[i], rate);
-    }
-  }
-  return out;
+  rbd::ArticulatedSolveOptions options;
+  options.short_chains = true;
+  return ids(rbd::articulated_solve(factor, scalars(columns), options, rbd::Namer<GraphScalar>::identity(), forces));
 }
 
 Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<int>>& columns, std::size_t lanes,
@@ -264,27 +160,23 @@ Subroutine solve_subroutine(ExpressionGraph& g, const std::vector<std::vector<in
 }
 
 ArticulatedNodes shared_factor(const ArticulatedNodes& factor, const std::function<int(int)>& shared) {
-  using Vec = ArticulatedNodes::Vec;
-  const auto vectors = [&](const std::vector<Vec>& v) {
-    std::vector<Vec> out(v.size());
-    for (std::size_t i = 0; i < v.size(); ++i)
-      for (std::size_t k = 0; k < 6; ++k) out[i][k] = shared(v[i][k]);
+  const auto value = [&](const GraphScalar& x) { return GraphScalar::node(shared(x.id())); };
+  const auto vectors = [&](const std::vector<Vec6<GraphScalar>>& v) {
+    std::vector<Vec6<GraphScalar>> out = v;
+    for (Vec6<GraphScalar>& w : out)
+      for (GraphScalar& x : w) x = value(x);
     return out;
   };
-  ArticulatedNodes local{factor.parent,
-                         vectors(factor.s),
-                         vectors(factor.U),
-                         vectors(factor.W),
-                         vectors(factor.e),
-                         {},
-                         factor.base_inertia,
-                         {},
-                         {}};
-  for (int d : factor.inverse_D) local.inverse_D.push_back(shared(d));
-  for (int x : factor.sigma) local.sigma.push_back(shared(x));
-  for (int x : factor.omega) local.omega.push_back(shared(x));
-  for (std::vector<int>& row : local.base_inertia)
-    for (int& entry : row) entry = shared(entry);
+  ArticulatedNodes local = factor;
+  local.s = vectors(factor.s);
+  local.U = vectors(factor.U);
+  local.W = vectors(factor.W);
+  local.e = vectors(factor.e);
+  for (GraphScalar& x : local.inverse_D) x = value(x);
+  for (GraphScalar& x : local.sigma) x = value(x);
+  for (GraphScalar& x : local.omega) x = value(x);
+  for (std::vector<GraphScalar>& row : local.base_inertia)
+    for (GraphScalar& x : row) x = value(x);
   return local;
 }
 

@@ -1,11 +1,13 @@
 // Linear systems solved as straight-line code in the expression graph (no loops or branches reach the
 // emitted kernel): the LDLᵀ of a symmetric positive definite matrix for one or many right-hand sides, the
-// connection A = L⁻¹K of a tree, and a tree's mass matrix by the articulated-body recursion.
+// connection A = L⁻¹K of a tree, and a tree's mass matrix by the articulated-body recursion. The algorithms are
+// rbd/ldlt.hpp and rbd/aba.hpp, run on graph nodes (emit/graph_scalar.hpp); this file adapts node indices to them.
 #pragma once
 
-#include "derive/derivation.hpp"
-#include "derive/tree_derivatives.hpp"
+#include "derive/bundle_connection.hpp"
 #include "emit/expression_graph.hpp"
+#include "emit/graph_scalar.hpp"
+#include "rbd/aba.hpp"
 
 #include <array>
 #include <functional>
@@ -42,32 +44,20 @@ struct InwardForce {
   std::array<int, 6> force{};
 };
 
-/// A kinematic tree's articulated factor as graph nodes (ArticulatedFactor converted, or the inputs of a column
-/// program): per body i ≥ 1 the joint axis s_i, U_i, W_i = U_i / D_i and 1 / D_i in the common frame, the base's
-/// directions e_α and its m × m articulated inertia; `parent` the tree's parent indices. With a parent joint λ
-/// (λ ≥ 1): σ_i = ⟨s_λ, U_i⟩ and ω_i = σ_i / D_i = ⟨W_i, s_λ⟩ (zero below the base), which shorten the solve's
-/// chains of dependent operations (articulated_solve_columns).
-struct ArticulatedNodes {
-  using Vec = std::array<int, 6>;
-  std::vector<int> parent;
-  std::vector<Vec> s, U, W, e;
-  std::vector<int> inverse_D;
-  std::vector<std::vector<int>> base_inertia;
-  std::vector<int> sigma, omega;
-};
+/// A kinematic tree's articulated factor as graph nodes (rbd::ArticulatedFactor converted, or the inputs of a column
+/// program), in the common frame: per body i ≥ 1 the joint axis s_i, U_i, W_i = U_i / D_i and 1 / D_i, the base's
+/// directions e_α and its m × m articulated inertia; with a parent joint λ (λ ≥ 1): σ_i = ⟨s_λ, U_i⟩ and
+/// ω_i = σ_i / D_i = ⟨W_i, s_λ⟩ (zero below the base), which shorten the solve's chains of dependent operations
+/// (rbd::ArticulatedSolveOptions::short_chains).
+using ArticulatedNodes = rbd::ArticulatedSystem<GraphScalar>;
 
-/// ArticulatedFactor and the tree's axes and base directions converted through `node_of`.
-ArticulatedNodes articulated_nodes(ExpressionGraph& g, const TreeRecursion& tree, const ArticulatedFactor& factor,
-                                   ProgramConverter& node_of);
+/// The factor and the tree's axes and base directions converted through `node_of`.
+ArticulatedNodes articulated_nodes(ExpressionGraph& g, const rbd::TreeDynamics& tree,
+                                   const rbd::ArticulatedFactor& factor, ProgramConverter& node_of);
 
 /// M y = b for each column b (m + n rows: base directions, then joints) of a kinematic tree's mass matrix, with
-/// the articulated-body recursion in the common frame (derive/tree_derivatives.hpp, the factor as nodes). Per
-/// column, from the leaves in: μ_i = (b_i − ⟨s_i, p_i⟩) / D_i and p_λ += p_i + U_i μ_i; the base's m × m block
-/// solved for all columns with one LDLᵀ; then outward: ÿ_i = μ_i − ⟨W_i, a_λ⟩, a_i = a_λ + s_i ÿ_i. The two
-/// products are formed one level early, ⟨s_i, p_i⟩ = Σ_c (⟨s_i, p_c⟩ + σ_c μ_c) over i's children c and
-/// ⟨W_i, a_λ⟩ = ⟨W_i, a_λλ⟩ + ω_i ÿ_λ, so that μ and ÿ pass from body to body through one multiply-add
-/// instead of a whole dot product: the solve is a long chain of dependent operations, and this halves it. About
-/// 55 operations per body and column against about 2·nnz(L) for the substitutions of an LDLᵀ of M: fewer for
+/// the articulated-body solve in the common frame (rbd::articulated_solve with short chains, the factor as nodes).
+/// About 55 operations per body and column against about 2·nnz(L) for the substitutions of an LDLᵀ of M: fewer for
 /// long chains, where L is dense. A column's `inward` force (if given, one per column) starts p at the body's parent:
 /// its ancestors' rows cost nothing.
 std::vector<std::vector<int>> articulated_solve_columns(ExpressionGraph& g, const ArticulatedNodes& factor,

@@ -51,17 +51,18 @@ void check_unsupported(const mjModel* m, Gate& gate, const At& at, const std::st
                "fluid forces are not part of hamel's tree format");
 }
 
-// Gravity: on a fixed base the tree's; on a floating base only left out (--ignore gravity).
-void set_gravity(const mjModel* m, Gate& gate, const std::string& path, ImportedTree& t) {
+// Gravity, in the world frame: the tree's on a fixed base, and on a floating base resolved in the base's frame as the
+// state's Γ (docs/model-format.md); left out only under --ignore gravity.
+void set_gravity(const mjModel* m, const ImportOptions& options, const Warn& warn, ImportedTree& t) {
   const double* g = m->opt.gravity;
   const bool gravity = !(m->opt.disableflags & mjDSBL_GRAVITY) && (g[0] != 0 || g[1] != 0 || g[2] != 0);
-  if (gravity && t.floating)
-    gate.check("gravity", SourceLocation{path, 0, 0}, "option gravity",
-               "gravity on a floating base needs the base's orientation, which the Euler-Poincare state (r, xi, "
-               "r_dot) does not hold; without contacts it only adds the free fall of the whole system, so the "
-               "joint motion and the base's angular velocity do not change");
-  if (gravity && !t.floating)
-    for (int c = 0; c < 3; ++c) t.gravity[c] = g[c];
+  if (!gravity) return;
+  if (options.ignore.count("gravity")) {
+    warn("left out (--ignore gravity): option gravity");
+    t.left_out.push_back("gravity");
+    return;
+  }
+  for (int c = 0; c < 3; ++c) t.gravity[c] = g[c];
 }
 
 // Actuators: motors on joints (force = gear · gain · ctrl) become inputs driving their joint's body.
@@ -161,6 +162,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
                              "tree format (forces act on the joints only)");
         free_body = b;
         t.floating = true;
+        t.base_pose = Y;  // the free body's frame in the world at qpos0
         t.base_name = identifier(bname, "base", labels);
         host[ub] = -1;
         in_host[ub] = Frame{};
@@ -210,7 +212,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
   if (t.bodies.empty())
     throw InputError(SourceLocation{path, 0, 0}, "", "the model has no hinge or slide joints; nothing to import");
 
-  set_gravity(m, gate, path, t);
+  set_gravity(m, options, warn, t);
 
   add_motors(m, gate, at, warn, body_of_joint, symbols, t);
   return t;

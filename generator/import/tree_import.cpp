@@ -109,14 +109,25 @@ std::string tree_model_yaml(const ImportedTree& t) {
     y << "group_velocity: [wx, wy, wz, vx, vy, vz]   # the base frame's body twist\n";
     y << "connection: mechanical\n";
   }
+  const bool gravity = t.gravity[0] != 0 || t.gravity[1] != 0 || t.gravity[2] != 0;
+  if (t.floating && gravity && !identity(t.base_pose.R)) {
+    // The base starts turned: gravity in its frame, Γ(0) = Rᵀ g, is where the state starts.
+    double start[3];
+    for (int i = 0; i < 3; ++i)
+      start[i] =
+          t.base_pose.R[0][i] * t.gravity[0] + t.base_pose.R[1][i] * t.gravity[1] + t.base_pose.R[2][i] * t.gravity[2];
+    y << "initial: {gravity_x: " << number(start[0]) << ", gravity_y: " << number(start[1])
+      << ", gravity_z: " << number(start[2]) << "}   # gravity in the base frame as the file orients it\n";
+  }
   y << "tree:\n";
   if (t.floating) {
     y << "  base:\n    name: " << t.base_name << "\n";
     inertial_lines(y, "    ", t.base);
+    if (gravity)
+      y << "  gravity: " << vec(t.gravity) << "   # in the world frame; the state holds it in the base frame\n";
   } else {
     y << "  base: world   # fixed base: the bodies hang from the world frame\n";
-    if (t.gravity[0] != 0 || t.gravity[1] != 0 || t.gravity[2] != 0)
-      y << "  gravity: " << vec(t.gravity) << "   # in the world frame\n";
+    if (gravity) y << "  gravity: " << vec(t.gravity) << "   # in the world frame\n";
   }
   y << "  bodies:\n";
   const std::string base_label = t.floating ? t.base_name : "world";

@@ -48,7 +48,8 @@ struct ImportedTree {
   std::string base_name;
   MassProperties base;               ///< floating base only
   std::vector<ImportedBody> bodies;  ///< parents before children
-  double gravity[3] = {0, 0, 0};     ///< fixed base only, resolved in the world (= base) frame
+  double gravity[3] = {0, 0, 0};     ///< resolved in the world frame (fixed base: the base frame)
+  Frame base_pose;                   ///< floating base: its frame in the world at the start (Γ(0) = Rᵀ g)
   std::vector<std::string> inputs;
   std::vector<std::string> left_out;  ///< what --ignore dropped, for the description
 };

@@ -27,6 +27,14 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
   for (auto& q : out.forces) q = sub(q);
   sub_matrix(out.A);
   sub_matrix(out.B);
+  for (AppliedWrench& w : out.wrenches)
+    for (int i = 0; i < 3; ++i)
+      for (GiNaC::ex* e : {&w.point[i], &w.force[i], &w.torque[i]}) *e = sub(*e);
+  for (auto& d : out.state_defaults) d.second = sub(d.second);
+  for (HolonomicConstraint& h : out.holonomic) {
+    h.g = sub(h.g);
+    for (GiNaC::ex& e : h.gradient) e = sub(e);
+  }
   if (out.bundle) {
     out.bundle->kinetic = sub(out.bundle->kinetic);
     out.bundle->potential = sub(out.bundle->potential);

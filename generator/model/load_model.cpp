@@ -6,6 +6,7 @@
 #include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
 
+#include "derive/holonomic_constraints.hpp"
 #include "lie/lie_algebra.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
@@ -250,15 +251,15 @@ class Loader {
   // contact-point velocity written with definitions), whose coefficients are its derivatives by the rates
   // (taken through the definitions, so nothing is expanded). Linearity is decided exactly.
   GiNaC::matrix velocity_matrix(Model& model, const YAML::Node& node, const std::string& key,
-                                const GiNaC::symtab& geometric, const std::string& allowed) {
+                                const GiNaC::symtab& geometric, const std::string& allowed, std::size_t rows) {
     const std::size_t n = model.coordinates.size();
-    if (!node.IsSequence() || node.size() != n)
-      fail(node, key, "expected a list of " + std::to_string(n) + " rows (one per quasi-velocity)");
+    if (!node.IsSequence() || node.size() != rows)
+      fail(node, key, "expected a list of " + std::to_string(rows) + " rows (one per quasi-velocity)");
     GiNaC::symtab with_rates = geometric;
     for (const auto& r : model.rates) with_rates[r.get_name()] = r;
     with_rates = with_definitions(with_rates);
-    GiNaC::matrix m(static_cast<unsigned>(n), static_cast<unsigned>(n));
-    for (std::size_t i = 0; i < n; ++i) {
+    GiNaC::matrix m(static_cast<unsigned>(rows), static_cast<unsigned>(n));
+    for (std::size_t i = 0; i < rows; ++i) {
       const std::string row_key = key + "[" + std::to_string(i) + "]";
       if (node[i].IsSequence()) {
         if (node[i].size() != n)
@@ -320,7 +321,9 @@ class Loader {
                               const GiNaC::symtab& velocities);
   void load_fixed_tree(Model& model);
   void declare_joints(const YAML::Node& tree, Model& model);
-  KinematicTree load_tree(const YAML::Node& tree, const Model& model);
+  void declare_gravity_state(const YAML::Node& gravity, const std::string& group, const Model& model);
+  void load_wrenches(Model& model, const KinematicTree& tree, const GiNaC::symtab& table);
+  KinematicTree load_tree(const YAML::Node& tree, Model& model);
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
                        const std::vector<std::string>& keys, const std::string& allowed,
                        const std::vector<std::string>& optional = {});
@@ -339,13 +342,18 @@ class Loader {
   }
   void load_forces(Model& model, const GiNaC::symtab& table, const std::string& allowed);
   void load_definitions(Model& model, const GiNaC::symtab& all);
+  std::size_t declare_holonomic(Model& model);
+  void load_holonomic(Model& model, const GiNaC::symtab& all);
+  std::set<std::string> symbols_used(const GiNaC::ex& e) const;
   GiNaC::symtab with_definitions(GiNaC::symtab table) const;
 
   const std::string& text_;
   std::string path_;
   YAML::Node root_;
   bool bundle_ = false;
-  std::map<std::string, std::string> declared_;  // name -> key that declared it
+  std::map<std::string, std::string> declared_;   // name -> key that declared it
+  std::vector<GiNaC::realsymbol> gravity_state_;  // Γ of a floating base that turns (declare_gravity_state)
+  SourceLocation gravity_location_;
   // Per definition (model key `definitions`): its symbol and the names of the model symbols it depends on,
   // through earlier definitions too; a key may use a definition only if it may use all of those.
   std::vector<std::pair<GiNaC::realsymbol, std::set<std::string>>> definition_uses_;
@@ -360,14 +368,16 @@ Model Loader::load() {
   if (bundle_)
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "tree", "potential", "forces", "inputs", "definitions", "initial"});
+                "connection", "kinetic", "bodies", "tree", "potential", "forces", "wrenches", "inputs", "definitions",
+                "initial"});
   else if (root_["tree"])
     check_keys(root_, "",
-               {"schema", "name", "description", "parameters", "tree", "forces", "inputs", "definitions", "initial"});
+               {"schema", "name", "description", "parameters", "tree", "forces", "wrenches", "inputs", "definitions",
+                "initial"});
   else
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "coordinates", "quasi_velocities", "constraints",
-                "lagrangian", "forces", "inputs", "definitions", "initial", "bodies", "potential"});
+                "holonomic", "lagrangian", "forces", "inputs", "definitions", "initial", "bodies", "potential"});
 
   Model model;
   model.source_path = path_;
@@ -426,22 +436,84 @@ void Loader::load_definitions(Model& model, const GiNaC::symtab& all) {
         expression(kv.second, key, table,
                    "a definition may use the model's symbols (parameters, coordinates, rates, velocities, inputs, "
                    "t) and the definitions above it");
-    std::set<std::string> uses;
-    std::function<void(const GiNaC::ex&)> collect = [&](const GiNaC::ex& e) {
-      if (GiNaC::is_a<GiNaC::symbol>(e)) {
-        const std::string s = GiNaC::ex_to<GiNaC::symbol>(e).get_name();
-        bool is_definition = false;
-        for (const auto& [sym, deps] : definition_uses_)
-          if (sym.get_name() == s) is_definition = true, uses.insert(deps.begin(), deps.end());
-        if (!is_definition) uses.insert(s);
-        return;
-      }
-      for (std::size_t i = 0; i < e.nops(); ++i) collect(e.op(i));
-    };
-    collect(value);
+    const std::set<std::string> uses = symbols_used(value);
     const GiNaC::realsymbol symbol = model.definitions.define_named(name, value);
     definition_uses_.emplace_back(symbol, uses);
     table[name] = symbol;
+  }
+}
+
+// The names of the model symbols `e` uses, through the definitions it uses.
+std::set<std::string> Loader::symbols_used(const GiNaC::ex& e) const {
+  std::set<std::string> uses;
+  std::function<void(const GiNaC::ex&)> collect = [&](const GiNaC::ex& x) {
+    if (GiNaC::is_a<GiNaC::symbol>(x)) {
+      const std::string s = GiNaC::ex_to<GiNaC::symbol>(x).get_name();
+      bool is_definition = false;
+      for (const auto& [sym, deps] : definition_uses_)
+        if (sym.get_name() == s) is_definition = true, uses.insert(deps.begin(), deps.end());
+      if (!is_definition) uses.insert(s);
+      return;
+    }
+    for (std::size_t i = 0; i < x.nops(); ++i) collect(x.op(i));
+  };
+  collect(e);
+  return uses;
+}
+
+// The names of the holonomic constraints (key `holonomic`), declared before the quasi-velocities: each also names
+// the quasi-velocity ġ it becomes. Returns how many there are.
+std::size_t Loader::declare_holonomic(Model& model) {
+  const YAML::Node node = root_["holonomic"];
+  if (!node) return 0;
+  model.locations["holonomic"] = where(node);
+  if (!node.IsMap()) fail(node, "holonomic", "expected an ordered map of name: expression g(q) (the constraint g = 0)");
+  for (const auto& kv : node) {
+    const std::string name = scalar(kv.first, "holonomic");
+    const std::string key = "holonomic." + name;
+    declare_name(kv.first, key, name);
+    model.locations[key] = where(kv.second);
+    model.holonomic.push_back({GiNaC::realsymbol(name), 0, {}});
+  }
+  const std::size_t n = model.coordinates.size(), k = model.holonomic.size();
+  if (k >= n)
+    fail(node, "holonomic",
+         std::to_string(k) + " constraints on " + std::to_string(n) + " coordinates leave no degree of freedom; " +
+             "expected fewer constraints than coordinates");
+  return k;
+}
+
+// g(q) of each holonomic constraint: coordinates, parameters and definitions of these only.
+void Loader::load_holonomic(Model& model, const GiNaC::symtab& all) {
+  const YAML::Node node = root_["holonomic"];
+  if (!node) return;
+  const std::string allowed =
+      "a holonomic constraint g(q) = 0 may use coordinates, parameters and definitions of these";
+  std::size_t i = 0;
+  for (const auto& kv : node) {
+    HolonomicConstraint& c = model.holonomic[i++];
+    const std::string key = "holonomic." + c.velocity.get_name();
+    c.g = expression(kv.second, key, all, allowed);
+    for (const std::string& used : symbols_used(c.g)) {
+      bool geometric = false;
+      for (const auto& p : model.parameters) geometric = geometric || p.symbol.get_name() == used;
+      for (const auto& q : model.coordinates) geometric = geometric || q.get_name() == used;
+      if (geometric) continue;
+      std::string what = quote(used);
+      for (const auto& r : model.rates)
+        if (r.get_name() == used) what = "the rate " + quote(used);
+      for (const auto& u : model.inputs)
+        if (u.get_name() == used) what = "the input " + quote(used);
+      for (const auto& u : model.quasi_velocities)
+        if (u.get_name() == used) what = "the quasi-velocity " + quote(used);
+      if (used == "t")
+        fail(kv.second, key,
+             "uses the time 't': constraints g(q, t) = 0 that move with time are not supported; expected g(q), " +
+                 allowed);
+      fail(kv.second, key,
+           "uses " + what + ": expected g(q), a condition on the positions; " + allowed +
+               " (a condition on velocities is a Pfaffian constraint: a quasi-velocity listed in 'constraints')");
+    }
   }
 }
 
@@ -479,30 +551,54 @@ void Loader::load_core(Model& model) {
     model.rates.emplace_back(rate);
   }
   const std::size_t n = model.coordinates.size();
+  // Holonomic constraints g(q) = 0: k of them leave n − k other quasi-velocities, given or (without the key
+  // quasi_velocities) the rates of independent coordinates (derive/holonomic_constraints.hpp).
+  const std::size_t k = declare_holonomic(model);
+  const std::size_t others = n - k;
 
-  YAML::Node qv = require("quasi_velocities", YAML::NodeType::Map, "a map with keys names, A and optionally B");
-  check_keys(qv, "quasi_velocities", {"names", "A", "B"});
-  if (!qv["names"]) fail(qv, "quasi_velocities.names", "missing required key; expected a list of names");
-  model.quasi_velocities = name_list(qv["names"], "quasi_velocities.names");
-  if (model.quasi_velocities.size() != n)
-    fail(qv["names"], "quasi_velocities.names",
-         "expected " + std::to_string(n) + " names (one per coordinate), got " +
-             std::to_string(model.quasi_velocities.size()));
+  YAML::Node qv = root_["quasi_velocities"];
+  if (!qv && k == 0) qv = require("quasi_velocities", YAML::NodeType::Map, "a map with keys names, A and optionally B");
+  if (qv) {
+    if (!qv.IsMap()) fail(qv, "quasi_velocities", "expected a map with keys names, A and optionally B");
+    check_keys(qv, "quasi_velocities", {"names", "A", "B"});
+    if (!qv["names"]) fail(qv, "quasi_velocities.names", "missing required key; expected a list of names");
+    model.quasi_velocities = name_list(qv["names"], "quasi_velocities.names");
+    if (model.quasi_velocities.size() != others)
+      fail(qv["names"], "quasi_velocities.names",
+           k == 0 ? "expected " + std::to_string(n) + " names (one per coordinate), got " +
+                        std::to_string(model.quasi_velocities.size())
+                  : "expected " + std::to_string(others) +
+                        " names (one per coordinate, less one per holonomic "
+                        "constraint: " +
+                        std::to_string(n) + " - " + std::to_string(k) + "), got " +
+                        std::to_string(model.quasi_velocities.size()));
+    if (k > 0 && qv["B"])
+      fail(qv["B"], "quasi_velocities.B",
+           "cannot be given with 'holonomic': hamel inverts A = [dg/dq; A] itself; expected no B");
+  }
 
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
 
   load_definitions(model, model.symbols());
   const GiNaC::symtab all = with_definitions(model.symbols());
+  load_holonomic(model, all);
   GiNaC::symtab geometric;  // what A(q) and B(q) may use
   for (const auto& p : model.parameters) geometric[p.symbol.get_name()] = p.symbol;
   for (const auto& s : model.coordinates) geometric[s.get_name()] = s;
   geometric = with_definitions(geometric);
   const std::string geometric_allowed = "A(q) and B(q) may use coordinates and parameters only";
 
-  if (!qv["A"]) fail(qv, "quasi_velocities.A", "missing required key; expected an n x n matrix (list of rows)");
-  model.locations["quasi_velocities.A"] = where(qv["A"]);
-  model.A = velocity_matrix(model, qv["A"], "quasi_velocities.A", geometric, geometric_allowed);
-  if (YAML::Node b = qv["B"]) {
+  if (qv && !qv["A"])
+    fail(qv, "quasi_velocities.A",
+         k == 0 ? "missing required key; expected an n x n matrix (list of rows)"
+                : "missing required key; expected " + std::to_string(others) + " rows of " + std::to_string(n) +
+                      " entries (list of rows)");
+  if (qv) {
+    model.locations["quasi_velocities.A"] = where(qv["A"]);
+    model.A = velocity_matrix(model, qv["A"], "quasi_velocities.A", geometric, geometric_allowed, others);
+  }
+  if (qv && qv["B"]) {
+    const YAML::Node b = qv["B"];
     model.locations["quasi_velocities.B"] = where(b);
     model.B = matrix_of(b, "quasi_velocities.B", n, n, geometric, geometric_allowed);
     model.B_given = true;
@@ -526,12 +622,19 @@ void Loader::load_core(Model& model) {
         fail(cons[i], key, quote(cname) + " is listed twice");
       model.constrained.push_back(index);
     }
-    if (model.constrained.size() >= n) fail(cons, "constraints", "at least one quasi-velocity must stay independent");
+    if (model.constrained.size() >= others)
+      fail(cons, "constraints",
+           k == 0 ? "at least one quasi-velocity must stay independent"
+                  : "at least one quasi-velocity must stay independent (the holonomic constraints already hold " +
+                        std::to_string(k) + " of the " + std::to_string(n) + ")");
   }
 
   GiNaC::symtab lagrangian_table = model.symbols();
   for (const auto& s : model.inputs) lagrangian_table.erase(s.get_name());
   lagrangian_table = with_definitions(lagrangian_table);
+  // The constraint velocities ġ^α join the quasi-velocities (first, held at zero); the Lagrangian and the forces
+  // do not see them (they are zero on the motion).
+  add_holonomic_quasi_velocities(model, static_cast<bool>(qv));
   // With `bodies`, L = Σ T_body − V + (further terms under `lagrangian`, optional).
   const YAML::Node bodies = root_["bodies"];
   model.lagrangian = 0;
@@ -589,6 +692,7 @@ void Loader::load_bundle(Model& model) {
   GiNaC::symtab force_table = velocities;
   force_table["t"] = model.time;
   for (const auto& u : model.inputs) force_table[u.get_name()] = u;
+  for (const auto& g : gravity_state_) force_table[g.get_name()] = g;
   load_definitions(model, force_table);
   geometric = with_definitions(geometric);
   velocities = with_definitions(velocities);
@@ -600,6 +704,62 @@ void Loader::load_bundle(Model& model) {
   load_forces(model, force_table,
               "forces on the shape may use shape coordinates, their _dot rates, the group velocity, parameters, "
               "inputs and t");
+  if (YAML::Node w = root_["wrenches"]) {
+    if (!tree)
+      fail(w, "wrenches",
+           "applies to kinematic trees (key 'tree'); in a model with 'kinetic' or 'bodies' write the generalized "
+           "forces as 'forces'");
+    load_wrenches(model, *model.bundle->tree, force_table);
+  }
+  if (tree) {
+    const KinematicTree& t = *model.bundle->tree;
+    for (std::size_t i = 0; i < t.gravity_state.size(); ++i)
+      model.state_defaults[t.gravity_state[i].get_name()] = t.gravity[i];
+  }
+}
+
+// 'wrenches': forces and torques applied to bodies of the tree, each in the body's frame or the world's.
+void Loader::load_wrenches(Model& model, const KinematicTree& tree, const GiNaC::symtab& table) {
+  const YAML::Node list = root_["wrenches"];
+  model.locations["wrenches"] = where(list);
+  if (!list.IsSequence() || list.size() == 0)
+    fail(list, "wrenches", "expected a list of wrenches, each a map with body, frame, point, force, torque");
+  std::vector<std::string> bodies = tree_body_names(tree);
+  if (tree.fixed_base) bodies.erase(bodies.begin());  // the world takes no wrench
+  const std::string allowed =
+      "a wrench may use t, the coordinates, their _dot rates, the group velocity, inputs, parameters and definitions";
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    const std::string key = "wrenches[" + std::to_string(i) + "]";
+    const YAML::Node w = list[i];
+    if (!w.IsMap()) fail(w, key, "expected a map with body, frame, point, force, torque");
+    check_keys(w, key, {"body", "frame", "point", "force", "torque"});
+    if (!w["body"]) fail(w, key + ".body", "missing; expected the name of a body of the tree: " + join(bodies));
+    AppliedWrench out;
+    out.body = scalar(w["body"], key + ".body");
+    if (std::find(bodies.begin(), bodies.end(), out.body) == bodies.end())
+      fail(w["body"], key + ".body",
+           quote(out.body) + " is not a body of the tree" + did_you_mean(out.body, bodies) +
+               "; expected one of: " + join(bodies));
+    if (YAML::Node f = w["frame"]) {
+      const std::string frame = scalar(f, key + ".frame");
+      if (frame != "body" && frame != "world")
+        fail(f, key + ".frame", "expected 'body' (the default) or 'world', got " + quote(frame));
+      out.world = frame == "world";
+      if (out.world && !tree.fixed_base)
+        fail(f, key + ".frame",
+             "'world' needs the base's orientation, which the state of a floating base does not hold (only the "
+             "direction of gravity in it); expected 'body', the wrench resolved in the body's frame");
+    }
+    if (!w["force"] && !w["torque"]) fail(w, key, "expected a force, a torque or both");
+    const std::pair<const char*, GiNaC::ex*> vectors[] = {
+        {"point", out.point}, {"force", out.force}, {"torque", out.torque}};
+    for (const auto& [k, target] : vectors)
+      if (YAML::Node v = w[k]) {
+        const std::vector<GiNaC::ex> e = vector_of(v, key + "." + k, 3, table, allowed);
+        for (std::size_t c = 0; c < 3; ++c) target[c] = e[c];
+      }
+    model.wrenches.push_back(out);
+  }
 }
 
 // 'group', 'trivialization' and 'group_velocity'; returns the group's dimension.
@@ -647,11 +807,8 @@ void Loader::load_shape(const YAML::Node& tree, Model& model, const Bundle& b) {
            "a kinematic tree's floating base must be " + tree_base_groups() +
                " (the group frame carries the base body), got '" + b.group + "'");
     model.locations["kinetic"] = where(tree);
-    if (tree.IsMap() && tree["gravity"])
-      fail(tree["gravity"], "tree.gravity",
-           "needs a fixed base (a model without 'group' and 'base: world'): on a floating base it would need the "
-           "base's orientation, which the state (r, xi, r_dot) does not hold (see docs/model-format.md)");
     declare_joints(tree, model);
+    if (tree.IsMap() && tree["gravity"]) declare_gravity_state(tree["gravity"], b.group, model);
   } else if (YAML::Node shape = root_["shape"]) {
     model.coordinates = name_list(shape, "shape");
   }
@@ -821,10 +978,7 @@ GiNaC::ex Loader::load_twist_body(Model& model, const YAML::Node& body, const st
 
 void Loader::declare_joints(const YAML::Node& tree, Model& model) {
   if (!tree.IsMap()) fail(tree, "tree", "expected a map with keys base and bodies");
-  if (bundle_)
-    check_keys(tree, "tree", {"base", "bodies"});
-  else
-    check_keys(tree, "tree", {"base", "gravity", "bodies"});
+  check_keys(tree, "tree", {"base", "gravity", "bodies"});
   YAML::Node list = tree["bodies"];
   if (!list) fail(tree, "tree.bodies", "missing; expected a list of bodies, each with a joint");
   if (!list.IsSequence() || list.size() == 0) fail(list, "tree.bodies", "expected a non-empty list of bodies");
@@ -837,6 +991,28 @@ void Loader::declare_joints(const YAML::Node& tree, Model& model) {
     if (!joint.IsMap() || !joint["name"]) fail(joint, key + ".name", "missing; expected the joint coordinate's name");
     model.coordinates.emplace_back(scalar(joint["name"], key + ".name"));
     declare_name(joint["name"], key + ".name", model.coordinates.back().get_name());
+  }
+}
+
+// The state Γ = Rᵀ g of a floating base that turns relative to gravity (model.hpp, KinematicTree::gravity): three
+// coordinates gravity_x, gravity_y, gravity_z, declared here so that later keys may use them. None when every direction
+// the base turns about is parallel to g (an SE2 base under vertical gravity) or the base only translates: Γ = g.
+void Loader::declare_gravity_state(const YAML::Node& gravity, const std::string& group, const Model& model) {
+  GiNaC::symtab constants;
+  for (const auto& p : model.parameters) constants[p.symbol.get_name()] = p.symbol;
+  const std::vector<GiNaC::ex> g = vector_of(gravity, "tree.gravity", 3, constants, "gravity may use parameters only");
+  bool component[3];  // which components are not identically zero
+  for (std::size_t i = 0; i < 3; ++i) component[i] = !g[i].is_zero();
+  bool turns = false;  // some angular direction e of the base with e × g ≠ 0
+  for (int k : tree_base_directions(group)) {
+    if (k >= 3) continue;
+    for (int j = 0; j < 3; ++j) turns = turns || (j != k && component[j]);
+  }
+  if (!turns) return;
+  for (const char* axis : {"x", "y", "z"}) {
+    const std::string name = std::string("gravity_") + axis;
+    declare_name(gravity, "tree.gravity", name);
+    gravity_state_.emplace_back(name);
   }
 }
 
@@ -873,9 +1049,10 @@ void Loader::load_fixed_tree(Model& model) {
   load_forces(model, table,
               "forces on the joints may use joint coordinates, their _dot rates, parameters, inputs, t and "
               "definitions of these");
+  if (root_["wrenches"]) load_wrenches(model, *model.tree, table);
 }
 
-KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
+KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model) {
   KinematicTree out;
   // Inertial data and joint geometry are constant: parameters only (the joints move the bodies).
   GiNaC::symtab constants;
@@ -900,13 +1077,16 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, const Model& model) {
       out.base.com[i] = 0;
       for (int j = 0; j < 3; ++j) out.base.inertia[i][j] = 0;
     }
-    if (YAML::Node g = tree["gravity"]) {
-      const std::vector<GiNaC::ex> gv = vector_of(g, "tree.gravity", 3, constants, "gravity may use parameters only");
-      for (int i = 0; i < 3; ++i) out.gravity[i] = gv[static_cast<std::size_t>(i)];
-    }
   } else {
     out.base = rigid_body(base, "tree.base", constants, {"name", "mass", "com", "inertia"}, inertial);
     check_body(base, "tree.base", out.base);
+  }
+  if (YAML::Node g = tree["gravity"]) {
+    gravity_location_ = where(g);
+    const std::vector<GiNaC::ex> gv = vector_of(g, "tree.gravity", 3, constants, "gravity may use parameters only");
+    for (int i = 0; i < 3; ++i) out.gravity[i] = gv[static_cast<std::size_t>(i)];
+    out.gravity_state = gravity_state_;
+    model.locations["tree.gravity"] = gravity_location_;
   }
   std::vector<std::string> names{out.base.name};
   const YAML::Node list = tree["bodies"];

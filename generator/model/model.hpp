@@ -50,7 +50,23 @@ struct KinematicTree {
   RigidBody base;                ///< a fixed base's is the massless "world"
   std::vector<TreeBody> bodies;  ///< parents before children; body k moves with shape coordinate k
   bool fixed_base = false;
-  GiNaC::ex gravity[3] = {0, 0, 0};  ///< fixed base only: the gravitational acceleration in the world frame
+  /// The gravitational acceleration g in the world frame (key `tree.gravity`). On a floating base, resolved in the base
+  /// frame it is the advected quantity Γ = Rᵀ g (Holm, Marsden & Ratiu 1998; the heavy top's direction of gravity),
+  /// with Γ̇ = Γ × ω: a base that turns carries Γ in the state as `gravity_state`, Γ(0) = g (the base frame starts
+  /// aligned with the world); a base that only translates (R1–R3) has Γ = g.
+  GiNaC::ex gravity[3] = {0, 0, 0};
+  std::vector<GiNaC::realsymbol> gravity_state;  ///< Γ_x, Γ_y, Γ_z (named gravity_x, ...), or empty
+  bool has_gravity() const { return !gravity[0].is_zero() || !gravity[1].is_zero() || !gravity[2].is_zero(); }
+};
+
+/// A force and a torque applied to a body (model key `wrenches`): resolved in the body's frame or in the world's, the
+/// force acting at `point` (body frame; the torque is free). Expressions of t, the state, inputs and parameters.
+struct AppliedWrench {
+  std::string body;
+  bool world = false;
+  GiNaC::ex point[3] = {0, 0, 0};
+  GiNaC::ex force[3] = {0, 0, 0};
+  GiNaC::ex torque[3] = {0, 0, 0};
 };
 
 /// The base's name, then every body's, in file order.
@@ -71,6 +87,14 @@ struct Bundle {
                                                   ///< `kinetic` is empty: see derive/kinematic_tree.hpp
 };
 
+/// A holonomic constraint g(q) = 0 (model key `holonomic`, general coordinates). It enters the derivation as the
+/// quasi-velocity u^α = ġ^α = G^α_a(q) q̇^a held at zero, named after the constraint (derive/holonomic_constraints.hpp).
+struct HolonomicConstraint {
+  GiNaC::realsymbol velocity;       ///< u^α = ġ^α; its name is the constraint's
+  GiNaC::ex g;                      ///< g(q), in coordinates, parameters and definitions of these
+  std::vector<GiNaC::ex> gradient;  ///< G^α_a = ∂g/∂q^a, a = 1..n, through the definitions
+};
+
 struct Model {
   std::string name;
   std::string description;
@@ -88,6 +112,12 @@ struct Model {
   GiNaC::matrix B;  ///< q̇ = B(q) u, only when given in the file
   bool B_given = false;
   std::vector<int> constrained;  ///< indices α of quasi-velocities held at zero, eq. (PfaffianConstr)
+  /// Holonomic constraints (key `holonomic`), in file order: their velocities ġ are the first quasi-velocities and
+  /// are constrained; A's first rows are their gradients (derive/holonomic_constraints.hpp).
+  std::vector<HolonomicConstraint> holonomic;
+  /// The dependent coordinates s of the partition q = (s, r) hamel chose (sys1), indices in file order; empty when
+  /// the model has no holonomic constraints or gives `quasi_velocities` itself.
+  std::vector<int> dependent_coordinates;
 
   std::optional<Bundle> bundle;  ///< set for bundle models; then coordinates are the shape r^I and A, B are empty
   /// A fixed-base tree (model key `tree` without `group`): coordinates are the joints, u = q̇ (A = B = 1),
@@ -98,8 +128,13 @@ struct Model {
   /// they stay intermediate symbols through the derivation into the emitted code.
   Intermediates definitions;
 
-  GiNaC::ex lagrangian;           ///< L(q, q̇, u, t); for bundle models l = T − V
-  std::vector<GiNaC::ex> forces;  ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape
+  GiNaC::ex lagrangian;                 ///< L(q, q̇, u, t); for bundle models l = T − V
+  std::vector<GiNaC::ex> forces;        ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape
+  std::vector<AppliedWrench> wrenches;  ///< key `wrenches` (kinematic trees)
+
+  /// State variables whose natural start is not 0, as expressions in the parameters: Γ(0) = g of a floating base
+  /// under gravity. Verbs start there unless the model's `initial`, a scene or --init say otherwise.
+  std::map<std::string, GiNaC::ex> state_defaults;
 
   /// A representative initial state (key `initial`): state variable name → value, the others 0; the default of
   /// `simulate` and `report`, which a scene's `initial` and --init override (cli/options.hpp: initial_state). Names

@@ -2,6 +2,7 @@
 
 #include "algebra/operations.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "numeric/kernel_references.hpp"
 #include "report/progress.hpp"
 
 #include <algorithm>
@@ -18,26 +19,6 @@ using GiNaC::ex;
 using GiNaC::ex_to;
 using GiNaC::is_a;
 using GiNaC::numeric;
-
-GiNaC::numeric exact_rational(double v) {
-  if (!std::isfinite(v)) throw std::domain_error("exact_rational: not a finite number");
-  if (v == 0) return 0;
-  int e = 0;
-  const double m = std::frexp(v, &e);  // v = m 2^e, 0.5 ≤ |m| < 1
-  const auto mantissa = static_cast<long>(std::ldexp(m, 53));
-  return numeric(mantissa) * GiNaC::pow(numeric(2), numeric(e - 53));
-}
-
-namespace {
-
-numeric to_float(const numeric& v) {
-  if (!v.is_rational()) return v;
-  return ex_to<numeric>(v.evalf());
-}
-
-}  // namespace
-
-GiNaC::numeric high_precision(double v) { return to_float(exact_rational(v)); }
 
 double ulp_of(double y) {
   y = std::fabs(y);
@@ -57,404 +38,6 @@ double ulp_error(double computed, const GiNaC::numeric& reference, double floor)
 // ---------------------------------------------------------------------------------------------------------
 
 namespace {
-
-numeric integer_power(const numeric& base, const numeric& exponent) {
-  // CLN's expt with an integer exponent is exact repeated squaring; a negative one divides.
-  if (exponent.is_negative() && base.is_zero()) throw std::domain_error("high precision: 0 to a negative power");
-  return GiNaC::pow(base, exponent);
-}
-
-numeric power(const numeric& base, const numeric& exponent) {
-  if (exponent.is_integer()) return integer_power(base, exponent);
-  if (base.is_negative()) throw std::domain_error("high precision: negative base of a fractional power");
-  if (base.is_zero()) {
-    if (exponent.is_negative()) throw std::domain_error("high precision: 0 to a negative power");
-    return 0;
-  }
-  if ((2 * exponent).is_integer()) return integer_power(GiNaC::sqrt(to_float(base)), 2 * exponent);
-  return GiNaC::exp(to_float(exponent) * GiNaC::log(to_float(base)));
-}
-
-// The evaluators compute on CLN's reals (what a real GiNaC::numeric holds) with the operations GiNaC::numeric calls
-// for +, −, ×, /, integer powers and abs; everything else goes through GiNaC::numeric.
-cln::cl_R real_of(const numeric& v) { return cln::the<cln::cl_R>(v.to_cl_N()); }
-numeric numeric_of(const cln::cl_R& v) { return numeric(cln::cl_N(v)); }
-
-// base^exponent for an exact exponent, as GiNaC::pow of numerics gives it.
-cln::cl_R power(const cln::cl_R& base, const numeric& exponent) {
-  if (!exponent.is_integer()) return real_of(power(numeric_of(base), exponent));
-  if (exponent.is_equal(1)) return base;
-  if (cln::zerop(base)) {
-    if (exponent.is_negative()) throw std::domain_error("high precision: 0 to a negative power");
-    if (exponent.is_zero()) return real_of(integer_power(numeric_of(base), exponent));  // GiNaC's own error
-    return 0;
-  }
-  return cln::expt(base, cln::the<cln::cl_I>(exponent.to_cl_N()));
-}
-
-// An elementary function of the model language (algebra/operations.hpp) in high precision.
-cln::cl_R apply_function(const Function& f, const cln::cl_R& argument) {
-  return real_of(f.evaluate_exactly(to_float(numeric_of(argument))));
-}
-
-cln::cl_R divide(const cln::cl_R& a, const cln::cl_R& b) {
-  if (cln::zerop(b)) throw std::domain_error("high precision: division by zero");
-  return a / b;
-}
-
-}  // namespace
-
-HighPrecisionGraphEvaluator::HighPrecisionGraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs,
-                                                         int digits)
-    : graph_(graph),
-      outputs_(std::move(outputs)),
-      schedule_(graph.schedule(outputs_)),
-      digits_(digits),
-      values_(static_cast<std::size_t>(graph.size())) {}
-
-std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(double t, const double* x, const double* p,
-                                                                  const double* in) {
-  const DigitsGuard digits(digits_);
-  int nx = 0, np = 0, nin = 0;
-  for (int i : schedule_) {
-    const Node& n = graph_.node(i);
-    if (n.op != Op::input) continue;
-    if (n.argument == Argument::state) nx = std::max(nx, n.index + 1);
-    if (n.argument == Argument::parameter) np = std::max(np, n.index + 1);
-    if (n.argument == Argument::input) nin = std::max(nin, n.index + 1);
-  }
-  const auto convert = [](const double* v, int count) {
-    std::vector<numeric> out;
-    for (int k = 0; k < count; ++k) out.push_back(high_precision(v[k]));
-    return out;
-  };
-  return evaluate(high_precision(t), convert(x, nx), convert(p, np), convert(in, nin));
-}
-
-std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate(const numeric& t, const std::vector<numeric>& x,
-                                                                  const std::vector<numeric>& p,
-                                                                  const std::vector<numeric>& in) {
-  const auto reals = [](const std::vector<numeric>& v) {
-    std::vector<cln::cl_R> out;
-    out.reserve(v.size());
-    for (const numeric& e : v) out.push_back(real_of(e));
-    return out;
-  };
-  arguments_ = {std::vector<cln::cl_R>{real_of(t)}, reals(x), reals(p), reals(in)};
-  run(schedule_, nullptr);
-  return outputs();
-}
-
-std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::evaluate_moved(Argument argument, int index,
-                                                                        const numeric& value) {
-  const auto key = std::make_pair(argument, index);
-  auto it = dependents_.find(key);
-  if (it == dependents_.end()) {
-    // The scheduled nodes that depend on this argument, in schedule order (operands before users).
-    std::vector<char> depends(values_.size(), 0);
-    std::vector<int> list;
-    for (int i : schedule_) {
-      const Node& n = graph_.node(i);
-      const bool d = n.op == Op::input      ? n.argument == argument && n.index == index
-                     : n.op == Op::constant ? false
-                                            : depends[static_cast<std::size_t>(n.a)] ||
-                                                  (n.b >= 0 && depends[static_cast<std::size_t>(n.b)]);
-      if (d) depends[static_cast<std::size_t>(i)] = 1, list.push_back(i);
-    }
-    it = dependents_.emplace(key, std::move(list)).first;
-  }
-  const std::vector<int>& moved = it->second;
-  std::vector<cln::cl_R> saved;
-  saved.reserve(moved.size());
-  for (int i : moved) saved.push_back(values_[static_cast<std::size_t>(i)]);
-  const auto restore = [&] {
-    for (std::size_t k = 0; k < moved.size(); ++k) values_[static_cast<std::size_t>(moved[k])] = saved[k];
-  };
-  const cln::cl_R moved_value = real_of(value);
-  const Moved change{argument, index, &moved_value};
-  try {
-    run(moved, &change);
-  } catch (...) {
-    restore();
-    throw;
-  }
-  std::vector<numeric> out = outputs();
-  restore();
-  return out;
-}
-
-std::vector<GiNaC::numeric> HighPrecisionGraphEvaluator::outputs() const {
-  std::vector<numeric> out;
-  out.reserve(outputs_.size());
-  for (int o : outputs_) out.push_back(numeric_of(values_[static_cast<std::size_t>(o)]));
-  return out;
-}
-
-void HighPrecisionGraphEvaluator::run(const std::vector<int>& schedule, const Moved* moved) {
-  const DigitsGuard digits(digits_);
-  interpret(
-      graph_, schedule, values_,
-      [&](const Node& n) -> const cln::cl_R& {
-        auto it = constants_.find(n.value);
-        if (it == constants_.end()) it = constants_.emplace(n.value, real_of(high_precision(n.value))).first;
-        return it->second;
-      },
-      [&](Argument argument, int index) -> const cln::cl_R& {
-        if (moved && moved->argument == argument && moved->index == index) return *moved->value;
-        const std::vector<cln::cl_R>& array = arguments_[static_cast<std::size_t>(argument)];
-        return array.at(argument == Argument::time ? 0 : static_cast<std::size_t>(index));
-      },
-      [&](const Node& n, const cln::cl_R& a, const cln::cl_R& b) {
-        return evaluate_in<cln::cl_R>(
-            n.op, a, b, divide,
-            [&](const cln::cl_R& x, const cln::cl_R& y) {
-              // A constant exponent is the double the emitter prints, taken exactly (1.5: a square root cubed).
-              const Node& exponent = graph_.node(n.b);
-              return exponent.op == Op::constant ? power(x, exact_rational(exponent.value))
-                                                 : real_of(power(numeric_of(x), numeric_of(y)));
-            },
-            [](Op f, const cln::cl_R& x) { return apply_function(*function_of(f), x); });
-      });
-}
-
-// ---------------------------------------------------------------------------------------------------------
-
-void HighPrecisionExpressionEvaluator::assign(const std::map<ex, numeric, GiNaC::ex_is_less>& values) {
-  const DigitsGuard digits(digits_);
-  values_.clear();
-  for (const auto& [symbol, v] : values) values_[symbol] = real_of(to_float(v));
-  ++generation_;
-}
-
-void HighPrecisionExpressionEvaluator::define(const Intermediates& intermediates) {
-  for (const Intermediates::Definition& d : intermediates.definitions()) definitions_[d.symbol] = d.value;
-  number_.clear();  // compiled symbols may now be intermediates
-  nodes_.clear();
-  ++generation_;
-}
-
-GiNaC::numeric HighPrecisionExpressionEvaluator::value(const ex& e) {
-  const int node = compile(e);
-  const DigitsGuard digits(digits_);
-  return numeric_of(eval(node, false));
-}
-
-GiNaC::numeric HighPrecisionExpressionEvaluator::magnitude(const ex& e) {
-  const int node = compile(e);
-  const DigitsGuard digits(digits_);
-  return numeric_of(eval(node, true));
-}
-
-int HighPrecisionExpressionEvaluator::compile(const ex& e) {
-  if (auto it = number_.find(e); it != number_.end()) return it->second;
-  Node node{Kind::number, {}, e, nullptr, 0};
-  if (is_a<numeric>(e)) {
-    if (!ex_to<numeric>(e).is_real()) throw std::logic_error("high precision: complex number in an expression");
-    node.number = real_of(ex_to<numeric>(e));
-  } else if (is_a<GiNaC::symbol>(e)) {
-    // An intermediate is its definition's node: the size of its definition, like the graph's node.
-    if (auto def = definitions_.find(e); def != definitions_.end()) {
-      const int n = compile(def->second);
-      number_.emplace(e, n);
-      return n;
-    }
-    node.kind = Kind::symbol;
-  } else if (is_a<GiNaC::constant>(e)) {
-    node.kind = Kind::constant;
-  } else if (is_a<GiNaC::add>(e) || is_a<GiNaC::mul>(e) || is_a<GiNaC::power>(e)) {
-    node.kind = is_a<GiNaC::add>(e) ? Kind::add : is_a<GiNaC::mul>(e) ? Kind::mul : Kind::power;
-    for (std::size_t i = 0; i < e.nops(); ++i) node.operands.push_back(compile(e.op(i)));
-  } else if (is_a<GiNaC::function>(e)) {
-    const std::string name = ex_to<GiNaC::function>(e).get_name();
-    const Function* f = function_named(name);
-    if (e.nops() != 1 || !f) throw std::logic_error("high precision: function '" + name + "' is not supported");
-    node.kind = Kind::function;
-    node.function = f;
-    node.operands.push_back(compile(e.op(0)));
-  } else {
-    throw std::logic_error("high precision: unsupported expression type");
-  }
-  nodes_.push_back(std::move(node));
-  const int n = static_cast<int>(nodes_.size()) - 1;
-  number_.emplace(e, n);
-  return n;
-}
-
-const cln::cl_R& HighPrecisionExpressionEvaluator::eval(int index, bool absolute) {
-  const std::size_t k = static_cast<std::size_t>(index);
-  std::vector<cln::cl_R>& computed = computed_[absolute ? 1 : 0];
-  std::vector<unsigned>& stamp = stamp_[absolute ? 1 : 0];
-  if (stamp.size() < nodes_.size()) stamp.resize(nodes_.size(), 0), computed.resize(nodes_.size());
-  if (stamp[k] == generation_) return computed[k];
-  const Node& node = nodes_[k];
-  cln::cl_R v;
-  switch (node.kind) {
-    case Kind::number:
-      v = node.number;
-      break;
-    case Kind::symbol: {
-      const auto it = values_.find(node.expression);
-      if (it == values_.end())
-        throw std::logic_error("high precision: no value for symbol '" +
-                               ex_to<GiNaC::symbol>(node.expression).get_name() + "'");
-      v = it->second;
-      break;
-    }
-    case Kind::constant:
-      v = real_of(ex_to<numeric>(node.expression.evalf()));
-      break;
-    case Kind::add:
-      v = 0;
-      for (int o : node.operands) v = v + eval(o, absolute);
-      break;
-    case Kind::mul:
-      v = 1;
-      for (int o : node.operands) v = v * eval(o, absolute);
-      break;
-    case Kind::power: {
-      const Node& exponent = nodes_[static_cast<std::size_t>(node.operands[1])];
-      if (exponent.kind != Kind::number) {
-        v = real_of(power(numeric_of(eval(node.operands[0], false)), numeric_of(eval(node.operands[1], false))));
-      } else {
-        const numeric& y = ex_to<numeric>(exponent.expression);
-        // A divisor enters at its true value: |1/x| is not bounded by 1/magnitude(x).
-        v = power(eval(node.operands[0], absolute && y.is_positive()), y);
-      }
-      break;
-    }
-    case Kind::function:
-      v = apply_function(*node.function, eval(node.operands[0], false));
-      break;
-  }
-  if (absolute) v = cln::abs(v);
-  computed[k] = v;
-  stamp[k] = generation_;
-  return computed[k];
-}
-
-// ---------------------------------------------------------------------------------------------------------
-
-namespace {
-
-std::vector<numeric> solve(std::vector<std::vector<numeric>> A, std::vector<numeric> b) {
-  // Gaussian elimination with partial pivoting, in the current precision.
-  const std::size_t n = b.size();
-  for (std::size_t j = 0; j < n; ++j) {
-    std::size_t pivot = j;
-    for (std::size_t i = j + 1; i < n; ++i)
-      if (GiNaC::abs(A[i][j]) > GiNaC::abs(A[pivot][j])) pivot = i;
-    if (A[pivot][j].is_zero()) throw std::domain_error("high precision: singular mass matrix");
-    std::swap(A[j], A[pivot]);
-    std::swap(b[j], b[pivot]);
-    for (std::size_t i = j + 1; i < n; ++i) {
-      const numeric f = A[i][j] / A[j][j];
-      if (f.is_zero()) continue;
-      for (std::size_t k = j; k < n; ++k) A[i][k] -= f * A[j][k];
-      b[i] -= f * b[j];
-    }
-  }
-  std::vector<numeric> x(n);
-  for (std::size_t i = n; i-- > 0;) {
-    numeric s = b[i];
-    for (std::size_t k = i + 1; k < n; ++k) s -= A[i][k] * x[k];
-    x[i] = s / A[i][i];
-  }
-  return x;
-}
-
-// The symbolic expressions behind the kernels of build_kernels, in the same output order.
-struct ReferenceSet {
-  enum class Kind { direct, rhs, jacobian };
-  struct Entry {
-    Kind kind = Kind::direct;
-    std::vector<ex> expressions;  // direct kernels
-  };
-  std::map<std::string, Entry> kernels;
-
-  std::size_t n = 0, d = 0, nx = 0;
-  std::vector<ex> kinematics, forcing;
-  std::vector<std::vector<ex>> mass;                    // d x d
-  std::vector<std::vector<ex>> kinematics_by_x;         // [k][a]
-  std::vector<std::vector<ex>> forcing_by_x;            // [k][i]
-  std::vector<std::vector<std::vector<ex>>> mass_by_x;  // [k][i][j]
-  Intermediates intermediates;                          // the derivation's, extended by the derivatives above
-};
-
-ReferenceSet references(const Model& model, const Derivation& derivation) {
-  ReferenceSet r;
-  const HamelEquations& eq = derivation.equations;
-  const HamelSystem& sys = derivation.system;
-  r.n = sys.coordinates.size();
-  r.d = eq.independent.size();
-  r.kinematics = eq.kinematics;
-  r.forcing = eq.forcing;
-  r.mass.assign(r.d, std::vector<ex>(r.d));
-  for (unsigned i = 0; i < r.d; ++i)
-    for (unsigned j = 0; j < r.d; ++j) r.mass[i][j] = eq.mass_matrix(i, j);
-
-  using Kind = ReferenceSet::Kind;
-  r.kernels["kinematics"] = {Kind::direct, eq.kinematics};
-  {
-    std::vector<ex> m;
-    for (const auto& row : r.mass) m.insert(m.end(), row.begin(), row.end());
-    r.kernels["mass_matrix"] = {Kind::direct, m};
-  }
-  r.kernels["forcing"] = {Kind::direct, eq.forcing};
-  {
-    std::vector<ex> g;
-    for (const HamelCoefficient& h : sys.gamma) g.push_back(h.value);
-    r.kernels["hamel_coefficients"] = {Kind::direct, g};
-  }
-  r.kernels["rhs"] = {Kind::rhs, {}};
-  r.kernels["energy"] = {Kind::direct, {eq.energy_terms.at(0)}};
-  if (!eq.constraint_residual.empty()) r.kernels["constraint_residual"] = {Kind::direct, eq.constraint_residual};
-  if (derivation.bundle) {
-    const BundleGeometry& geo = *derivation.bundle;
-    const std::size_t m = model.bundle->group_velocity.size();
-    r.kernels["group_velocity"] = {Kind::direct, derivation.group_velocity};
-    std::vector<ex> conn, locked;
-    for (unsigned a = 0; a < m && geo.connection_derived; ++a)
-      for (unsigned I = 0; I < r.n; ++I) conn.push_back(geo.connection(a, I));
-    // Trees: A = L⁻¹K is solved in the kernel, not formed symbolically; not measured (reported as such).
-    if (r.n > 0 && geo.connection_derived) r.kernels["connection"] = {Kind::direct, conn};
-    if (geo.quadratic) {
-      for (unsigned a = 0; a < m; ++a)
-        for (unsigned c = 0; c < m; ++c) locked.push_back(geo.L(a, c));
-      r.kernels["locked_inertia"] = {Kind::direct, locked};
-    }
-    if (model.bundle->mechanical && r.n > 0 && geo.connection_derived) {
-      std::vector<ex> shape;
-      for (unsigned I = 0; I < r.n; ++I)
-        for (unsigned J = 0; J < r.n; ++J) shape.push_back(geo.shape_inertia(I, J));
-      r.kernels["shape_inertia"] = {Kind::direct, shape};
-    }
-  }
-
-  // Jacobian: derivatives with respect to the state (q, u_I).
-  std::vector<GiNaC::symbol> state(sys.coordinates.begin(), sys.coordinates.end());
-  for (int I : eq.independent) state.push_back(sys.velocities[static_cast<std::size_t>(I)]);
-  r.nx = state.size();
-  r.kinematics_by_x.resize(r.nx);
-  r.forcing_by_x.resize(r.nx);
-  r.mass_by_x.resize(r.nx);
-  r.intermediates = eq.intermediates;
-  for (std::size_t k = 0; k < r.nx; ++k) r.mass_by_x[k].assign(r.d, std::vector<ex>(r.d));
-  const auto differentiate = [&](const std::vector<ex>& expressions, std::vector<std::vector<ex>>& by_x) {
-    for (const ex& e : expressions) {
-      const std::vector<ex> d = r.intermediates.diff(e, state);
-      for (std::size_t k = 0; k < r.nx; ++k) by_x[k].push_back(d[k]);
-    }
-  };
-  differentiate(r.kinematics, r.kinematics_by_x);
-  differentiate(r.forcing, r.forcing_by_x);
-  for (std::size_t i = 0; i < r.d; ++i)
-    for (std::size_t j = 0; j < r.d; ++j) {
-      const std::vector<ex> by_x = r.intermediates.diff(r.mass[i][j], state);
-      for (std::size_t k = 0; k < r.nx; ++k) r.mass_by_x[k][i][j] = by_x[k];
-    }
-  r.kernels["jacobian"] = {Kind::jacobian, {}};
-  return r;
-}
 
 struct Point {
   double t = 0;
@@ -481,7 +64,7 @@ class AccuracyRun {
  private:
   struct Measured {
     const Kernel* kernel;
-    const ReferenceSet::Entry* ref;
+    const KernelReferences::Entry* ref;
     GraphEvaluator fast;
     HighPrecisionGraphEvaluator slow;
     std::size_t result;  ///< index into `result_`
@@ -520,7 +103,7 @@ class AccuracyRun {
   const std::vector<double>& p_;
   const AccuracySettings& settings_;
   const std::string& label_;
-  const ReferenceSet refs_;
+  const KernelReferences refs_;
   const std::size_t n_, d_, nx_;
   std::vector<std::string> state_names_;
   std::mt19937_64 rng_;
@@ -553,7 +136,7 @@ AccuracyRun::AccuracyRun(const Model& model, const Derivation& derivation, const
       label_(label),
       refs_([&] {
         progress::Step step("forming the 50-digit references of " + model.name + " (the jacobian's by the chain rule)");
-        return references(model, derivation);
+        return kernel_references(model, derivation);
       }()),
       n_(refs_.n),
       d_(refs_.d),
@@ -585,9 +168,9 @@ AccuracyRun::AccuracyRun(const Model& model, const Derivation& derivation, const
       result_.push_back(a);
       continue;
     }
-    const std::size_t want = it->second.kind == ReferenceSet::Kind::direct ? it->second.expressions.size()
-                             : it->second.kind == ReferenceSet::Kind::rhs  ? n_ + d_
-                                                                           : nx_ * nx_;
+    const std::size_t want = it->second.kind == KernelReferences::Kind::direct ? it->second.expressions.size()
+                             : it->second.kind == KernelReferences::Kind::rhs  ? n_ + d_
+                                                                               : nx_ * nx_;
     if (want != k.outputs.size())
       throw std::logic_error("kernel accuracy: reference of " + k.name + " has " + std::to_string(want) +
                              " entries, the kernel " + std::to_string(k.outputs.size()));
@@ -671,16 +254,16 @@ std::vector<AccuracyRun::Errors> AccuracyRun::errors_at(const Point& pt) {
     std::vector<numeric> ref(outputs);
     try {
       switch (km.ref->kind) {
-        case ReferenceSet::Kind::direct:
+        case KernelReferences::Kind::direct:
           for (std::size_t i = 0; i < outputs; ++i) ref[i] = exact_.value(km.ref->expressions[i]);
           break;
-        case ReferenceSet::Kind::rhs: {
+        case KernelReferences::Kind::rhs: {
           for (std::size_t a = 0; a < n; ++a) ref[a] = exact_.value(refs_.kinematics[a]);
           const std::vector<numeric>& u = accelerations();
           for (std::size_t i = 0; i < d; ++i) ref[n + i] = u[i];
           break;
         }
-        case ReferenceSet::Kind::jacobian: {
+        case KernelReferences::Kind::jacobian: {
           const std::vector<numeric>& u = accelerations();
           for (std::size_t k = 0; k < nx; ++k) {
             for (std::size_t a = 0; a < n; ++a) ref[a * nx + k] = exact_.value(refs_.kinematics_by_x[k][a]);
@@ -722,7 +305,7 @@ std::vector<AccuracyRun::Errors> AccuracyRun::errors_at(const Point& pt) {
     double scale = 0;
     bool zero_kernel = false;
     for (const numeric& r : e.ref) scale = std::max(scale, GiNaC::abs(r).to_double());
-    if (km.ref->kind == ReferenceSet::Kind::direct) {
+    if (km.ref->kind == KernelReferences::Kind::direct) {
       // A kernel that is zero here (the constraint residual is zero everywhere): its reference is 50-digit
       // noise, and the scale is the size of the terms that cancel.
       double terms = 0;

@@ -19,118 +19,33 @@
 // siblings (a velocity component crossing zero) would count its unavoidable absolute error of about eps·S as huge
 // relative error; with it, such noise costs at most 1/φ ulps, while a form that loses digits through cancellation of
 // terms larger than S still shows as more.
+//
+// The study is this file; the evaluators it runs are the IR's interpreter in double and in 50 digits
+// (numeric/graph_evaluator.hpp) and the 50-digit evaluator of GiNaC expressions (algebra/high_precision.hpp); the
+// references are numeric/kernel_references.hpp's.
 #pragma once
 
 #include "algebra/digits_guard.hpp"
-#include "algebra/intermediates.hpp"
-#include "algebra/operations.hpp"
+#include "algebra/high_precision.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/model.hpp"
 #include "numeric/graph_evaluator.hpp"
 
-#include <cln/real.h>
 #include <ginac/ginac.h>
 
-#include <array>
 #include <cstdint>
 #include <map>
 #include <string>
-#include <unordered_map>
 #include <vector>
 
 namespace hamel {
-
-/// The value of a finite double as an exact GiNaC rational.
-GiNaC::numeric exact_rational(double v);
-
-/// A finite double as a CLN float with the current GiNaC::Digits (exact: doubles have 53 bits).
-GiNaC::numeric high_precision(double v);
 
 /// The spacing of doubles at magnitude y ≥ 0: 2^(⌊log2 y⌋ − 52), at least the smallest subnormal.
 double ulp_of(double y);
 
 /// |computed − reference| / ulp_of(max(|reference|, floor)); infinite when `computed` is not finite.
 double ulp_error(double computed, const GiNaC::numeric& reference, double floor);
-
-/// Evaluates nodes of an ExpressionGraph in CLN floating point with `digits` decimal digits: the same operations as
-/// GraphEvaluator, constants and inputs converted exactly from their doubles. It computes on CLN's reals
-/// (cln::cl_R) directly, with the operations GiNaC::numeric would call, so the results are those of GiNaC::numeric
-/// without its wrapping of every intermediate value.
-class HighPrecisionGraphEvaluator {
- public:
-  HighPrecisionGraphEvaluator(const ExpressionGraph& graph, std::vector<int> outputs, int digits = 50);
-  std::vector<GiNaC::numeric> evaluate(double t, const double* x, const double* p, const double* in);
-  /// The same at arbitrary (high-precision) arguments: x, p and in must have the kernel ABI's lengths.
-  std::vector<GiNaC::numeric> evaluate(const GiNaC::numeric& t, const std::vector<GiNaC::numeric>& x,
-                                       const std::vector<GiNaC::numeric>& p, const std::vector<GiNaC::numeric>& in);
-  /// After an evaluate() that returned: the outputs with one argument element changed to `value`, the others as
-  /// that call had them. Only the nodes that depend on the element are evaluated again (the same operations on
-  /// the same operands as a whole evaluation, so the same results); the evaluator then holds the last
-  /// evaluate()'s values again, also when this throws.
-  std::vector<GiNaC::numeric> evaluate_moved(Argument argument, int index, const GiNaC::numeric& value);
-
- private:
-  struct Moved {
-    Argument argument;
-    int index;
-    const cln::cl_R* value;
-  };
-  void run(const std::vector<int>& schedule, const Moved* moved);
-  std::vector<GiNaC::numeric> outputs() const;
-  const ExpressionGraph& graph_;
-  std::vector<int> outputs_;
-  std::vector<int> schedule_;
-  int digits_;
-  std::vector<cln::cl_R> values_;
-  std::unordered_map<double, cln::cl_R> constants_;  ///< a graph constant's value at digits_, converted once
-  std::array<std::vector<cln::cl_R>, 4> arguments_;  ///< of the last evaluate(), by Argument
-  std::map<std::pair<Argument, int>, std::vector<int>> dependents_;
-};
-
-/// Evaluates GiNaC expressions numerically with `digits` decimal digits at given symbol values. Understands
-/// numbers, symbols, constants (Pi), sums, products, powers and the functions the emitter knows (sin … tanh,
-/// abs, sqrt); throws std::domain_error at a pole and std::logic_error for anything else.
-/// An expression is compiled once, when first asked for, into numbered nodes (one per distinct
-/// subexpression, intermediates through their definitions); each set of values then evaluates every node it
-/// needs once, by number, so repeated points cost arithmetic only, not hashing and comparing expressions.
-/// Like HighPrecisionGraphEvaluator it computes on cln::cl_R with GiNaC::numeric's operations.
-class HighPrecisionExpressionEvaluator {
- public:
-  explicit HighPrecisionExpressionEvaluator(int digits = 50) : digits_(digits) {}
-  /// Sets symbol values (numbers converted to floats at the evaluator's precision); forgets computed values.
-  void assign(const std::map<GiNaC::ex, GiNaC::numeric, GiNaC::ex_is_less>& values);
-  /// Intermediate symbols (algebra/intermediates.hpp) are evaluated through their definitions.
-  void define(const Intermediates& intermediates);
-  GiNaC::numeric value(const GiNaC::ex& e);
-  /// The expression evaluated with every sum taken over the absolute values of its terms (and products,
-  /// positive powers and arguments of functions likewise; divisors and function values at their true
-  /// values): the size of what is added, the scale below which a result is cancellation noise.
-  GiNaC::numeric magnitude(const GiNaC::ex& e);
-
- private:
-  enum class Kind { number, symbol, constant, add, mul, power, function };
-  struct Node {
-    Kind kind;
-    std::vector<int> operands;  ///< node numbers (power: base, exponent)
-    GiNaC::ex expression;       ///< number, symbol, constant, or the function (for its name)
-    const Function* function = nullptr;
-    cln::cl_R number;  ///< a number's exact value
-  };
-  int compile(const GiNaC::ex& e);
-  const cln::cl_R& eval(int node, bool absolute);
-  struct Hash {
-    std::size_t operator()(const GiNaC::ex& e) const { return e.gethash(); }
-  };
-  int digits_;
-  std::map<GiNaC::ex, cln::cl_R, GiNaC::ex_is_less> values_;
-  std::map<GiNaC::ex, GiNaC::ex, GiNaC::ex_is_less> definitions_;
-  std::unordered_map<GiNaC::ex, int, Hash, GiNaC::ex_is_equal> number_;  ///< compiled expressions
-  std::vector<Node> nodes_;
-  std::vector<cln::cl_R> computed_[2];  ///< per node: true value, magnitude
-  std::vector<unsigned> stamp_[2];      ///< computed_ holds this set of values' result when == generation_
-  unsigned generation_ = 1;
-};
 
 struct AccuracySettings {
   int points = 200;               ///< random points per parameter setting

@@ -158,6 +158,17 @@ PhaseResult run(const Model& model, const Derivation& d, const std::vector<doubl
 
 void check_phase_request(const Model& model, const PhaseRequest& req) {
   if (!model.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
+  // The phase rests on the conserved momentum of a symmetric system; gravity and applied wrenches change it.
+  const bool gravity = model.bundle->tree && model.bundle->tree->has_gravity();
+  if (gravity || !model.wrenches.empty()) {
+    const std::string key = gravity ? "tree.gravity" : "wrenches";
+    const auto where = model.locations.find(gravity ? "tree.gravity" : "wrenches");
+    throw InputError(where != model.locations.end() ? where->second : SourceLocation{model.source_path, 0, 0}, key,
+                     std::string(gravity ? "gravity" : "applied wrenches") +
+                         " break the symmetry of the floating base: its momentum is not conserved, so shape changes "
+                         "do not determine its motion (the geometric phase); expected a model without them for "
+                         "'hamel phase', or 'hamel simulate' for the motion under them");
+  }
   if (req.path.size() != model.coordinates.size())
     throw InputError("--path: expected " + std::to_string(model.coordinates.size()) +
                      " expressions separated by ';' (one per shape coordinate of " + model.name + "), got " +

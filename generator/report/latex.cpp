@@ -200,19 +200,9 @@ const std::string& LatexPrinter::name(const std::string& name) {
 }
 
 std::string LatexPrinter::expr(const GiNaC::ex& e) {
-  GiNaC::exmap renamed;
-  for (auto it = e.preorder_begin(); it != e.preorder_end(); ++it) {
-    if (!GiNaC::is_a<GiNaC::symbol>(*it)) continue;
-    const std::string n = GiNaC::ex_to<GiNaC::symbol>(*it).get_name();
-    auto p = printing_.find(n);
-    if (p == printing_.end()) p = printing_.emplace(n, GiNaC::symbol(n, name(n))).first;
-    renamed[*it] = p->second;
-  }
-  std::ostringstream os;
-  (renamed.empty() ? e : e.subs(renamed, GiNaC::subs_options::no_pattern)).print(GiNaC::print_latex(os));
+  const std::string s = to_latex(e, [this](const std::string& symbol) { return name(symbol); });
   // Floats (CLN writes 0.2999999999999999889 and 1.4999999999999999321E-7) as their shortest decimal, the
   // exponent as \cdot 10^{k}; spaces collapsed (insignificant in math mode).
-  const std::string s = os.str();
   std::string floats;
   std::size_t done = 0;
   for (const auto& [at, length] : float_literals(s)) {

@@ -1,5 +1,5 @@
-// LaTeX for reports (`hamel derive --latex`): symbol names as math-mode TeX, expressions through GiNaC's
-// LaTeX printer with those names, and text escaped for text mode.
+// LaTeX for reports (`hamel derive --latex`): symbol names as math-mode TeX, expressions in GiNaC's LaTeX notation
+// with those names (in structural order, algebra/expression_text.hpp), and text escaped for text mode.
 #pragma once
 
 #include <ginac/ginac.h>
@@ -25,13 +25,13 @@ class LatexPrinter {
  public:
   /// Math-mode TeX of the symbol called `name`.
   const std::string& name(const std::string& name);
-  /// Math-mode TeX of `e` (GiNaC's LaTeX printer; floats as m \cdot 10^{k}).
+  /// Math-mode TeX of `e` (algebra/expression_text.hpp's to_latex: GiNaC's notation in structural order; floats as
+  /// m \cdot 10^{k}).
   std::string expr(const GiNaC::ex& e);
 
  private:
-  std::map<std::string, std::string> tex_;         // symbol name → TeX
-  std::set<std::string> spelled_;                  // TeX spellings in use
-  std::map<std::string, GiNaC::symbol> printing_;  // symbol name → a symbol carrying its TeX name
+  std::map<std::string, std::string> tex_;  // symbol name → TeX
+  std::set<std::string> spelled_;           // TeX spellings in use
 };
 
 }  // namespace hamel

@@ -2,8 +2,8 @@
 // expressions only, not of the order in which GiNaC iterates over the terms of a sum or the factors of a
 // product (hash values that depend on symbol serial numbers and addresses) nor of the order in which graph
 // nodes were created. Emitted packages are byte-identical because of this, with no pinned address layout.
-#include "emit/cpp_emitter.hpp"
 #include "emit/expression_graph.hpp"
+#include "emit/kernel_printer.hpp"
 
 #include <gtest/gtest.h>
 

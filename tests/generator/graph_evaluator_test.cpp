@@ -1,6 +1,6 @@
-// The double interpreter (numeric/graph_evaluator) runs a compiled copy of a kernel's schedule: dense slots, the
-// constants filled once, one instruction per operation. A regression guard that it computes exactly what evaluating
-// the graph node by node (expression_graph.hpp's interpret, the rule the 50-digit evaluator also follows) gives:
+// The double interpreter (numeric/graph_evaluator, emit/interpreter.hpp) runs a compiled copy of a kernel's schedule:
+// dense slots, the constants filled once, one instruction per operation. A regression guard that it computes exactly
+// what evaluating the graph node by node (a loop of this test's, over the operation table) gives:
 // every kernel of models with trigonometric, square-root, power and division nodes, at random points, bit for bit,
 // and again after evaluating other points (no state carried between calls beyond the constants).
 #include "numeric/graph_evaluator.hpp"
@@ -28,23 +28,22 @@ std::vector<double> node_by_node(const hamel::ExpressionGraph& g, const std::vec
                                  const std::vector<double>& x, const std::vector<double>& p,
                                  const std::vector<double>& in) {
   std::vector<double> values(static_cast<std::size_t>(g.size()), 0.0);
-  hamel::interpret(
-      g, g.schedule(outputs), values, [](const hamel::Node& n) { return n.value; },
-      [&](hamel::Argument argument, int index) {
-        const auto k = static_cast<std::size_t>(index);
-        switch (argument) {
-          case hamel::Argument::time:
-            return t;
-          case hamel::Argument::state:
-            return x.at(k);
-          case hamel::Argument::parameter:
-            return p.at(k);
-          case hamel::Argument::input:
-            break;
-        }
-        return in.at(k);
-      },
-      [](const hamel::Node& n, double a, double b) { return hamel::evaluate(n.op, a, b); });
+  for (int i : g.schedule(outputs)) {
+    const hamel::Node& n = g.node(i);
+    const auto k = static_cast<std::size_t>(n.index);
+    double& v = values[static_cast<std::size_t>(i)];
+    if (n.op == hamel::Op::constant) {
+      v = n.value;
+    } else if (n.op == hamel::Op::input) {
+      v = n.argument == hamel::Argument::time        ? t
+          : n.argument == hamel::Argument::state     ? x.at(k)
+          : n.argument == hamel::Argument::parameter ? p.at(k)
+                                                     : in.at(k);
+    } else {
+      const double a = values[static_cast<std::size_t>(n.a)];
+      v = hamel::evaluate(n.op, a, n.b >= 0 ? values[static_cast<std::size_t>(n.b)] : a);
+    }
+  }
   std::vector<double> out;
   for (int o : outputs) out.push_back(values[static_cast<std::size_t>(o)]);
   return out;

@@ -40,7 +40,7 @@ void check_registered(const KernelSet& set, const std::set<std::string>& only) {
 TEST(KernelRegistry, EveryBuiltKernelIsRegistered) {
   for (const char* file :
        {"models/double_pendulum.yaml", "models/satellite_se3.yaml", "models/rolling_ball_bundle.yaml",
-        "models/space_robot.yaml", "models/chaplygin_sleigh.yaml"}) {
+        "models/space_robot.yaml", "models/chaplygin_sleigh.yaml", "models/four_bar.yaml"}) {
     SCOPED_TRACE(file);
     const Model model = load_model(source(file));
     const Derivation derivation = derive(model);

@@ -3,6 +3,7 @@
 // contraction must be exact (identically_zero of the difference) and never make an expression larger; the text,
 // JSON and LaTeX output use it, and the printed strings read back equal the model's expressions.
 #include "algebra/contract_trig.hpp"
+#include "algebra/identity_test.hpp"
 #include "algebra/simplify.hpp"
 
 #include "support/command.hpp"
@@ -34,6 +35,9 @@ using hamel::test::source;
 
 Outcome hamel(const std::string& args) { return run(std::string(HAMEL_BINARY) + " " + args + " 2>&1"); }
 
+// Exactly zero as a function of its symbols (algebra/identity_test.hpp).
+bool zero(const ex& e) { return hamel::identically_zero(e, hamel::Intermediates{}) == hamel::Identity::zero; }
+
 class ContractTrig : public ::testing::Test {
  protected:
   GiNaC::realsymbol t{"t"}, psi{"psi"}, a{"a"}, b{"b"}, m{"m"}, l{"l"};
@@ -47,8 +51,8 @@ class ContractTrig : public ::testing::Test {
     const ex original = parse(s);
     const ex normal = hamel::simplify(original);
     const ex shown = hamel::contract_trig(normal);
-    EXPECT_TRUE(hamel::identically_zero(shown - original)) << s << " printed as " << shown;
-    EXPECT_LE(hamel::printed_size(shown, 100000), hamel::printed_size(normal, 100000)) << s;
+    EXPECT_TRUE(zero(shown - original)) << s << " printed as " << shown;
+    EXPECT_LE(hamel::node_count(shown, 100000), hamel::node_count(normal, 100000)) << s;
     return shown;
   }
 };
@@ -65,12 +69,12 @@ TEST_F(ContractTrig, MultipleAnglesComeBack) {
 }
 
 TEST_F(ContractTrig, SumAnglesComeBack) {
-  // The angle's sign is the one whose leading term GiNaC prints positive (cos(b-a), not cos(-b+a)): compare
-  // values exactly and sizes.
+  // Whichever sign the angle comes out with (the printer writes it with its first term positive): compare values
+  // exactly and sizes.
   for (const char* s : {"cos(a - b)", "m*l^2*cos(a + b)", "sin(a + 2*b)", "l*sin(a - b)"}) {
     const ex shown = printed(s), expected = parse(s);
-    EXPECT_TRUE(hamel::identically_zero(shown - expected)) << s << " printed as " << shown;
-    EXPECT_EQ(hamel::printed_size(shown, 1000), hamel::printed_size(expected, 1000)) << s << " printed as " << shown;
+    EXPECT_TRUE(zero(shown - expected)) << s << " printed as " << shown;
+    EXPECT_EQ(hamel::node_count(shown, 1000), hamel::node_count(expected, 1000)) << s << " printed as " << shown;
   }
 }
 
@@ -111,8 +115,8 @@ TEST_F(ContractTrig, RandomTrigonometricPolynomialsAreContractedExactly) {
     }
     const ex normal = hamel::simplify(e);
     const ex shown = hamel::contract_trig(normal);
-    EXPECT_TRUE(hamel::identically_zero(shown - e)) << e << " printed as " << shown;
-    EXPECT_LE(hamel::printed_size(shown, 100000), hamel::printed_size(normal, 100000)) << e;
+    EXPECT_TRUE(zero(shown - e)) << e << " printed as " << shown;
+    EXPECT_LE(hamel::node_count(shown, 100000), hamel::node_count(normal, 100000)) << e;
   }
 }
 
@@ -176,7 +180,7 @@ TEST_F(PrintedDerive, JsonExpressionsReadBackEqualToTheForces) {
     EXPECT_EQ(text.find("cos(t)"), std::string::npos) << text;
     EXPECT_EQ(text.find("sin(t)"), std::string::npos) << text;
     const ex shown = GiNaC::parser(table)(text);
-    EXPECT_TRUE(hamel::identically_zero(shown - forces[r])) << text;
+    EXPECT_TRUE(zero(shown - forces[r])) << text;
     for (int k = 0; k < 20; ++k) {
       const GiNaC::exmap at{{x, value(rng)}, {psi, value(rng)}, {t, value(rng)}, {m, value(rng)}};
       const double printed_value = GiNaC::ex_to<GiNaC::numeric>(shown.subs(at).evalf()).to_double();

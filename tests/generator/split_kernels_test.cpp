@@ -5,8 +5,8 @@
 // part's locals shows up) and compared with the generator's own evaluation of the graph (GraphEvaluator), for
 // random programs and every part size from 1. Its expressions are grouped as C++ groups them, so a statement printed
 // inside its reader with a missing pair of parentheses gives another value.
-#include "emit/cpp_emitter.hpp"
 #include "emit/expression_graph.hpp"
+#include "emit/kernel_printer.hpp"
 #include "numeric/graph_evaluator.hpp"
 
 #include <gtest/gtest.h>

@@ -1,12 +1,14 @@
 // Imported robots against peers that share nothing with hamel's derivation:
 //  - MuJoCo's sample humanoid (21 hinges on a free torso, joints with several hinges per body, fixed head
 //    and hands merged, inertias MuJoCo infers from capsules, armature, damping, stiffness, motors with
-//    gears), imported from MJCF with contacts, limits and gravity left out, emitted and compiled: its rhs
-//    against mj_forward with contacts and limits disabled and gravity off, at 20 random states and controls;
+//    gears), imported from MJCF with contacts and limits left out, emitted and compiled: its rhs against
+//    mj_forward with contacts and limits disabled, at 20 random states, base orientations and controls, with
+//    gravity (the state then holds Γ = Rᵀ g, gravity in the torso's frame, set from MuJoCo's quaternion) and
+//    without (imported with --ignore gravity too);
 //  - the 7-joint URDF arm (make_arm7.py: rotated joint origins, inclined axes, damping, a continuous joint,
 //    a fixed flange merged into link 7), imported from URDF with --floating: against its MJCF twin in MuJoCo
 //    (written independently from the same numbers) and against the Eigen Newton-Euler of tests/tree.
-// State mapping (as tools/scaling/harness.cpp): hamel x = (q, w, v, q_dot) with (w, v) the base frame's body
+// State mapping (as tools/scaling/harness.cpp): hamel x = (q, [Γ,] w, v, q_dot) with (w, v) the base frame's body
 // twist; MuJoCo's free joint qpos = (p, quat), qvel = (R v, w). Back: w_dot = qacc_ang, v_dot = Rᵀ qacc_lin −
 // w × v. Tolerance: |a_hamel − a_ref|_inf ≤ 1e-10 max(1, |a_ref|_inf).
 #include "tree_from_model.hpp"
@@ -15,6 +17,7 @@
 #include "arm7.hpp"
 #include "arm7_fixed.hpp"
 #include "humanoid.hpp"
+#include "humanoid_gravity.hpp"
 #include "import/tree_import.hpp"
 #include "model/expression_parser.hpp"
 #include "model/load_model.hpp"
@@ -38,7 +41,8 @@ using Kernel = void (*)(double, const double*, const double*, const double*, dou
 struct Package {
   Kernel rhs, energy;
   bool floating;
-  int n;  // joints
+  bool gravity_state;  // x holds Γ = Rᵀ g after q
+  int n;               // joints (the coordinates but Γ)
   const char* const* state_names;
   const char* const* input_names;
   int n_inputs;
@@ -48,7 +52,7 @@ struct Package {
 struct Mujoco {
   mjModel* m = nullptr;
   mjData* d = nullptr;
-  Mujoco(const char* path, bool keep_gravity) {
+  Mujoco(const char* path, bool keep_gravity) {  // NOLINT
     char err[1000] = "";
     m = mj_loadXML(path, nullptr, err, sizeof err);
     if (!m) throw std::runtime_error(std::string("MuJoCo: ") + err);
@@ -75,7 +79,7 @@ struct Sample {
   std::vector<double> x, in, quat, p;
 };
 
-Sample random_sample(std::mt19937_64& rng, const Package& pkg) {
+Sample random_sample(std::mt19937_64& rng, const Package& pkg, const double* gravity = nullptr) {
   std::uniform_real_distribution<double> u(-1, 1);
   Sample s;
   const int base = pkg.floating ? 6 : 0;
@@ -88,6 +92,12 @@ Sample random_sample(std::mt19937_64& rng, const Package& pkg) {
   }
   for (double& c : s.quat) c /= std::sqrt(n);
   for (int k = 0; k < 3; ++k) s.p.push_back(u(rng));
+  if (pkg.gravity_state) {  // Γ = Rᵀ g: gravity in the torso's frame at this orientation, after q
+    double R[3][3];
+    quat_to_R(s.quat.data(), R);
+    for (int i = 3; i-- > 0;)
+      s.x.insert(s.x.begin() + pkg.n, R[0][i] * gravity[0] + R[1][i] * gravity[1] + R[2][i] * gravity[2]);
+  }
   return s;
 }
 
@@ -98,8 +108,9 @@ std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const S
   double R[3][3];
   quat_to_R(s.quat.data(), R);
   const double zero[6] = {0, 0, 0, 0, 0, 0};
-  const double* w = pkg.floating ? s.x.data() + n : zero;
-  const double* v = pkg.floating ? s.x.data() + n + 3 : zero;
+  const int G = pkg.gravity_state ? 3 : 0;
+  const double* w = pkg.floating ? s.x.data() + n + G : zero;
+  const double* v = pkg.floating ? s.x.data() + n + G + 3 : zero;
   mj_resetData(mj.m, mj.d);
   if (pkg.floating) {
     for (int k = 0; k < 3; ++k) mj.d->qpos[k] = s.p[static_cast<std::size_t>(k)];
@@ -115,7 +126,7 @@ std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const S
     if (j < 0) throw std::runtime_error(std::string("no MuJoCo joint ") + pkg.state_names[i]);
     mj.d->qpos[mj.m->jnt_qposadr[j]] = s.x[static_cast<std::size_t>(i)];
     dof[static_cast<std::size_t>(i)] = mj.m->jnt_dofadr[j];
-    mj.d->qvel[dof[static_cast<std::size_t>(i)]] = s.x[static_cast<std::size_t>(n + base + i)];
+    mj.d->qvel[dof[static_cast<std::size_t>(i)]] = s.x[static_cast<std::size_t>(n + G + base + i)];
   }
   for (int k = 0; k < pkg.n_inputs; ++k) {
     const std::string name = std::string(pkg.input_names[k]).substr(pkg.input_prefix.size());
@@ -136,10 +147,18 @@ std::vector<double> mujoco_accelerations(Mujoco& mj, const Package& pkg, const S
   return a;
 }
 
+// (ẇ, v̇, q̈), or q̈ on a fixed base; Γ̇ is checked to be Γ × ω.
 std::vector<double> hamel_accelerations(const Package& pkg, const Sample& s) {
   std::vector<double> out(s.x.size());
   pkg.rhs(0, s.x.data(), nullptr, s.in.data(), out.data());
-  return std::vector<double>(out.begin() + pkg.n, out.end());
+  const int G = pkg.gravity_state ? 3 : 0;
+  for (int i = 0; i < G; ++i) {
+    const double* g = s.x.data() + pkg.n;
+    const double* w = g + 3;
+    const double rate = g[(i + 1) % 3] * w[(i + 2) % 3] - g[(i + 2) % 3] * w[(i + 1) % 3];
+    EXPECT_NEAR(out[static_cast<std::size_t>(pkg.n + i)], rate, 1e-12 * (1 + std::abs(rate)));
+  }
+  return std::vector<double>(out.begin() + pkg.n + G, out.end());
 }
 
 double relative_error(const std::vector<double>& a, const std::vector<double>& ref) {
@@ -153,18 +172,21 @@ double relative_error(const std::vector<double>& a, const std::vector<double>& r
 
 // Accelerations at kStates random states; the energy kernel against MuJoCo's energy up to a constant (MuJoCo
 // counts the weight of bodies welded to the world too), compared as differences to the first state.
+// A floating base under gravity has no energy invariant in hamel's state (the height is not in it): then only the
+// accelerations are compared.
 void expect_matches_mujoco(const Package& pkg, const char* xml, unsigned seed) {
-  Mujoco mj(xml, !pkg.floating);
+  Mujoco mj(xml, !pkg.floating || pkg.gravity_state);
   ASSERT_EQ(mj.m->nv, pkg.n + (pkg.floating ? 6 : 0));
   std::mt19937_64 rng(seed);
   double worst = 0, offset = 0;
   for (int k = 0; k < kStates; ++k) {
-    const Sample s = random_sample(rng, pkg);
+    const Sample s = random_sample(rng, pkg, mj.m->opt.gravity);
     double mj_energy = 0, energy = 0;
     const std::vector<double> ref = mujoco_accelerations(mj, pkg, s, mj_energy);
     const double e = relative_error(hamel_accelerations(pkg, s), ref);
     worst = std::max(worst, e);
     EXPECT_LE(e, kTolerance) << "state " << k;
+    if (pkg.floating && pkg.gravity_state) continue;
     pkg.energy(0, s.x.data(), nullptr, s.in.data(), &energy);
     if (k == 0) offset = energy - mj_energy;
     EXPECT_NEAR(energy - mj_energy, offset, 1e-10 * std::max(1.0, std::abs(mj_energy))) << "state " << k;
@@ -173,17 +195,31 @@ void expect_matches_mujoco(const Package& pkg, const char* xml, unsigned seed) {
 }
 
 const Package humanoid_pkg{
-    humanoid::rhs,         humanoid::energy,   true, humanoid::n_coordinates, humanoid::state_names,
+    humanoid::rhs,         humanoid::energy,   true, false, humanoid::n_coordinates, humanoid::state_names,
     humanoid::input_names, humanoid::n_inputs, "u_"};
-const Package arm7_pkg{arm7::rhs,         arm7::energy,      true,           arm7::n_coordinates,
+const Package humanoid_gravity_pkg{humanoid_gravity::rhs,
+                                   humanoid_gravity::energy,
+                                   true,
+                                   true,
+                                   humanoid_gravity::n_coordinates - 3,  // the joints; then Γ
+                                   humanoid_gravity::state_names,
+                                   humanoid_gravity::input_names,
+                                   humanoid_gravity::n_inputs,
+                                   "u_"};
+const Package arm7_pkg{arm7::rhs,         arm7::energy,      true,           false, arm7::n_coordinates,
                        arm7::state_names, arm7::input_names, arm7::n_inputs, ""};
 const Package arm7_fixed_pkg{
-    arm7_fixed::rhs,         arm7_fixed::energy,   false, arm7_fixed::n_coordinates, arm7_fixed::state_names,
+    arm7_fixed::rhs,         arm7_fixed::energy,   false, false, arm7_fixed::n_coordinates, arm7_fixed::state_names,
     arm7_fixed::input_names, arm7_fixed::n_inputs, "u_"};
 
 TEST(ImportedHumanoid, RhsMatchesMujocoForward) {
   static_assert(humanoid::n_coordinates == 21 && humanoid::n_inputs == 21, "the humanoid has 21 hinges and motors");
   expect_matches_mujoco(humanoid_pkg, HAMEL_HUMANOID_XML, 15);
+}
+
+TEST(ImportedHumanoid, RhsUnderGravityMatchesMujocoForwardAtEveryOrientation) {
+  static_assert(humanoid_gravity::n_state == 2 * 21 + 3 + 6, "gravity in the torso's frame is part of the state");
+  expect_matches_mujoco(humanoid_gravity_pkg, HAMEL_HUMANOID_XML, 16);
 }
 
 TEST(ImportedUrdfArm, RhsMatchesItsMjcfTwinInMujoco) {

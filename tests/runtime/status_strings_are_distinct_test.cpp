@@ -19,7 +19,9 @@ TEST(RuntimeStatus, EveryStatusHasADistinctDescription) {
                         Status::newton_failure,
                         Status::singular_mass_matrix,
                         Status::too_many_steps,
-                        Status::invalid_argument};
+                        Status::invalid_argument,
+                        Status::projection_failure,
+                        Status::singular_constraint_jacobian};
   std::set<std::string> seen;
   for (const Status s : all) {
     const std::string text = describe(s);

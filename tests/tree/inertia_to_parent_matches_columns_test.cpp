@@ -1,10 +1,10 @@
-// spatial::inertia_to_parent (the articulated-body algorithm's X 𝕀 Xᵀ by 3×3 blocks, derive/spatial_algebra.hpp)
+// rbd::inertia_to_parent (the articulated-body algorithm's X 𝕀 Xᵀ by 3×3 blocks, rbd/spatial.hpp)
 // against the same congruence formed column by column from the twist and wrench maps it must agree with,
 // Link::to_child and Link::to_parent: column k of X 𝕀 Xᵀ is to_parent(𝕀 to_child(e_k)). Random rotations
 // (general, and about each coordinate axis, where the blocks drop R's zeros), random offsets and random
 // symmetric 𝕀, in exact rational arithmetic: the two must be equal, not close.
 #include "algebra/intermediates.hpp"
-#include "derive/spatial_algebra.hpp"
+#include "rbd/spatial.hpp"
 
 #include <gtest/gtest.h>
 
@@ -12,7 +12,10 @@
 
 namespace {
 
-using namespace hamel::spatial;
+using namespace hamel::rbd;
+using Mat3 = Mat3<GiNaC::ex>;
+using Mat6 = Mat6<GiNaC::ex>;
+using Vec6 = Vec6<GiNaC::ex>;
 using GiNaC::ex;
 using GiNaC::numeric;
 
@@ -29,7 +32,7 @@ TEST(InertiaToParent, EqualsTheCongruenceFormedColumnByColumn) {
   std::uniform_int_distribution<int> small(-9, 9);
   const auto r = [&] { return numeric(small(rng), 7); };
   for (int trial = 0; trial < 12; ++trial) {
-    Link l;
+    Link<ex> l;
     const int axis = trial % 4;  // 0..2: about that coordinate axis, 3: general
     const numeric t = r();
     l.R = cayley(axis == 0 || axis == 3 ? t : numeric(0), axis == 1 || axis == 3 ? r() : numeric(0),
@@ -39,10 +42,10 @@ TEST(InertiaToParent, EqualsTheCongruenceFormedColumnByColumn) {
     for (std::size_t a = 0; a < 6; ++a)
       for (std::size_t b = a; b < 6; ++b) I[a][b] = I[b][a] = r();
     hamel::Intermediates tape;
-    Namer name(tape);
+    const Namer<ex> name([&tape](const ex& e) { return tape.define(e); });
     const Mat6 blocks = inertia_to_parent(l, I, name);
     for (int k = 0; k < 6; ++k) {
-      const Vec6 column = l.to_parent(times(I, l.to_child(unit6(k))));
+      const Vec6 column = l.to_parent(times(I, l.to_child(unit6<ex>(k))));
       for (std::size_t row = 0; row < 6; ++row) {
         const ex difference = tape.inline_all(blocks[row][static_cast<std::size_t>(k)]) - column[row];
         EXPECT_TRUE(difference.expand().is_zero()) << "trial " << trial << " entry (" << row << ", " << k << ")";

@@ -1,4 +1,4 @@
-// `--dynamics aba` (the articulated-body algorithm, derive/articulated_body.cpp) against two computations that
+// `--dynamics aba` (the articulated-body algorithm, rbd/aba.hpp) against two computations that
 // do not share its code path:
 //  - the M u̇ = f path of the same model (`--dynamics ldlt`: composite inertias, unrolled LDLᵀ), and
 //  - the Eigen recursive Newton–Euler reference of tests/tree/tree_reference.hpp (mass matrix from unit
@@ -7,7 +7,7 @@
 // prismatic joints, joint forces from inputs, springs and dampers, and a potential; relative error of
 // (ξ̇, q̈) ≤ 1e-12 against both. The forward-mode Jacobian (hamel::tangent through the ABA rhs program) is
 // checked against central differences of the ldlt rhs and against the `jacobian` kernel of the ldlt path
-// (analytical derivatives of the inverse dynamics, derive/tree_derivatives.hpp), and so is the aba build's
+// (analytical derivatives of the inverse dynamics, rbd/rnea_derivatives.hpp), and so is the aba build's
 // kernel (the smaller of the two programs); the analytical kernel also against the chain rule through the
 // programs of M and f (the ldlt derivation without its TreeRecursion). Trees on a fixed base
 // (`base: world`) under gravity and joints with armature, damping and stiffness (the properties robot files
@@ -117,7 +117,7 @@ void check(std::uint64_t seed, tree_ref::RandomSettings rs, bool forced = false,
   const Built aba = build(model, "aba", kernels), ldlt = build(model, "ldlt", kernels);
   ASSERT_FALSE(aba.derivation.equations.recursive_accelerations.empty()) << name;
   ASSERT_TRUE(ldlt.derivation.equations.recursive_accelerations.empty()) << name;
-  // The ldlt build's Jacobian takes ∂ID/∂x analytically (derive/tree_derivatives.hpp); without the recursion
+  // The ldlt build's Jacobian takes ∂ID/∂x analytically (rbd/rnea_derivatives.hpp); without the recursion
   // it falls back to the chain rule through the programs of M and f (every M_IJ differentiated).
   hamel::Derivation without_recursion = ldlt.derivation;
   without_recursion.equations.tree.reset();

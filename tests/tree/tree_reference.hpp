@@ -171,24 +171,58 @@ inline std::vector<Pose> base_poses(const Tree& t, const VX& q) {
   return g;
 }
 
-/// RNEA: (F_0, S_iᵀ F_i) for the base twist and acceleration nu0, a0 (6-D) and joint rates/accelerations.
-inline VX rnea(const Tree& t, const VX& q, const V6& V0, const V6& A0, const VX& qd, const VX& qdd) {
+/// A force `force` at the point `point` and a torque `torque` applied to body `body` (−1: the base), all resolved in
+/// the body's frame.
+struct Wrench {
+  int body = -1;
+  V3 point = V3::Zero(), force = V3::Zero(), torque = V3::Zero();
+};
+
+/// What acts on the bodies besides the joints: gravity (the gravitational acceleration resolved in the base's frame;
+/// each body's weight m g, at its centre of mass, resolved in its own frame by its pose relative to the base) and
+/// applied wrenches. Written as forces on the bodies, not as an acceleration of the base.
+struct Loads {
+  V3 gravity = V3::Zero();
+  std::vector<Wrench> wrenches;
+};
+
+/// The wrench about body k's origin (its frame) of its weight and its applied wrenches (k = −1: the base).
+inline V6 applied(const Tree& t, const Loads& loads, int k, const M3& R_base_body) {
+  const Inertial& in = k < 0 ? t.base : t.bodies[static_cast<std::size_t>(k)].inertial;
+  const V3 weight = in.mass * (R_base_body.transpose() * loads.gravity);
+  V6 w;
+  w << in.com.cross(weight), weight;
+  for (const Wrench& a : loads.wrenches)
+    if (a.body == k) {
+      w.head<3>() += a.torque + a.point.cross(a.force);
+      w.tail<3>() += a.force;
+    }
+  return w;
+}
+
+/// RNEA: (F_0, S_iᵀ F_i) for the base twist and acceleration nu0, a0 (6-D) and joint rates/accelerations, with the
+/// weights and applied wrenches of `loads` taken off each body's Newton–Euler wrench.
+inline VX rnea(const Tree& t, const VX& q, const V6& V0, const V6& A0, const VX& qd, const VX& qdd,
+               const Loads& loads = {}) {
   const std::size_t n = t.bodies.size();
   std::vector<V6> V(n), A(n), F(n);
   std::vector<M6> X(n);
+  std::vector<Pose> g(n);  // relative to the base
   for (std::size_t i = 0; i < n; ++i) {
     const Body& b = t.bodies[i];
-    X[i] = Ad_inverse(joint_pose(b, q[static_cast<int>(i)]));
+    const Pose joint = joint_pose(b, q[static_cast<int>(i)]);
+    g[i] = (b.parent < 0 ? Pose{} : g[static_cast<std::size_t>(b.parent)]) * joint;
+    X[i] = Ad_inverse(joint);
     const V6 Vp = b.parent < 0 ? V0 : V[static_cast<std::size_t>(b.parent)];
     const V6 Ap = b.parent < 0 ? A0 : A[static_cast<std::size_t>(b.parent)];
     const V6 S = joint_screw(b);
     V[i] = X[i] * Vp + S * qd[static_cast<int>(i)];
     A[i] = X[i] * Ap + S * qdd[static_cast<int>(i)] + ad(V[i]) * S * qd[static_cast<int>(i)];
     const M6 I = spatial_inertia(b.inertial);
-    F[i] = I * A[i] - ad(V[i]).transpose() * (I * V[i]);
+    F[i] = I * A[i] - ad(V[i]).transpose() * (I * V[i]) - applied(t, loads, static_cast<int>(i), g[i].R);
   }
   const M6 I0 = spatial_inertia(t.base);
-  V6 F0 = I0 * A0 - ad(V0).transpose() * (I0 * V0);
+  V6 F0 = I0 * A0 - ad(V0).transpose() * (I0 * V0) - applied(t, loads, -1, M3::Identity());
   VX out(6 + static_cast<int>(n));
   for (std::size_t k = n; k-- > 0;) {
     const Body& b = t.bodies[k];
@@ -226,15 +260,30 @@ inline MX mass_matrix(const Tree& t, const VX& q) {
   return P.transpose() * H * P;
 }
 
-/// (ξ̇, q̈) for the state (q, ξ, q̇) and joint forces Q (free base: no wrench on it).
-inline VX accelerations(const Tree& t, const VX& q, const VX& xi, const VX& qd, const VX& Q) {
+/// (ξ̇, q̈) for the state (q, ξ, q̇), joint forces Q and `loads` (free base: no wrench on it but its loads).
+inline VX accelerations(const Tree& t, const VX& q, const VX& xi, const VX& qd, const VX& Q, const Loads& loads = {}) {
   const MX P = reduced_basis(t);
   const MX B = basis(t.group);
   const V6 V0 = B * xi;
-  const VX bias = P.transpose() * rnea(t, q, V0, V6::Zero(), qd, VX::Zero(t.n()));
+  const VX bias = P.transpose() * rnea(t, q, V0, V6::Zero(), qd, VX::Zero(t.n()), loads);
   VX rhs = -bias;
   rhs.tail(t.n()) += Q;
   const MX H = mass_matrix(t, q);
+  return H.ldlt().solve(rhs);
+}
+
+/// q̈ of a tree whose base is the world (fixed: no motion), under joint forces Q and `loads` (gravity resolved in the
+/// world = base frame): the joint rows of RNEA, M from unit joint accelerations.
+inline VX fixed_base_accelerations(const Tree& t, const VX& q, const VX& qd, const VX& Q, const Loads& loads = {}) {
+  const int n = t.n();
+  MX H(n, n);
+  const VX zero = VX::Zero(n);
+  for (int k = 0; k < n; ++k) {
+    VX e = VX::Zero(n);
+    e[k] = 1;
+    H.col(k) = rnea(t, q, V6::Zero(), V6::Zero(), zero, e).tail(n);
+  }
+  const VX rhs = Q - rnea(t, q, V6::Zero(), V6::Zero(), qd, zero, loads).tail(n);
   return H.ldlt().solve(rhs);
 }
 

@@ -199,10 +199,17 @@ struct Dop853Workspace {
 /// Heap-free form: x holds the n initial values on entry and the state at the
 /// returned t on return; nothing in the run allocates, and the observer sees
 /// pointers into x and work.
-template <class Rhs, class Observer>
+///
+/// With a projector (projection.hpp; the last argument, optional): the samples of
+/// a step are interpolated from the step as computed and projected one by one
+/// before they are observed, then the new state is projected, accepted and
+/// observed, and the first stage of the next step is evaluated at it (one more
+/// rhs evaluation per step). A projector status other than ok ends the run with
+/// it and the last accepted state.
+template <class Rhs, class Observer, class Projector>
 IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
                                     const Dop853Options& opt, double sample_dt, Observer&& observe,
-                                    Dop853Workspace work) {
+                                    Dop853Workspace work, Projector&& project) {
   namespace k = detail::dop853;
   detail::AdaptiveSteps<Dop853Options> steps(t0, t_end, opt);
   if (!steps.start(x, n, work.data, work.size, Dop853Workspace::doubles(n), observe)) {
@@ -326,28 +333,62 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
           const double tail = r[4][i] + theta * (r[5][i] + theta1 * (r[6][i] + theta * r[7][i]));
           sample[i] = x[i] + theta * (r[1][i] + theta1 * (r[2][i] + theta * (r[3][i] + theta1 * tail)));
         }
+        if constexpr (detail::projects<Projector>) {
+          const Status projected = project(ts, sample);
+          if (projected != Status::ok) {
+            steps.end(projected);
+            return steps.result;
+          }
+        }
         observe(ts, sample);
         clock.advance();
       }
     }
 
+    if constexpr (detail::projects<Projector>) {
+      const Status projected = project(t_next, x_new);
+      if (projected != Status::ok) {
+        steps.end(projected);
+        return steps.result;
+      }
+    }
     std::swap(f[0], f[k::kStepStages]);  // first same as last
     if (!steps.accept(x, x_new, n, h_new, clock.enabled(), observe)) {
       break;
+    }
+    if constexpr (detail::projects<Projector>) {
+      if (!steps.first_derivative(rhs, x, f[0], n)) {  // at the projected state
+        break;
+      }
     }
   }
   return steps.result;
 }
 
+/// Heap-free form without a projector.
+template <class Rhs, class Observer>
+IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
+                                    const Dop853Options& opt, double sample_dt, Observer&& observe,
+                                    Dop853Workspace work) {
+  return integrate_dop853(rhs, x, n, t0, t_end, opt, sample_dt, observe, work, NoProjector{});
+}
+
 /// Convenience form of integrate_dop853: the work space is allocated once, before the first step, and
 /// the final state is returned in the result's vector. Results are bit-identical to the heap-free form.
+template <class Rhs, class Observer, class Projector>
+IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dop853Options& opt,
+                                   double sample_dt, Observer&& observe, Projector&& project) {
+  return detail::run_with_allocated_work<Dop853Workspace>(
+      std::move(x), [&](double* xs, std::size_t n, Dop853Workspace w) {
+        return integrate_dop853(rhs, xs, n, t0, t_end, opt, sample_dt, observe, w, project);
+      });
+}
+
+/// Convenience form without a projector.
 template <class Rhs, class Observer>
 IntegrationResult integrate_dop853(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dop853Options& opt,
                                    double sample_dt, Observer&& observe) {
-  return detail::run_with_allocated_work<Dop853Workspace>(
-      std::move(x), [&](double* xs, std::size_t n, Dop853Workspace w) {
-        return integrate_dop853(rhs, xs, n, t0, t_end, opt, sample_dt, observe, w);
-      });
+  return integrate_dop853(rhs, std::move(x), t0, t_end, opt, sample_dt, observe, NoProjector{});
 }
 
 }  // namespace hamel::runtime

@@ -92,10 +92,18 @@ struct Dopri5Workspace {
 /// Heap-free form: x holds the n initial values on entry and the state at the
 /// returned t on return; nothing in the run allocates, and the observer sees
 /// pointers into x and work.
-template <class Rhs, class Observer>
+///
+/// With a projector (projection.hpp; the last argument, optional): the samples of
+/// a step are interpolated from the step as computed and projected one by one
+/// before they are observed, then the new state is projected, accepted and
+/// observed, and the first stage of the next step is evaluated at it (one more
+/// rhs evaluation per step: FSAL's last stage belongs to the unprojected state).
+/// A projector status other than ok ends the run with it and the last accepted
+/// state.
+template <class Rhs, class Observer, class Projector>
 IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
                                     const Dopri5Options& opt, double sample_dt, Observer&& observe,
-                                    Dopri5Workspace work) {
+                                    Dopri5Workspace work, Projector&& project) {
   namespace k = detail::dopri5;
   detail::AdaptiveSteps<Dopri5Options> steps(t0, t_end, opt);
   if (!steps.start(x, n, work.data, work.size, Dopri5Workspace::doubles(n), observe)) {
@@ -205,28 +213,62 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
         for (std::size_t i = 0; i < n; ++i) {
           sample[i] = x[i] + theta * ((x_new[i] - x[i]) + theta1 * (bspl[i] + theta * (r4[i] + theta1 * r5[i])));
         }
+        if constexpr (detail::projects<Projector>) {
+          const Status projected = project(s, sample);
+          if (projected != Status::ok) {
+            steps.end(projected);
+            return steps.result;
+          }
+        }
         observe(s, sample);
         clock.advance();
       }
     }
 
+    if constexpr (detail::projects<Projector>) {
+      const Status projected = project(t_next, x_new);
+      if (projected != Status::ok) {
+        steps.end(projected);
+        return steps.result;
+      }
+    }
     std::swap(k1, k7);  // first same as last
     if (!steps.accept(x, x_new, n, h_new, clock.enabled(), observe)) {
       break;
+    }
+    if constexpr (detail::projects<Projector>) {
+      if (!steps.first_derivative(rhs, x, k1, n)) {  // at the projected state
+        break;
+      }
     }
   }
   return steps.result;
 }
 
+/// Heap-free form without a projector.
+template <class Rhs, class Observer>
+IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
+                                    const Dopri5Options& opt, double sample_dt, Observer&& observe,
+                                    Dopri5Workspace work) {
+  return integrate_dopri5(rhs, x, n, t0, t_end, opt, sample_dt, observe, work, NoProjector{});
+}
+
 /// Convenience form of integrate_dopri5: the work space is allocated once, before the first step, and
 /// the final state is returned in the result's vector. Results are bit-identical to the heap-free form.
+template <class Rhs, class Observer, class Projector>
+IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dopri5Options& opt,
+                                   double sample_dt, Observer&& observe, Projector&& project) {
+  return detail::run_with_allocated_work<Dopri5Workspace>(
+      std::move(x), [&](double* xs, std::size_t n, Dopri5Workspace w) {
+        return integrate_dopri5(rhs, xs, n, t0, t_end, opt, sample_dt, observe, w, project);
+      });
+}
+
+/// Convenience form without a projector.
 template <class Rhs, class Observer>
 IntegrationResult integrate_dopri5(Rhs&& rhs, std::vector<double> x, double t0, double t_end, const Dopri5Options& opt,
                                    double sample_dt, Observer&& observe) {
-  return detail::run_with_allocated_work<Dopri5Workspace>(
-      std::move(x), [&](double* xs, std::size_t n, Dopri5Workspace w) {
-        return integrate_dopri5(rhs, xs, n, t0, t_end, opt, sample_dt, observe, w);
-      });
+  return integrate_dopri5(rhs, std::move(x), t0, t_end, opt, sample_dt, observe, NoProjector{});
 }
 
 }  // namespace hamel::runtime

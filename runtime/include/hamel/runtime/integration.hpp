@@ -16,6 +16,12 @@
 //   finite accepted state on failure) on return, and nothing in the run allocates: not the steps, not the
 //   observer calls (which see pointers into x or the work space), not the result. Both forms run the same
 //   code and give bit-identical results (tests/runtime/integrators_do_not_allocate_test.cpp).
+// Every integrator of rk4.hpp, dopri5.hpp, dop853.hpp and radau5.hpp also takes, as an optional last argument, a
+// projector: any callable Status(double t, double* x) that moves an accepted state (and every observed sample) onto
+// position constraints g(q) = 0 in place (projection.hpp: ConstraintProjector, fed by hamel's constraint_position
+// kernels). It is called before the state is observed or stepped from; methods that reuse f(t, x_new) evaluate it
+// again at the projected state; a status other than ok ends the run with it (and the last accepted state). Without
+// one (NoProjector, the default) results are bit-identical to the integrators without projectors.
 // The Lie-group integrators follow the same pattern: lie/rkmk_coupled.hpp's integrate_rkmk4_coupled has a
 // vector form and a heap-free form with RkmkCoupledWorkspace (for the vector part; the group part is
 // fixed-size), and lie/rkmk.hpp's integrate_rkmk4, whose state is fixed-size, allocates nothing at all.
@@ -25,6 +31,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -62,6 +69,12 @@ struct NoObserver {
   void operator()(double /*t*/, const double* /*x*/) const noexcept {}
 };
 
+/// The projector of a run without position constraints, every integrator's default: leaves every state as it is, and
+/// the integrators skip everything a projector needs (bit-identical results, no extra evaluations).
+struct NoProjector {
+  Status operator()(double /*t*/, double* /*x*/) const noexcept { return Status::ok; }
+};
+
 /// True when none of the n values is NaN or infinite.
 inline bool all_finite(const double* x, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i) {
@@ -73,6 +86,11 @@ inline bool all_finite(const double* x, std::size_t n) {
 }
 
 namespace detail {
+
+/// Whether `Projector` projects (anything but NoProjector): the integrators compile its calls, and the extra
+/// evaluation of f at a projected state, only then.
+template <class Projector>
+constexpr bool projects = !std::is_same_v<std::decay_t<Projector>, NoProjector>;
 
 /// The IntegrationResult of the vector overloads from a heap-free run's outcome and final state.
 inline IntegrationResult to_result(const IntegrationOutcome& outcome, std::vector<double>&& x) {

@@ -161,14 +161,15 @@ namespace detail::radau5 {
 
 /// One run of integrate_radau5 (documented there): its settings, work space and step-control state, with one method
 /// per part of a step attempt. operator() runs it.
-template <class Rhs, class Jac, class Observer>
+template <class Rhs, class Jac, class Observer, class Projector>
 class Run {
  public:
   Run(Rhs& rhs, Jac& jac, double* x, std::size_t n, double t0, double t_end, const Radau5Options& opt, double sample_dt,
-      Observer& observe, Radau5Workspace work)
+      Observer& observe, Radau5Workspace work, Projector& project)
       : rhs_(rhs),
         jac_(jac),
         observe_(observe),
+        project_(project),
         opt_(opt),
         work_(work),
         x_(x),
@@ -519,7 +520,14 @@ class Run {
       h_acc_ = h_;
       err_acc_ = std::max(1e-2, err);
     }
-    observe_step();
+    if (const Status projected = observe_step(); projected != Status::ok) {
+      return stop(projected);
+    }
+    if constexpr (detail::projects<Projector>) {
+      if (const Status projected = project_(t_next_, stage_); projected != Status::ok) {
+        return stop(projected);
+      }
+    }
 
     std::copy(stage_, stage_ + n_, x_);
     std::swap(f0_, f_new_);
@@ -532,6 +540,14 @@ class Run {
     }
     if (last_) {
       return stop(Status::ok);
+    }
+    if constexpr (detail::projects<Projector>) {
+      // f at the step start, for the error estimate: f_new belonged to the state before its projection.
+      rhs_(t_, x_, f0_);
+      ++result_.stats.rhs_evals;
+      if (!all_finite(f0_, n_)) {
+        return stop(Status::non_finite_state);
+      }
     }
     if (fixed_) {
       need_jac_ = theta_ > thet;
@@ -553,8 +569,9 @@ class Run {
     return Next::again;
   }
 
-  // The accepted step's collocation polynomial, and the samples that fall in the step, observed from it.
-  void observe_step() {
+  // The accepted step's collocation polynomial, and the samples that fall in the step, observed from it (each
+  // projected first when there is a projector; its status, ok without one).
+  Status observe_step() {
     // The polynomial through x (s = -1), x + Z1 (s = c1 - 1), x + Z2 (s = c2 - 1) and x_new = x + Z3 (s = 0), in
     // Newton form about the end point: cont1..3 are divided differences of u(s) = poly(s) - x_new.
     for (std::size_t i = 0; i < n_; ++i) {
@@ -576,14 +593,21 @@ class Run {
       for (std::size_t i = 0; i < n_; ++i) {
         sample_[i] = stage_[i] + s * (cont_[i] + (s - c2 + 1.0) * (cont_[n_ + i] + (s - c1 + 1.0) * cont_[2 * n_ + i]));
       }
+      if constexpr (detail::projects<Projector>) {
+        if (const Status projected = project_(ts, sample_); projected != Status::ok) {
+          return projected;
+        }
+      }
       observe_(ts, sample_);
       clock_.advance();
     }
+    return Status::ok;
   }
 
   Rhs& rhs_;
   Jac& jac_;
   Observer& observe_;
+  Projector& project_;
   const Radau5Options& opt_;
   const Radau5Workspace work_;
   double* const x_;
@@ -719,27 +743,52 @@ class Run {
 /// returned t on return; nothing in the run allocates (provided jac does not:
 /// FiniteDifferenceJacobian can take its work space from the caller too), and
 /// the observer sees pointers into x and work.
+///
+/// With a projector (projection.hpp; the last argument, optional): the samples
+/// of a step are taken from its collocation polynomial and projected one by one
+/// before they are observed, then the new state is projected, accepted and
+/// observed, and f at it (the next error estimate's f at the step start) is
+/// evaluated again: one more rhs evaluation per step. The next Newton iteration
+/// still starts from the step's polynomial. A projector status other than ok
+/// ends the run with it and the last accepted state.
+template <class Rhs, class Jac, class Observer, class Projector>
+IntegrationOutcome integrate_radau5(Rhs&& rhs, Jac&& jac, double* x, std::size_t n, double t0, double t_end,
+                                    const Radau5Options& opt, double sample_dt, Observer&& observe,
+                                    Radau5Workspace work, Projector&& project) {
+  return detail::radau5::Run<std::remove_reference_t<Rhs>, std::remove_reference_t<Jac>,
+                             std::remove_reference_t<Observer>, std::remove_reference_t<Projector>>(
+      rhs, jac, x, n, t0, t_end, opt, sample_dt, observe, work, project)();
+}
+
+/// Heap-free form without a projector.
 template <class Rhs, class Jac, class Observer>
 IntegrationOutcome integrate_radau5(Rhs&& rhs, Jac&& jac, double* x, std::size_t n, double t0, double t_end,
                                     const Radau5Options& opt, double sample_dt, Observer&& observe,
                                     Radau5Workspace work) {
-  return detail::radau5::Run<std::remove_reference_t<Rhs>, std::remove_reference_t<Jac>,
-                             std::remove_reference_t<Observer>>(rhs, jac, x, n, t0, t_end, opt, sample_dt, observe,
-                                                                work)();
+  NoProjector none;
+  return integrate_radau5(rhs, jac, x, n, t0, t_end, opt, sample_dt, observe, work, none);
 }
 
 /// Convenience form of integrate_radau5: the work space is allocated once, before the first step, and
 /// the final state is returned in the result's vector. Results are bit-identical to the heap-free form.
-template <class Rhs, class Jac, class Observer>
+template <class Rhs, class Jac, class Observer, class Projector>
 IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, double t0, double t_end,
-                                   const Radau5Options& opt, double sample_dt, Observer&& observe) {
+                                   const Radau5Options& opt, double sample_dt, Observer&& observe,
+                                   Projector&& project) {
   const std::size_t n = x.size();
   std::vector<double> work(Radau5Workspace::doubles(n));
   std::vector<int> pivots(Radau5Workspace::ints(n));
   const IntegrationOutcome outcome =
       integrate_radau5(rhs, jac, x.data(), n, t0, t_end, opt, sample_dt, observe,
-                       Radau5Workspace{work.data(), work.size(), pivots.data(), pivots.size()});
+                       Radau5Workspace{work.data(), work.size(), pivots.data(), pivots.size()}, project);
   return detail::to_result(outcome, std::move(x));
+}
+
+/// Convenience form without a projector.
+template <class Rhs, class Jac, class Observer>
+IntegrationResult integrate_radau5(Rhs&& rhs, Jac&& jac, std::vector<double> x, double t0, double t_end,
+                                   const Radau5Options& opt, double sample_dt, Observer&& observe) {
+  return integrate_radau5(rhs, jac, std::move(x), t0, t_end, opt, sample_dt, observe, NoProjector{});
 }
 
 }  // namespace hamel::runtime

@@ -60,9 +60,14 @@ struct Rk4Workspace {
 /// is Rk4Workspace::doubles(n) doubles of the caller's (a smaller or null work space gives
 /// invalid_argument before any work). Nothing in the run allocates; the observer sees pointers into x and
 /// work.
-template <class Rhs, class Observer>
+///
+/// With a projector (projection.hpp; the last argument, optional): every new state is projected before the
+/// derivative at it is taken (which is the next step's first stage and the samples' end slope: no extra rhs
+/// evaluation), and every sample before it is observed; a projector status other than ok ends the run with it and
+/// the state at the start of the step.
+template <class Rhs, class Observer, class Projector>
 IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double t0, double t_end, double h,
-                                 double sample_dt, Observer&& observe, Rk4Workspace work) {
+                                 double sample_dt, Observer&& observe, Rk4Workspace work, Projector&& project) {
   IntegrationOutcome result;
   result.t = t0;
   if (!detail::buffers_fit(x_io, n, work.data, work.size, Rk4Workspace::doubles(n))) {
@@ -130,6 +135,12 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
     if (!all_finite(x_new, n)) {
       return finish(Status::non_finite_state);
     }
+    if constexpr (detail::projects<Projector>) {
+      const Status projected = project(t_next, x_new);
+      if (projected != Status::ok) {
+        return finish(projected);
+      }
+    }
     ++result.stats.steps;
 
     // The end derivative doubles as the next step's first stage; after the last
@@ -148,6 +159,12 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
     while (clock.due(t_next)) {
       const double s = clock.next();
       detail::hermite_interpolate(x, k1, x_new, k2, hs, (s - t) / hs, sample, n);
+      if constexpr (detail::projects<Projector>) {
+        const Status projected = project(s, sample);
+        if (projected != Status::ok) {
+          return finish(projected);
+        }
+      }
       observe(s, sample);
       clock.advance();
     }
@@ -163,15 +180,67 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
   return finish(Status::ok);
 }
 
+/// Heap-free form without a projector.
+template <class Rhs, class Observer>
+IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double t0, double t_end, double h,
+                                 double sample_dt, Observer&& observe, Rk4Workspace work) {
+  return integrate_rk4(rhs, x_io, n, t0, t_end, h, sample_dt, observe, work, NoProjector{});
+}
+
 /// Convenience form: the work space is allocated once, before the first step, and the final state is
 /// returned in the result's vector. Results are bit-identical to the heap-free form.
+template <class Rhs, class Observer, class Projector>
+IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h, double sample_dt,
+                                Observer&& observe, Projector&& project) {
+  std::vector<double> work(Rk4Workspace::doubles(x.size()));
+  const IntegrationOutcome outcome = integrate_rk4(rhs, x.data(), x.size(), t0, t_end, h, sample_dt, observe,
+                                                   Rk4Workspace{work.data(), work.size()}, project);
+  return detail::to_result(outcome, std::move(x));
+}
+
+/// Convenience form without a projector.
 template <class Rhs, class Observer>
 IntegrationResult integrate_rk4(Rhs&& rhs, std::vector<double> x, double t0, double t_end, double h, double sample_dt,
                                 Observer&& observe) {
-  std::vector<double> work(Rk4Workspace::doubles(x.size()));
-  const IntegrationOutcome outcome =
-      integrate_rk4(rhs, x.data(), x.size(), t0, t_end, h, sample_dt, observe, Rk4Workspace{work.data(), work.size()});
-  return detail::to_result(outcome, std::move(x));
+  return integrate_rk4(rhs, std::move(x), t0, t_end, h, sample_dt, observe, NoProjector{});
 }
+
+/// One classical fourth-order Runge-Kutta step of size h of an emitted package's rhs kernel, x in place, with
+/// three stack arrays of n_state reals (no allocation); the inputs `in` are held over the step. hamel emit prints the
+/// lines between the markers below into every package that has rhs, as the package's own rk4_step (the generator's
+/// build reads them into its emit/rk4_step.inc), so that a package needs nothing of the runtime; here the same code
+/// is a template over the package's scalar type, state size and rhs:
+/// hamel::runtime::rk4_step<pkg::real, pkg::n_state, pkg::rhs>(t, h, x, p, in). The text between the markers is
+/// printed as it stands, so it may use only what an emitted package defines (real, n_state, rhs) and <cmath>.
+template <class real, int n_state, void (*rhs)(real, const real*, const real*, const real*, real*)>
+// clang-format off
+// hamel emit: rk4_step begin
+/* rk4_step: classical Runge-Kutta step of size h on x' = rhs(t, x), in place; 4 rhs calls, rk4_stack_reals reals of stack */
+void rk4_step(real t, real h, real* x, const real* p, const real* in) {
+  real k[n_state];
+  real xs[n_state];
+  real sum[n_state];
+  const real half = h * real(0.5);
+  rhs(t, x, p, in, k);
+  for (int i = 0; i < n_state; ++i) {
+    sum[i] = k[i];
+    xs[i] = x[i] + half * k[i];
+  }
+  rhs(t + half, xs, p, in, k);
+  for (int i = 0; i < n_state; ++i) {
+    sum[i] += real(2.0) * k[i];
+    xs[i] = x[i] + half * k[i];
+  }
+  rhs(t + half, xs, p, in, k);
+  for (int i = 0; i < n_state; ++i) {
+    sum[i] += real(2.0) * k[i];
+    xs[i] = x[i] + h * k[i];
+  }
+  rhs(t + h, xs, p, in, k);
+  const real sixth = h / real(6.0);
+  for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
+}
+// hamel emit: rk4_step end
+// clang-format on
 
 }  // namespace hamel::runtime

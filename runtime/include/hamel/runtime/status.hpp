@@ -13,8 +13,10 @@ enum class Status {
   newton_failure,
   singular_mass_matrix,
   too_many_steps,
-  invalid_argument,  // a caller's mistake, not a property of the problem: a step h <= 0 or NaN, a setting
-                     // that makes no sense (negative or non-finite tolerance, ...), too small a work space
+  invalid_argument,              // a caller's mistake, not a property of the problem: a step h <= 0 or NaN, a setting
+                                 // that makes no sense (negative or non-finite tolerance, ...), too small a work space
+  projection_failure,            // projection.hpp: Gauss-Newton onto g(q) = 0 did not converge in max_iterations
+  singular_constraint_jacobian,  // projection.hpp: G G^T not positive definite, the constraints dependent there
 };
 
 /// Human-readable description of a status, suitable for log and error messages.
@@ -34,6 +36,10 @@ inline const char* describe(Status status) {
       return "too many steps";
     case Status::invalid_argument:
       return "invalid argument (a step, setting or work space that makes no sense)";
+    case Status::projection_failure:
+      return "projection onto the position constraints did not converge";
+    case Status::singular_constraint_jacobian:
+      return "singular constraint Jacobian (the position constraints are dependent at this configuration)";
   }
   // Reachable only through a value cast from outside the enumeration.
   return "unknown status";

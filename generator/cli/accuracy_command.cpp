@@ -4,10 +4,10 @@
 // parameter sweeps. A table kernel -> worst ulps, mean ulps, points; --json for scripts.
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/pipeline.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
-#include "model/load_model.hpp"
 #include "numeric/kernel_accuracy.hpp"
 #include "report/progress.hpp"
 
@@ -23,11 +23,11 @@ namespace hamel::cli {
 namespace {
 
 struct AccuracyOptions {
-  std::string model, fold = "none", form;
+  PipelineOptions in;
   int points = 200;
   std::uint64_t seed = 1;
   double range = 1.0, velocity_range = 1.0, floor = 1e-3;
-  std::vector<std::string> params, sweeps, at;
+  std::vector<std::string> sweeps, at;
   bool json = false, markdown = false, no_condition = false;
 };
 
@@ -77,9 +77,9 @@ void run(const AccuracyOptions& opt) {
   if (opt.points < 1) throw InputError("--points: expected a positive number of points");
   if (!(opt.range > 0) || !(opt.velocity_range > 0)) throw InputError("--range: expected a positive half-width");
   if (!(opt.floor > 0) || !(opt.floor <= 1)) throw InputError("--floor: expected a fraction in (0, 1]");
-  const Model model = load_model(opt.model);
-  const std::map<std::string, double> overrides = parse_assignments(opt.params, "--param");
-  const std::vector<double> base = parameter_values(model, overrides);
+  Pipeline pipeline(opt.in);
+  const Model& model = pipeline.loaded();
+  const std::vector<double> base = pipeline.parameters();
 
   AccuracySettings settings;
   settings.points = opt.points;
@@ -108,11 +108,9 @@ void run(const AccuracyOptions& opt) {
   std::vector<KernelAccuracy> total;
   nlohmann::json per_setting = nlohmann::json::array();
   for (const auto& [label, p] : cases) {
-    const Derivation derivation = derive(apply_fold(model, p, opt.fold), DeriveSettings{opt.form});
-    const KernelSet kernels = [&] {
-      progress::Step step("building the kernels' expression graph");
-      return build_kernels(model, derivation);
-    }();
+    pipeline.refold(p);
+    const Derivation& derivation = pipeline.derivation();
+    const KernelSet kernels = pipeline.kernels();
     std::vector<KernelAccuracy> r;
     try {
       r = measure_kernel_accuracy(model, derivation, kernels, p, settings, label);
@@ -129,7 +127,7 @@ void run(const AccuracyOptions& opt) {
   if (opt.json) {
     nlohmann::json j;
     j["model"] = model.name;
-    j["fold"] = opt.fold;
+    j["fold"] = pipeline.fold();
     j["points_per_setting"] = opt.points;
     j["seed"] = opt.seed;
     j["floor_fraction"] = opt.floor;
@@ -177,7 +175,7 @@ void run(const AccuracyOptions& opt) {
                 << number(a.condition_at_worst) << " | " << number(a.worst_excess) << " | " << worst_at(a) << " |\n";
     return;
   }
-  std::cout << "kernel forward error of " << model.name << " (" << opt.model << "), fold " << opt.fold << ": "
+  std::cout << "kernel forward error of " << model.name << " (" << opt.in.file << "), fold " << pipeline.fold() << ": "
             << opt.points << " random points x " << cases.size() << " setting" << (cases.size() > 1 ? "s" : "")
             << ", seed " << opt.seed << "\n"
             << "  worst/mean ulps: |double - ref| / ulp(max(|ref|, " << number(opt.floor)
@@ -204,15 +202,12 @@ Run add_accuracy_command(CLI::App& app) {
   auto opt = std::make_shared<AccuracyOptions>();
   CLI::App* cmd = app.add_subcommand(
       "accuracy", "Forward error of every emitted kernel in ulps against a 50-digit evaluation of its expressions");
-  cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
+  add_pipeline_options(cmd, opt->in);
   cmd->add_option("--points", opt->points, "Random points per parameter setting")->capture_default_str();
   cmd->add_option("--seed", opt->seed, "Seed of the random points")->capture_default_str();
-  cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--sweep", opt->sweeps,
                   "Parameter sweep name=lo:hi:count (geometric for positive lo, hi; repeatable, one parameter at a "
                   "time, the others at their --param values)");
-  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
-  cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
   cmd->add_option("--range", opt->range, "Coordinates uniform in [-range, range]")->capture_default_str();
   cmd->add_option("--velocity-range", opt->velocity_range, "Independent velocities and inputs uniform in [-v, v]")
       ->capture_default_str();

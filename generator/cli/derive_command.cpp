@@ -3,11 +3,11 @@
 #include "algebra/high_precision.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/pipeline.hpp"
 #include "derive/derivation.hpp"
 #include "derive/riemann.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
-#include "model/load_model.hpp"
 #include "report/derivation_report.hpp"
 
 #include <nlohmann/json.hpp>
@@ -22,9 +22,9 @@ namespace hamel::cli {
 namespace {
 
 struct DeriveOptions {
-  std::string model;
-  std::vector<std::string> params, at;
-  std::string form, curvature_sign = "paper", fold = "none", dynamics;
+  PipelineOptions in;
+  std::vector<std::string> at;
+  std::string curvature_sign = "paper";
   bool json = false, latex = false, inline_all = false, riemann = false;
 };
 
@@ -80,15 +80,18 @@ void run(const DeriveOptions& opt) {
                                                                          : opt.riemann
                                                                              ? "--riemann (text and JSON only)"
                                                                              : "--at (values are text and JSON only)"));
-  const Model model = load_model(opt.model);
-  const std::vector<double> params = parameter_values(model, parse_assignments(opt.params, "--param"));
+  PipelineOptions in = opt.in;
+  in.announce = false;  // the derivation is what derive prints
+  Pipeline pipeline(in);
+  const Model& model = pipeline.loaded();
+  const std::vector<double>& params = pipeline.parameters();
   const std::map<std::string, double> at = parse_assignments(opt.at, "--at");
 
   if (opt.curvature_sign != "paper" && opt.curvature_sign != "gauge")
     throw InputError("--curvature-sign: expected 'paper' (B = gamma, the default) or 'gauge' (B = -gamma), got '" +
                      opt.curvature_sign + "'");
-  const Model folded = apply_fold(model, params, opt.fold);
-  const Derivation d = derive(folded, DeriveSettings{opt.form, opt.dynamics.empty() ? "ldlt" : opt.dynamics});
+  const Model& folded = pipeline.model();
+  const Derivation& d = pipeline.derivation();
   const HamelEquations& eq = d.equations;
   // With --riemann the program grows by the Riemannian quantities (a copy: eq's stays as derived).
   Intermediates riemann_program = opt.riemann ? eq.intermediates : Intermediates{};
@@ -117,21 +120,12 @@ Run add_derive_command(CLI::App& app) {
   auto opt = std::make_shared<DeriveOptions>();
   CLI::App* cmd =
       app.add_subcommand("derive", "Derive B, the Hamel coefficients and the equations of motion of a model");
-  cmd->add_option("model", opt->model, "Model file (YAML, schema 1)")->required();
-  cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable; defaults from the model)");
+  add_pipeline_options(cmd, opt->in);
   cmd->add_option(
       "--at", opt->at,
       "Values name=value,... of coordinates, quasi-velocities, inputs and t: every entry then also carries its number");
-  cmd->add_option("--form", opt->form,
-                  "Bundle models: ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare, locked velocity), "
-                  "ldap (kinematic connection) or momentum (zero momentum); default lp or ldap by connection, ep for "
-                  "kinematic trees");
-  cmd->add_option("--dynamics", opt->dynamics,
-                  "Kinematic trees (ep form, or on a fixed base): aba also derives u' by the articulated-body "
-                  "algorithm (JSON key 'accelerations'); ldlt (default here) only M u' = f");
   cmd->add_option("--curvature-sign", opt->curvature_sign,
                   "Bundle models: paper (B = gamma, default) or gauge (B = -gamma, Rem. remSign)");
-  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
   cmd->add_flag("--json", opt->json, "Print JSON instead of text");
   cmd->add_flag("--latex", opt->latex,
                 "Print a LaTeX fragment instead of text (amsmath; the paper's notation, intermediate symbols as "

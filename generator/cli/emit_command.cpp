@@ -1,6 +1,7 @@
 // `hamel emit MODEL -o DIR`: the model's kernels as a C++ header and source in DIR.
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/pipeline.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernel_registry.hpp"
 #include "emit/kernels.hpp"
@@ -18,8 +19,8 @@ namespace hamel::cli {
 namespace {
 
 struct EmitOptions {
-  std::string model, output, form, fold, kernels, dynamics, jacobian_solve;
-  std::vector<std::string> params;
+  PipelineOptions in;
+  std::string output, kernels, jacobian_solve;
   EmitSettings settings;
 };
 
@@ -47,11 +48,11 @@ std::string given_options(const EmitOptions& opt) {
   const auto add = [&](const std::string& flag, const std::string& value) {
     if (!value.empty()) s += (s.empty() ? "" : " ") + flag + " " + value;
   };
-  add("--form", opt.form);
-  add("--fold", opt.fold);
-  for (const std::string& p : opt.params) add("--param", p);
+  add("--form", opt.in.form);
+  add("--fold", opt.in.fold);
+  for (const std::string& p : opt.in.params) add("--param", p);
   add("--kernels", opt.kernels);
-  add("--dynamics", opt.dynamics);
+  add("--dynamics", opt.in.dynamics);
   add("--jacobian-solve", opt.jacobian_solve);
   if (opt.settings.split_statements != EmitSettings{}.split_statements)
     add("--split", std::to_string(opt.settings.split_statements));
@@ -73,8 +74,8 @@ ColumnSolve column_solve(const std::string& name) {
 void run(EmitOptions opt) {
   opt.settings.options = given_options(opt);
   const ColumnSolve solve = column_solve(opt.jacobian_solve);  // a wrong value fails before any work
-  Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
-  target.settings.dynamics = opt.dynamics;
+  Pipeline pipeline(opt.in);
+  const Target& target = pipeline.target();
   std::set<std::string> selected = target.kernels;
   if (!opt.kernels.empty()) {
     if (target.scene)
@@ -85,14 +86,12 @@ void run(EmitOptions opt) {
   }
   const Model& model = target.model;
   check_package_folder(opt.output, model.name);  // a refused folder fails now, not after a long derivation
-  progress::say("deriving " + model.name);
-  const Derivation derivation = derive(model, target.settings);
+  const Derivation& derivation = pipeline.derivation();
   const KernelSet kernels = [&] {
-    progress::Step step("building the kernels' expression graph");
-    KernelSet set = build_kernels(model, derivation, selected, solve);
+    KernelSet set = pipeline.kernels(selected, solve);
     // A kernel with a constant beyond the range of a double is refused when asked for (--kernels, a scene)
     // and left out of the default set with a note; nothing is written when it is refused.
-    for (const std::string& note : drop_unrepresentable(set, !selected.empty(), printable(opt.model)))
+    for (const std::string& note : drop_unrepresentable(set, !selected.empty(), printable(opt.in.file)))
       std::cerr << note << "\n";
     return set;
   }();
@@ -102,7 +101,7 @@ void run(EmitOptions opt) {
     // Pruning report: operations of the scene's kernels (shared subexpressions counted once) against all
     // kernels of the same model, form and fixed parameters. (Unfolded symbolic derivations of models with
     // many parameters can take very long, so folding is not undone for the comparison.)
-    const std::size_t full = total_operations(build_kernels(model, derivation));
+    const std::size_t full = total_operations(pipeline.kernels());
     const std::string full_model = load_model(target.scene->model_path).name;
     const std::size_t pruned = total_operations(kernels);
     std::string kernel_list;
@@ -135,14 +134,8 @@ void run(EmitOptions opt) {
 Run add_emit_command(CLI::App& app) {
   auto opt = std::make_shared<EmitOptions>();
   CLI::App* cmd = app.add_subcommand("emit", "Emit flat, branch-free C++ kernels for a model");
-  cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
+  add_pipeline_options(cmd, opt->in);
   cmd->add_option("-o,--output", opt->output, "Output folder (replaced atomically)")->required();
-  cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
-  cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
-  cmd->add_option("--param", opt->params,
-                  "Parameter value name=value for --fold (repeatable; defaults from the model)");
-  cmd->add_option("--fold", opt->fold,
-                  std::string(fold_help()) + " (default: none for models, the scene's `fixed` for scenes)");
   cmd->add_option("--kernels", opt->kernels,
                   "Only these kernels, comma-separated (e.g. rhs,mass_matrix; default: all the model has, "
                   "except linearization and riemann_linearization). The jacobian of a large kinematic tree is by far "

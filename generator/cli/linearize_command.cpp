@@ -3,6 +3,7 @@
 // points where an eigenvalue crosses the imaginary axis (docs/linearization.md).
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/pipeline.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
@@ -23,9 +24,9 @@ namespace hamel::cli {
 namespace {
 
 struct LinearizeOptions {
-  std::string model;
-  std::vector<std::string> at, params, inputs;
-  std::string steady, hold, sweep, out = "-", plot, form, fold, dynamics;
+  PipelineOptions in;
+  std::vector<std::string> at, inputs;
+  std::string steady, hold, sweep, out = "-", plot;
   bool json = false;
 };
 
@@ -310,11 +311,11 @@ void write_linearization(std::ostream& os, bool json, const Model& model, const 
 }
 
 void run(const LinearizeOptions& opt) {
-  Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
-  target.settings.dynamics = opt.dynamics;
+  Pipeline pipeline(opt.in);
+  const Target& target = pipeline.target();
   const Model& model = target.model;
   std::vector<double> p = target.parameters;
-  const Derivation derivation = derive(model, target.settings);
+  const Derivation& derivation = pipeline.derivation();
   const HamelSystem& sys = derivation.system;
   Names names;
   names.model = model.name;
@@ -331,10 +332,7 @@ void run(const LinearizeOptions& opt) {
   const bool steady = !opt.steady.empty();
   const SteadyComponents components = steady_components(opt, names, sys.coordinates.size(), swept ? swept->state : -1);
 
-  const KernelSet kernels = [&] {
-    progress::Step step("building the rhs program and its forward-mode derivatives (A, B)");
-    return build_kernels(model, derivation, {"rhs", "linearization"});
-  }();
+  const KernelSet kernels = pipeline.kernels({"rhs", "linearization"});
   const Linearizer linearizer(kernels, nx, ni);
   const auto linearize_at = [&](const std::vector<double>& point) { return linearizer.at(0.0, point, p, in); };
   SteadyResult found;
@@ -385,10 +383,9 @@ Run add_linearize_command(CLI::App& app) {
   auto opt = std::make_shared<LinearizeOptions>();
   CLI::App* cmd = app.add_subcommand(
       "linearize", "Linearize the state equations about a point or a steady motion: A, B, eigenvalues, sweeps");
-  cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
+  add_pipeline_options(cmd, opt->in);
   cmd->add_option("--at", opt->at,
                   "The point: values name=value,... of coordinates and independent quasi-velocities (default 0)");
-  cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--input", opt->inputs, "Input values name=value,... at the point (default 0)");
   cmd->add_flag("--json", opt->json, "JSON instead of text");
   cmd->add_option("--steady", opt->steady,
@@ -400,9 +397,6 @@ Run add_linearize_command(CLI::App& app) {
                   "with the values where an eigenvalue crosses the imaginary axis on stderr");
   cmd->add_option("--out", opt->out, "Output file, or - for standard output")->capture_default_str();
   cmd->add_option("--plot", opt->plot, "With --sweep: an SVG plot of the eigenvalues against the swept quantity");
-  cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
-  cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
-  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none)");
   return [opt] {
     if (!opt->plot.empty() && opt->sweep.empty()) throw InputError("--plot: goes with --sweep");
     run(*opt);

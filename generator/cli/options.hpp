@@ -1,9 +1,7 @@
 // Command-line values shared by the verbs: "name=value,..." lists and their validation.
 #pragma once
 
-#include "derive/derivation.hpp"
 #include "model/model.hpp"
-#include "scene/scene.hpp"
 
 #include <map>
 #include <string>
@@ -36,30 +34,5 @@ inline const char* dynamics_help() {
          "(M u' = f by an unrolled LDL^T); default aba from two bodies on a floating base and from five on a "
          "fixed base, else ldlt (docs/benchmarks.md)";
 }
-
-/// What a verb works on: a model file, or a scene file and its model.
-struct Target {
-  Model model;                     ///< with the fixed parameters folded; for scenes named after the scene
-  std::vector<double> parameters;  ///< values in model.parameters order: defaults < scene < --param
-  DeriveSettings settings;         ///< --form, else the scene's form
-  std::set<std::string> kernels;   ///< the scene's kernels; empty: all
-  std::optional<Scene> scene;
-};
-
-/// The values of the model's state_defaults (Γ(0) = g of a floating base under gravity) at the target's parameters.
-std::map<std::string, double> state_default_values(const Target& target);
-
-/// x(0) over the state variables `names` (coordinates, then independent quasi-velocities): the model's key `initial`
-/// when it has one (the variables it does not name 0, but those with a state default), else `defaults` with the
-/// state defaults over them; overridden by the scene's `initial`, then by
-/// --init (`init`, parsed). A name that is not a state variable is an input error that says where it was given:
-/// file:line and key for the model's and the scene's values, the option for --init.
-std::vector<double> initial_state(const Target& target, const std::vector<std::string>& names,
-                                  std::vector<double> defaults, const std::map<std::string, double>& init);
-
-/// Loads `file` (model or scene). fold_option/form_option are the command-line values ("" when not
-/// given); default_fold applies to models when --fold is not given (scenes use their `fixed`).
-Target resolve_target(const std::string& file, const std::vector<std::string>& param_args,
-                      const std::string& fold_option, const std::string& form_option, const std::string& default_fold);
 
 }  // namespace hamel::cli

@@ -5,10 +5,10 @@
 // the rotation vector log R over time instead.
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/pipeline.hpp"
 #include "derive/derivation.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
-#include "model/load_model.hpp"
 #include "numeric/phase.hpp"
 #include "report/atomic_file.hpp"
 #include "report/progress.hpp"
@@ -27,10 +27,10 @@ namespace hamel::cli {
 namespace {
 
 struct PhaseOptions {
-  std::string model, path, momentum = "zero", out = ".", fold = "none";
+  PipelineOptions in;
+  std::string path, momentum = "zero", out = ".";
   double period = 1;
   int cycles = 1, steps = 2000, samples = 100;
-  std::vector<std::string> params;
   bool json = false, no_files = false;
 };
 
@@ -192,10 +192,11 @@ void print_text(const nlohmann::json& j, const std::string& name, const PhaseOpt
 void run(const PhaseOptions& opt) {
   if (opt.momentum != "zero" && opt.momentum != "rest")
     throw InputError("--momentum: expected zero or rest, got '" + opt.momentum + "'");
-  const Model loaded = load_model(opt.model);
-  if (!loaded.bundle) throw InputError(opt.model + ": 'hamel phase' needs a bundle model (with 'group' and 'shape')");
-  const std::vector<double> params = parameter_values(loaded, parse_assignments(opt.params, "--param"));
-  const Model model = apply_fold(loaded, params, opt.fold);
+  Pipeline pipeline(opt.in);
+  if (!pipeline.model().bundle)
+    throw InputError(opt.in.file + ": 'hamel phase' needs a bundle model (with 'group' and 'shape')");
+  const std::vector<double>& params = pipeline.parameters();
+  const Model& model = pipeline.model();
   PhaseRequest req;
   req.path = parse_path(opt.path, model);
   req.period = opt.period;
@@ -205,12 +206,10 @@ void run(const PhaseOptions& opt) {
   req.samples_per_cycle = opt.samples;
   check_phase_request(model, req);  // before the derivation, which may take long
   warn_if_open(model, params, req);
-  progress::say("deriving " + model.name);
   // Trees: the recursive ep derivation, whose connection is solved numerically (phase.cpp); the momentum
   // form would inline the tree's kinetic energy and invert L symbolically.
-  const Derivation d = derive(model, DeriveSettings{model.bundle->tree         ? "ep"
-                                                    : model.bundle->mechanical ? "momentum"
-                                                                               : "ldap"});
+  pipeline.settings().form = model.bundle->tree ? "ep" : model.bundle->mechanical ? "momentum" : "ldap";
+  const Derivation& d = pipeline.derivation();
   progress::say("reconstructing " + std::to_string(opt.cycles) + " cycle(s) on " + model.bundle->group);
   const PhaseResult result = compute_phase(model, d, params, req);
 
@@ -236,7 +235,7 @@ Run add_phase_command(CLI::App& app) {
   auto opt = std::make_shared<PhaseOptions>();
   CLI::App* cmd = app.add_subcommand(
       "phase", "Base motion of a bundle model along a closed shape path: geometric (and dynamic) phase per cycle");
-  cmd->add_option("model", opt->model, "Bundle model file (YAML, schema 1)")->required();
+  add_pipeline_options(cmd, opt->in, PipelineFlags{"Bundle model or scene file (YAML, schema 1)", false, true});
   cmd->add_option("--path", opt->path, "Shape path r(t): one expression in t per shape coordinate, separated by ';'")
       ->required();
   cmd->add_option("--period", opt->period, "Period T of the path [s]")->capture_default_str();
@@ -244,8 +243,6 @@ Run add_phase_command(CLI::App& app) {
   cmd->add_option("--momentum", opt->momentum,
                   "zero (geometric phase) or rest (base at rest at t = 0: Pi0 = K r_dot(0), adds the dynamic phase)")
       ->capture_default_str();
-  cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
-  cmd->add_option("--fold", opt->fold, fold_help())->capture_default_str();
   cmd->add_option("--steps-per-cycle", opt->steps, "RKMK4 steps per cycle")->capture_default_str();
   cmd->add_option("--samples-per-cycle", opt->samples, "Trajectory points per cycle")->capture_default_str();
   cmd->add_option("--out", opt->out, "Folder for <model>_phase.csv (trajectory) and <model>_phase.svg (plot)")

@@ -2,10 +2,10 @@
 // every applicable integrator (numeric/work_precision.hpp); writes <model>_work_precision.{csv,md,svg}.
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/pipeline.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
-#include "model/load_model.hpp"
 #include "numeric/integrators.hpp"
 #include "numeric/work_precision.hpp"
 #include "report/atomic_file.hpp"
@@ -19,14 +19,16 @@ namespace hamel::cli {
 namespace {
 
 struct ReportOptions {
-  std::string model, out = ".", form, fold;
+  PipelineOptions in;
+  std::string out = ".";
   double t_end = 0;  // 0: the scene's t_end, else 10
-  std::vector<std::string> params, init, inputs, integrators;
+  std::vector<std::string> init, inputs, integrators;
   long max_steps = WorkPrecisionRequest{}.max_steps, reference_steps = WorkPrecisionRequest{}.reference_steps;
 };
 
 void run(const ReportOptions& opt) {
-  const Target target = resolve_target(opt.model, opt.params, opt.fold, opt.form, "none");
+  Pipeline pipeline(opt.in);
+  const Target& target = pipeline.target();
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
   std::map<std::string, double> input_values;
@@ -38,9 +40,8 @@ void run(const ReportOptions& opt) {
   if (t_end == 0) t_end = 10;
   const std::map<std::string, double> init = parse_assignments(opt.init, "--init");
   for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
-  progress::say("deriving " + model.name);
-  const Derivation d = derive(model, target.settings);
-  const KernelSet kernels = build_kernels(model, d);
+  const Derivation& d = pipeline.derivation();
+  const KernelSet kernels = pipeline.kernels();
 
   WorkPrecisionRequest req;
   req.t_end = t_end;
@@ -89,17 +90,14 @@ Run add_report_command(CLI::App& app) {
   auto opt = std::make_shared<ReportOptions>();
   CLI::App* cmd = app.add_subcommand(
       "report", "Work-precision study: error against CPU time for every integrator over a sweep of settings");
-  cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
+  add_pipeline_options(cmd, opt->in);
   cmd->add_option("--t-end", opt->t_end, "Horizon (start is 0; default: the scene's t_end, else 10)");
   cmd->add_option(
       "--init", opt->init,
       "Initial values name=value,... (default: the model's key initial, then the scene's; else coordinates 0.1, "
       "0.2, ..., velocities 0.5)");
-  cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
   cmd->add_option("--integrators", opt->integrators, "Integrators to compare (default rk4 dopri5 dop853 radau5)");
-  cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum");
-  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "Folder for <model>_work_precision.csv, .md and .svg")->capture_default_str();
   cmd->add_option("--max-steps", opt->max_steps,
                   "Step attempts per adaptive run of the sweep; a run beyond it reports too many steps (0: the "

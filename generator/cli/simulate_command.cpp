@@ -4,10 +4,10 @@
 #include "algebra/expression_text.hpp"
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
+#include "cli/pipeline.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
-#include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
 #include "numeric/group_pose.hpp"
 #include "numeric/input_sources.hpp"
@@ -33,18 +33,15 @@ namespace hamel::cli {
 namespace {
 
 struct SimulateOptions {
-  std::string model;
+  PipelineOptions in;
   double t_end = 0;  // 0: not given
   std::string integrator;
   double dt = 0;
   double tol = 0;
-  std::vector<std::string> params, init, inputs;
+  std::vector<std::string> init, inputs;
   std::string input_file, monitors;
   double sample = 0;
   std::string out = "-";
-  std::string form;
-  std::string fold;
-  std::string dynamics;
   bool dt_given = false, tol_given = false, sample_given = false;  // on the command line
 };
 
@@ -461,23 +458,25 @@ class PositionConstraints {
 };
 
 void run(const SimulateOptions& given) {
-  Target target = resolve_target(given.model, given.params, given.fold, given.form, "none");
-  target.settings.dynamics = given.dynamics;
+  PipelineOptions in = given.in;
+  in.announce = false;  // the trajectory may go to standard output
+  Pipeline pipeline(in);
+  const Target& target = pipeline.target();
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
   const Settled settled = settle(given, target);
   const SimulateOptions& opt = settled.opt;
   const IntegratorInfo& info = *settled.info;
 
-  const Derivation derivation = derive(model, target.settings);
+  const Derivation& derivation = pipeline.derivation();
   const Monitors monitors = parse_monitors(opt.monitors);
   std::set<std::string> needed = {
       "kinematics",    "rhs", "energy", "constraint_residual", "constraint_position", "constraint_position_jacobian",
       "group_velocity"};
   if (monitors.momentum) needed.insert("mass_matrix");
   if (info.uses_jacobian) needed.insert("jacobian");
-  KernelSet kernels = build_kernels(model, derivation, needed);
-  drop_unrepresentable(kernels, true, printable(given.model));  // it evaluates every kernel it asked for
+  KernelSet kernels = pipeline.kernels(needed);
+  drop_unrepresentable(kernels, true, printable(given.in.file));  // it evaluates every kernel it asked for
   const HamelSystem& sys = derivation.system;
 
   std::vector<std::string> columns{"t"};
@@ -551,7 +550,7 @@ void run(const SimulateOptions& given) {
 Run add_simulate_command(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Integrate a model's equations of motion and write a CSV trajectory");
-  cmd->add_option("model", opt->model, "Model or scene file (YAML, schema 1)")->required();
+  add_pipeline_options(cmd, opt->in);
   cmd->add_option("--t-end", opt->t_end, "End time (start is 0); required unless the scene gives t_end");
   cmd->add_option("--integrator", opt->integrator,
                   "rk4, rkmk4 (fixed step), dopri5 (default), dop853 (adaptive explicit) or radau5 = implicit (stiff)");
@@ -559,7 +558,6 @@ Run add_simulate_command(CLI::App& app) {
   CLI::Option* tol =
       cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of the adaptive integrators (default 1e-8)");
   dt->excludes(tol);
-  cmd->add_option("--param", opt->params, "Parameter value name=value (repeatable)");
   cmd->add_option(
       "--init", opt->init,
       "Initial values name=value,... of coordinates and independent quasi-velocities (default: the model's key "
@@ -574,9 +572,6 @@ Run add_simulate_command(CLI::App& app) {
   cmd->add_option("--monitors", opt->monitors,
                   "Extra CSV columns, comma-separated: energy, constraint_residual (residual_<u> per constraint), "
                   "momentum (p_<u> = M u per independent quasi-velocity)");
-  cmd->add_option("--form", opt->form, "Bundle models: ep, lp, ldap or momentum (see hamel derive --help)");
-  cmd->add_option("--dynamics", opt->dynamics, dynamics_help());
-  cmd->add_option("--fold", opt->fold, std::string(fold_help()) + " (default: none, or the scene's `fixed`)");
   cmd->add_option("--out", opt->out, "CSV file, or - for standard output")->capture_default_str();
   return [opt, dt, tol, sample] {
     opt->dt_given = dt->count() > 0;

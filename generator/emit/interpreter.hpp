@@ -27,20 +27,10 @@ struct DoubleArithmetic {
   using Value = double;
   double constant(const ExpressionGraph& g, int node) const { return g.node(node).value; }
   double operation(const ExpressionGraph&, int, Op op, double a, double b) const {
-    switch (op) {  // the arithmetic inline; pow and the elementary functions through the operation table
-      case Op::add:
-        return a + b;
-      case Op::sub:
-        return a - b;
-      case Op::mul:
-        return a * b;
-      case Op::div:
-        return a / b;
-      case Op::neg:
-        return -a;
-      default:
-        return evaluate(op, a, b);
-    }
+    // The arithmetic inline (evaluate_in's switch); pow and the elementary functions through the operation table.
+    return evaluate_in<double>(
+        op, a, b, [](double x, double y) { return x / y; }, [](double x, double y) { return evaluate(Op::pow, x, y); },
+        [](Op f, double x) { return evaluate(f, x, x); });
   }
 };
 

@@ -1,5 +1,7 @@
 #include "emit/linear_solve.hpp"
 
+#include "derive/bundle_connection.hpp"
+
 #include "rbd/ldlt.hpp"
 
 #include <algorithm>

@@ -4,7 +4,6 @@
 // rbd/ldlt.hpp and rbd/aba.hpp, run on graph nodes (emit/graph_scalar.hpp); this file adapts node indices to them.
 #pragma once
 
-#include "derive/bundle_connection.hpp"
 #include "emit/expression_graph.hpp"
 #include "emit/graph_scalar.hpp"
 #include "rbd/aba.hpp"
@@ -14,6 +13,8 @@
 #include <vector>
 
 namespace hamel {
+
+struct BundleGeometry;  // derive/bundle_connection.hpp: only the connection below reads it
 
 /// Solves M y = f for symmetric positive definite M as straight-line code in the graph (LDLᵀ without
 /// pivoting or square roots): no loops or branches in the emitted kernel. M by rows of node indices.

@@ -282,3 +282,26 @@ TEST(Cli, QuietSilencesProgressOnly) {
 }
 
 }  // namespace
+
+namespace {
+
+// Every verb runs one pipeline with one set of defaults (generator/cli/pipeline.hpp): derive, like emit and
+// simulate, derives a floating tree of several bodies by the articulated-body algorithm unless --dynamics says
+// otherwise, and takes a scene as the other verbs do (its name, its fixed parameters).
+TEST(Cli, DeriveHasTheDefaultsOfEveryVerb) {
+  const Outcome aba = hamel("derive " + source("models/space_robot.yaml") + " --json 2>/dev/null");
+  ASSERT_EQ(aba.status, 0);
+  EXPECT_TRUE(nlohmann::json::parse(aba.out).contains("accelerations"));
+  const Outcome ldlt = hamel("derive " + source("models/space_robot.yaml") + " --dynamics ldlt --json 2>/dev/null");
+  ASSERT_EQ(ldlt.status, 0);
+  EXPECT_FALSE(nlohmann::json::parse(ldlt.out).contains("accelerations"));
+  const Outcome scene = hamel("derive " + source("scenes/space_robot_arm.yaml") + " --json 2>/dev/null");
+  ASSERT_EQ(scene.status, 0);
+  EXPECT_EQ(nlohmann::json::parse(scene.out)["model"], "space_robot_arm");
+  const Outcome accuracy =
+      hamel("accuracy " + source("models/double_pendulum.yaml") + " --points 2 --json 2>/dev/null");
+  ASSERT_EQ(accuracy.status, 0);
+  EXPECT_EQ(nlohmann::json::parse(accuracy.out)["fold"], "none");
+}
+
+}  // namespace

@@ -8,6 +8,7 @@
 
 #include <tinyxml.h>
 #include <charconv>
+#include <map>
 #include <set>
 #include <vector>
 
@@ -214,21 +215,28 @@ ImportedTree import_urdf(const std::string& path, const ImportOptions& options, 
   const std::string text = read_text(path);
   if (text.empty()) throw InputError(SourceLocation{path, 0, 0}, "", "cannot read the file (or it is empty)");
   check_inertials(path, text);
-  // A joint that names one link as parent and child: urdfdom accepts it and links the link to itself.
+  // A joint that names one link as parent and child: urdfdom accepts it and links the link to itself. A link that
+  // is the child of two joints (joints that form a cycle): urdfdom links it into a cycle of shared pointers, which
+  // leak. Both refused before urdfdom reads the file.
   {
     TiXmlDocument doc;
     doc.Parse(text.c_str());
+    std::map<std::string, std::string> child_of;  // link → the first joint that names it as child
     if (const TiXmlElement* robot = doc.Error() ? nullptr : doc.FirstChildElement("robot"))
       for (const TiXmlElement* j = robot->FirstChildElement("joint"); j; j = j->NextSiblingElement("joint")) {
         const TiXmlElement* parent = j->FirstChildElement("parent");
         const TiXmlElement* child = j->FirstChildElement("child");
         const char* p = parent ? parent->Attribute("link") : nullptr;
         const char* c = child ? child->Attribute("link") : nullptr;
+        const std::string name = j->Attribute("name") ? j->Attribute("name") : "";
         if (p && c && std::string(p) == c)
           throw InputError(
-              SourceLocation{path, j->Row(), j->Column()},
-              "joint '" + std::string(j->Attribute("name") ? j->Attribute("name") : "") + "'",
+              SourceLocation{path, j->Row(), j->Column()}, "joint '" + name + "'",
               "its parent and child are the same link '" + std::string(p) + "'; expected a joint between two links");
+        if (c && !child_of.emplace(c, name).second)
+          throw InputError(SourceLocation{path, j->Row(), j->Column()}, "joint '" + name + "'",
+                           "its child link '" + std::string(c) + "' is already the child of joint '" + child_of[c] +
+                               "' (the joints form a cycle); expected the joints to form a tree");
       }
   }
   const urdf::ModelInterfaceSharedPtr model = urdf::parseURDF(text);

@@ -7,6 +7,7 @@
 #include "derive/kinematic_tree.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
+#include "model/physical_checks.hpp"
 #include "rbd/tree.hpp"
 
 #include <algorithm>
@@ -55,17 +56,6 @@ Mat substituted(const Mat& m, const GiNaC::exmap& at) {
   Mat out;
   for (std::size_t r = 0; r < 3; ++r) out[r] = substituted(m[r], at);
   return out;
-}
-
-// e at `at` as a double; NaN where it is not a finite real number there.
-double value_at(const ex& e, const GiNaC::exmap& at) {
-  try {
-    const ex v = e.subs(at).evalf();
-    if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real())
-      return GiNaC::ex_to<GiNaC::numeric>(v).to_double();
-  } catch (const std::exception&) {
-  }
-  return std::nan("");
 }
 
 std::string number(double v) {
@@ -209,7 +199,7 @@ void close_tree_loops(Model& model, const std::vector<TreeLoop>& loops) {
       varying.push_back(row);
       continue;
     }
-    const double value = value_at(row.g, defaults);
+    const double value = real_value_at(row.g, defaults);
     if (std::isnan(value) || std::fabs(value) > 1e-12)
       throw InputError(row.loop->where, "loops." + row.loop->name,
                        "the loop's equation " + row.name + " does not depend on the coordinates and is " +
@@ -238,7 +228,7 @@ void close_tree_loops(Model& model, const std::vector<TreeLoop>& loops) {
     bool finite = true;
     for (const Row& row : varying) {
       G.emplace_back();
-      for (const ex& e : row.gradient) G.back().push_back(value_at(e, points[c]));
+      for (const ex& e : row.gradient) G.back().push_back(real_value_at(e, points[c]));
       for (double v : G.back()) finite = finite && std::isfinite(v);
     }
     if (!finite) {

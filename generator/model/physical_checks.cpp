@@ -8,10 +8,7 @@
 
 namespace hamel {
 
-namespace {
-
-// The value of `e` at `values` as a double, or NaN when it does not evaluate to a real number there.
-double value_at(const GiNaC::ex& e, const GiNaC::exmap& values) {
+double real_value_at(const GiNaC::ex& e, const GiNaC::exmap& values) {
   try {
     const GiNaC::ex v = e.subs(values).evalf();
     if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real())
@@ -20,6 +17,8 @@ double value_at(const GiNaC::ex& e, const GiNaC::exmap& values) {
   }
   return std::nan("");
 }
+
+namespace {
 
 std::string number(double v) {
   char buf[32];
@@ -69,12 +68,12 @@ GiNaC::exmap parameter_defaults(const Model& model) {
 
 std::string rigid_body_problem(const RigidBody& body, const GiNaC::exmap& values, std::string& subkey) {
   subkey = "mass";
-  const double m = value_at(body.mass, values);
+  const double m = real_value_at(body.mass, values);
   if (m < 0) return "the mass is " + number(m) + " at the parameter defaults; expected a mass >= 0";
   subkey = "inertia";
   std::vector<double> theta(9);
   for (std::size_t i = 0; i < 3; ++i)
-    for (std::size_t j = 0; j < 3; ++j) theta[i * 3 + j] = value_at(body.inertia[i][j], values);
+    for (std::size_t j = 0; j < 3; ++j) theta[i * 3 + j] = real_value_at(body.inertia[i][j], values);
   for (double v : theta)
     if (std::isnan(v)) return "";  // not a number at the defaults: nothing to decide here
   const std::vector<double> e = symmetric_eigenvalues(theta, 3);
@@ -94,7 +93,7 @@ std::string rigid_body_problem(const RigidBody& body, const GiNaC::exmap& values
 std::string joint_axis_problem(const TreeBody& body, const GiNaC::exmap& values) {
   double norm2 = 0;
   for (const GiNaC::ex& a : body.axis) {
-    const double v = value_at(a, values);
+    const double v = real_value_at(a, values);
     if (std::isnan(v)) return "";
     norm2 += v * v;
   }
@@ -103,7 +102,7 @@ std::string joint_axis_problem(const TreeBody& body, const GiNaC::exmap& values)
 }
 
 std::string joint_property_problem(const GiNaC::ex& value, const GiNaC::exmap& values, const std::string& what) {
-  const double v = value_at(value, values);
+  const double v = real_value_at(value, values);
   if (v < 0) return "the joint " + what + " is " + number(v) + " at the parameter defaults; expected a value >= 0";
   return "";
 }

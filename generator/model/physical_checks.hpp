@@ -13,6 +13,9 @@
 
 namespace hamel {
 
+/// The value of `e` at `values` as a double, or NaN when it does not evaluate to a real number there.
+double real_value_at(const GiNaC::ex& e, const GiNaC::exmap& values);
+
 /// Eigenvalues (ascending) of the symmetric n x n matrix `a` (row-major), by cyclic Jacobi rotations.
 std::vector<double> symmetric_eigenvalues(std::vector<double> a, std::size_t n);
 

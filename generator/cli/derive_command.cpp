@@ -8,6 +8,7 @@
 #include "derive/riemann.hpp"
 #include "model/expression_parser.hpp"
 #include "model/input_error.hpp"
+#include "rbd/aba.hpp"
 #include "report/derivation_report.hpp"
 
 #include <nlohmann/json.hpp>
@@ -93,11 +94,17 @@ void run(const DeriveOptions& opt) {
   const Model& folded = pipeline.model();
   const Derivation& d = pipeline.derivation();
   const HamelEquations& eq = d.equations;
-  // With --riemann the program grows by the Riemannian quantities (a copy: eq's stays as derived).
-  Intermediates riemann_program = opt.riemann ? eq.intermediates : Intermediates{};
+  // The program grows (a copy: eq's stays as derived) by u̇ where rhs computes it by the articulated-body algorithm
+  // (the route of every verb, emit/equations_of_motion.hpp), then with --riemann by the Riemannian quantities.
+  Intermediates program = eq.intermediates;
+  std::vector<GiNaC::ex> accelerations;
+  if (pipeline.acceleration_route() == AccelerationRoute::articulated)
+    accelerations = rbd::forward_dynamics(*eq.tree, rbd::Namer<GiNaC::ex>([&program](const GiNaC::ex& e) {
+                      return program.define(e);
+                    })).accelerations;
+  const std::size_t derived = program.size();
   std::optional<RiemannGeometry> riemann;
-  if (opt.riemann) riemann = derive_riemann(folded, riemann_program);
-  const Intermediates& program = opt.riemann ? riemann_program : eq.intermediates;
+  if (opt.riemann) riemann = derive_riemann(folded, program);
   const ExpressionDisplay display{opt.inline_all ? &program : nullptr};
   const CurvatureSign sign = opt.curvature_sign == "gauge" ? CurvatureSign::gauge : CurvatureSign::paper;
   if (opt.latex) {
@@ -106,7 +113,8 @@ void run(const DeriveOptions& opt) {
   }
 
   const ValueOf values = values_at(model, params, at, d, program, opt.riemann);
-  nlohmann::json j = derivation_json(model, d, riemann ? &*riemann : nullptr, program, sign, display, values);
+  nlohmann::json j =
+      derivation_json(model, d, accelerations, riemann ? &*riemann : nullptr, program, derived, sign, display, values);
   if (opt.json) {
     std::cout << j.dump(2) << "\n";
     return;

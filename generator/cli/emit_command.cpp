@@ -75,6 +75,7 @@ void run(EmitOptions opt) {
   opt.settings.options = given_options(opt);
   const ColumnSolve solve = column_solve(opt.jacobian_solve);  // a wrong value fails before any work
   Pipeline pipeline(opt.in);
+  pipeline.dynamics().column_solve = solve;
   const Target& target = pipeline.target();
   std::set<std::string> selected = target.kernels;
   if (!opt.kernels.empty()) {
@@ -88,7 +89,7 @@ void run(EmitOptions opt) {
   check_package_folder(opt.output, model.name);  // a refused folder fails now, not after a long derivation
   const Derivation& derivation = pipeline.derivation();
   const KernelSet kernels = [&] {
-    KernelSet set = pipeline.kernels(selected, solve);
+    KernelSet set = pipeline.kernels(selected);
     // A kernel with a constant beyond the range of a double is refused when asked for (--kernels, a scene)
     // and left out of the default set with a note; nothing is written when it is refused.
     for (const std::string& note : drop_unrepresentable(set, !selected.empty(), printable(opt.in.file)))

@@ -35,7 +35,7 @@ Pipeline::Pipeline(PipelineOptions options) : options_(std::move(options)) {
   }
   for (const auto& [name, value] : parse_assignments(options_.params, "--param")) overrides[name] = value;
   if (!options_.form.empty()) target_.settings.form = options_.form;
-  target_.settings.dynamics = options_.dynamics;
+  target_.dynamics.accelerations = options_.dynamics;
   refold(parameter_values(loaded_, overrides));
 }
 
@@ -68,14 +68,19 @@ const Derivation& Pipeline::derivation() {
       progress::Step step("deriving " + target_.model.name);
       derivation_ = derive(target_.model, target_.settings);
     }
+    hamel::acceleration_route(target_.model, *derivation_, target_.dynamics.accelerations);  // --dynamics applies?
   }
   return *derivation_;
 }
 
-KernelSet Pipeline::kernels(const std::set<std::string>& only, ColumnSolve column_solve) {
+AccelerationRoute Pipeline::acceleration_route() {
+  return hamel::acceleration_route(target_.model, derivation(), target_.dynamics.accelerations);
+}
+
+KernelSet Pipeline::kernels(const std::set<std::string>& only) {
   const Derivation& d = derivation();
   progress::Step step("building the kernels' expression graph");
-  return build_kernels(target_.model, d, only, column_solve);
+  return build_kernels(target_.model, d, only, target_.dynamics);
 }
 
 std::map<std::string, double> state_default_values(const Target& target) {

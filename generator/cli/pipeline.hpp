@@ -8,7 +8,8 @@
 // The defaults, the same for every verb:
 //   --fold      none for a model file; a scene's `fixed` for a scene;
 //   --form      the scene's form, else the model's (bundle_forms: lp or ldap by connection, ep for trees);
-//   --dynamics  tree_dynamics_default (derive/derivation.hpp): aba from 2 bodies on a floating base, 5 on a fixed one.
+//   --dynamics  tree_dynamics_default (emit/equations_of_motion.hpp): aba from 2 bodies on a floating base, 5 on a
+//               fixed one; checked against the model when it is derived, whatever the verb.
 #pragma once
 
 #include "derive/derivation.hpp"
@@ -42,7 +43,8 @@ struct PipelineOptions {
 struct Target {
   Model model;                     ///< with the fixed parameters folded; for scenes named after the scene
   std::vector<double> parameters;  ///< values in model.parameters order: defaults < scene < --param
-  DeriveSettings settings;         ///< --form, else the scene's form; --dynamics
+  DeriveSettings settings;         ///< --form, else the scene's form
+  DynamicsOptions dynamics;        ///< --dynamics (emit adds --jacobian-solve)
   std::set<std::string> kernels;   ///< the scene's kernels; empty: all
   std::optional<Scene> scene;
   std::set<std::string> folded;  ///< the parameters folded in as numbers (--fold, or the scene's `fixed`)
@@ -63,11 +65,17 @@ class Pipeline {
   /// The derivation's settings, which a verb may still change before derivation() (phase chooses the form).
   DeriveSettings& settings() { return target_.settings; }
 
-  /// The derivation, derived on first use ("hamel: deriving <name> ..." on stderr unless --quiet; see announce).
+  /// How u̇ and the Jacobian are computed (--dynamics; a verb may set the column solve before kernels()).
+  DynamicsOptions& dynamics() { return target_.dynamics; }
+
+  /// The derivation, derived on first use ("hamel: deriving <name> ..." on stderr unless --quiet; see announce),
+  /// with --dynamics checked against it (an InputError when it does not apply).
   const Derivation& derivation();
+  /// How rhs computes u̇ for this derivation under --dynamics (emit/equations_of_motion.hpp).
+  AccelerationRoute acceleration_route();
   /// The kernels `only` names (all the registry builds by default when empty), from derivation(); "building the
   /// kernels' expression graph" announces itself when it takes a second.
-  KernelSet kernels(const std::set<std::string>& only = {}, ColumnSolve column_solve = ColumnSolve::smaller);
+  KernelSet kernels(const std::set<std::string>& only = {});
 
   /// The same model at other parameter values (model.parameters order): folded again by --fold, the derivation
   /// forgotten.

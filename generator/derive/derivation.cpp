@@ -40,40 +40,14 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
   return sys;
 }
 
-// One body: the 7×7 (SE3) LDLᵀ of M is as cheap as the recursion (rhs 1.0–1.3× faster with ldlt, 690 against
-// 619 operations for the scaling chain); from two bodies on the articulated-body algorithm is faster and its
-// advantage grows with n (docs/benchmarks.md). On a fixed base M is only n×n (no 6×6 base block to factor)
-// and the recursion saves less: rhs operations of fixed chains under gravity with armature and damping
-// (aba/ldlt) 1.22 (n = 2), 1.16 (3), 1.08 (4), 1.00 (5), 0.94 (6), 0.88 (7), 0.86 (8), so aba from 5 bodies.
-std::string tree_dynamics_default(std::size_t bodies, bool fixed_base) {
-  return bodies >= (fixed_base ? 5u : 2u) ? "aba" : "ldlt";
-}
-
 Derivation derive(const Model& model, const DeriveSettings& settings) {
   Derivation d;
-  if (!settings.dynamics.empty() && settings.dynamics != "aba" && settings.dynamics != "ldlt")
-    throw InputError("--dynamics: expected aba or ldlt, got '" + settings.dynamics + "'");
-  const bool tree_ep =
-      model.bundle && model.bundle->tree &&
-      (settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form)) == BundleForm::euler_poincare;
-  if (!settings.dynamics.empty() && model.locations.count("loops"))
-    throw InputError("--dynamics applies to the recursive derivation of kinematic trees; '" + model.source_path +
-                     "' is a tree with closed loops (key loops), derived as holonomic constraints on its joints "
-                     "(docs/model-format.md, Closed loops); expected no --dynamics");
-  if (settings.dynamics == "aba" && !tree_ep && !model.tree)
-    throw InputError(
-        "--dynamics aba applies to kinematic tree models (key 'tree'; on a floating base in the ep "
-        "form); '" +
-        model.source_path + "' is " + (model.bundle && model.bundle->tree ? "not in the ep form" : "not a tree"));
   if (model.tree) {  // fixed base: the recursive derivation in u = q̇
     if (!settings.form.empty())
       throw InputError("--form applies to bundle models (with 'group'); '" + model.source_path +
                        "' is a tree on a fixed base");
-    const std::string dynamics =
-        settings.dynamics.empty() ? tree_dynamics_default(model.tree->bodies.size(), true) : settings.dynamics;
-    progress::Step step("deriving the equations of motion of " + model.name + " (recursive over the tree, " + dynamics +
-                        ")");
-    TreeDerivation tree = derive_tree(model, dynamics == "aba");
+    progress::Step step("deriving the equations of motion of " + model.name + " (recursive over the tree)");
+    TreeDerivation tree = derive_tree(model);
     const GiNaC::matrix identity = GiNaC::ex_to<GiNaC::matrix>(GiNaC::unit_matrix(model.n()));  // u = q̇
     d.quasi_velocities = {identity, identity};
     d.system = std::move(tree.system);
@@ -84,10 +58,7 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
   if (model.bundle && model.bundle->tree) {
     d.form = settings.form.empty() ? default_form(*model.bundle) : parse_form(settings.form);
     if (*d.form == BundleForm::euler_poincare) {
-      const std::string dynamics = settings.dynamics.empty()
-                                       ? tree_dynamics_default(model.bundle->tree->bodies.size(), false)
-                                       : settings.dynamics;
-      TreeDerivation tree = derive_tree(model, dynamics == "aba");
+      TreeDerivation tree = derive_tree(model);
       d.bundle = std::move(tree.geometry);
       d.system = std::move(tree.system);
       d.equations = std::move(tree.equations);

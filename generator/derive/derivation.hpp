@@ -17,14 +17,11 @@
 
 namespace hamel {
 
+/// What the derivation is asked for. How u̇ is then computed (the --dynamics option) is the kernels' choice
+/// (emit/equations_of_motion.hpp): the derivation gives M u̇ = f and, for trees, the tree for recursive algorithms.
 struct DeriveSettings {
-  std::string form;           ///< bundle models: "ep", "lp", "ldap" or "momentum"; empty: the connection's default
-  std::string dynamics = "";  ///< trees (ep form, fixed base): "aba" or "ldlt"; empty: tree_dynamics_default
+  std::string form;  ///< bundle models: "ep", "lp", "ldap" or "momentum"; empty: the connection's default
 };
-
-/// The default of --dynamics for a kinematic tree of `bodies` bodies, floating or on a fixed base (measured in
-/// docs/benchmarks.md): aba from 2 bodies on a floating base, from 5 on a fixed one.
-std::string tree_dynamics_default(std::size_t bodies, bool fixed_base);
 
 struct Derivation {
   QuasiVelocities quasi_velocities;       ///< general coordinates only

@@ -26,11 +26,8 @@ struct HamelEquations {
   std::vector<GiNaC::ex> constraint_residual;  ///< A^α_a q̇^a with q̇ from the kinematics (≡ 0), if Pfaffian
   std::vector<GiNaC::realsymbol> acceleration_symbols;  ///< trees: symbols for u̇ in TreeDynamics (the Jacobian
                                                         ///< maps them to the solved accelerations)
-  std::vector<GiNaC::ex> recursive_accelerations;       ///< u̇ by the articulated-body algorithm (trees with
-                                                        ///< --dynamics aba), in the intermediates; empty otherwise
-  std::vector<GiNaC::ex> recursive_pivots;        ///< its pivots (articulated inertias D_i, the base's LDLᵀ d_k)
-  std::shared_ptr<const rbd::TreeDynamics> tree;  ///< trees: the rigid-body model and its state, for the
-                                                  ///< Jacobian's ∂ID/∂x (rbd/rnea_derivatives.hpp) and solves
+  std::shared_ptr<const rbd::TreeDynamics> tree;        ///< trees: the rigid-body model and its state, for the
+                                                  ///< kernels' recursive algorithms (emit/equations_of_motion.hpp)
   bool factor_last_first = false;  ///< solve M u̇ = f eliminating from the last index (trees: no fill-in)
   Intermediates intermediates;     ///< definitions of the intermediate symbols the expressions above may use
                                    ///< (recursive derivations, derive/kinematic_tree.hpp); empty otherwise

@@ -187,43 +187,9 @@ bool forced(const Model& model, const KinematicTree& tree) {
   return any;
 }
 
-// u̇ by the articulated-body algorithm in the bodies' frames (rbd/aba.hpp): the factor, then one solve with the
-// velocity-product terms of `motion`, gravity and the joint forces τ; its pivots (D_i, then the base's LDLᵀ).
-void articulated_accelerations(const TreeModel& t, const Motion& motion, const std::vector<ex>& rates,
-                               const std::vector<ex>& joint_force, const Namer<Ex>& name, HamelEquations& eq) {
-  const FrameView local(t);
-  const std::size_t N = t.size(), m = t.base.size();
-  const ArticulatedFactor factor = articulated_factor(local, name);
-  ArticulatedSystem<Ex> sys{t.parent,
-                            t.axis,
-                            factor.U,
-                            factor.W,
-                            factor.inverse_D,
-                            t.base,
-                            factor.base_inertia,
-                            [&t](std::size_t i, const Vec6<Ex>& v) { return t.link[i].to_child(v); },
-                            [&t](std::size_t i, const Vec6<Ex>& f) { return t.link[i].to_parent(f); },
-                            {},
-                            {}};
-  ArticulatedBias<Ex> bias;
-  for (std::size_t i = 0; i < N; ++i) bias.force.push_back(coadjoint_term(motion.v[i], motion.h[i]));
-  bias.force = with_applied(local, bias.force);
-  for (std::size_t i = 0; i < N; ++i)
-    bias.acceleration.push_back(i == 0 ? zero6<Ex>() : name(motion.psi[i] * rates[i - 1]));
-  bias.passed = factor.passed;
-  bool gravity = false;
-  for (const Ex& g : t.root_acceleration) gravity = gravity || !g.is_zero();
-  if (gravity) bias.root = {t.root_acceleration};
-  if (gravity && m > 0) bias.root_inertia = {factor.base};
-  std::vector<Ex> b(m, Ex(0));
-  b.insert(b.end(), joint_force.begin(), joint_force.end());
-  for (std::size_t i = N; i-- > 1;) eq.recursive_pivots.push_back(factor.D[i]);
-  eq.recursive_accelerations = articulated_solve(sys, {b}, {}, name, {}, bias, &eq.recursive_pivots).front();
-}
-
 }  // namespace
 
-TreeDerivation derive_tree(const Model& model, bool articulated) {
+TreeDerivation derive_tree(const Model& model) {
   // A fixed base (model.tree, no group) is the same recursion with no base directions (m = 0).
   const bool fixed = !model.bundle;
   const KinematicTree& tree = fixed ? *model.tree : *model.bundle->tree;
@@ -263,6 +229,9 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
   // The bodies' frames at u̇ = 0: twists, momenta, wrenches summed inward, the kinetic energy.
   const FrameView local(dyn.model);
   const Motion motion = rnea_motion(local, dyn.base_velocity, dyn.rates, {}, {}, name);
+  dyn.local_twist = motion.v;
+  dyn.local_momentum = motion.h;
+  dyn.local_axis_rate = motion.psi;
   const std::vector<Vec6<Ex>> F = rnea_forces(local, with_applied(local, motion.f), name);
   ex kinetic = 0;
   for (std::size_t i = 0; i < N; ++i) {
@@ -292,8 +261,6 @@ TreeDerivation derive_tree(const Model& model, bool articulated) {
     const std::vector<Ex> Q = applied_generalized_forces(FrameView(dyn.model, dyn.frame, name), name);
     for (std::size_t k = 0; k < d; ++k) dyn.generalized_force[k] += Q[k];
   }
-
-  if (articulated) articulated_accelerations(dyn.model, motion, dyn.rates, joint_force, name, eq);
 
   for (std::size_t k = 0; k < d; ++k) eq.independent.push_back(static_cast<int>(k));
   eq.factor_last_first = true;  // u = (ξ, ṙ) in body order: parents before children

@@ -4,8 +4,9 @@
 //
 // The equations are the paper's Euler–Poincaré + Euler–Lagrange form (HEorig1, HEorig2) in u = (ξ, ṙ),
 // derived as Hamel's equations of the bodies (rbd/rnea.hpp) and projected onto u: M(r) u̇ = f(r, u), M by
-// composite inertias (rbd/crba.hpp), f by the recursive Newton–Euler algorithm, u̇ itself by the
-// articulated-body algorithm (rbd/aba.hpp) when asked. Every quantity is an intermediate symbol
+// composite inertias (rbd/crba.hpp), f by the recursive Newton–Euler algorithm; the tree itself (rbd::TreeDynamics)
+// for the kernels' recursive algorithms (emit/equations_of_motion.hpp: u̇ by the articulated-body algorithm, the
+// Jacobian by the derivatives of the inverse dynamics). Every quantity is an intermediate symbol
 // (algebra/intermediates.hpp), so the program has O(n) definitions for f and O(n·depth) for M instead of the
 // expanded formula's exponential size. This file builds the rigid-body model (rbd/tree.hpp) from the model file's
 // tree and assembles the equations; the algorithms are in rbd/.
@@ -26,9 +27,9 @@ struct TreeDerivation {
   HamelEquations equations;  ///< M, f, kinematics, energy; their intermediates in equations.intermediates
 };
 
-/// The recursive derivation of a tree model (model.bundle->tree set). With `articulated`, also u̇ itself by
-/// the articulated-body algorithm (equations.recursive_accelerations, O(n), M never formed for it).
-TreeDerivation derive_tree(const Model& model, bool articulated = false);
+/// The recursive derivation of a tree model (model.tree, or model.bundle->tree): M, f and the tree
+/// (equations.tree) from which the kernels may form u̇ recursively instead (rbd::forward_dynamics).
+TreeDerivation derive_tree(const Model& model);
 
 /// T(ξ, r, ṙ) = Σ ½ V_iᵀ 𝕀_i V_i of a tree model as one expanded-free expression in the model's symbols
 /// (intermediates inlined). Exponential in the depth of the tree: for small trees and cross-checks, and

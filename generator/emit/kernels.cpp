@@ -1,15 +1,12 @@
 #include "emit/kernels.hpp"
 
-#include "algebra/simplify.hpp"
 #include "derive/riemann.hpp"
+#include "emit/equations_of_motion.hpp"
 #include "emit/kernel_registry.hpp"
 #include "emit/linear_solve.hpp"
 #include "emit/polynomial_form.hpp"
 #include "emit/zero_test.hpp"
 #include "model/input_error.hpp"
-#include "rbd/aba.hpp"
-#include "rbd/rnea.hpp"
-#include "rbd/rnea_derivatives.hpp"
 
 #include <cmath>
 #include <optional>
@@ -28,46 +25,6 @@ namespace {
 // Prepared parameters are built by default when rhs_prepared has at most this share of rhs's operations.
 constexpr double kPreparedShare = 0.9;
 
-// Operations of rhs above which a model that is not a kinematic tree gets its Jacobian by forward mode only
-// (trees differentiate their inverse dynamics analytically at any size).
-constexpr int kSymbolicJacobianLimit = 8000;
-
-// The jacobian's solves are printed as one function called on this many columns at a time, its lanes (Subroutine):
-// with two, g++ -O2 computes both columns' copies of a statement in one SSE2 instruction (the 30-joint chain's
-// jacobian 18 % faster than two columns printed one after the other, docs/benchmarks.md)...
-const std::size_t kColumnLanes = 2;
-// ... always with the articulated-body recursion, and with the LDLᵀ when its substitutions take at least this many
-// operations.
-const int kCalledSolveMinimum = 1000;
-
-// A tree's Jacobian columns are solved by the articulated-body recursion when its program has at most this share
-// of the operations of the LDLᵀ route: per operation it ran 5–13 % slower (docs/benchmarks.md, ab-bench:
-// 0.95 of the operations took 1.03× the time for chain 12, 0.98 took 1.11× for the 30-body tree; 0.88 took
-// 0.89× for chain 16, 0.67 took 0.73× for chain 30; measured before the inward forces).
-constexpr double kRecursiveSolveShare = 0.9;
-
-// u_I' = M⁻¹ f formed exactly at generation time when M is a matrix of numbers (parameters folded and M
-// independent of q: the free rigid body, the satellites in the Lagrange–Poincaré form, the sleigh), with its
-// monomials in the velocities collected: an LDLᵀ at run time would leave its rounding and the cancellation
-// between the products M⁻¹_IJ f_J to double arithmetic (satellite_se3: 2.3e3 ulps, docs/accuracy.md).
-std::optional<std::vector<GiNaC::ex>> exact_accelerations(const HamelEquations& eq, const HamelSystem& sys) {
-  const unsigned d = static_cast<unsigned>(eq.independent.size());
-  if (d == 0) return std::nullopt;
-  for (unsigned i = 0; i < d; ++i)
-    for (unsigned j = 0; j < d; ++j)
-      if (!GiNaC::is_a<GiNaC::numeric>(eq.mass_matrix(i, j))) return std::nullopt;
-  const GiNaC::matrix inverse = eq.mass_matrix.inverse();
-  std::vector<GiNaC::ex> velocities;
-  for (int I : eq.independent) velocities.push_back(sys.velocities[static_cast<std::size_t>(I)]);
-  std::vector<GiNaC::ex> out(d);
-  for (unsigned i = 0; i < d; ++i) {
-    GiNaC::ex sum = 0;
-    for (unsigned j = 0; j < d; ++j) sum += inverse(i, j) * eq.forcing[j];
-    out[i] = simplify_quadratic_form(sum, velocities);
-  }
-  return out;
-}
-
 // An empty kernel with its registered name and summary, and `how` appended to the summary.
 Kernel registered(const char* name, const std::string& how = "") {
   const KernelSpec& spec = kernel_spec(name);
@@ -80,13 +37,13 @@ Kernel registered(const char* name, const std::string& how = "") {
 class KernelBuilder {
  public:
   KernelBuilder(const Model& model, const Derivation& derivation, const std::set<std::string>& only,
-                ColumnSolve column_solve)
+                const DynamicsOptions& dynamics)
       : model_(model),
         derivation_(derivation),
         eq_(derivation.equations),
         sys_(derivation.system),
         only_(only),
-        column_solve_(column_solve),
+        dynamics_(dynamics),
         n_(static_cast<int>(sys_.coordinates.size())),
         d_(eq_.independent.size()),
         tape_(eq_.intermediates),
@@ -177,11 +134,6 @@ class KernelBuilder {
     return k < n_ ? sys_.coordinates[static_cast<std::size_t>(k)].get_name()
                   : name_of(eq_.independent[static_cast<std::size_t>(k - n_)]);
   }
-  GiNaC::ex diff(const GiNaC::ex& e, const GiNaC::ex& x) { return tape_.diff(e, GiNaC::ex_to<GiNaC::symbol>(x)); }
-  // Names expressions in the kernels' copy of the program.
-  rbd::Namer<GiNaC::ex> namer() {
-    return rbd::Namer<GiNaC::ex>([this](const GiNaC::ex& e) { return tape_.define(e); });
-  }
   // Forward mode through the rhs program: d(rhs)/d(argument k) for k < count, one tangent pass each.
   std::vector<std::vector<int>> forward_columns(Argument argument, int count) {
     std::vector<std::vector<int>> columns;
@@ -189,21 +141,9 @@ class KernelBuilder {
       columns.push_back(tangent(g_, rhs_.outputs, {{g_.input(argument, k), g_.constant(1)}}));
     return columns;
   }
-  // Operations of the program computing `columns`.
-  int operations(const std::vector<std::vector<int>>& columns) const {
-    std::vector<int> all;
-    for (const std::vector<int>& c : columns) all.insert(all.end(), c.begin(), c.end());
-    return g_.count(g_.schedule(all)).total();
-  }
-
   void equation_kernels();
   void jacobian_columns();
   void drop_identical_zeros();
-  std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                              const std::optional<rbd::InverseDynamicsJacobian>& id,
-                                              const std::optional<rbd::InverseDynamicsJacobian>& minus_id,
-                                              std::string& route);
-  void call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve);
   Kernel linearization();
   void bundle_kernels();
   Kernel riemann_linearization();
@@ -214,7 +154,7 @@ class KernelBuilder {
   const HamelEquations& eq_;
   const HamelSystem& sys_;
   const std::set<std::string>& only_;
-  const ColumnSolve column_solve_;
+  const DynamicsOptions dynamics_;
   const int n_;          ///< coordinates
   const std::size_t d_;  ///< independent quasi-velocities
 
@@ -229,19 +169,7 @@ class KernelBuilder {
 
   Kernel kinematics_ = registered("kinematics"), mass_ = registered("mass_matrix"), forcing_ = registered("forcing"),
          gamma_ = registered("hamel_coefficients"), rhs_, jacobian_ = registered("jacobian");
-  std::vector<std::vector<int>> M_;  ///< the mass matrix's nodes
-  std::optional<std::vector<GiNaC::ex>> exact_accel_;
-  std::optional<ArticulatedNodes> factor_;  ///< a tree's articulated factor in the common frame, once built
-  /// The tree's articulated factor as nodes, built on first use.
-  const ArticulatedNodes& articulated() {
-    if (!factor_) {
-      const rbd::FrameView world(eq_.tree->model, eq_.tree->frame, namer());
-      factor_ = articulated_nodes(g_, *eq_.tree, rbd::articulated_factor(world, namer()), node_of_);
-    }
-    return *factor_;
-  }
-  bool articulated_ = false;  ///< rhs by the articulated-body algorithm
-  std::vector<int> accel_;    ///< u_I' as rhs computes it
+  std::unique_ptr<EquationsOfMotion> motion_;  ///< how rhs computes u_I' and the Jacobian its columns
   bool build_jacobian_ = false;
   std::vector<std::vector<int>> column_;  ///< column_[k][row] = d(x'_row)/dx_k
   /// How the jacobian kernel is printed when its columns' solve is one subroutine (jacobian row-major).
@@ -253,11 +181,11 @@ void KernelBuilder::equation_kernels() {
     kinematics_.outputs.push_back(node_of_(eq_.kinematics[static_cast<std::size_t>(a)]));
     kinematics_.output_names.push_back(sys_.coordinates[static_cast<std::size_t>(a)].get_name() + "_dot");
   }
-  M_.assign(d_, std::vector<int>(d_));
+  std::vector<std::vector<int>> M(d_, std::vector<int>(d_));
   for (std::size_t i = 0; i < d_; ++i)
     for (std::size_t j = 0; j < d_; ++j) {
-      M_[i][j] = node_of_(eq_.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)));
-      mass_.outputs.push_back(M_[i][j]);
+      M[i][j] = node_of_(eq_.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)));
+      mass_.outputs.push_back(M[i][j]);
       mass_.output_names.push_back("M[" + name_of(eq_.independent[i]) + "][" + name_of(eq_.independent[j]) + "]");
     }
   for (std::size_t i = 0; i < d_; ++i) {
@@ -269,106 +197,24 @@ void KernelBuilder::equation_kernels() {
     gamma_.output_names.push_back("gamma^" + name_of(h.upper) + "_" + name_of(h.lower_a) + "," + name_of(h.lower_b));
   }
 
-  exact_accel_ = exact_accelerations(eq_, sys_);
-  articulated_ = !eq_.recursive_accelerations.empty();
-  rhs_ = registered("rhs", articulated_   ? " with u_I' by the articulated-body algorithm (O(n), no M)"
-                           : exact_accel_ ? " with u_I' = M^-1 f, M constant, inverted at generation time"
-                                          : " with M u_I' = f solved by unrolled LDL^T");
+  motion_ = equations_of_motion(model_, derivation_, dynamics_, {g_, tape_, node_of_, leaves_}, M, forcing_.outputs);
+  const EquationsOfMotion::Accelerations& accel = motion_->accelerations();
+  rhs_ = registered("rhs", accel.how);
   rhs_.outputs = kinematics_.outputs;
   rhs_.output_names = kinematics_.output_names;
-  if (articulated_) {
-    for (const GiNaC::ex& a : eq_.recursive_accelerations) accel_.push_back(node_of_(a));
-    for (const GiNaC::ex& p : eq_.recursive_pivots) set_.rhs_pivots.push_back(node_of_(p));
-  } else if (exact_accel_) {
-    for (const GiNaC::ex& a : *exact_accel_) accel_.push_back(node_of_(a));
-  } else {
-    accel_ = ldlt_solve(g_, M_, forcing_.outputs, eq_.factor_last_first, &set_.rhs_pivots);
-  }
+  set_.rhs_pivots = accel.pivots;
   for (std::size_t i = 0; i < d_; ++i) {
-    rhs_.outputs.push_back(accel_[i]);
+    rhs_.outputs.push_back(accel.values[i]);
     rhs_.output_names.push_back(name_of(eq_.independent[i]) + "_rate");
   }
 }
 
-// d(x')/dx for implicit integrators: the kinematics rows by differentiation; the acceleration rows from
-// M u' = f as M d(u')/dx_k = df/dx_k − (dM/dx_k) u', solved with the same LDLᵀ (value numbering shares
-// the factorization between the columns), or by differentiating u' = M⁻¹ f when M is constant.
+// d(x')/dx for implicit integrators, as the equations of motion form it (emit/equations_of_motion.hpp).
 void KernelBuilder::jacobian_columns() {
-  // A large rhs program (the Whipple bicycle: 1.5e4 operations) is differentiated in forward mode only: the
-  // symbolic route below differentiates M and f through the derivation's program per state component, which
-  // costs seconds of GiNaC work there, for a kernel of about the same size (1.25e5 against 1.32e5 operations).
-  if (!articulated_ && !eq_.tree && g_.count(g_.schedule(rhs_.outputs)).total() > kSymbolicJacobianLimit) {
-    column_ = forward_columns(Argument::state, static_cast<int>(rhs_.outputs.size()));
-    jacobian_.summary += "; forward mode through the rhs program";
-    return;
-  }
-  std::string route;  // how the columns were formed, for the summary
-  // The acceleration symbols of a tree's recursion stand for the solved u'. Where rhs runs the articulated-body
-  // algorithm in the bodies' frames, the Jacobian solves M u' = f once more with the factor in the common frame
-  // that its columns use (f from the common frame too): about a third of the operations of calling rhs's
-  // recursion (the 30-joint chain: 13.5 k).
-  std::vector<int> accelerations = accel_;
-  if (eq_.tree && !exact_accel_ && articulated_ && column_solve_ != ColumnSolve::ldlt) {
-    std::vector<int> f;
-    for (const GiNaC::ex& e : rbd::bias_forcing(*eq_.tree, namer())) f.push_back(node_of_(e));
-    accelerations = articulated_solve_columns(g_, articulated(), {f}).front();
-  }
-  for (std::size_t j = 0; j < eq_.acceleration_symbols.size(); ++j)
-    leaves_[eq_.acceleration_symbols[j]] = accelerations[j];
-  std::vector<GiNaC::ex> state_symbols(sys_.coordinates.begin(), sys_.coordinates.end());
-  for (int I : eq_.independent) state_symbols.push_back(sys_.velocities[static_cast<std::size_t>(I)]);
-  const std::size_t nx = state_symbols.size();
-  column_.assign(nx, {});
-  // Trees: ∂ID/∂x analytically (rbd/rnea_derivatives.hpp), M d(u')/dx_k = −∂ID/∂x_k. Otherwise (and for
-  // trees whose eq.tree a test clears, to compare) the chain rule through the programs of M and f below.
-  // The right sides are −∂ID/∂x (minus_id: P, V and Δ negated once per column instead of every row).
-  std::optional<rbd::InverseDynamicsJacobian> id, minus_id;
-  if (eq_.tree && !exact_accel_) {
-    id = rbd::rnea_derivatives(*eq_.tree, tape_);
-    minus_id = id->negated(tape_);
-  }
-  const std::vector<std::vector<GiNaC::ex>> id_columns =
-      minus_id ? minus_id->dense(*eq_.tree) : std::vector<std::vector<GiNaC::ex>>{};
-  std::vector<std::vector<int>> right_sides;  // M d(u')/dx_k = b_k, all solved with one factorization
-  for (std::size_t k = 0; k < nx; ++k) {
-    const GiNaC::ex& x_k = state_symbols[k];
-    for (int a = 0; a < n_; ++a) column_[k].push_back(node_of_(diff(eq_.kinematics[static_cast<std::size_t>(a)], x_k)));
-    if (exact_accel_) {
-      for (const GiNaC::ex& a : *exact_accel_) column_[k].push_back(node_of_(diff(a, x_k)));
-      continue;
-    }
-    std::vector<int> b(d_);
-    for (std::size_t i = 0; i < d_; ++i) {
-      if (!id_columns.empty()) {
-        b[i] = node_of_(id_columns[k][i]);
-        continue;
-      }
-      int r = node_of_(diff(eq_.forcing[i], x_k));
-      for (std::size_t j = 0; j < d_; ++j) {
-        const GiNaC::ex dM = diff(eq_.mass_matrix(static_cast<unsigned>(i), static_cast<unsigned>(j)), x_k);
-        if (!dM.is_zero()) r = g_.binary(Op::sub, r, g_.binary(Op::mul, node_of_(dM), accel_[j]));
-      }
-      b[i] = r;
-    }
-    right_sides.push_back(b);
-  }
-  if (!exact_accel_) {
-    const std::vector<std::vector<int>> solved = solve_columns(right_sides, id, minus_id, route);
-    for (std::size_t k = 0; k < nx; ++k) column_[k].insert(column_[k].end(), solved[k].begin(), solved[k].end());
-  }
-  // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
-  // tangent pass per state component (size ~ program × state dimension, no M, no solve per column); the
-  // smaller of the two programs is kept (docs/benchmarks.md: the tangent one is larger for the trees
-  // measured so far, because the articulated inertias depend on every joint angle outboard of a body).
-  if (articulated_) {
-    const std::vector<std::vector<int>> forward = forward_columns(Argument::state, static_cast<int>(nx));
-    if (operations(forward) < operations(column_)) {
-      column_ = forward;
-      column_calls_.reset();
-      route = "; forward mode through the rhs program";
-    }
-  }
-  jacobian_.summary += route;
+  EquationsOfMotion::Jacobian jacobian = motion_->jacobian(rhs_.outputs);
+  column_ = std::move(jacobian.columns);
+  column_calls_ = std::move(jacobian.calls);
+  jacobian_.summary += jacobian.how;
 }
 
 // Every value the kernels compute that vanishes identically printed as 0 (emit/zero_test.hpp): derivatives by
@@ -396,63 +242,6 @@ void KernelBuilder::drop_identical_zeros() {
     for (int& node : *list) node = kept[at++];
   for (std::size_t k = 0; k < set_.kernels.size(); ++k)
     if (subroutines[k]) set_.kernels[k].calls = subroutines[k];
-}
-
-// M y = b_k for every right side: the LDLᵀ of M or (trees) the articulated-body recursion, as asked, or the
-// recursion when it is clearly the smaller program.
-std::vector<std::vector<int>> KernelBuilder::solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                                           const std::optional<rbd::InverseDynamicsJacobian>& id,
-                                                           const std::optional<rbd::InverseDynamicsJacobian>& minus_id,
-                                                           std::string& route) {
-  const ColumnSolver by_ldlt = [&](ExpressionGraph& s, const std::function<int(int)>& shared,
-                                   const std::vector<std::vector<int>>& b) {
-    std::vector<std::vector<int>> M = M_;
-    for (std::vector<int>& row : M)
-      for (int& entry : row) entry = shared(entry);
-    return ldlt_solve_columns(s, M, b, eq_.factor_last_first);
-  };
-  std::vector<std::vector<int>> solved;
-  if (!id || column_solve_ != ColumnSolve::articulated)
-    solved = ldlt_solve_columns(g_, M_, right_sides, eq_.factor_last_first);
-  // The LDLᵀ's columns, printed as calls when the substitutions are long (the factorization goes to the stage).
-  const auto by_ldlt_kept = [&] {
-    if (operations(solved) - operations(right_sides) >= kCalledSolveMinimum) call_columns(right_sides, by_ldlt);
-    return solved;
-  };
-  if (!id || column_solve_ == ColumnSolve::ldlt) return by_ldlt_kept();
-  // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force (InwardForce: Δ,
-  // whose rows are −⟨s_I, Δ⟩).
-  std::vector<std::vector<int>> own_rows;
-  std::vector<InwardForce> inward;
-  for (std::size_t k = 0; k < right_sides.size(); ++k) {
-    own_rows.emplace_back();
-    for (const GiNaC::ex& r : minus_id->rows(*eq_.tree, k)) own_rows.back().push_back(node_of_(r));
-    InwardForce f{id->columns[k].body, {}};
-    for (std::size_t c = 0; c < 6; ++c) f.force[c] = node_of_(id->inward(k)[c]);
-    inward.push_back(f);
-  }
-  const ArticulatedNodes& factor = articulated();
-  std::vector<std::vector<int>> recursive = articulated_solve_columns(g_, factor, own_rows, inward);
-  if (!solved.empty() && operations(recursive) > kRecursiveSolveShare * operations(solved)) return by_ldlt_kept();
-  route = "; M^-1 b by the articulated-body recursion";
-  // Printed as calls, on the dense columns (a call cannot know at which body a column's inward force enters).
-  call_columns(right_sides,
-               [&](ExpressionGraph& s, const std::function<int(int)>& shared, const std::vector<std::vector<int>>& b) {
-                 return articulated_solve_columns(s, shared_factor(factor, shared), b);
-               });
-  return recursive;
-}
-
-// The jacobian's solves of M y = b for `right_sides` printed as one function called on kColumnLanes columns at a time.
-void KernelBuilder::call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve) {
-  const std::size_t nx = right_sides.size();
-  Subroutine calls = solve_subroutine(
-      g_, right_sides, kColumnLanes,
-      [&](std::size_t k, std::size_t i) {
-        return static_cast<int>((static_cast<std::size_t>(n_) + i) * nx + k);  // jacobian row-major
-      },
-      solve);
-  if (!calls.calls.empty()) column_calls_ = std::make_shared<const Subroutine>(std::move(calls));
 }
 
 // A = d(x')/dx and B = d(x')/d(in) along any state: A is the Jacobian's columns when they are built (for
@@ -638,8 +427,8 @@ void KernelBuilder::prepared_kernels(bool named) {
 }  // namespace
 
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only,
-                        ColumnSolve column_solve) {
-  return KernelBuilder(model, derivation, only, column_solve).build();
+                        const DynamicsOptions& dynamics) {
+  return KernelBuilder(model, derivation, only, dynamics).build();
 }
 
 std::vector<std::string> drop_unrepresentable(KernelSet& set, bool named, const std::string& model_path) {

@@ -1,12 +1,13 @@
 // The kernels of a model, built on one shared expression graph (so CSE spans all of them):
 // kinematics (qadot), mass_matrix and forcing (BHconstr), hamel_coefficients (gamma), rhs (state
-// derivative with an unrolled LDLᵀ solve of M u̇ = f), energy and constraint_residual (monitors); for systems with
-// position constraints g(q) = 0 (HamelSystem::position_constraints) constraint_position and its Jacobian, for the
-// runtime's projector; on request only, riemann_linearization (the covariant linearization of the Riemannian view,
-// derive/riemann.hpp).
+// derivative; u̇ and the jacobian's columns as emit/equations_of_motion.hpp forms them), energy and constraint_residual
+// (monitors); for systems with position constraints g(q) = 0 (HamelSystem::position_constraints) constraint_position
+// and its Jacobian, for the runtime's projector; on request only, riemann_linearization (the covariant linearization of
+// the Riemannian view, derive/riemann.hpp).
 #pragma once
 
 #include "derive/derivation.hpp"
+#include "emit/equations_of_motion.hpp"
 #include "emit/expression_graph.hpp"
 #include "model/model.hpp"
 
@@ -42,12 +43,6 @@ struct KernelSet {
   const Kernel& get(const std::string& name) const;
 };
 
-/// How a kinematic tree's Jacobian solves M y = b for its columns: with the LDLᵀ of M (about 2·nnz(L) operations
-/// per column, few for bushy trees), with the articulated-body recursion (articulated_solve_columns, about 50
-/// per body and column, fewer for long chains), or (the default) the recursion when its program has at most 0.9
-/// of the other's operations (per operation it runs slower). Other models always use the LDLᵀ.
-enum class ColumnSolve { smaller, ldlt, articulated };
-
 /// Kernel ABI: every kernel is `void name(real t, const real* x, const real* p, const real* in, real* out)`
 /// with the state x = (q^1..q^n, u^I...), parameters p in file order and inputs in file order.
 /// `only` (if not empty) selects kernels by name (emit/kernel_registry.hpp); the others are left out of the
@@ -56,9 +51,10 @@ enum class ColumnSolve { smaller, ldlt, articulated };
 /// derivatives, the linearizations, the tree connection's solves, the prepared kernels). Built only when
 /// `only` names them (the registry's on-request kernels): `linearization` (A and B of the linearized state
 /// equations, forward mode through rhs) and `riemann_linearization` (only for unconstrained models in general
-/// coordinates with L = ½ g q̇q̇ − V). `column_solve`: how a tree's Jacobian columns are solved.
+/// coordinates with L = ½ g q̇q̇ − V). `dynamics`: how u̇ and the Jacobian's columns are computed (--dynamics,
+/// --jacobian-solve; emit/equations_of_motion.hpp chooses the route).
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {},
-                        ColumnSolve column_solve = ColumnSolve::smaller);
+                        const DynamicsOptions& dynamics = {});
 
 /// Kernels that would compute with a constant whose exact value is not a finite double (beyond ±1.8e308, or
 /// nonzero and below the smallest double, so it would be printed as HUGE_VAL or 0.0: the mass matrix of

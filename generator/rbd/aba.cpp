@@ -1,5 +1,7 @@
 #include "rbd/aba.hpp"
 
+#include "rbd/rnea.hpp"
+
 namespace hamel::rbd {
 
 ArticulatedFactor articulated_factor(const FrameView& view, const Namer<Ex>& name) {
@@ -43,6 +45,40 @@ ArticulatedFactor articulated_factor(const FrameView& view, const Namer<Ex>& nam
         f.base_inertia[alpha][beta] = dot(model.base[alpha], times(IA[0], model.base[beta]));
   }
   return f;
+}
+
+ForwardDynamics forward_dynamics(const TreeDynamics& tree, const Namer<Ex>& name) {
+  const TreeModel& t = tree.model;
+  const FrameView local(t);
+  const std::size_t N = t.size(), m = t.base.size();
+  const ArticulatedFactor factor = articulated_factor(local, name);
+  ArticulatedSystem<Ex> sys{t.parent,
+                            t.axis,
+                            factor.U,
+                            factor.W,
+                            factor.inverse_D,
+                            t.base,
+                            factor.base_inertia,
+                            [&t](std::size_t i, const Vec6<Ex>& v) { return t.link[i].to_child(v); },
+                            [&t](std::size_t i, const Vec6<Ex>& f) { return t.link[i].to_parent(f); },
+                            {},
+                            {}};
+  ArticulatedBias<Ex> bias;
+  for (std::size_t i = 0; i < N; ++i) bias.force.push_back(coadjoint_term(tree.local_twist[i], tree.local_momentum[i]));
+  bias.force = with_applied(local, bias.force);
+  for (std::size_t i = 0; i < N; ++i)
+    bias.acceleration.push_back(i == 0 ? zero6<Ex>() : name(tree.local_axis_rate[i] * tree.rates[i - 1]));
+  bias.passed = factor.passed;
+  bool gravity = false;
+  for (const Ex& g : t.root_acceleration) gravity = gravity || !g.is_zero();
+  if (gravity) bias.root = {t.root_acceleration};
+  if (gravity && m > 0) bias.root_inertia = {factor.base};
+  std::vector<Ex> b(m, Ex(0));
+  b.insert(b.end(), tree.joint_force.begin(), tree.joint_force.end());
+  ForwardDynamics out;
+  for (std::size_t i = N; i-- > 1;) out.pivots.push_back(factor.D[i]);
+  out.accelerations = articulated_solve(sys, {b}, {}, name, {}, bias, &out.pivots).front();
+  return out;
 }
 
 }  // namespace hamel::rbd

@@ -161,4 +161,14 @@ std::vector<std::vector<S>> articulated_solve(const ArticulatedSystem<S>& sys,
   return out;
 }
 
+/// u̇ of `tree` (m + n: base directions, then joints) by the articulated-body algorithm in the bodies' frames: the
+/// factor, then one solve with the velocity-product terms of the tree's local motion, gravity, applied wrenches and
+/// the joint forces τ; O(n), M never formed. `pivots` (positive iff M is positive definite): the D_i from the last
+/// body in, then the base's LDLᵀ pivots.
+struct ForwardDynamics {
+  std::vector<Ex> accelerations;
+  std::vector<Ex> pivots;
+};
+ForwardDynamics forward_dynamics(const TreeDynamics& tree, const Namer<Ex>& name);
+
 }  // namespace hamel::rbd

@@ -100,8 +100,8 @@ class FrameView {
   std::vector<Vec6<Ex>> external_;
 };
 
-/// A tree's dynamics as the kernels use them (derive_tree builds it, emit/kernels.cpp solves and differentiates with
-/// it): the model, its common frame, and the symbols of the state in the derivation's program.
+/// A tree's dynamics as the kernels use them (derive_tree builds it, emit/equations_of_motion.cpp solves and
+/// differentiates with it): the model, its common frame, and the symbols of the state in the derivation's program.
 struct TreeDynamics {
   TreeModel model;
   CommonFrame frame;
@@ -116,6 +116,9 @@ struct TreeDynamics {
   /// the joints, τ_I(r, u, t, inputs) (applied joint forces, springs, dampers). ID = M u̇ − f + (what Q leaves out
   /// of f) is differentiated with Q taken symbolically (rbd/rnea_derivatives.hpp).
   std::vector<Ex> generalized_force;
+  /// The outward pass in the bodies' frames at u̇ = 0 (rnea_motion with FrameView(model)), named in the derivation's
+  /// program: twists v_i, momenta h_i and joint-axis rates ψ_i, what forward_dynamics reads (index 0 the base).
+  std::vector<Vec6<Ex>> local_twist, local_momentum, local_axis_rate;
 };
 
 }  // namespace hamel::rbd

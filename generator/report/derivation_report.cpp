@@ -435,9 +435,9 @@ void print_derivation_latex(std::ostream& out, const Model& model, const Derivat
   LatexWriter(out, model, d, display).write(sign);
 }
 
-nlohmann::json derivation_json(const Model& model, const Derivation& d, const RiemannGeometry* riemann,
-                               const Intermediates& program, CurvatureSign sign, const ExpressionDisplay& display,
-                               const ValueOf& value) {
+nlohmann::json derivation_json(const Model& model, const Derivation& d, const std::vector<GiNaC::ex>& accelerations,
+                               const RiemannGeometry* riemann, const Intermediates& program, std::size_t derived,
+                               CurvatureSign sign, const ExpressionDisplay& display, const ValueOf& value) {
   const Shown values{display, value};
   const HamelSystem& sys = d.system;
   const HamelEquations& eq = d.equations;
@@ -512,21 +512,21 @@ nlohmann::json derivation_json(const Model& model, const Derivation& d, const Ri
     j["kinematics"].push_back(k);
   }
   j["energy"] = entry(eq.energy_terms.at(0), values);
-  for (std::size_t i = 0; i < eq.recursive_accelerations.size(); ++i) {
-    nlohmann::json a = entry(eq.recursive_accelerations[i], values);
+  for (std::size_t i = 0; i < accelerations.size(); ++i) {
+    nlohmann::json a = entry(accelerations[i], values);
     a["row"] = sys.velocities[static_cast<std::size_t>(eq.independent[i])].get_name() + "_rate";
     j["accelerations"].push_back(a);
   }
   // The model's own definitions come first in the program, then the intermediates the derivation named.
   const std::size_t user_definitions = model.definitions.size();
-  for (std::size_t k = 0; k < eq.intermediates.size(); ++k) {
-    const Intermediates::Definition& def = eq.intermediates.definitions()[k];
+  for (std::size_t k = 0; k < derived; ++k) {
+    const Intermediates::Definition& def = program.definitions()[k];
     nlohmann::json e = entry(def.value, values);
     e["name"] = def.symbol.get_name();
     j[k < user_definitions ? "definitions" : "intermediates"].push_back(e);
   }
   j["conservative"] = eq.conservative;
-  if (riemann) j["riemann"] = riemann_json(*riemann, program, eq.intermediates.size(), values);
+  if (riemann) j["riemann"] = riemann_json(*riemann, program, derived, values);
 
   return j;
 }

@@ -31,10 +31,11 @@ struct ExpressionDisplay {
 using ValueOf = std::function<std::optional<double>(const GiNaC::ex&)>;
 
 /// Everything derive prints, as the JSON document --json writes. `program` is the equations' intermediates, extended
-/// by the Riemannian quantities' when `riemann` is given (JSON key "riemann").
-nlohmann::json derivation_json(const Model& model, const Derivation& d, const RiemannGeometry* riemann,
-                               const Intermediates& program, CurvatureSign sign, const ExpressionDisplay& display,
-                               const ValueOf& value);
+/// by those of `accelerations` (u̇ as rhs computes it by a recursion, JSON key "accelerations"; empty when rhs solves
+/// M u̇ = f) up to `derived`, then by the Riemannian quantities' when `riemann` is given (JSON key "riemann").
+nlohmann::json derivation_json(const Model& model, const Derivation& d, const std::vector<GiNaC::ex>& accelerations,
+                               const RiemannGeometry* riemann, const Intermediates& program, std::size_t derived,
+                               CurvatureSign sign, const ExpressionDisplay& display, const ValueOf& value);
 
 /// The text output: the JSON document's entries with their equation labels.
 void print_derivation_text(std::ostream& out, nlohmann::json j, const Model& model, const Derivation& d);

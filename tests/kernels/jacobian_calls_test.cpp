@@ -68,11 +68,11 @@ void check(const Package& pkg) {
   p.push_back(0);  // never empty: p.data() is then not null
   const hamel::Derivation d = hamel::derive(model);
   const std::set<std::string> kernels = {"rhs", "jacobian"};
-  const hamel::KernelSet emitted = hamel::build_kernels(model, d, kernels, pkg.solve);
+  const hamel::KernelSet emitted = hamel::build_kernels(model, d, kernels, {"", pkg.solve});
   // The other route: the LDLᵀ of M for a package solved by the recursion, the recursion for one solved by the LDLᵀ.
   const hamel::KernelSet other = hamel::build_kernels(
       model, d, kernels,
-      pkg.solve == hamel::ColumnSolve::articulated ? hamel::ColumnSolve::ldlt : hamel::ColumnSolve::articulated);
+      {"", pkg.solve == hamel::ColumnSolve::articulated ? hamel::ColumnSolve::ldlt : hamel::ColumnSolve::articulated});
   // What the package was emitted from: the solve as a subroutine, called for every column (some columns twice
   // when their number is not a multiple of the columns per call).
   const hamel::Kernel& jacobian = emitted.get("jacobian");

@@ -99,10 +99,8 @@ void check(const std::string& dynamics, int split = 2000) {
   ASSERT_EQ(link.status, 0) << link.out;
 
   const Model model = load_model_from_text(model_text, "c_tree.yaml");
-  DeriveSettings settings;
-  settings.dynamics = dynamics;
-  const Derivation derivation = derive(model, settings);
-  const KernelSet kernels = build_kernels(model, derivation, {"rhs"});
+  const Derivation derivation = derive(model);
+  const KernelSet kernels = build_kernels(model, derivation, {"rhs"}, {dynamics});
   GraphEvaluator rhs(kernels.graph, kernels.get("rhs").outputs);
   const std::vector<double> x = {0.3, -0.7, 0.1, -0.2, 0.3, 0.4, -0.5, 0.6, 1.1, -0.9}, p = {0.7, 0.01};
   std::vector<double> expected(x.size());

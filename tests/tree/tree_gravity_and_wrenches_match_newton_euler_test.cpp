@@ -108,11 +108,10 @@ void check(const Case& c) {
   const std::size_t nx = static_cast<std::size_t>(2 * n + G + m);
   std::uniform_real_distribution<double> u(-1, 1);
   for (const char* dynamics : {"aba", "ldlt"}) {
-    hamel::DeriveSettings settings;
-    settings.dynamics = dynamics;
-    const hamel::Derivation d = hamel::derive(model, settings);
-    const hamel::KernelSet k = hamel::build_kernels(model, d, {"rhs", "jacobian"});
-    const hamel::KernelSet recursive = hamel::build_kernels(model, d, {"jacobian"}, hamel::ColumnSolve::articulated);
+    const hamel::Derivation d = hamel::derive(model);
+    const hamel::KernelSet k = hamel::build_kernels(model, d, {"rhs", "jacobian"}, {dynamics});
+    const hamel::KernelSet recursive =
+        hamel::build_kernels(model, d, {"jacobian"}, {dynamics, hamel::ColumnSolve::articulated});
     ASSERT_EQ(k.get("rhs").outputs.size(), nx) << name;
     hamel::GraphEvaluator rhs(k.graph, k.get("rhs").outputs), jac(k.graph, k.get("jacobian").outputs),
         jac_rec(recursive.graph, recursive.get("jacobian").outputs);
@@ -211,10 +210,8 @@ TEST(GravityAndWrenches, FixedBaseWithAWorldFrameWrench) {
   const int n = t.n();
   std::uniform_real_distribution<double> u(-1, 1);
   for (const char* dynamics : {"aba", "ldlt"}) {
-    hamel::DeriveSettings settings;
-    settings.dynamics = dynamics;
-    const hamel::Derivation d = hamel::derive(model, settings);
-    const hamel::KernelSet k = hamel::build_kernels(model, d, {"rhs", "jacobian"});
+    const hamel::Derivation d = hamel::derive(model);
+    const hamel::KernelSet k = hamel::build_kernels(model, d, {"rhs", "jacobian"}, {dynamics});
     hamel::GraphEvaluator rhs(k.graph, k.get("rhs").outputs), jac(k.graph, k.get("jacobian").outputs);
     double worst = 0, worst_jac = 0;
     const std::size_t nx = static_cast<std::size_t>(2 * n);

@@ -108,28 +108,63 @@ struct Names {
   }
 };
 
-// The point x₀ and the inputs in₀: zero but for the model's state defaults (Γ = g of a floating base under gravity),
-// the scene's values and --at / --input over them. A model with position constraints g(q) = 0 (holonomic, closed
-// loops) starts from its `initial` instead of zero, which is in general not on the constraints (where G_s, and with it
-// the equations, may even be singular).
-void set_point(const LinearizeOptions& opt, const Target& target, const Names& names, std::vector<double>& x,
-               std::vector<double>& in) {
-  std::map<std::string, double> initial = state_default_values(target);
-  if (!target.model.holonomic.empty())
-    for (const auto& [k, v] : target.model.initial) initial[k] = v;
-  if (target.scene)
-    for (const auto& [k, v] : target.scene->initial) initial[k] = v;
-  for (const auto& [k, v] : parse_assignments(opt.at, "--at")) initial[k] = v;
-  for (const auto& [name, v] : initial) x[static_cast<std::size_t>(names.state_index(name, "--at"))] = v;
-  std::map<std::string, double> input_values = target.scene ? target.scene->inputs : std::map<std::string, double>{};
-  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
-  for (const auto& [name, v] : input_values) {
+// What the command line says of the point, read before the derivation (a wrong value fails at once): --at values and
+// the --input values, numbers or expressions in the parameters (as simulate's --input takes them), kept as
+// expressions so that a --sweep of a parameter moves them with it.
+struct PointOptions {
+  std::map<std::string, double> at;
+  std::map<std::string, GiNaC::ex> inputs;
+};
+
+PointOptions point_options(const LinearizeOptions& opt, const Target& target) {
+  const Constants constants = parameter_constants(target);
+  PointOptions out{parse_assignments(opt.at, "--at", constants),
+                   parse_expression_assignments(opt.inputs, "--input", constants)};
+  const Model& model = target.model;
+  std::vector<std::string> inputs;
+  for (const auto& u : model.inputs) inputs.push_back(u.get_name());
+  for (const auto& [name, e] : out.inputs)
+    if (std::find(inputs.begin(), inputs.end(), name) == inputs.end())
+      throw InputError("--input: " + quote(name) + " is not an input of model '" + model.name + "'" +
+                       (inputs.empty() ? " (it has none)" : " (inputs: " + join(inputs) + ")"));
+  for (const auto& [name, e] : out.inputs) constant_value(e, constants.values, "--input", name);  // finite, real
+  return out;
+}
+
+// in₀ at the parameter values `p`: zero but for the scene's inputs and --input over them.
+std::vector<double> point_inputs(const PointOptions& point, const Target& target, const Names& names,
+                                 const std::vector<double>& p) {
+  std::vector<double> in(names.inputs.size(), 0.0);
+  const auto set = [&](const std::string& name, double v) {
     const auto it = std::find(names.inputs.begin(), names.inputs.end(), name);
     if (it == names.inputs.end())
       throw InputError("--input: " + quote(name) + " is not an input of model '" + names.model + "'" +
                        (names.inputs.empty() ? " (it has none)" : " (inputs: " + join(names.inputs) + ")"));
     in[static_cast<std::size_t>(it - names.inputs.begin())] = v;
-  }
+  };
+  if (target.scene)
+    for (const auto& [name, v] : target.scene->inputs) set(name, v);
+  GiNaC::exmap values;
+  for (std::size_t k = 0; k < target.model.parameters.size() && k < p.size(); ++k)
+    values[target.model.parameters[k].symbol] = p[k];
+  for (const auto& [name, e] : point.inputs) set(name, constant_value(e, values, "--input", name));
+  return in;
+}
+
+// The point x₀: zero but for the model's state defaults (Γ = g of a floating base under gravity), the scene's values
+// and --at over them. A model with position constraints g(q) = 0 (holonomic, closed loops) starts from its `initial`
+// instead of zero, which is in general not on the constraints (where G_s, and with it the equations, may even be
+// singular).
+std::vector<double> point_state(const PointOptions& point, const Target& target, const Names& names) {
+  std::vector<double> x(names.state.size(), 0.0);
+  std::map<std::string, double> initial = state_default_values(target);
+  if (!target.model.holonomic.empty())
+    for (const auto& [k, v] : target.model.initial) initial[k] = v;
+  if (target.scene)
+    for (const auto& [k, v] : target.scene->initial) initial[k] = v;
+  for (const auto& [k, v] : point.at) initial[k] = v;
+  for (const auto& [name, v] : initial) x[static_cast<std::size_t>(names.state_index(name, "--at"))] = v;
+  return x;
 }
 
 // --sweep's quantity: a state component or a parameter (index ≥ 0 in one of them).
@@ -271,8 +306,8 @@ void plot_sweep(std::ostream& os, const std::string& model_name, const std::stri
 
 // One linearization as JSON or text: the point, A, B, c and A's eigenvalues.
 void write_linearization(std::ostream& os, bool json, const Model& model, const Names& names,
-                         const std::vector<double>& x, const LinearSystem& s, const std::vector<int>* moving,
-                         const SteadyResult& found) {
+                         const std::vector<double>& x, const std::vector<double>& in, const LinearSystem& s,
+                         const std::vector<int>* moving, const SteadyResult& found) {
   const int nx = names.nx(), ni = names.ni();
   const std::vector<std::string>& state = names.state;
   const Spectrum spec = spectrum(s);
@@ -286,6 +321,9 @@ void write_linearization(std::ostream& os, bool json, const Model& model, const 
     nlohmann::json point = nlohmann::json::object();
     for (int k = 0; k < nx; ++k) point[state[static_cast<std::size_t>(k)]] = x[static_cast<std::size_t>(k)];
     j["point"] = point;
+    nlohmann::json inputs = nlohmann::json::object();  // in₀, the inputs B is taken at
+    for (int k = 0; k < ni; ++k) inputs[names.inputs[static_cast<std::size_t>(k)]] = in[static_cast<std::size_t>(k)];
+    j["input_values"] = inputs;
     j["A"] = matrix_json(s.A, nx, nx);
     j["B"] = matrix_json(s.B, nx, ni);
     j["residual"] = s.residual;
@@ -305,6 +343,9 @@ void write_linearization(std::ostream& os, bool json, const Model& model, const 
                 : "point x0:\n");
   for (int k = 0; k < nx; ++k)
     os << "  " << state[static_cast<std::size_t>(k)] << " = " << number(x[static_cast<std::size_t>(k)]) << "\n";
+  if (ni > 0) os << "inputs in0:\n";
+  for (int k = 0; k < ni; ++k)
+    os << "  " << names.inputs[static_cast<std::size_t>(k)] << " = " << number(in[static_cast<std::size_t>(k)]) << "\n";
   const auto print_matrix = [&](const std::string& title, const std::vector<double>& m, int cols,
                                 const std::vector<std::string>& col_names) {
     os << "\n" << title << " (rows: x' of " << join(state) << "; columns: " << join(col_names) << "):\n";
@@ -330,6 +371,7 @@ void run(const LinearizeOptions& opt) {
   const Target& target = pipeline.target();
   const Model& model = target.model;
   std::vector<double> p = target.parameters;
+  const PointOptions point_spec = point_options(opt, target);
   const Derivation& derivation = pipeline.derivation();
   const HamelSystem& sys = derivation.system;
   Names names;
@@ -340,8 +382,7 @@ void run(const LinearizeOptions& opt) {
   for (const auto& u : model.inputs) names.inputs.push_back(u.get_name());
   const int nx = names.nx(), ni = names.ni();
 
-  std::vector<double> x(static_cast<std::size_t>(nx), 0.0), in(static_cast<std::size_t>(ni), 0.0);
-  set_point(opt, target, names, x, in);
+  std::vector<double> x = point_state(point_spec, target, names), in = point_inputs(point_spec, target, names, p);
   const std::optional<SweepTarget> swept =
       opt.sweep.empty() ? std::nullopt
                         : std::optional<SweepTarget>(sweep_target(opt.sweep, names, model, target.folded));
@@ -368,7 +409,10 @@ void run(const LinearizeOptions& opt) {
     const auto spectrum_at = [&](double v) {
       std::vector<double> point = last;
       if (swept->state >= 0) point[static_cast<std::size_t>(swept->state)] = v;
-      if (swept->parameter >= 0) p[static_cast<std::size_t>(swept->parameter)] = v;
+      if (swept->parameter >= 0) {
+        p[static_cast<std::size_t>(swept->parameter)] = v;
+        in = point_inputs(point_spec, target, names, p);  // --input "f=m*g" follows a swept m
+      }
       point = steady_point(point);
       if (steady) last = point;
       return spectrum(linearize_at(point));
@@ -391,7 +435,7 @@ void run(const LinearizeOptions& opt) {
   x = steady_point(x);
   const LinearSystem s = linearize_at(x);
   OutputTransaction outputs;
-  write_linearization(outputs.open(opt.out, "--out"), opt.json, model, names, x, s,
+  write_linearization(outputs.open(opt.out, "--out"), opt.json, model, names, x, in, s,
                       steady ? &components.moving : nullptr, found);
   outputs.commit();
 }
@@ -405,7 +449,9 @@ Run add_linearize_command(CLI::App& app) {
   add_pipeline_options(cmd, opt->in);
   cmd->add_option("--at", opt->at,
                   "The point: values name=value,... of coordinates and independent quasi-velocities (default 0)");
-  cmd->add_option("--input", opt->inputs, "Input values name=value,... at the point (default 0)");
+  cmd->add_option("--input", opt->inputs,
+                  "Input values name=value,... at the point (default 0); a value may be an expression in the "
+                  "parameters, e.g. f=(mq+mL)*g");
   cmd->add_flag("--json", opt->json, "JSON instead of text");
   cmd->add_option("--steady", opt->steady,
                   "Find a steady motion near the point first: the coordinates (comma-separated) that advance at a "

@@ -1,5 +1,6 @@
 #include "cli/options.hpp"
 
+#include "model/expression_parser.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/input_error.hpp"
 #include "model/load_model.hpp"
@@ -45,6 +46,60 @@ std::map<std::string, double> parse_assignments(const std::vector<std::string>& 
         throw InputError(option + ": " + quote(name) + " is given twice; give each name once");
     }
   }
+  return out;
+}
+
+std::map<std::string, GiNaC::ex> parse_expression_assignments(const std::vector<std::string>& items,
+                                                              const std::string& option, const Constants& constants) {
+  std::map<std::string, GiNaC::ex> out;
+  for (const std::string& item : items)
+    for (const std::string& part : split_top_level(item)) {
+      if (part.empty()) continue;
+      const std::size_t eq = part.find('=');
+      if (eq == std::string::npos || eq == 0)
+        throw InputError(option + ": expected name=value or name=expression, got " + quote(part));
+      const std::string name = part.substr(0, eq), text = part.substr(eq + 1);
+      GiNaC::ex value;
+      try {
+        std::size_t used = 0;
+        const double v = std::stod(text, &used);
+        if (used != text.size() || !std::isfinite(v)) throw std::invalid_argument(text);
+        value = v;
+      } catch (const std::exception&) {
+        try {
+          value = parse_expression(text, constants.names);
+        } catch (const std::exception& e) {
+          std::string names;
+          for (const auto& [n, s] : constants.names) names += (names.empty() ? "" : ", ") + n;
+          throw InputError(option + ": value of " + quote(name) + " is not a number nor an expression in " +
+                           (names.empty() ? std::string("numbers and pi") : "the parameters (" + names + ")") + ": " +
+                           quote(text) + " (" + e.what() + ")");
+        }
+      }
+      if (!out.emplace(name, value).second)
+        throw InputError(option + ": " + quote(name) + " is given twice; give each name once");
+    }
+  return out;
+}
+
+double constant_value(const GiNaC::ex& e, const GiNaC::exmap& values, const std::string& option,
+                      const std::string& name) {
+  const GiNaC::ex v = e.subs(values).evalf();
+  if (GiNaC::is_a<GiNaC::numeric>(v) && GiNaC::ex_to<GiNaC::numeric>(v).is_real()) {
+    const double d = GiNaC::ex_to<GiNaC::numeric>(v).to_double();
+    if (std::isfinite(d)) return d;
+  }
+  std::ostringstream text;
+  text << e << " = " << v;
+  throw InputError(option + ": value of " + quote(name) + " is not a finite real number: " + quote(text.str()) +
+                   "; expected a number or an expression in the parameters with a finite real value");
+}
+
+std::map<std::string, double> parse_assignments(const std::vector<std::string>& items, const std::string& option,
+                                                const Constants& constants) {
+  std::map<std::string, double> out;
+  for (const auto& [name, e] : parse_expression_assignments(items, option, constants))
+    out[name] = constant_value(e, constants.values, option, name);
   return out;
 }
 

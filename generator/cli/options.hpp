@@ -16,6 +16,27 @@ std::vector<std::string> split_list(const std::string& list);
 /// Parses "a=1,b=2.5" (and repeated occurrences) into a map; throws InputError naming `option`.
 std::map<std::string, double> parse_assignments(const std::vector<std::string>& items, const std::string& option);
 
+/// What a value on the command line may name besides numbers and pi: symbols with their values, e.g. the model's
+/// parameters at the run's values (parameter_constants in cli/pipeline.hpp), so that `linearize --input
+/// "f=(mq+mL)*g"` holds the weight whatever the masses.
+struct Constants {
+  GiNaC::symtab names;
+  GiNaC::exmap values;
+};
+
+/// "a=1,b=(m1+m2)*g": values that are numbers or expressions in `constants`' names and pi, parsed (items split at
+/// commas outside parentheses, so atan2(y,x) is one value); throws InputError naming `option`.
+std::map<std::string, GiNaC::ex> parse_expression_assignments(const std::vector<std::string>& items,
+                                                              const std::string& option, const Constants& constants);
+
+/// The value of such an expression at `values`: a finite real number, else an InputError naming `option` and `name`.
+double constant_value(const GiNaC::ex& e, const GiNaC::exmap& values, const std::string& option,
+                      const std::string& name);
+
+/// parse_expression_assignments with every value evaluated at `constants.values`.
+std::map<std::string, double> parse_assignments(const std::vector<std::string>& items, const std::string& option,
+                                                const Constants& constants);
+
 /// Parameter values: defaults, overridden by --param; unknown names are input errors.
 std::vector<double> parameter_values(const Model& model, const std::map<std::string, double>& overrides);
 

@@ -83,6 +83,17 @@ KernelSet Pipeline::kernels(const std::set<std::string>& only) {
   return build_kernels(target_.model, d, only, target_.dynamics);
 }
 
+Constants parameter_constants(const Target& target) {
+  Constants c;
+  // The loaded parameters (a folded one is a number in the model, but its name still means its value here).
+  for (std::size_t k = 0; k < target.model.parameters.size() && k < target.parameters.size(); ++k) {
+    const GiNaC::realsymbol& s = target.model.parameters[k].symbol;
+    c.names[s.get_name()] = s;
+    c.values[s] = target.parameters[k];
+  }
+  return c;
+}
+
 std::map<std::string, double> state_default_values(const Target& target) {
   GiNaC::exmap values;
   for (std::size_t k = 0; k < target.model.parameters.size() && k < target.parameters.size(); ++k)

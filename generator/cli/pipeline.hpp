@@ -12,6 +12,7 @@
 //               fixed one; checked against the model when it is derived, whatever the verb.
 #pragma once
 
+#include "cli/options.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/model.hpp"
@@ -99,6 +100,9 @@ struct PipelineFlags {
 /// Registers the pipeline's options on `cmd` (the positional model file, --param, --fold, and as `flags` say --form
 /// and --dynamics), with the same text and defaults for every verb.
 void add_pipeline_options(CLI::App* cmd, PipelineOptions& options, const PipelineFlags& flags = {});
+
+/// The model's parameters at the target's values, as names command-line values may use (Constants, cli/options.hpp).
+Constants parameter_constants(const Target& target);
 
 /// The values of the model's state_defaults (Γ(0) = g of a floating base under gravity) at the target's parameters.
 std::map<std::string, double> state_default_values(const Target& target);

@@ -38,8 +38,9 @@ void run(const ReportOptions& opt) {
     if (t_end == 0 && target.scene->t_end) t_end = *target.scene->t_end;
   }
   if (t_end == 0) t_end = 10;
-  const std::map<std::string, double> init = parse_assignments(opt.init, "--init");
-  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input")) input_values[k] = v;
+  const Constants constants = parameter_constants(target);
+  const std::map<std::string, double> init = parse_assignments(opt.init, "--init", constants);
+  for (const auto& [k, v] : parse_assignments(opt.inputs, "--input", constants)) input_values[k] = v;
   const Derivation& d = pipeline.derivation();
   const KernelSet kernels = pipeline.kernels();
 
@@ -98,7 +99,8 @@ Run add_report_command(CLI::App& app) {
       "--init", opt->init,
       "Initial values name=value,... (default: the model's key initial, then the scene's; else coordinates 0.1, "
       "0.2, ..., velocities 0.5)");
-  cmd->add_option("--input", opt->inputs, "Constant input values name=value,... (default 0)");
+  cmd->add_option("--input", opt->inputs,
+                  "Constant input values name=value,... (default 0); a value may be an expression in the parameters");
   cmd->add_option("--integrators", opt->integrators, "Integrators to compare (default rk4 dopri5 dop853 radau5)");
   cmd->add_option("--out", opt->out, "Folder for <model>_work_precision.csv, .md and .svg")->capture_default_str();
   cmd->add_option("--max-steps", opt->max_steps,

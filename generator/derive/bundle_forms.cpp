@@ -104,8 +104,9 @@ BundleSystem bundle_system(const Model& model, const BundleGeometry& geometry, B
   Intermediates::SubstitutionMemo memo;
   sys.lagrangian = sys.program.substitute(model.lagrangian, to_shifted, memo);
   for (const ex& q : model.forces) sys.forces.push_back(sys.program.substitute(q, to_shifted, memo));
-  sys.where =
-      model.locations.count("kinetic") ? model.locations.at("kinetic") : SourceLocation{model.source_path, 0, 0};
+  sys.where_key = model.locations.count("bodies") ? "bodies" : model.bundle->tree ? "tree" : "kinetic";
+  sys.where = model.locations.count(sys.where_key) ? model.locations.at(sys.where_key)
+                                                   : SourceLocation{model.source_path, 0, 0};
 
   // Hamel coefficients, indices: α → α, I → m + I.
   auto add = [&](int upper, int la, int lb, const ex& v) {

@@ -35,8 +35,9 @@ HamelSystem general_coordinate_system(const Model& model, const QuasiVelocities&
   }
   for (const HolonomicConstraint& h : model.holonomic)
     sys.position_constraints.push_back({h.velocity.get_name(), h.g, h.gradient});
-  sys.where =
-      model.locations.count("lagrangian") ? model.locations.at("lagrangian") : SourceLocation{model.source_path, 0, 0};
+  sys.where_key = model.locations.count("bodies") ? "bodies" : "lagrangian";
+  sys.where = model.locations.count(sys.where_key) ? model.locations.at(sys.where_key)
+                                                   : SourceLocation{model.source_path, 0, 0};
   return sys;
 }
 

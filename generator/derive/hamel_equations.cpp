@@ -94,7 +94,7 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
 
   // A "singular" answer with intermediates read as free symbols is still a proof.
   if (shown_singular(eq.mass_matrix, program))
-    throw InputError(sys.where, "lagrangian",
+    throw InputError(sys.where, sys.where_key,
                      "the mass matrix ∂²L/∂u^I∂u^J of the independent quasi-velocities is identically singular; "
                      "every independent quasi-velocity must carry kinetic energy");
 

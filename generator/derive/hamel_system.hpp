@@ -41,7 +41,8 @@ struct HamelSystem {
   std::vector<std::vector<GiNaC::ex>> constraint_form;   ///< per constrained u^α: A^α_a(q) with u^α = A^α_a q̇^a,
                                                          ///< for the residual monitor; empty if not in q̇ alone
   std::vector<PositionConstraint> position_constraints;  ///< g(q) = 0, for the constraint_position kernels
-  SourceLocation where;                                  ///< for errors about the Lagrangian
+  SourceLocation where;                                  ///< for errors about the Lagrangian: the key it came from,
+  std::string where_key = "lagrangian";                  ///< `lagrangian`, `bodies`, `kinetic` or `tree`
   Intermediates program;  ///< definitions of the intermediate symbols the expressions above may use
 
   std::vector<int> independent() const;

@@ -165,8 +165,8 @@ HamelSystem tree_system(const Model& model, bool fixed, const std::vector<GiNaC:
   sys.forces = model.forces;
   for (const StructureConstant& s : geo.structure_constants)
     sys.gamma.push_back({s.upper, s.lower_a, s.lower_b, s.value});
-  const char* where = fixed ? "lagrangian" : "kinetic";
-  sys.where = model.locations.count(where) ? model.locations.at(where) : SourceLocation{model.source_path, 0, 0};
+  sys.where_key = "tree";
+  sys.where = model.locations.count("tree") ? model.locations.at("tree") : SourceLocation{model.source_path, 0, 0};
   return sys;
 }
 

@@ -270,7 +270,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
   std::set<std::string> symbols{"t", "wx", "wy", "wz", "vx", "vy", "vz"};  // coordinates and inputs
   std::map<int, std::size_t> body_of_joint;
   int free_body = -1;
-  bool world_jointed = false;  // some joint hangs from the world: a fixed base
+  std::vector<std::string> world_jointed;  // bodies whose joint hangs from the world: a fixed base
   for (int b = 1; b < m->nbody; ++b) {
     const std::size_t ub = static_cast<std::size_t>(b);
     const int parent = m->body_parentid[b];
@@ -327,7 +327,7 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
       ib.parent = host[ub] >= 0 ? host[ub] : -1;
       ib.joint = identifier(jname, "q" + std::to_string(j), symbols);
       ib.name = identifier(k + 1 == count ? bname : bname + "_" + jname, "body" + std::to_string(b), labels);
-      world_jointed = world_jointed || host[ub] == -2;
+      if (host[ub] == -2 && (world_jointed.empty() || world_jointed.back() != bname)) world_jointed.push_back(bname);
       ib.prismatic = type == mjJNT_SLIDE;
       const double* anchor = m->jnt_pos + 3 * j;
       ib.joint_frame = ib.prismatic ? Y : compose(Y, translation(anchor[0], anchor[1], anchor[2]));
@@ -359,9 +359,17 @@ ImportedTree import_mjcf(const std::string& path, const ImportOptions& options, 
   add_motors(m, gate, at, warn, body_of_joint, symbols, t);
   add_loops(m, options, gate, at, warn, host, in_host, symbols, t);
   gate.finish();
-  if (t.floating && world_jointed)
+  if (t.floating && !world_jointed.empty()) {
+    std::string names;
+    for (std::size_t k = 0; k < world_jointed.size() && k < 5; ++k) names += (k ? ", '" : "'") + world_jointed[k] + "'";
+    if (world_jointed.size() > 5) names += " and " + std::to_string(world_jointed.size() - 5) + " more";
     throw InputError(at(mj_name(m, mjOBJ_BODY, free_body), {"body"}), "body '" + t.base_name + "'",
-                     "floats while other bodies hang from the world by joints; hamel's trees have one base");
+                     "floats (free joint) while " + names + (world_jointed.size() == 1 ? " hangs" : " hang") +
+                         " from the world by hinge or slide joints; hamel's trees have one base, floating or "
+                         "fixed. Expected one of: remove the free joint (the body is then fixed to the world and "
+                         "the tree's base is the world), or move the world-jointed bodies under the floating body "
+                         "(or into a model of their own), then import again");
+  }
   if (t.bodies.empty())
     throw InputError(SourceLocation{path, 0, 0}, "", "the model has no hinge or slide joints; nothing to import");
 

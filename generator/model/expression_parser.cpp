@@ -146,6 +146,24 @@ void check_constants_and_powers(const GiNaC::ex& e) {
 
 }  // namespace
 
+std::vector<std::string> split_top_level(const std::string& list) {
+  std::vector<std::string> parts;
+  int depth = 0;
+  std::string cur;
+  for (char c : list) {
+    if (c == '(') ++depth;
+    if (c == ')') --depth;
+    if (c == ',' && depth == 0) {
+      parts.push_back(cur);
+      cur.clear();
+    } else {
+      cur += c;
+    }
+  }
+  parts.push_back(cur);
+  return parts;
+}
+
 GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table) {
   check_structure(text);
   // Only the names the text uses: GiNaC's parser copies its table, and a table of every symbol of a large model

@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <string>
+#include <vector>
 
 namespace hamel {
 
@@ -23,6 +24,10 @@ constexpr int max_expression_nesting = 200;
 constexpr long max_power_exponent = 256;
 /// Longest model name: it names the namespace, the files and the HAMEL_<NAME>_REAL macro of the package.
 constexpr std::size_t max_model_name_length = 64;
+
+/// The items of a comma-separated list whose items may be expressions: split at the commas outside parentheses
+/// ("f=atan2(y,x),g=1" has two items).
+std::vector<std::string> split_top_level(const std::string& list);
 
 /// Parses `text` with the symbols of `table` only. Throws std::invalid_argument with GiNaC's message
 /// (unknown symbol, syntax), or for nesting deeper than max_expression_nesting, on failure.

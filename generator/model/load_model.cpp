@@ -662,7 +662,7 @@ void Loader::load_core(Model& model) {
   const YAML::Node bodies = root_["bodies"];
   model.lagrangian = 0;
   if (bodies) {
-    model.locations["lagrangian"] = where(bodies);
+    model.locations["lagrangian"] = model.locations["bodies"] = where(bodies);
     if (!bodies.IsSequence() || bodies.size() == 0) fail(bodies, "bodies", "expected a non-empty list of bodies");
     GiNaC::symtab pose_table = geometric;
     pose_table["t"] = model.time;
@@ -835,7 +835,7 @@ void Loader::load_shape(const YAML::Node& tree, Model& model, const Bundle& b) {
       fail(group, "group",
            "a kinematic tree's floating base must be " + tree_base_groups() +
                " (the group frame carries the base body), got '" + b.group + "'");
-    model.locations["kinetic"] = where(tree);
+    model.locations["kinetic"] = model.locations["tree"] = where(tree);
     declare_joints(tree, model);
     if (tree.IsMap() && tree["gravity"]) declare_gravity_state(tree["gravity"], b.group, model);
   } else if (YAML::Node shape = root_["shape"]) {
@@ -902,7 +902,7 @@ void Loader::load_bundle_lagrangian(const YAML::Node& tree, Model& model, Bundle
                            "the kinetic energy may use the group velocity, shape coordinates, their _dot rates and "
                            "parameters");
   } else {
-    model.locations["kinetic"] = where(bodies);
+    model.locations["kinetic"] = model.locations["bodies"] = where(bodies);
     if (!bodies.IsSequence() || bodies.size() == 0) fail(bodies, "bodies", "expected a non-empty list of bodies");
     b.kinetic = 0;
     for (std::size_t i = 0; i < bodies.size(); ++i) {
@@ -1114,7 +1114,7 @@ void Loader::load_fixed_tree(Model& model) {
   // u = q̇: A = B = I, not stored (n^2 entries: 1.6 GB for a chain of 10 000 joints); the derivation states them.
   model.B_given = true;
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
-  model.locations["lagrangian"] = where(tree);
+  model.locations["lagrangian"] = model.locations["tree"] = where(tree);
   model.tree = load_tree(tree, model);
   model.lagrangian = 0;  // T − V follows from the bodies in the derivation
   GiNaC::symtab table;

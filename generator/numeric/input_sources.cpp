@@ -42,25 +42,6 @@ bool parse_double(const std::string& text, double& v) {
   }
 }
 
-// Splits at commas outside parentheses.
-std::vector<std::string> top_level_split(const std::string& s) {
-  std::vector<std::string> parts;
-  int depth = 0;
-  std::string cur;
-  for (char c : s) {
-    if (c == '(') ++depth;
-    if (c == ')') --depth;
-    if (c == ',' && depth == 0) {
-      parts.push_back(cur);
-      cur.clear();
-    } else {
-      cur += c;
-    }
-  }
-  parts.push_back(cur);
-  return parts;
-}
-
 }  // namespace
 
 // The laws as one graph (t as Argument::time, the state as Argument::state; parameters are numbers by now), run by
@@ -134,7 +115,7 @@ void InputSources::set_constant(const std::string& name, double value, const std
 
 void InputSources::add_assignments(const std::vector<std::string>& items, const std::string& option) {
   for (const std::string& item : items)
-    for (const std::string& raw : top_level_split(item)) {
+    for (const std::string& raw : split_top_level(item)) {
       const std::string part = trim(raw);
       if (part.empty()) continue;
       const std::size_t eq = part.find('=');

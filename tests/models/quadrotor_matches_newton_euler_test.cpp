@@ -333,3 +333,23 @@ TEST(QuadrotorSlungLoad, HoverEigenvaluesOfLinearizeMatchTheReference) {
 }
 
 }  // namespace
+
+// The hover thrust given as an expression of the parameters (as simulate's --input takes it): linearize evaluates it at
+// the run's parameters, reports it as the point's input (JSON input_values), and at hover nothing accelerates. With
+// --param m=2 the same expression holds the heavier frame: the thrust follows the parameter.
+TEST(QuadrotorSlungLoad, LinearizeTakesTheHoverThrustAsAnExpressionOfTheParameters) {
+  const std::string model = hamel::test::source("models/quadrotor_slung_load.yaml");
+  for (const double mass : {static_cast<double>(m), 2.0}) {
+    const std::string command = std::string(HAMEL_BINARY) + " linearize " + model +
+                                " --param m=" + std::to_string(mass) + " --input 'f=(m+mL)*g' --json 2>/dev/null";
+    const hamel::test::Outcome run = hamel::test::run(command);
+    ASSERT_EQ(run.status, 0) << command;
+    const nlohmann::json j = nlohmann::json::parse(run.out);
+    const double f = j.at("input_values").at("f").get<double>();
+    EXPECT_NEAR(f, (mass + static_cast<double>(mL)) * static_cast<double>(g), 1e-12) << command;
+    EXPECT_EQ(j.at("input_values").at("tx").get<double>(), 0.0);
+    double worst = 0;
+    for (const auto& c : j.at("residual")) worst = std::max(worst, std::abs(c.get<double>()));
+    EXPECT_LE(worst, 1e-12) << "x' at hover: " << j.at("residual").dump();
+  }
+}

@@ -32,6 +32,12 @@ const std::vector<KernelSpec>& kernel_registry() {
        "g_ab, G^a_c = Gamma^a_bc q_dot^b, K_ab = R_cbda q_dot^c q_dot^d - nabla_b Q_a at q_dot = B u, and dG/dt along "
        "x' = rhs: g D2x/dt2 + K x = Phi, D x/dt = x_dot + G x; four n x n blocks, row-major",
        false},
+      {"centroidal_momentum",
+       "kinematic trees: h_G = (L_G, p), the momentum about the centre of mass (6), then the centroidal momentum "
+       "matrix "
+       "A_G(q) with h_G = A_G u (6 x n_u, row-major), then dA_G/dt u along q_dot (6); in the base's frame (world on "
+       "a fixed base)",
+       false},
       // Prepared parameters (KernelSet::Prepared): by default when they save a tenth of rhs per call.
       {"rhs_prepared", "rhs reading the prepared parameters P (prepare_parameters) in place of p", true},
       {"jacobian_prepared", "jacobian reading the prepared parameters P (prepare_parameters) in place of p", true},

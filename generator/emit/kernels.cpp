@@ -7,6 +7,7 @@
 #include "emit/polynomial_form.hpp"
 #include "emit/zero_test.hpp"
 #include "model/input_error.hpp"
+#include "rbd/centroidal.hpp"
 
 #include <cmath>
 #include <optional>
@@ -113,6 +114,7 @@ class KernelBuilder {
     }
     if (derivation_.bundle) bundle_kernels();
     if (want("riemann_linearization")) set_.kernels.push_back(riemann_linearization());
+    if (want("centroidal_momentum")) set_.kernels.push_back(centroidal_momentum());
     drop_identical_zeros();
     const bool prepared_named = only_.count("rhs_prepared") > 0 || only_.count("jacobian_prepared") > 0;
     if (only_.empty() || prepared_named) prepared_kernels(prepared_named);
@@ -147,6 +149,7 @@ class KernelBuilder {
   Kernel linearization();
   void bundle_kernels();
   Kernel riemann_linearization();
+  Kernel centroidal_momentum();
   void prepared_kernels(bool named);
 
   const Model& model_;
@@ -369,6 +372,43 @@ Kernel KernelBuilder::riemann_linearization() {
       linearization.output_names.push_back(name("G_dot", a, b));
     }
   return linearization;
+}
+
+// The centroidal momentum of a tree (rbd/centroidal.hpp), built only when asked for by name: h_G, A_G = dh_G/du
+// (forward mode on the state's velocity components: h_G is linear in u, so the columns are exact), and dA_G/dt u, the
+// tangent of h_G along q' = kinematics with u held (dh_G/dt = A_G u' + dA_G/dt u).
+Kernel KernelBuilder::centroidal_momentum() {
+  if (!eq_.tree)
+    throw InputError(model_.source_path +
+                     ": error: kernel 'centroidal_momentum' applies to kinematic trees (key 'tree'; on a "
+                     "floating base in the ep form); '" +
+                     model_.name + "' is not one");
+  const rbd::CentroidalMomentum c = rbd::centroidal_momentum(
+      *eq_.tree, rbd::Namer<GiNaC::ex>([this](const GiNaC::ex& e) { return tape_.define(e); }));
+  Kernel k = registered("centroidal_momentum");
+  static const char* const component[6] = {"Lx", "Ly", "Lz", "px", "py", "pz"};
+  std::vector<int> h;
+  for (std::size_t r = 0; r < 6; ++r) h.push_back(node_of_(c.momentum[r]));
+  for (std::size_t r = 0; r < 6; ++r) {
+    k.outputs.push_back(h[r]);
+    k.output_names.push_back(std::string("h_G[") + component[r] + "]");
+  }
+  std::vector<std::vector<int>> columns;
+  for (std::size_t I = 0; I < d_; ++I)
+    columns.push_back(tangent(g_, h, {{g_.input(Argument::state, n_ + static_cast<int>(I)), g_.constant(1)}}));
+  for (std::size_t r = 0; r < 6; ++r)
+    for (std::size_t I = 0; I < d_; ++I) {
+      k.outputs.push_back(columns[I][r]);
+      k.output_names.push_back(std::string("A_G[") + component[r] + "][" + name_of(eq_.independent[I]) + "]");
+    }
+  std::map<int, int> along;
+  for (int a = 0; a < n_; ++a) along[g_.input(Argument::state, a)] = kinematics_.outputs[static_cast<std::size_t>(a)];
+  const std::vector<int> rate = tangent(g_, h, along);
+  for (std::size_t r = 0; r < 6; ++r) {
+    k.outputs.push_back(rate[r]);
+    k.output_names.push_back(std::string("dA_G/dt u[") + component[r] + "]");
+  }
+  return k;
 }
 
 // Prepared parameters: the parameter-only work of rhs and jacobian hoisted into prepare (KernelSet::Prepared).

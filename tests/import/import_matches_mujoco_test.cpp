@@ -222,6 +222,69 @@ TEST(ImportedHumanoid, RhsUnderGravityMatchesMujocoForwardAtEveryOrientation) {
   expect_matches_mujoco(humanoid_gravity_pkg, HAMEL_HUMANOID_XML, 16);
 }
 
+// The centroidal momentum kernel against MuJoCo's own momentum of the torso's subtree (the whole humanoid):
+// mj_subtreeVel's angular momentum about the subtree's centre of mass and its centre-of-mass velocity times its mass,
+// in the world frame, turned into the torso's frame (the kernel's). Then A_G u = h_G, and dA_G/dt u against central
+// differences of the kernel's A_G along q_dot with u held.
+TEST(ImportedHumanoid, CentroidalMomentumMatchesMujocosSubtreeMomentum) {
+  const Package& pkg = humanoid_pkg;
+  Mujoco mj(HAMEL_HUMANOID_XML, false);
+  const int torso = mj_name2id(mj.m, mjOBJ_BODY, "torso");
+  ASSERT_GE(torso, 1);
+  const int n = pkg.n, nu = n + 6;
+  ASSERT_EQ(humanoid::n_out_centroidal_momentum, 6 + 6 * nu + 6);
+  const std::size_t rate_at = static_cast<std::size_t>(6 + 6 * nu);
+  std::mt19937_64 rng(17);
+  double worst = 0, worst_matrix = 0, worst_rate = 0;
+  for (int k = 0; k < kStates; ++k) {
+    const Sample s = random_sample(rng, pkg);
+    double energy = 0;
+    mujoco_accelerations(mj, pkg, s, energy);  // MuJoCo at this state (mj_forward)
+    mj_subtreeVel(mj.m, mj.d);
+    double R[3][3];
+    quat_to_R(s.quat.data(), R);
+    const double mass = mj.m->body_subtreemass[torso];
+    std::vector<double> ref(6, 0.0);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) {
+        ref[static_cast<std::size_t>(i)] += R[j][i] * mj.d->subtree_angmom[3 * torso + j];
+        ref[static_cast<std::size_t>(3 + i)] += R[j][i] * mass * mj.d->subtree_linvel[3 * torso + j];
+      }
+    std::vector<double> out(static_cast<std::size_t>(humanoid::n_out_centroidal_momentum));
+    humanoid::centroidal_momentum(0, s.x.data(), nullptr, s.in.data(), out.data());
+    const std::vector<double> h(out.begin(), out.begin() + 6);
+    worst = std::max(worst, relative_error(h, ref));
+    // h_G = A_G u, u = (ξ, ṙ) = x after the n joint angles.
+    const double* u = s.x.data() + n;
+    std::vector<double> Au(6, 0.0);
+    for (std::size_t r = 0; r < 6; ++r)
+      for (int I = 0; I < nu; ++I)
+        Au[r] += out[6 + r * static_cast<std::size_t>(nu) + static_cast<std::size_t>(I)] * u[I];
+    worst_matrix = std::max(worst_matrix, relative_error(Au, ref));
+    // dA_G/dt u: A_G at q ± ε q_dot (q_dot = ṙ), u held.
+    const double eps = 1e-6;
+    std::vector<double> fd(6, 0.0);
+    for (const double sign : {1.0, -1.0}) {
+      std::vector<double> x = s.x, o(out.size());
+      for (int i = 0; i < n; ++i) x[static_cast<std::size_t>(i)] += sign * eps * u[6 + i];
+      humanoid::centroidal_momentum(0, x.data(), nullptr, s.in.data(), o.data());
+      for (std::size_t r = 0; r < 6; ++r)
+        for (int I = 0; I < nu; ++I)
+          fd[r] += sign * o[6 + r * static_cast<std::size_t>(nu) + static_cast<std::size_t>(I)] * u[I] / (2 * eps);
+    }
+    worst_rate = std::max(worst_rate, relative_error(std::vector<double>(out.begin() + static_cast<long>(rate_at),
+                                                                         out.begin() + static_cast<long>(rate_at) + 6),
+                                                     fd));
+  }
+  std::printf(
+      "humanoid centroidal momentum against mj_subtreeVel: h_G %.2e, A_G u %.2e; dA_G/dt u against central "
+      "differences %.2e (%d states)\n",
+      worst, worst_matrix, worst_rate, kStates);
+  EXPECT_LE(worst, 1e-12);
+  EXPECT_LE(worst_matrix, 1e-12);
+  EXPECT_LE(worst_rate, 1e-7);
+}
+
 TEST(ImportedUrdfArm, RhsMatchesItsMjcfTwinInMujoco) {
   static_assert(arm7::n_coordinates == 7, "seven revolute joints; the fixed flange is merged");
   expect_matches_mujoco(arm7_pkg, HAMEL_ARM7_XML, 7);

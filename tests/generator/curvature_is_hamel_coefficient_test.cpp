@@ -7,6 +7,7 @@
 // also checked across its two shipped descriptions: models/rolling_ball.yaml (core, Euler angles) against
 // models/rolling_ball_bundle.yaml (bundle), with the parameters kept symbolic.
 #include "group_charts.hpp"
+#include "support/command.hpp"
 
 #include "algebra/simplify.hpp"
 #include "derive/bundle_connection.hpp"
@@ -29,10 +30,7 @@ namespace {
 using Key = std::tuple<int, int, int>;
 using Coefficients = std::map<Key, GiNaC::ex>;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : HAMEL_SOURCE_DIR_DEFAULT;  // test discovery runs without ctest's environment
-}
+using hamel::test::source_dir;
 
 hamel::Model fold_all(const hamel::Model& model) {
   std::map<std::string, double> values;

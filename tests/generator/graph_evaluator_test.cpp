@@ -8,6 +8,7 @@
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -19,10 +20,7 @@
 
 namespace {
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 std::vector<double> node_by_node(const hamel::ExpressionGraph& g, const std::vector<int>& outputs, double t,
                                  const std::vector<double>& x, const std::vector<double>& p,

@@ -4,6 +4,7 @@
 // where γ must also equal ±ε (Hamel: γ = +c for left-, −c for right-invariant velocities).
 #include "derive/derivation.hpp"
 #include "model/load_model.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -15,10 +16,7 @@
 
 namespace {
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 // Coordinates and parameters at `q` and the defaults, with every intermediate of `program` (the model's
 // definitions, rows of A given as expressions) evaluated through its definition.

@@ -7,6 +7,7 @@
 #include "emit/zero_test.hpp"
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -20,10 +21,7 @@ namespace {
 
 using namespace hamel;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 struct Builder {
   ExpressionGraph g;

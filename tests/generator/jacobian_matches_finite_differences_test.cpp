@@ -5,6 +5,7 @@
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -15,10 +16,7 @@
 
 namespace {
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 TEST(JacobianKernel, MatchesCentralDifferencesOfTheRightHandSide) {
   std::mt19937 rng(7);

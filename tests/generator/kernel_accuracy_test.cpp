@@ -6,6 +6,7 @@
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -17,10 +18,7 @@ namespace {
 
 using GiNaC::numeric;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 // |a − b| < 10^-exponent, in the current precision.
 bool close(const numeric& a, const numeric& b, int exponent) {

@@ -14,6 +14,7 @@
 #include "derive/derivation.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -27,10 +28,7 @@ namespace {
 using GiNaC::ex;
 using GiNaC::matrix;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 hamel::Model fold_all(const hamel::Model& model) {
   std::map<std::string, double> values;

@@ -3,6 +3,7 @@
 // errors follow their tolerance, and only the implicit method evaluates Jacobians; on a stiff model RK4's
 // steps start at its stability bound.
 #include <gtest/gtest.h>
+#include "support/command.hpp"
 
 #include <sys/wait.h>
 #include <unistd.h>
@@ -21,10 +22,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 std::vector<std::map<std::string, std::string>> read_csv(const fs::path& path, std::vector<std::string>& header) {
   std::ifstream in(path);

@@ -12,6 +12,7 @@
 #include "derive/bundle_connection.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -24,10 +25,7 @@ namespace {
 
 using GiNaC::ex;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 std::string shipped_text() {
   std::ifstream in(source_dir() + "/models/satellite_se3.yaml");

@@ -7,6 +7,7 @@
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 #include <unistd.h>
@@ -22,10 +23,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 std::string slurp(const fs::path& p) {
   std::ifstream in(p);

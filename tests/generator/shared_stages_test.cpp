@@ -17,6 +17,7 @@
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -247,10 +248,7 @@ TEST(SharedStages, NoneBelowTheThresholdOrForOneUnit) {
   EXPECT_TRUE(hamel::plan_shared_stages(prog.graph, {prog.units.front()}, 1).empty());
 }
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : HAMEL_SOURCE_DIR_DEFAULT;
-}
+using hamel::test::source_dir;
 
 // The kernels of a floating tree with two branches (the model of jacobian_calls_test): the jacobian as what its
 // stage computes before its calls, rhs with its pivots, as the package prints them.

@@ -13,6 +13,7 @@
 #include "derive/derivation.hpp"
 #include "model/fold_parameters.hpp"
 #include "model/load_model.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 #include <Eigen/Dense>
@@ -30,10 +31,7 @@ namespace {
 
 using GiNaC::ex;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 hamel::Model fold_all(const hamel::Model& model) {
   std::map<std::string, double> values;

@@ -11,6 +11,7 @@
 #include "calls_floating.hpp"
 #include "calls_planar.hpp"
 #include "space_robot.hpp"
+#include "support/command.hpp"
 
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
@@ -45,10 +46,7 @@ struct Package {
   KernelFn rhs, jacobian;
 };
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : HAMEL_SOURCE_DIR_DEFAULT;
-}
+using hamel::test::source_dir;
 
 double largest_difference(const std::vector<double>& a, const std::vector<double>& b) {
   double scale = 1, worst = 0;

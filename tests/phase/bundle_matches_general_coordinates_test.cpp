@@ -12,6 +12,7 @@
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/load_model.hpp"
+#include "support/command.hpp"
 
 #include "numeric/graph_evaluator.hpp"
 #include "numeric/phase.hpp"
@@ -34,10 +35,7 @@ namespace {
 using GiNaC::ex;
 using Mat3 = std::array<double, 9>;  // row-major
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 Mat3 multiply(const Mat3& a, const Mat3& b) {
   Mat3 c{};

@@ -34,6 +34,7 @@
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
 #include "numeric/phase.hpp"
+#include "support/command.hpp"
 
 #include <gtest/gtest.h>
 
@@ -51,10 +52,7 @@ namespace {
 
 using GiNaC::ex;
 
-std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 // Gauss–Legendre nodes and weights on [a, b] (Newton on the three-term recurrence).
 struct Rule {

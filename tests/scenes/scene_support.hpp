@@ -9,6 +9,7 @@
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
 #include "numeric/integrators.hpp"
+#include "support/command.hpp"
 
 #include <cmath>
 #include <cstdlib>
@@ -20,10 +21,7 @@
 
 namespace hamel::test {
 
-inline std::string source_dir() {
-  const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return dir ? dir : ".";
-}
+using hamel::test::source_dir;
 
 /// The integrators every scene runs with: fixed-step RK4, the two adaptive explicit ones and the implicit one.
 inline const std::vector<std::string>& scene_integrators() {

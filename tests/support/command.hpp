@@ -14,11 +14,15 @@
 
 namespace hamel::test {
 
-/// A file of the repository, e.g. source("models/double_pendulum.yaml").
-inline std::string source(const std::string& relative) {
+/// The repository's root: HAMEL_SOURCE_DIR, which ctest sets, else the one the test was built from (test discovery
+/// runs the binary without ctest's environment; tests/CMakeLists.txt defines HAMEL_SOURCE_DIR_DEFAULT).
+inline std::string source_dir() {
   const char* dir = std::getenv("HAMEL_SOURCE_DIR");
-  return std::string(dir ? dir : HAMEL_SOURCE_DIR_DEFAULT) + "/" + relative;  // tests/CMakeLists.txt defines it
+  return dir ? dir : HAMEL_SOURCE_DIR_DEFAULT;
 }
+
+/// A file of the repository, e.g. source("models/double_pendulum.yaml").
+inline std::string source(const std::string& relative) { return source_dir() + "/" + relative; }
 
 struct Outcome {
   int status;       ///< exit status, or −1 when the command did not exit normally

@@ -96,8 +96,12 @@ class ProgramPrinter {
     else
       print_whole(os);
     const int n_slots = schedule_.split ? schedule_.parts.n_slots : 0;
-    return {k_.name, os.str(), (static_cast<int>(schedule_.statements.size()) + n_slots) * d_.lanes, counts,
-            static_cast<int>(schedule_.functions.size())};
+    return {k_.name,
+            os.str(),
+            (static_cast<int>(schedule_.statements.size()) + n_slots) * d_.lanes,
+            counts,
+            static_cast<int>(schedule_.functions.size()),
+            n_slots * d_.lanes};
   }
 
  private:
@@ -171,10 +175,21 @@ void ProgramPrinter::print_parts(std::ostringstream& os) {
     calls << "  " << k_.name << "_part" << part << "(t, x, p, in, " << v << array_arguments(d_)
           << stage_arguments(d_, reads_, -1) << ");\n";
   const int driver_statements = static_cast<int>(schedule_.functions.size() + schedule_.driver.size());
-  os << "}  // namespace\n\n"
-     << out_of_line(d_.internal, driver_statements) << head_of(d_, k_.name, reads_) << " {\n"
-     << (n_slots > 0 ? "  real v[" + std::to_string(n_slots * d_.lanes) + "];\n" : std::string()) << calls.str()
-     << copies << "}\n";
+  os << "}  // namespace\n\n";
+  if (n_slots == 0) {
+    os << out_of_line(d_.internal, driver_statements) << head_of(d_, k_.name, reads_) << " {\n"
+       << calls.str() << copies << "}\n";
+    return;
+  }
+  // v[] in the caller's work space (<name>_work, for a caller with little stack: firmware), or on the stack.
+  const std::string head = head_of(d_, k_.name + "_work", reads_);
+  os << out_of_line(d_.internal, driver_statements) << head.substr(0, head.size() - 1) << ", real* work) {\n"
+     << "  real* const v = work;\n"
+     << calls.str() << copies << "}\n\n"
+     << head_of(d_, k_.name, reads_) << " {\n"
+     << "  real work[" << n_slots * d_.lanes << "];\n"
+     << "  " << k_.name << "_work(t, x, p, in" << array_arguments(d_) << stage_arguments(d_, reads_, -1)
+     << ", work);\n}\n";
 }
 
 std::string joined(const std::vector<std::string>& names) {

@@ -828,7 +828,7 @@ void rhs_with_pivots_work(real t, const real* x, const real* p, const real* in, 
   out[1] = x[6];  // q2_dot
 }
 
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+[[maybe_unused]] void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   real work[130];
   rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }

@@ -1247,8 +1247,8 @@ HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const r
 }  // namespace
 
 /* jacobian: (t, x[13], p[8], in[4]) -> out[169]: jacobian_stage, then 7 calls of jacobian_column  ops: 1564 add, 1644 mul, 51 div, 4 call */
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real scratch[148];
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const scratch = work;
   jacobian_stage(t, x, p, in, out, scratch);
   jacobian_column(t, scratch + 36, scratch, in, out + 65);
   jacobian_column(t, scratch + 52, scratch, in, out + 67);
@@ -1259,9 +1259,9 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   jacobian_column(t, scratch + 132, scratch, in, out + 76);
 }
 
-void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
-  (void)work;
-  jacobian(t, x, p, in, out);
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[148];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[13], p[8], in[4]) -> out[1]  ops: 26 add, 51 mul, 0 div, 4 call */

@@ -1840,7 +1840,7 @@ HAMEL_NOINLINE void jacobian_stage_work(real t, const real* x, const real* p, co
   scratch[143] = real(0.0);  // call 5, argument 8, lane 1
 }
 
-void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
+[[maybe_unused]] void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
   real work[127];
   jacobian_stage_work(t, x, p, in, out, scratch, work);
 }
@@ -1848,9 +1848,9 @@ void jacobian_stage(real t, const real* x, const real* p, const real* in, real* 
 }  // namespace
 
 /* jacobian: (t, x[12], p[23], in[9]) -> out[144]: jacobian_stage, then 6 calls of jacobian_column  ops: 1892 add, 1807 mul, 56 div, 6 call */
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real scratch[144];
-  jacobian_stage(t, x, p, in, out, scratch);
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const scratch = work;
+  jacobian_stage_work(t, x, p, in, out, scratch, work + 144);
   jacobian_column(t, scratch + 36, scratch, in, out + 36);
   jacobian_column(t, scratch + 54, scratch, in, out + 38);
   jacobian_column(t, scratch + 72, scratch, in, out + 40);
@@ -1859,9 +1859,9 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   jacobian_column(t, scratch + 126, scratch, in, out + 46);
 }
 
-void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
-  (void)work;
-  jacobian(t, x, p, in, out);
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[271];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[12], p[23], in[9]) -> out[1]  ops: 76 add, 142 mul, 0 div, 6 call */

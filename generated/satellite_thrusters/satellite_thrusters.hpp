@@ -109,7 +109,7 @@ constexpr int n_work_hamel_coefficients = 0;
 void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
 constexpr int n_work_rhs = 0;
 void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
-constexpr int n_work_jacobian = 0;
+constexpr int n_work_jacobian = 271;
 void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
 constexpr int n_work_energy = 0;
 void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work);

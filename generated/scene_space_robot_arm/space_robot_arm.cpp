@@ -835,7 +835,7 @@ void rhs_with_pivots_work(real t, const real* x, const real* p, const real* in, 
   pivots[0] = real(0.002);  // pivot 0
 }
 
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+[[maybe_unused]] void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   real work[148];
   rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }

@@ -845,7 +845,7 @@ void rhs_with_pivots_work(real t, const real* x, const real* p, const real* in, 
   pivots[0] = real(0.002);  // pivot 0
 }
 
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+[[maybe_unused]] void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   real work[148];
   rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
@@ -5453,7 +5453,7 @@ void jacobian_stage_work(real t, const real* x, const real* p, const real* in, r
   jacobian_stage_part6(t, x, p, in, v, out, scratch);
 }
 
-void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
+[[maybe_unused]] void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
   real work[746];
   jacobian_stage_work(t, x, p, in, out, scratch, work);
 }
@@ -5461,9 +5461,9 @@ void jacobian_stage(real t, const real* x, const real* p, const real* in, real* 
 }  // namespace
 
 /* jacobian: (t, x[20], p[26], in[7]) -> out[400]: jacobian_stage, then 10 calls of jacobian_column  ops: 7711 add, 7803 mul, 113 div, 14 call */
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real scratch[351];
-  jacobian_stage(t, x, p, in, out, scratch);
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const scratch = work;
+  jacobian_stage_work(t, x, p, in, out, scratch, work + 351);
   jacobian_column(t, scratch + 91, scratch, in, out + 140);
   jacobian_column(t, scratch + 117, scratch, in, out + 142);
   jacobian_column(t, scratch + 143, scratch, in, out + 144);
@@ -5476,9 +5476,9 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   jacobian_column(t, scratch + 325, scratch, in, out + 158);
 }
 
-void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
-  (void)work;
-  jacobian(t, x, p, in, out);
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[1097];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[20], p[26], in[7]) -> out[1]  ops: 211 add, 349 mul, 0 div, 14 call */

@@ -566,8 +566,9 @@ void PackageWriter::readme_kernels(std::ostream& md) const {
         "lists them with their sizes.\n\n"
      << "Each has a work-space form `<kernel>_work(t, x, p, in, out, work)` (C: `" << prefix
      << "<kernel>_work`) with the same results, for callers with little stack (firmware tasks): a kernel long enough "
-        "to be split into parts passes values between them in an array of `n_work_<kernel>` reals (column Work), "
-        "which the kernel keeps on its stack and the work-space form in the caller's `work` (a static array, say). "
+        "to be split into parts passes values between them in an array of `n_work_<kernel>` reals (column Work; a "
+        "tree's jacobian also the arguments of its column solves), which the kernel keeps on its stack and the "
+        "work-space form in the caller's `work` (a static array, say). "
         "The stack each needs on a Cortex-M is measured in hamel's docs/firmware.md.\n\n"
      << "| Kernel | Outputs | Temporaries | Work | Operations (add, mul, div, call) | Computes |\n"
         "|---|---|---|---|---|---|\n";

@@ -5,8 +5,11 @@ set -euo pipefail
 # for the test that the sources follow .clang-format (tools/check-format.sh).
 # With --fuzz it also installs libFuzzer and the clang sanitizer runtimes (tools/fuzz.sh only).
 # `hamel import` links urdfdom (URDF) and MuJoCo (MJCF); its tests read MuJoCo's sample humanoid.
+# The firmware check (tests/firmware) cross-compiles emitted packages for Cortex-M4F and M7 with the bare-metal GCC,
+# newlib and its C++ library, and runs them under QEMU's MPS2 boards.
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libgtest-dev
-          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang clang-format liburdfdom-dev libmujoco-dev libmujoco-samples)
+          libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang clang-format liburdfdom-dev libmujoco-dev libmujoco-samples
+          gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
 # With --scaling it also installs the peers of the scaling benchmark (tools/scaling.sh): SymPy, numpy,
 # matplotlib, MuJoCo and Google Benchmark.
 if [ "${1:-}" = "--fuzz" ]; then

@@ -41,6 +41,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = x[4];  // theta_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[5], p[3], in[2]) -> out[4]  ops: 1 add, 2 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -53,6 +58,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[3] = w0;  // M[omega][omega]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[5], p[3], in[2]) -> out[2]  ops: 2 add, 6 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -60,6 +70,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   const real w1 = in[0] - p[0] * (x[3] * p[2]) * x[4];
   out[0] = w0;  // f[v]
   out[1] = w1;  // f[omega]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[5], p[3], in[2]) -> out[4]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -74,6 +89,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[3] = real(-1.0);  // gamma^v_omega,u_lat
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[5], p[3], in[2]) -> out[5]  ops: 3 add, 10 mul, 2 div, 2 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -86,6 +106,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[2] = x[4];  // theta_dot
   out[3] = w2;  // v_rate
   out[4] = w3;  // omega_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[5], p[3], in[2]) -> out[25]  ops: 4 add, 12 mul, 2 div, 2 call */
@@ -128,6 +153,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[24] = w8;  // domega_rate/domega
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[5], p[3], in[2]) -> out[1]  ops: 2 add, 10 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -137,6 +167,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w1;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* constraint_residual: (t, x[5], p[3], in[2]) -> out[1]  ops: 0 add, 0 mul, 0 div, 0 call */
 void constraint_residual(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -144,6 +179,11 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   (void)p;
   (void)in;
   out[0] = real(0.0);  // u_lat
+}
+
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_residual(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -226,6 +266,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[4] = w3;  // omega_rate
 }
 
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
 /* jacobian_prepared: (t, x[5], p[8], in[2]) -> out[25]  ops: 1 add, 5 mul, 0 div, 2 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -264,6 +309,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[24] = w6;  // domega_rate/domega
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace chaplygin_sleigh
 
 extern "C" {
@@ -280,5 +330,15 @@ int chaplygin_sleigh_rhs_status(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPL
 void chaplygin_sleigh_prepare_parameters(const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, HAMEL_CHAPLYGIN_SLEIGH_REAL* prepared) { chaplygin_sleigh::prepare_parameters(p, prepared); }
 void chaplygin_sleigh_rhs_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::rhs_prepared(t, x, p, in, out); }
 void chaplygin_sleigh_jacobian_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out) { chaplygin_sleigh::jacobian_prepared(t, x, p, in, out); }
+void chaplygin_sleigh_kinematics_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::kinematics_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_mass_matrix_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::mass_matrix_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_forcing_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::forcing_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_hamel_coefficients_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::hamel_coefficients_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_rhs_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::rhs_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_jacobian_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::jacobian_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_energy_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::energy_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_constraint_residual_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::constraint_residual_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_rhs_prepared_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::rhs_prepared_work(t, x, p, in, out, work); }
+void chaplygin_sleigh_jacobian_prepared_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work) { chaplygin_sleigh::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,6 +11,36 @@
 #define HAMEL_CHAPLYGIN_SLEIGH_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: chaplygin_sleigh_rhs is the symbol chaplygin_sleigh_rhs_double,
+   or chaplygin_sleigh_rhs_float when HAMEL_CHAPLYGIN_SLEIGH_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_CHAPLYGIN_SLEIGH_REAL must be one token
+   (float or double). */
+#define HAMEL_CHAPLYGIN_SLEIGH_C_NAME(f) HAMEL_CHAPLYGIN_SLEIGH_C_NAME_EXPAND(f, HAMEL_CHAPLYGIN_SLEIGH_REAL)
+#define HAMEL_CHAPLYGIN_SLEIGH_C_NAME_EXPAND(f, r) HAMEL_CHAPLYGIN_SLEIGH_C_NAME_JOIN(f, r)
+#define HAMEL_CHAPLYGIN_SLEIGH_C_NAME_JOIN(f, r) chaplygin_sleigh_##f##_##r
+#define chaplygin_sleigh_kinematics HAMEL_CHAPLYGIN_SLEIGH_C_NAME(kinematics)
+#define chaplygin_sleigh_mass_matrix HAMEL_CHAPLYGIN_SLEIGH_C_NAME(mass_matrix)
+#define chaplygin_sleigh_forcing HAMEL_CHAPLYGIN_SLEIGH_C_NAME(forcing)
+#define chaplygin_sleigh_hamel_coefficients HAMEL_CHAPLYGIN_SLEIGH_C_NAME(hamel_coefficients)
+#define chaplygin_sleigh_rhs HAMEL_CHAPLYGIN_SLEIGH_C_NAME(rhs)
+#define chaplygin_sleigh_jacobian HAMEL_CHAPLYGIN_SLEIGH_C_NAME(jacobian)
+#define chaplygin_sleigh_energy HAMEL_CHAPLYGIN_SLEIGH_C_NAME(energy)
+#define chaplygin_sleigh_constraint_residual HAMEL_CHAPLYGIN_SLEIGH_C_NAME(constraint_residual)
+#define chaplygin_sleigh_rhs_status HAMEL_CHAPLYGIN_SLEIGH_C_NAME(rhs_status)
+#define chaplygin_sleigh_prepare_parameters HAMEL_CHAPLYGIN_SLEIGH_C_NAME(prepare_parameters)
+#define chaplygin_sleigh_rhs_prepared HAMEL_CHAPLYGIN_SLEIGH_C_NAME(rhs_prepared)
+#define chaplygin_sleigh_jacobian_prepared HAMEL_CHAPLYGIN_SLEIGH_C_NAME(jacobian_prepared)
+#define chaplygin_sleigh_kinematics_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(kinematics_work)
+#define chaplygin_sleigh_mass_matrix_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(mass_matrix_work)
+#define chaplygin_sleigh_forcing_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(forcing_work)
+#define chaplygin_sleigh_hamel_coefficients_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(hamel_coefficients_work)
+#define chaplygin_sleigh_rhs_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(rhs_work)
+#define chaplygin_sleigh_jacobian_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(jacobian_work)
+#define chaplygin_sleigh_energy_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(energy_work)
+#define chaplygin_sleigh_constraint_residual_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(constraint_residual_work)
+#define chaplygin_sleigh_rhs_prepared_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(rhs_prepared_work)
+#define chaplygin_sleigh_jacobian_prepared_work HAMEL_CHAPLYGIN_SLEIGH_C_NAME(jacobian_prepared_work)
+
 #define CHAPLYGIN_SLEIGH_N_STATE 5
 #define CHAPLYGIN_SLEIGH_N_PARAMETERS 3
 #define CHAPLYGIN_SLEIGH_N_INPUTS 2
@@ -23,6 +53,16 @@
 #define CHAPLYGIN_SLEIGH_N_OUT_ENERGY 1
 #define CHAPLYGIN_SLEIGH_N_OUT_CONSTRAINT_RESIDUAL 1
 #define CHAPLYGIN_SLEIGH_N_PREPARED_PARAMETERS 8
+#define CHAPLYGIN_SLEIGH_N_WORK_KINEMATICS 0
+#define CHAPLYGIN_SLEIGH_N_WORK_MASS_MATRIX 0
+#define CHAPLYGIN_SLEIGH_N_WORK_FORCING 0
+#define CHAPLYGIN_SLEIGH_N_WORK_HAMEL_COEFFICIENTS 0
+#define CHAPLYGIN_SLEIGH_N_WORK_RHS 0
+#define CHAPLYGIN_SLEIGH_N_WORK_JACOBIAN 0
+#define CHAPLYGIN_SLEIGH_N_WORK_ENERGY 0
+#define CHAPLYGIN_SLEIGH_N_WORK_CONSTRAINT_RESIDUAL 0
+#define CHAPLYGIN_SLEIGH_N_WORK_RHS_PREPARED 0
+#define CHAPLYGIN_SLEIGH_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -53,6 +93,18 @@ void chaplygin_sleigh_prepare_parameters(const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, H
 void chaplygin_sleigh_rhs_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out);
 /* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
 void chaplygin_sleigh_jacobian_prepared(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out);
+/* Work-space forms (chaplygin_sleigh.hpp): <kernel>_work(t, x, p, in, out, work) with work[CHAPLYGIN_SLEIGH_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void chaplygin_sleigh_kinematics_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_mass_matrix_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_forcing_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_hamel_coefficients_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_rhs_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_jacobian_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_energy_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_constraint_residual_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_rhs_prepared_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
+void chaplygin_sleigh_jacobian_prepared_work(HAMEL_CHAPLYGIN_SLEIGH_REAL t, const HAMEL_CHAPLYGIN_SLEIGH_REAL* x, const HAMEL_CHAPLYGIN_SLEIGH_REAL* p, const HAMEL_CHAPLYGIN_SLEIGH_REAL* in, HAMEL_CHAPLYGIN_SLEIGH_REAL* out, HAMEL_CHAPLYGIN_SLEIGH_REAL* work);
 
 #ifdef __cplusplus
 }

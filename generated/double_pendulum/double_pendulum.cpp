@@ -48,6 +48,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[1] = x[3];  // theta2_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[4], p[5], in[0]) -> out[4]  ops: 2 add, 13 mul, 0 div, 4 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -60,6 +65,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[1] = w2;  // M[omega1][omega2]
   out[2] = w2;  // M[omega2][omega1]
   out[3] = w3;  // M[omega2][omega2]
+}
+
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
 }
 
 /* forcing: (t, x[4], p[5], in[0]) -> out[2]  ops: 5 add, 19 mul, 0 div, 4 call */
@@ -76,6 +86,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[1] = w5;  // f[omega2]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[4], p[5], in[0]) -> out[0]  ops: 0 add, 0 mul, 0 div, 0 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -83,6 +98,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   (void)p;
   (void)in;
   (void)out;
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[4], p[5], in[0]) -> out[4]  ops: 10 add, 29 mul, 3 div, 4 call */
@@ -107,6 +127,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[1] = x[3];  // theta2_dot
   out[2] = w13;  // omega1_rate
   out[3] = w12;  // omega2_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[4], p[5], in[0]) -> out[16]  ops: 28 add, 59 mul, 5 div, 4 call */
@@ -169,6 +194,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[15] = w36;  // domega2_rate/domega2
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[4], p[5], in[0]) -> out[1]  ops: 7 add, 34 mul, 0 div, 4 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -183,6 +213,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   const real w7 = p[0] * (p[2] * w0) * p[4] - p[1] * (p[3] * p[3]) * (x[3] * x[3]) * real(0.5) + p[4] * (w1 * (p[1] * p[3])) + w2 - w5 - w6;
   const real w8 = x[2] * (w0 * (p[2] * (p[1] * x[3])) * p[3] * w1) - (w7 - std::sin(x[1]) * (p[2] * (x[3] * (std::sin(x[0]) * p[1])) * p[3]) * x[2]);
   out[0] = w8;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -281,6 +316,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[3] = w7;  // omega2_rate
 }
 
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
 /* jacobian_prepared: (t, x[4], p[14], in[0]) -> out[16]  ops: 27 add, 51 mul, 4 div, 4 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -337,6 +377,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[15] = w32;  // domega2_rate/domega2
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace double_pendulum
 
 extern "C" {
@@ -352,5 +397,14 @@ int double_pendulum_rhs_status(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_
 void double_pendulum_prepare_parameters(const HAMEL_DOUBLE_PENDULUM_REAL* p, HAMEL_DOUBLE_PENDULUM_REAL* prepared) { double_pendulum::prepare_parameters(p, prepared); }
 void double_pendulum_rhs_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::rhs_prepared(t, x, p, in, out); }
 void double_pendulum_jacobian_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out) { double_pendulum::jacobian_prepared(t, x, p, in, out); }
+void double_pendulum_kinematics_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::kinematics_work(t, x, p, in, out, work); }
+void double_pendulum_mass_matrix_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::mass_matrix_work(t, x, p, in, out, work); }
+void double_pendulum_forcing_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::forcing_work(t, x, p, in, out, work); }
+void double_pendulum_hamel_coefficients_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::hamel_coefficients_work(t, x, p, in, out, work); }
+void double_pendulum_rhs_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::rhs_work(t, x, p, in, out, work); }
+void double_pendulum_jacobian_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::jacobian_work(t, x, p, in, out, work); }
+void double_pendulum_energy_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::energy_work(t, x, p, in, out, work); }
+void double_pendulum_rhs_prepared_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::rhs_prepared_work(t, x, p, in, out, work); }
+void double_pendulum_jacobian_prepared_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work) { double_pendulum::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,6 +11,34 @@
 #define HAMEL_DOUBLE_PENDULUM_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: double_pendulum_rhs is the symbol double_pendulum_rhs_double,
+   or double_pendulum_rhs_float when HAMEL_DOUBLE_PENDULUM_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_DOUBLE_PENDULUM_REAL must be one token
+   (float or double). */
+#define HAMEL_DOUBLE_PENDULUM_C_NAME(f) HAMEL_DOUBLE_PENDULUM_C_NAME_EXPAND(f, HAMEL_DOUBLE_PENDULUM_REAL)
+#define HAMEL_DOUBLE_PENDULUM_C_NAME_EXPAND(f, r) HAMEL_DOUBLE_PENDULUM_C_NAME_JOIN(f, r)
+#define HAMEL_DOUBLE_PENDULUM_C_NAME_JOIN(f, r) double_pendulum_##f##_##r
+#define double_pendulum_kinematics HAMEL_DOUBLE_PENDULUM_C_NAME(kinematics)
+#define double_pendulum_mass_matrix HAMEL_DOUBLE_PENDULUM_C_NAME(mass_matrix)
+#define double_pendulum_forcing HAMEL_DOUBLE_PENDULUM_C_NAME(forcing)
+#define double_pendulum_hamel_coefficients HAMEL_DOUBLE_PENDULUM_C_NAME(hamel_coefficients)
+#define double_pendulum_rhs HAMEL_DOUBLE_PENDULUM_C_NAME(rhs)
+#define double_pendulum_jacobian HAMEL_DOUBLE_PENDULUM_C_NAME(jacobian)
+#define double_pendulum_energy HAMEL_DOUBLE_PENDULUM_C_NAME(energy)
+#define double_pendulum_rhs_status HAMEL_DOUBLE_PENDULUM_C_NAME(rhs_status)
+#define double_pendulum_prepare_parameters HAMEL_DOUBLE_PENDULUM_C_NAME(prepare_parameters)
+#define double_pendulum_rhs_prepared HAMEL_DOUBLE_PENDULUM_C_NAME(rhs_prepared)
+#define double_pendulum_jacobian_prepared HAMEL_DOUBLE_PENDULUM_C_NAME(jacobian_prepared)
+#define double_pendulum_kinematics_work HAMEL_DOUBLE_PENDULUM_C_NAME(kinematics_work)
+#define double_pendulum_mass_matrix_work HAMEL_DOUBLE_PENDULUM_C_NAME(mass_matrix_work)
+#define double_pendulum_forcing_work HAMEL_DOUBLE_PENDULUM_C_NAME(forcing_work)
+#define double_pendulum_hamel_coefficients_work HAMEL_DOUBLE_PENDULUM_C_NAME(hamel_coefficients_work)
+#define double_pendulum_rhs_work HAMEL_DOUBLE_PENDULUM_C_NAME(rhs_work)
+#define double_pendulum_jacobian_work HAMEL_DOUBLE_PENDULUM_C_NAME(jacobian_work)
+#define double_pendulum_energy_work HAMEL_DOUBLE_PENDULUM_C_NAME(energy_work)
+#define double_pendulum_rhs_prepared_work HAMEL_DOUBLE_PENDULUM_C_NAME(rhs_prepared_work)
+#define double_pendulum_jacobian_prepared_work HAMEL_DOUBLE_PENDULUM_C_NAME(jacobian_prepared_work)
+
 #define DOUBLE_PENDULUM_N_STATE 4
 #define DOUBLE_PENDULUM_N_PARAMETERS 5
 #define DOUBLE_PENDULUM_N_INPUTS 0
@@ -22,6 +50,15 @@
 #define DOUBLE_PENDULUM_N_OUT_JACOBIAN 16
 #define DOUBLE_PENDULUM_N_OUT_ENERGY 1
 #define DOUBLE_PENDULUM_N_PREPARED_PARAMETERS 14
+#define DOUBLE_PENDULUM_N_WORK_KINEMATICS 0
+#define DOUBLE_PENDULUM_N_WORK_MASS_MATRIX 0
+#define DOUBLE_PENDULUM_N_WORK_FORCING 0
+#define DOUBLE_PENDULUM_N_WORK_HAMEL_COEFFICIENTS 0
+#define DOUBLE_PENDULUM_N_WORK_RHS 0
+#define DOUBLE_PENDULUM_N_WORK_JACOBIAN 0
+#define DOUBLE_PENDULUM_N_WORK_ENERGY 0
+#define DOUBLE_PENDULUM_N_WORK_RHS_PREPARED 0
+#define DOUBLE_PENDULUM_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -50,6 +87,17 @@ void double_pendulum_prepare_parameters(const HAMEL_DOUBLE_PENDULUM_REAL* p, HAM
 void double_pendulum_rhs_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out);
 /* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
 void double_pendulum_jacobian_prepared(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out);
+/* Work-space forms (double_pendulum.hpp): <kernel>_work(t, x, p, in, out, work) with work[DOUBLE_PENDULUM_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void double_pendulum_kinematics_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_mass_matrix_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_forcing_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_hamel_coefficients_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_rhs_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_jacobian_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_energy_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_rhs_prepared_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
+void double_pendulum_jacobian_prepared_work(HAMEL_DOUBLE_PENDULUM_REAL t, const HAMEL_DOUBLE_PENDULUM_REAL* x, const HAMEL_DOUBLE_PENDULUM_REAL* p, const HAMEL_DOUBLE_PENDULUM_REAL* in, HAMEL_DOUBLE_PENDULUM_REAL* out, HAMEL_DOUBLE_PENDULUM_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -833,12 +833,17 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
 
 }  // namespace
 
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
-  real v[150];
+void rhs_with_pivots_work(real t, const real* x, const real* p, const real* in, real* out, real* pivots, real* work) {
+  real* const v = work;
   rhs_with_pivots_part0(t, x, p, in, v, out, pivots);
   rhs_with_pivots_part1(t, x, p, in, v, out, pivots);
   out[0] = x[5];  // psi_dot
   out[1] = x[6];  // theta_dot
+}
+
+[[maybe_unused]] void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  real work[150];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 }  // namespace
@@ -850,6 +855,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   (void)in;
   out[0] = x[5];  // psi_dot
   out[1] = x[6];  // theta_dot
+}
+
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
 }
 
 /* mass_matrix: (t, x[7], p[9], in[0]) -> out[25]  ops: 189 add, 425 mul, 18 div, 4 call */
@@ -1040,6 +1050,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[22] = real(0.0);  // M[theta_dot][wz_locked]
   out[23] = real(0.0);  // M[theta_dot][psi_dot]
   out[24] = w158;  // M[theta_dot][theta_dot]
+}
+
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
 }
 
 /* forcing: (t, x[7], p[9], in[0]) -> out[5]  ops: 820 add, 1347 mul, 238 div, 4 call */
@@ -1795,10 +1810,15 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
 
 }  // namespace
 
-void forcing(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[163];
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const v = work;
   forcing_part0(t, x, p, in, v, out);
   forcing_part1(t, x, p, in, v, out);
+}
+
+void forcing(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[163];
+  forcing_work(t, x, p, in, out, work);
 }
 
 /* hamel_coefficients: (t, x[7], p[9], in[0]) -> out[32]  ops: 382 add, 783 mul, 116 div, 4 call */
@@ -2170,10 +2190,20 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[31] = w329;  // gamma^wz_locked_theta_dot,psi_dot
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[7], p[9], in[0]) -> out[7]: rhs_with_pivots  ops: 906 add, 1486 mul, 252 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)
   rhs_with_pivots(t, x, p, in, out, pivots);
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 /* jacobian: (t, x[7], p[9], in[0]) -> out[49]  ops: 5372 add, 6289 mul, 2240 div, 4 call */
@@ -7619,8 +7649,8 @@ HAMEL_NOINLINE void jacobian_part6(real t, const real* x, const real* p, const r
 
 }  // namespace
 
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[1391];
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const v = work;
   jacobian_part0(t, x, p, in, v, out);
   jacobian_part1(t, x, p, in, v, out);
   jacobian_part2(t, x, p, in, v, out);
@@ -7643,6 +7673,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[12] = real(0.0);  // dtheta_dot/dpsi_dot
   out[13] = real(1.0);  // dtheta_dot/dtheta_dot
   out[33] = real(0.0);  // dwz_locked_rate/dpsi_dot
+}
+
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[1391];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[7], p[9], in[0]) -> out[1]  ops: 173 add, 433 mul, 17 div, 4 call */
@@ -7782,6 +7817,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w129;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* group_velocity: (t, x[7], p[9], in[0]) -> out[3]  ops: 98 add, 285 mul, 12 div, 4 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -7882,6 +7922,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[0] = w90;  // wx
   out[1] = w91;  // wy
   out[2] = w92;  // wz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[7], p[9], in[0]) -> out[6]  ops: 92 add, 280 mul, 12 div, 4 call */
@@ -7991,6 +8036,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[5] = real(0.0);  // A[wz][theta]
 }
 
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
+}
+
 /* locked_inertia: (t, x[7], p[9], in[0]) -> out[9]  ops: 28 add, 55 mul, 1 div, 4 call */
 void locked_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -8028,6 +8078,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[6] = w19;  // L[wz][wx]
   out[7] = w22;  // L[wz][wy]
   out[8] = w23;  // L[wz][wz]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 /* shape_inertia: (t, x[7], p[9], in[0]) -> out[4]  ops: 148 add, 585 mul, 9 div, 4 call */
@@ -8193,6 +8248,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[3] = w152;  // M_shape[theta][theta]
 }
 
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
+}
+
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
   real all[n_out_rhs];
   real pivots[n_pivots_rhs];
@@ -8247,5 +8307,16 @@ void falling_cat_connection(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_RE
 void falling_cat_locked_inertia(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out) { falling_cat::locked_inertia(t, x, p, in, out); }
 void falling_cat_shape_inertia(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out) { falling_cat::shape_inertia(t, x, p, in, out); }
 int falling_cat_rhs_status(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out) { return falling_cat::rhs_status(t, x, p, in, out); }
+void falling_cat_kinematics_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::kinematics_work(t, x, p, in, out, work); }
+void falling_cat_mass_matrix_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::mass_matrix_work(t, x, p, in, out, work); }
+void falling_cat_forcing_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::forcing_work(t, x, p, in, out, work); }
+void falling_cat_hamel_coefficients_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::hamel_coefficients_work(t, x, p, in, out, work); }
+void falling_cat_rhs_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::rhs_work(t, x, p, in, out, work); }
+void falling_cat_jacobian_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::jacobian_work(t, x, p, in, out, work); }
+void falling_cat_energy_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::energy_work(t, x, p, in, out, work); }
+void falling_cat_group_velocity_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::group_velocity_work(t, x, p, in, out, work); }
+void falling_cat_connection_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::connection_work(t, x, p, in, out, work); }
+void falling_cat_locked_inertia_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::locked_inertia_work(t, x, p, in, out, work); }
+void falling_cat_shape_inertia_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work) { falling_cat::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,6 +11,37 @@
 #define HAMEL_FALLING_CAT_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: falling_cat_rhs is the symbol falling_cat_rhs_double,
+   or falling_cat_rhs_float when HAMEL_FALLING_CAT_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_FALLING_CAT_REAL must be one token
+   (float or double). */
+#define HAMEL_FALLING_CAT_C_NAME(f) HAMEL_FALLING_CAT_C_NAME_EXPAND(f, HAMEL_FALLING_CAT_REAL)
+#define HAMEL_FALLING_CAT_C_NAME_EXPAND(f, r) HAMEL_FALLING_CAT_C_NAME_JOIN(f, r)
+#define HAMEL_FALLING_CAT_C_NAME_JOIN(f, r) falling_cat_##f##_##r
+#define falling_cat_kinematics HAMEL_FALLING_CAT_C_NAME(kinematics)
+#define falling_cat_mass_matrix HAMEL_FALLING_CAT_C_NAME(mass_matrix)
+#define falling_cat_forcing HAMEL_FALLING_CAT_C_NAME(forcing)
+#define falling_cat_hamel_coefficients HAMEL_FALLING_CAT_C_NAME(hamel_coefficients)
+#define falling_cat_rhs HAMEL_FALLING_CAT_C_NAME(rhs)
+#define falling_cat_jacobian HAMEL_FALLING_CAT_C_NAME(jacobian)
+#define falling_cat_energy HAMEL_FALLING_CAT_C_NAME(energy)
+#define falling_cat_group_velocity HAMEL_FALLING_CAT_C_NAME(group_velocity)
+#define falling_cat_connection HAMEL_FALLING_CAT_C_NAME(connection)
+#define falling_cat_locked_inertia HAMEL_FALLING_CAT_C_NAME(locked_inertia)
+#define falling_cat_shape_inertia HAMEL_FALLING_CAT_C_NAME(shape_inertia)
+#define falling_cat_rhs_status HAMEL_FALLING_CAT_C_NAME(rhs_status)
+#define falling_cat_kinematics_work HAMEL_FALLING_CAT_C_NAME(kinematics_work)
+#define falling_cat_mass_matrix_work HAMEL_FALLING_CAT_C_NAME(mass_matrix_work)
+#define falling_cat_forcing_work HAMEL_FALLING_CAT_C_NAME(forcing_work)
+#define falling_cat_hamel_coefficients_work HAMEL_FALLING_CAT_C_NAME(hamel_coefficients_work)
+#define falling_cat_rhs_work HAMEL_FALLING_CAT_C_NAME(rhs_work)
+#define falling_cat_jacobian_work HAMEL_FALLING_CAT_C_NAME(jacobian_work)
+#define falling_cat_energy_work HAMEL_FALLING_CAT_C_NAME(energy_work)
+#define falling_cat_group_velocity_work HAMEL_FALLING_CAT_C_NAME(group_velocity_work)
+#define falling_cat_connection_work HAMEL_FALLING_CAT_C_NAME(connection_work)
+#define falling_cat_locked_inertia_work HAMEL_FALLING_CAT_C_NAME(locked_inertia_work)
+#define falling_cat_shape_inertia_work HAMEL_FALLING_CAT_C_NAME(shape_inertia_work)
+
 #define FALLING_CAT_N_STATE 7
 #define FALLING_CAT_N_PARAMETERS 9
 #define FALLING_CAT_N_INPUTS 0
@@ -25,6 +56,17 @@
 #define FALLING_CAT_N_OUT_CONNECTION 6
 #define FALLING_CAT_N_OUT_LOCKED_INERTIA 9
 #define FALLING_CAT_N_OUT_SHAPE_INERTIA 4
+#define FALLING_CAT_N_WORK_KINEMATICS 0
+#define FALLING_CAT_N_WORK_MASS_MATRIX 0
+#define FALLING_CAT_N_WORK_FORCING 163
+#define FALLING_CAT_N_WORK_HAMEL_COEFFICIENTS 0
+#define FALLING_CAT_N_WORK_RHS 150
+#define FALLING_CAT_N_WORK_JACOBIAN 1391
+#define FALLING_CAT_N_WORK_ENERGY 0
+#define FALLING_CAT_N_WORK_GROUP_VELOCITY 0
+#define FALLING_CAT_N_WORK_CONNECTION 0
+#define FALLING_CAT_N_WORK_LOCKED_INERTIA 0
+#define FALLING_CAT_N_WORK_SHAPE_INERTIA 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +97,19 @@ void falling_cat_shape_inertia(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int falling_cat_rhs_status(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out);
+/* Work-space forms (falling_cat.hpp): <kernel>_work(t, x, p, in, out, work) with work[FALLING_CAT_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void falling_cat_kinematics_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_mass_matrix_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_forcing_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_hamel_coefficients_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_rhs_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_jacobian_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_energy_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_group_velocity_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_connection_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_locked_inertia_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
+void falling_cat_shape_inertia_work(HAMEL_FALLING_CAT_REAL t, const HAMEL_FALLING_CAT_REAL* x, const HAMEL_FALLING_CAT_REAL* p, const HAMEL_FALLING_CAT_REAL* in, HAMEL_FALLING_CAT_REAL* out, HAMEL_FALLING_CAT_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -187,6 +187,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = w7;  // theta3_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[4], p[8], in[0]) -> out[1]  ops: 19 add, 63 mul, 1 div, 6 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -215,6 +220,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   const real w21 = w20 + w10 * p[4] - w11 * p[4] * w12 * w13 * real(2.0) + w2 * (p[6] * w0) + w4 * (w17 * w8) * w0 * p[5] * w13;
   const real w22 = (w21 + w0 * (w5 * w9) * p[5]) / (w2 + (w9 - w9 * w2 * real(2.0)) - w8 * w1 * w12 * w13 * real(2.0)) * real(0.3333333333333333);
   out[0] = w22;  // M[theta1_dot][theta1_dot]
+}
+
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
 }
 
 /* forcing: (t, x[4], p[8], in[0]) -> out[1]  ops: 103 add, 328 mul, 16 div, 6 call */
@@ -339,6 +349,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w114;  // f[theta1_dot]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[4], p[8], in[0]) -> out[0]  ops: 0 add, 0 mul, 0 div, 0 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -346,6 +361,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   (void)p;
   (void)in;
   (void)out;
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[4], p[8], in[0]) -> out[4]  ops: 124 add, 395 mul, 20 div, 6 call */
@@ -493,6 +513,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[1] = w11;  // theta2_dot
   out[2] = w15;  // theta3_dot
   out[3] = w136;  // theta1_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[4], p[8], in[0]) -> out[16]  ops: 499 add, 1425 mul, 188 div, 6 call */
@@ -1176,14 +1201,19 @@ void jacobian_part1(real t, const real* x, const real* p, const real* in, real* 
 
 }  // namespace
 
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[161];
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const v = work;
   jacobian_part0(t, x, p, in, v, out);
   jacobian_part1(t, x, p, in, v, out);
   out[0] = real(0.0);  // dtheta1_dot/dtheta1
   out[1] = real(0.0);  // dtheta1_dot/dtheta2
   out[2] = real(0.0);  // dtheta1_dot/dtheta3
   out[3] = real(1.0);  // dtheta1_dot/dtheta1_dot
+}
+
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[161];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[4], p[8], in[0]) -> out[1]  ops: 54 add, 229 mul, 9 div, 6 call */
@@ -1256,6 +1286,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w62;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* constraint_residual: (t, x[4], p[8], in[0]) -> out[4]  ops: 14 add, 27 mul, 4 div, 6 call */
 void constraint_residual(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1285,6 +1320,11 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[3] = w18;  // g[loop_y]
 }
 
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_residual(t, x, p, in, out);
+}
+
 /* constraint_position: (t, x[4], p[8], in[0]) -> out[2]  ops: 5 add, 6 mul, 0 div, 6 call */
 void constraint_position(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1293,6 +1333,11 @@ void constraint_position(real t, const real* x, const real* p, const real* in, r
   const real w1 = p[1] * std::sin(x[1]) - p[2] * std::sin(x[2]) + std::sin(x[0]) * p[0];
   out[0] = w0;  // loop_x
   out[1] = w1;  // loop_y
+}
+
+void constraint_position_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_position(t, x, p, in, out);
 }
 
 /* constraint_position_jacobian: (t, x[4], p[8], in[0]) -> out[6]  ops: 3 add, 6 mul, 0 div, 6 call */
@@ -1311,6 +1356,11 @@ void constraint_position_jacobian(real t, const real* x, const real* p, const re
   out[3] = w3;  // dloop_y/dtheta1
   out[4] = w4;  // dloop_y/dtheta2
   out[5] = w5;  // dloop_y/dtheta3
+}
+
+void constraint_position_jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_position_jacobian(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -1568,6 +1618,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[1] = w11;  // theta2_dot
   out[2] = w13;  // theta3_dot
   out[3] = w107;  // theta1_dot_rate
+}
+
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
 }
 
 /* jacobian_prepared: (t, x[4], p[46], in[0]) -> out[16]  ops: 499 add, 1232 mul, 188 div, 6 call */
@@ -2008,6 +2063,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[15] = w415;  // dtheta1_dot_rate/dtheta1_dot
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace four_bar
 
 extern "C" {
@@ -2026,5 +2086,17 @@ int four_bar_rhs_status(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, con
 void four_bar_prepare_parameters(const HAMEL_FOUR_BAR_REAL* p, HAMEL_FOUR_BAR_REAL* prepared) { four_bar::prepare_parameters(p, prepared); }
 void four_bar_rhs_prepared(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out) { four_bar::rhs_prepared(t, x, p, in, out); }
 void four_bar_jacobian_prepared(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out) { four_bar::jacobian_prepared(t, x, p, in, out); }
+void four_bar_kinematics_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::kinematics_work(t, x, p, in, out, work); }
+void four_bar_mass_matrix_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::mass_matrix_work(t, x, p, in, out, work); }
+void four_bar_forcing_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::forcing_work(t, x, p, in, out, work); }
+void four_bar_hamel_coefficients_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::hamel_coefficients_work(t, x, p, in, out, work); }
+void four_bar_rhs_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::rhs_work(t, x, p, in, out, work); }
+void four_bar_jacobian_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::jacobian_work(t, x, p, in, out, work); }
+void four_bar_energy_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::energy_work(t, x, p, in, out, work); }
+void four_bar_constraint_residual_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::constraint_residual_work(t, x, p, in, out, work); }
+void four_bar_constraint_position_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::constraint_position_work(t, x, p, in, out, work); }
+void four_bar_constraint_position_jacobian_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::constraint_position_jacobian_work(t, x, p, in, out, work); }
+void four_bar_rhs_prepared_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::rhs_prepared_work(t, x, p, in, out, work); }
+void four_bar_jacobian_prepared_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work) { four_bar::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

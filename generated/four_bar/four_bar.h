@@ -11,6 +11,40 @@
 #define HAMEL_FOUR_BAR_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: four_bar_rhs is the symbol four_bar_rhs_double,
+   or four_bar_rhs_float when HAMEL_FOUR_BAR_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_FOUR_BAR_REAL must be one token
+   (float or double). */
+#define HAMEL_FOUR_BAR_C_NAME(f) HAMEL_FOUR_BAR_C_NAME_EXPAND(f, HAMEL_FOUR_BAR_REAL)
+#define HAMEL_FOUR_BAR_C_NAME_EXPAND(f, r) HAMEL_FOUR_BAR_C_NAME_JOIN(f, r)
+#define HAMEL_FOUR_BAR_C_NAME_JOIN(f, r) four_bar_##f##_##r
+#define four_bar_kinematics HAMEL_FOUR_BAR_C_NAME(kinematics)
+#define four_bar_mass_matrix HAMEL_FOUR_BAR_C_NAME(mass_matrix)
+#define four_bar_forcing HAMEL_FOUR_BAR_C_NAME(forcing)
+#define four_bar_hamel_coefficients HAMEL_FOUR_BAR_C_NAME(hamel_coefficients)
+#define four_bar_rhs HAMEL_FOUR_BAR_C_NAME(rhs)
+#define four_bar_jacobian HAMEL_FOUR_BAR_C_NAME(jacobian)
+#define four_bar_energy HAMEL_FOUR_BAR_C_NAME(energy)
+#define four_bar_constraint_residual HAMEL_FOUR_BAR_C_NAME(constraint_residual)
+#define four_bar_constraint_position HAMEL_FOUR_BAR_C_NAME(constraint_position)
+#define four_bar_constraint_position_jacobian HAMEL_FOUR_BAR_C_NAME(constraint_position_jacobian)
+#define four_bar_rhs_status HAMEL_FOUR_BAR_C_NAME(rhs_status)
+#define four_bar_prepare_parameters HAMEL_FOUR_BAR_C_NAME(prepare_parameters)
+#define four_bar_rhs_prepared HAMEL_FOUR_BAR_C_NAME(rhs_prepared)
+#define four_bar_jacobian_prepared HAMEL_FOUR_BAR_C_NAME(jacobian_prepared)
+#define four_bar_kinematics_work HAMEL_FOUR_BAR_C_NAME(kinematics_work)
+#define four_bar_mass_matrix_work HAMEL_FOUR_BAR_C_NAME(mass_matrix_work)
+#define four_bar_forcing_work HAMEL_FOUR_BAR_C_NAME(forcing_work)
+#define four_bar_hamel_coefficients_work HAMEL_FOUR_BAR_C_NAME(hamel_coefficients_work)
+#define four_bar_rhs_work HAMEL_FOUR_BAR_C_NAME(rhs_work)
+#define four_bar_jacobian_work HAMEL_FOUR_BAR_C_NAME(jacobian_work)
+#define four_bar_energy_work HAMEL_FOUR_BAR_C_NAME(energy_work)
+#define four_bar_constraint_residual_work HAMEL_FOUR_BAR_C_NAME(constraint_residual_work)
+#define four_bar_constraint_position_work HAMEL_FOUR_BAR_C_NAME(constraint_position_work)
+#define four_bar_constraint_position_jacobian_work HAMEL_FOUR_BAR_C_NAME(constraint_position_jacobian_work)
+#define four_bar_rhs_prepared_work HAMEL_FOUR_BAR_C_NAME(rhs_prepared_work)
+#define four_bar_jacobian_prepared_work HAMEL_FOUR_BAR_C_NAME(jacobian_prepared_work)
+
 #define FOUR_BAR_N_STATE 4
 #define FOUR_BAR_N_PARAMETERS 8
 #define FOUR_BAR_N_INPUTS 0
@@ -25,6 +59,18 @@
 #define FOUR_BAR_N_OUT_CONSTRAINT_POSITION 2
 #define FOUR_BAR_N_OUT_CONSTRAINT_POSITION_JACOBIAN 6
 #define FOUR_BAR_N_PREPARED_PARAMETERS 46
+#define FOUR_BAR_N_WORK_KINEMATICS 0
+#define FOUR_BAR_N_WORK_MASS_MATRIX 0
+#define FOUR_BAR_N_WORK_FORCING 0
+#define FOUR_BAR_N_WORK_HAMEL_COEFFICIENTS 0
+#define FOUR_BAR_N_WORK_RHS 0
+#define FOUR_BAR_N_WORK_JACOBIAN 161
+#define FOUR_BAR_N_WORK_ENERGY 0
+#define FOUR_BAR_N_WORK_CONSTRAINT_RESIDUAL 0
+#define FOUR_BAR_N_WORK_CONSTRAINT_POSITION 0
+#define FOUR_BAR_N_WORK_CONSTRAINT_POSITION_JACOBIAN 0
+#define FOUR_BAR_N_WORK_RHS_PREPARED 0
+#define FOUR_BAR_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -59,6 +105,20 @@ void four_bar_prepare_parameters(const HAMEL_FOUR_BAR_REAL* p, HAMEL_FOUR_BAR_RE
 void four_bar_rhs_prepared(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out);
 /* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
 void four_bar_jacobian_prepared(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out);
+/* Work-space forms (four_bar.hpp): <kernel>_work(t, x, p, in, out, work) with work[FOUR_BAR_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void four_bar_kinematics_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_mass_matrix_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_forcing_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_hamel_coefficients_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_rhs_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_jacobian_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_energy_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_constraint_residual_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_constraint_position_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_constraint_position_jacobian_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_rhs_prepared_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
+void four_bar_jacobian_prepared_work(HAMEL_FOUR_BAR_REAL t, const HAMEL_FOUR_BAR_REAL* x, const HAMEL_FOUR_BAR_REAL* p, const HAMEL_FOUR_BAR_REAL* in, HAMEL_FOUR_BAR_REAL* out, HAMEL_FOUR_BAR_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -9,10 +9,12 @@
 // p: parameters (n_parameters, defaults in default_parameters; parameters folded at generation time
 // are ignored, see README.md); in: inputs (n_inputs, may be null when n_inputs == 0); out: the
 // kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and
-// branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is
-// n_temporaries_<kernel> reals, one per operation (an upper bound; the compiler keeps most in registers).
+// branch-free; they allocate nothing, throw nothing and need only <cmath>. Their stack holds what the
+// compiler does not keep in registers of their n_temporaries_<kernel> values (one per operation; not a bound
+// on the stack in either direction: hamel's docs/firmware.md has measured figures for Cortex-M).
 // A kernel longer than 2000 operations is printed as functions <kernel>_part<k> of at most that many,
-// called in turn, which pass values in a local array v[] (counted in n_temporaries).
+// called in turn, which pass values in an array of n_work_<kernel> reals: on the stack of
+// <kernel>, in the caller's work space for <kernel>_work.
 // Scalar type: define HAMEL_FOUR_BAR_REAL (e.g. to float) before including this header and
 // when compiling four_bar.cpp (CMake: -DHAMEL_FOUR_BAR_REAL=float); the kernels' signatures
 // change with it, so a mismatch fails to link instead of running wrong.
@@ -90,25 +92,52 @@ void constraint_position(real t, const real* x, const real* p, const real* in, r
 /// G = dg/dq, row-major n_out_constraint_position x n_coordinates, for the projector (runtime/projection.hpp); out[6]
 void constraint_position_jacobian(real t, const real* x, const real* p, const real* in, real* out);
 
+// Work-space forms: <kernel>_work(t, x, p, in, out, work) computes what <kernel> does, bit for bit, keeping in
+// work[n_work_<kernel>] (the caller's, e.g. a static array) the values the parts of a split kernel pass on,
+// which <kernel> keeps on its stack. n_work_<kernel> = 0: nothing to keep, and work may be null.
+constexpr int n_work_kinematics = 0;
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_mass_matrix = 0;
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_forcing = 0;
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_hamel_coefficients = 0;
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_rhs = 0;
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_jacobian = 161;
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_energy = 0;
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_constraint_residual = 0;
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_constraint_position = 0;
+void constraint_position_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_work_constraint_position_jacobian = 0;
+void constraint_position_jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+
 using kernel_function = void (*)(real t, const real* x, const real* p, const real* in, real* out);
+using kernel_work_function = void (*)(real t, const real* x, const real* p, const real* in, real* out, real* work);
 struct kernel_info {
   const char* name;
   kernel_function function;
   int n_out;
   int n_temporaries;
+  kernel_work_function work_function;  // <name>_work
+  int n_work;                          // n_work_<name>
 };
 constexpr int n_kernels = 10;
 constexpr kernel_info kernel_table[n_kernels] = {
-    {"kinematics", kinematics, n_out_kinematics, n_temporaries_kinematics},
-    {"mass_matrix", mass_matrix, n_out_mass_matrix, n_temporaries_mass_matrix},
-    {"forcing", forcing, n_out_forcing, n_temporaries_forcing},
-    {"hamel_coefficients", hamel_coefficients, n_out_hamel_coefficients, n_temporaries_hamel_coefficients},
-    {"rhs", rhs, n_out_rhs, n_temporaries_rhs},
-    {"jacobian", jacobian, n_out_jacobian, n_temporaries_jacobian},
-    {"energy", energy, n_out_energy, n_temporaries_energy},
-    {"constraint_residual", constraint_residual, n_out_constraint_residual, n_temporaries_constraint_residual},
-    {"constraint_position", constraint_position, n_out_constraint_position, n_temporaries_constraint_position},
-    {"constraint_position_jacobian", constraint_position_jacobian, n_out_constraint_position_jacobian, n_temporaries_constraint_position_jacobian},
+    {"kinematics", kinematics, n_out_kinematics, n_temporaries_kinematics, kinematics_work, n_work_kinematics},
+    {"mass_matrix", mass_matrix, n_out_mass_matrix, n_temporaries_mass_matrix, mass_matrix_work, n_work_mass_matrix},
+    {"forcing", forcing, n_out_forcing, n_temporaries_forcing, forcing_work, n_work_forcing},
+    {"hamel_coefficients", hamel_coefficients, n_out_hamel_coefficients, n_temporaries_hamel_coefficients, hamel_coefficients_work, n_work_hamel_coefficients},
+    {"rhs", rhs, n_out_rhs, n_temporaries_rhs, rhs_work, n_work_rhs},
+    {"jacobian", jacobian, n_out_jacobian, n_temporaries_jacobian, jacobian_work, n_work_jacobian},
+    {"energy", energy, n_out_energy, n_temporaries_energy, energy_work, n_work_energy},
+    {"constraint_residual", constraint_residual, n_out_constraint_residual, n_temporaries_constraint_residual, constraint_residual_work, n_work_constraint_residual},
+    {"constraint_position", constraint_position, n_out_constraint_position, n_temporaries_constraint_position, constraint_position_work, n_work_constraint_position},
+    {"constraint_position_jacobian", constraint_position_jacobian, n_out_constraint_position_jacobian, n_temporaries_constraint_position_jacobian, constraint_position_jacobian_work, n_work_constraint_position_jacobian},
 };
 
 /// rhs with a status instead of NaN: 0 and out[n_out_rhs] written as by rhs; 1 (out untouched) when the
@@ -132,8 +161,12 @@ void prepare_parameters(const real* p, real* prepared);
 constexpr int n_temporaries_rhs_prepared = 429;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[4]
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
+constexpr int n_work_rhs_prepared = 0;
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
 constexpr int n_temporaries_jacobian_prepared = 1925;
 /// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[16]
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
+constexpr int n_work_jacobian_prepared = 0;
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
 
 }  // namespace four_bar

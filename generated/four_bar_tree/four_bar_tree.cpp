@@ -141,6 +141,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = w11;  // rocker_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[4], p[8], in[0]) -> out[1]  ops: 35 add, 72 mul, 1 div, 6 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -179,6 +184,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   const real w30 = w28 + w16 * real(18.0) - real(36.0) * w13 + real(6.0) * (w8 * w5 * w12) + w23 * real(18.0) + w24 * real(18.0) - w9 * real(8.0) - w29;
   const real w31 = -((w19 - real(49.0) + real(88.0) * w20 - real(88.0) * w22 - real(44.0) * w23 - w24 * real(44.0)) / w30 * real(0.012));
   out[0] = w31;  // M[coupler_dot][coupler_dot]
+}
+
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
 }
 
 /* forcing: (t, x[4], p[8], in[0]) -> out[1]  ops: 73 add, 147 mul, 24 div, 6 call */
@@ -246,6 +256,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w56;  // f[coupler_dot]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[4], p[8], in[0]) -> out[0]  ops: 0 add, 0 mul, 0 div, 0 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -253,6 +268,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   (void)p;
   (void)in;
   (void)out;
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[4], p[8], in[0]) -> out[4]  ops: 112 add, 228 mul, 27 div, 6 call */
@@ -349,6 +369,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[1] = x[3];  // coupler_dot
   out[2] = w18;  // rocker_dot
   out[3] = w84;  // coupler_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[4], p[8], in[0]) -> out[16]  ops: 411 add, 796 mul, 136 div, 6 call */
@@ -695,6 +720,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[15] = w320;  // dcoupler_dot_rate/dcoupler_dot
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[4], p[8], in[0]) -> out[1]  ops: 29 add, 63 mul, 13 div, 6 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -731,6 +761,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w27;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* constraint_residual: (t, x[4], p[8], in[0]) -> out[4]  ops: 25 add, 51 mul, 4 div, 6 call */
 void constraint_residual(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -761,6 +796,11 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[3] = w18;  // g[tip_y]
 }
 
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_residual(t, x, p, in, out);
+}
+
 /* constraint_position: (t, x[4], p[8], in[0]) -> out[2]  ops: 7 add, 12 mul, 0 div, 6 call */
 void constraint_position(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -774,6 +814,11 @@ void constraint_position(real t, const real* x, const real* p, const real* in, r
   const real w5 = w0 * w3 * real(0.6) - (real(0.45) * std::sin(x[2]) - real(0.6) * (w2 * w1) - real(0.2) * w2);
   out[0] = w4;  // tip_x
   out[1] = w5;  // tip_y
+}
+
+void constraint_position_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_position(t, x, p, in, out);
 }
 
 /* constraint_position_jacobian: (t, x[4], p[8], in[0]) -> out[6]  ops: 9 add, 12 mul, 0 div, 6 call */
@@ -801,6 +846,11 @@ void constraint_position_jacobian(real t, const real* x, const real* p, const re
   out[3] = w11;  // dtip_y/dcrank
   out[4] = w12;  // dtip_y/dcoupler
   out[5] = w13;  // dtip_y/drocker
+}
+
+void constraint_position_jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_position_jacobian(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -856,5 +906,15 @@ void four_bar_tree_constraint_residual(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_F
 void four_bar_tree_constraint_position(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out) { four_bar_tree::constraint_position(t, x, p, in, out); }
 void four_bar_tree_constraint_position_jacobian(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out) { four_bar_tree::constraint_position_jacobian(t, x, p, in, out); }
 int four_bar_tree_rhs_status(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out) { return four_bar_tree::rhs_status(t, x, p, in, out); }
+void four_bar_tree_kinematics_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::kinematics_work(t, x, p, in, out, work); }
+void four_bar_tree_mass_matrix_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::mass_matrix_work(t, x, p, in, out, work); }
+void four_bar_tree_forcing_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::forcing_work(t, x, p, in, out, work); }
+void four_bar_tree_hamel_coefficients_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::hamel_coefficients_work(t, x, p, in, out, work); }
+void four_bar_tree_rhs_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::rhs_work(t, x, p, in, out, work); }
+void four_bar_tree_jacobian_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::jacobian_work(t, x, p, in, out, work); }
+void four_bar_tree_energy_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::energy_work(t, x, p, in, out, work); }
+void four_bar_tree_constraint_residual_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::constraint_residual_work(t, x, p, in, out, work); }
+void four_bar_tree_constraint_position_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::constraint_position_work(t, x, p, in, out, work); }
+void four_bar_tree_constraint_position_jacobian_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work) { four_bar_tree::constraint_position_jacobian_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,6 +11,35 @@
 #define HAMEL_FOUR_BAR_TREE_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: four_bar_tree_rhs is the symbol four_bar_tree_rhs_double,
+   or four_bar_tree_rhs_float when HAMEL_FOUR_BAR_TREE_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_FOUR_BAR_TREE_REAL must be one token
+   (float or double). */
+#define HAMEL_FOUR_BAR_TREE_C_NAME(f) HAMEL_FOUR_BAR_TREE_C_NAME_EXPAND(f, HAMEL_FOUR_BAR_TREE_REAL)
+#define HAMEL_FOUR_BAR_TREE_C_NAME_EXPAND(f, r) HAMEL_FOUR_BAR_TREE_C_NAME_JOIN(f, r)
+#define HAMEL_FOUR_BAR_TREE_C_NAME_JOIN(f, r) four_bar_tree_##f##_##r
+#define four_bar_tree_kinematics HAMEL_FOUR_BAR_TREE_C_NAME(kinematics)
+#define four_bar_tree_mass_matrix HAMEL_FOUR_BAR_TREE_C_NAME(mass_matrix)
+#define four_bar_tree_forcing HAMEL_FOUR_BAR_TREE_C_NAME(forcing)
+#define four_bar_tree_hamel_coefficients HAMEL_FOUR_BAR_TREE_C_NAME(hamel_coefficients)
+#define four_bar_tree_rhs HAMEL_FOUR_BAR_TREE_C_NAME(rhs)
+#define four_bar_tree_jacobian HAMEL_FOUR_BAR_TREE_C_NAME(jacobian)
+#define four_bar_tree_energy HAMEL_FOUR_BAR_TREE_C_NAME(energy)
+#define four_bar_tree_constraint_residual HAMEL_FOUR_BAR_TREE_C_NAME(constraint_residual)
+#define four_bar_tree_constraint_position HAMEL_FOUR_BAR_TREE_C_NAME(constraint_position)
+#define four_bar_tree_constraint_position_jacobian HAMEL_FOUR_BAR_TREE_C_NAME(constraint_position_jacobian)
+#define four_bar_tree_rhs_status HAMEL_FOUR_BAR_TREE_C_NAME(rhs_status)
+#define four_bar_tree_kinematics_work HAMEL_FOUR_BAR_TREE_C_NAME(kinematics_work)
+#define four_bar_tree_mass_matrix_work HAMEL_FOUR_BAR_TREE_C_NAME(mass_matrix_work)
+#define four_bar_tree_forcing_work HAMEL_FOUR_BAR_TREE_C_NAME(forcing_work)
+#define four_bar_tree_hamel_coefficients_work HAMEL_FOUR_BAR_TREE_C_NAME(hamel_coefficients_work)
+#define four_bar_tree_rhs_work HAMEL_FOUR_BAR_TREE_C_NAME(rhs_work)
+#define four_bar_tree_jacobian_work HAMEL_FOUR_BAR_TREE_C_NAME(jacobian_work)
+#define four_bar_tree_energy_work HAMEL_FOUR_BAR_TREE_C_NAME(energy_work)
+#define four_bar_tree_constraint_residual_work HAMEL_FOUR_BAR_TREE_C_NAME(constraint_residual_work)
+#define four_bar_tree_constraint_position_work HAMEL_FOUR_BAR_TREE_C_NAME(constraint_position_work)
+#define four_bar_tree_constraint_position_jacobian_work HAMEL_FOUR_BAR_TREE_C_NAME(constraint_position_jacobian_work)
+
 #define FOUR_BAR_TREE_N_STATE 4
 #define FOUR_BAR_TREE_N_PARAMETERS 8
 #define FOUR_BAR_TREE_N_INPUTS 0
@@ -24,6 +53,16 @@
 #define FOUR_BAR_TREE_N_OUT_CONSTRAINT_RESIDUAL 4
 #define FOUR_BAR_TREE_N_OUT_CONSTRAINT_POSITION 2
 #define FOUR_BAR_TREE_N_OUT_CONSTRAINT_POSITION_JACOBIAN 6
+#define FOUR_BAR_TREE_N_WORK_KINEMATICS 0
+#define FOUR_BAR_TREE_N_WORK_MASS_MATRIX 0
+#define FOUR_BAR_TREE_N_WORK_FORCING 0
+#define FOUR_BAR_TREE_N_WORK_HAMEL_COEFFICIENTS 0
+#define FOUR_BAR_TREE_N_WORK_RHS 0
+#define FOUR_BAR_TREE_N_WORK_JACOBIAN 0
+#define FOUR_BAR_TREE_N_WORK_ENERGY 0
+#define FOUR_BAR_TREE_N_WORK_CONSTRAINT_RESIDUAL 0
+#define FOUR_BAR_TREE_N_WORK_CONSTRAINT_POSITION 0
+#define FOUR_BAR_TREE_N_WORK_CONSTRAINT_POSITION_JACOBIAN 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -52,6 +91,18 @@ void four_bar_tree_constraint_position_jacobian(HAMEL_FOUR_BAR_TREE_REAL t, cons
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int four_bar_tree_rhs_status(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out);
+/* Work-space forms (four_bar_tree.hpp): <kernel>_work(t, x, p, in, out, work) with work[FOUR_BAR_TREE_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void four_bar_tree_kinematics_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_mass_matrix_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_forcing_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_hamel_coefficients_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_rhs_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_jacobian_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_energy_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_constraint_residual_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_constraint_position_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
+void four_bar_tree_constraint_position_jacobian_work(HAMEL_FOUR_BAR_TREE_REAL t, const HAMEL_FOUR_BAR_TREE_REAL* x, const HAMEL_FOUR_BAR_TREE_REAL* p, const HAMEL_FOUR_BAR_TREE_REAL* in, HAMEL_FOUR_BAR_TREE_REAL* out, HAMEL_FOUR_BAR_TREE_REAL* work);
 
 #ifdef __cplusplus
 }

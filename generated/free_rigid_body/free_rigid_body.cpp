@@ -36,6 +36,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   (void)out;
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[3], p[3], in[0]) -> out[9]  ops: 0 add, 0 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -52,6 +57,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[8] = p[2];  // M[wz][wz]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[3], p[3], in[0]) -> out[3]  ops: 4 add, 6 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -62,6 +72,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w0;  // f[wx]
   out[1] = w1;  // f[wy]
   out[2] = w2;  // f[wz]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[3], p[3], in[0]) -> out[6]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -78,6 +93,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[5] = real(-1.0);  // gamma^wz_wy,wx
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[3], p[3], in[0]) -> out[3]  ops: 4 add, 6 mul, 3 div, 0 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -88,6 +108,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w0;  // wx_rate
   out[1] = w1;  // wy_rate
   out[2] = w2;  // wz_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[3], p[3], in[0]) -> out[9]  ops: 5 add, 12 mul, 3 div, 0 call */
@@ -117,12 +142,22 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[8] = real(0.0);  // dwz_rate/dwz
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[3], p[3], in[0]) -> out[1]  ops: 2 add, 9 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = real(0.5) * (p[1] * (x[1] * x[1])) + (real(0.5) * (p[0] * (x[0] * x[0])) + p[2] * (x[2] * x[2]) * real(0.5));
   out[0] = w0;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* group_velocity: (t, x[3], p[3], in[0]) -> out[3]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -133,6 +168,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[0] = x[0];  // wx
   out[1] = x[1];  // wy
   out[2] = x[2];  // wz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* locked_inertia: (t, x[3], p[3], in[0]) -> out[9]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -149,6 +189,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[6] = real(0.0);  // L[wz][wx]
   out[7] = real(0.0);  // L[wz][wy]
   out[8] = p[2];  // L[wz][wz]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -225,6 +270,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[2] = w2;  // wz_rate
 }
 
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
 /* jacobian_prepared: (t, x[3], p[6], in[0]) -> out[9]  ops: 0 add, 6 mul, 0 div, 0 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -246,6 +296,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[8] = real(0.0);  // dwz_rate/dwz
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace free_rigid_body
 
 extern "C" {
@@ -263,5 +318,16 @@ int free_rigid_body_rhs_status(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RI
 void free_rigid_body_prepare_parameters(const HAMEL_FREE_RIGID_BODY_REAL* p, HAMEL_FREE_RIGID_BODY_REAL* prepared) { free_rigid_body::prepare_parameters(p, prepared); }
 void free_rigid_body_rhs_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::rhs_prepared(t, x, p, in, out); }
 void free_rigid_body_jacobian_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out) { free_rigid_body::jacobian_prepared(t, x, p, in, out); }
+void free_rigid_body_kinematics_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::kinematics_work(t, x, p, in, out, work); }
+void free_rigid_body_mass_matrix_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::mass_matrix_work(t, x, p, in, out, work); }
+void free_rigid_body_forcing_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::forcing_work(t, x, p, in, out, work); }
+void free_rigid_body_hamel_coefficients_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::hamel_coefficients_work(t, x, p, in, out, work); }
+void free_rigid_body_rhs_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::rhs_work(t, x, p, in, out, work); }
+void free_rigid_body_jacobian_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::jacobian_work(t, x, p, in, out, work); }
+void free_rigid_body_energy_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::energy_work(t, x, p, in, out, work); }
+void free_rigid_body_group_velocity_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::group_velocity_work(t, x, p, in, out, work); }
+void free_rigid_body_locked_inertia_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::locked_inertia_work(t, x, p, in, out, work); }
+void free_rigid_body_rhs_prepared_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::rhs_prepared_work(t, x, p, in, out, work); }
+void free_rigid_body_jacobian_prepared_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work) { free_rigid_body::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

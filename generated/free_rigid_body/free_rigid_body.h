@@ -11,6 +11,38 @@
 #define HAMEL_FREE_RIGID_BODY_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: free_rigid_body_rhs is the symbol free_rigid_body_rhs_double,
+   or free_rigid_body_rhs_float when HAMEL_FREE_RIGID_BODY_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_FREE_RIGID_BODY_REAL must be one token
+   (float or double). */
+#define HAMEL_FREE_RIGID_BODY_C_NAME(f) HAMEL_FREE_RIGID_BODY_C_NAME_EXPAND(f, HAMEL_FREE_RIGID_BODY_REAL)
+#define HAMEL_FREE_RIGID_BODY_C_NAME_EXPAND(f, r) HAMEL_FREE_RIGID_BODY_C_NAME_JOIN(f, r)
+#define HAMEL_FREE_RIGID_BODY_C_NAME_JOIN(f, r) free_rigid_body_##f##_##r
+#define free_rigid_body_kinematics HAMEL_FREE_RIGID_BODY_C_NAME(kinematics)
+#define free_rigid_body_mass_matrix HAMEL_FREE_RIGID_BODY_C_NAME(mass_matrix)
+#define free_rigid_body_forcing HAMEL_FREE_RIGID_BODY_C_NAME(forcing)
+#define free_rigid_body_hamel_coefficients HAMEL_FREE_RIGID_BODY_C_NAME(hamel_coefficients)
+#define free_rigid_body_rhs HAMEL_FREE_RIGID_BODY_C_NAME(rhs)
+#define free_rigid_body_jacobian HAMEL_FREE_RIGID_BODY_C_NAME(jacobian)
+#define free_rigid_body_energy HAMEL_FREE_RIGID_BODY_C_NAME(energy)
+#define free_rigid_body_group_velocity HAMEL_FREE_RIGID_BODY_C_NAME(group_velocity)
+#define free_rigid_body_locked_inertia HAMEL_FREE_RIGID_BODY_C_NAME(locked_inertia)
+#define free_rigid_body_rhs_status HAMEL_FREE_RIGID_BODY_C_NAME(rhs_status)
+#define free_rigid_body_prepare_parameters HAMEL_FREE_RIGID_BODY_C_NAME(prepare_parameters)
+#define free_rigid_body_rhs_prepared HAMEL_FREE_RIGID_BODY_C_NAME(rhs_prepared)
+#define free_rigid_body_jacobian_prepared HAMEL_FREE_RIGID_BODY_C_NAME(jacobian_prepared)
+#define free_rigid_body_kinematics_work HAMEL_FREE_RIGID_BODY_C_NAME(kinematics_work)
+#define free_rigid_body_mass_matrix_work HAMEL_FREE_RIGID_BODY_C_NAME(mass_matrix_work)
+#define free_rigid_body_forcing_work HAMEL_FREE_RIGID_BODY_C_NAME(forcing_work)
+#define free_rigid_body_hamel_coefficients_work HAMEL_FREE_RIGID_BODY_C_NAME(hamel_coefficients_work)
+#define free_rigid_body_rhs_work HAMEL_FREE_RIGID_BODY_C_NAME(rhs_work)
+#define free_rigid_body_jacobian_work HAMEL_FREE_RIGID_BODY_C_NAME(jacobian_work)
+#define free_rigid_body_energy_work HAMEL_FREE_RIGID_BODY_C_NAME(energy_work)
+#define free_rigid_body_group_velocity_work HAMEL_FREE_RIGID_BODY_C_NAME(group_velocity_work)
+#define free_rigid_body_locked_inertia_work HAMEL_FREE_RIGID_BODY_C_NAME(locked_inertia_work)
+#define free_rigid_body_rhs_prepared_work HAMEL_FREE_RIGID_BODY_C_NAME(rhs_prepared_work)
+#define free_rigid_body_jacobian_prepared_work HAMEL_FREE_RIGID_BODY_C_NAME(jacobian_prepared_work)
+
 #define FREE_RIGID_BODY_N_STATE 3
 #define FREE_RIGID_BODY_N_PARAMETERS 3
 #define FREE_RIGID_BODY_N_INPUTS 0
@@ -24,6 +56,17 @@
 #define FREE_RIGID_BODY_N_OUT_GROUP_VELOCITY 3
 #define FREE_RIGID_BODY_N_OUT_LOCKED_INERTIA 9
 #define FREE_RIGID_BODY_N_PREPARED_PARAMETERS 6
+#define FREE_RIGID_BODY_N_WORK_KINEMATICS 0
+#define FREE_RIGID_BODY_N_WORK_MASS_MATRIX 0
+#define FREE_RIGID_BODY_N_WORK_FORCING 0
+#define FREE_RIGID_BODY_N_WORK_HAMEL_COEFFICIENTS 0
+#define FREE_RIGID_BODY_N_WORK_RHS 0
+#define FREE_RIGID_BODY_N_WORK_JACOBIAN 0
+#define FREE_RIGID_BODY_N_WORK_ENERGY 0
+#define FREE_RIGID_BODY_N_WORK_GROUP_VELOCITY 0
+#define FREE_RIGID_BODY_N_WORK_LOCKED_INERTIA 0
+#define FREE_RIGID_BODY_N_WORK_RHS_PREPARED 0
+#define FREE_RIGID_BODY_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -56,6 +99,19 @@ void free_rigid_body_prepare_parameters(const HAMEL_FREE_RIGID_BODY_REAL* p, HAM
 void free_rigid_body_rhs_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out);
 /* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
 void free_rigid_body_jacobian_prepared(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out);
+/* Work-space forms (free_rigid_body.hpp): <kernel>_work(t, x, p, in, out, work) with work[FREE_RIGID_BODY_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void free_rigid_body_kinematics_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_mass_matrix_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_forcing_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_hamel_coefficients_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_rhs_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_jacobian_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_energy_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_group_velocity_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_locked_inertia_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_rhs_prepared_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
+void free_rigid_body_jacobian_prepared_work(HAMEL_FREE_RIGID_BODY_REAL t, const HAMEL_FREE_RIGID_BODY_REAL* x, const HAMEL_FREE_RIGID_BODY_REAL* p, const HAMEL_FREE_RIGID_BODY_REAL* in, HAMEL_FREE_RIGID_BODY_REAL* out, HAMEL_FREE_RIGID_BODY_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -820,12 +820,17 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
 
 }  // namespace
 
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
-  real v[130];
+void rhs_with_pivots_work(real t, const real* x, const real* p, const real* in, real* out, real* pivots, real* work) {
+  real* const v = work;
   rhs_with_pivots_part0(t, x, p, in, v, out, pivots);
   rhs_with_pivots_part1(t, x, p, in, v, out, pivots);
   out[0] = x[5];  // q1_dot
   out[1] = x[6];  // q2_dot
+}
+
+[[maybe_unused]] void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  real work[130];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 }  // namespace
@@ -837,6 +842,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   (void)in;
   out[0] = x[5];  // q1_dot
   out[1] = x[6];  // q2_dot
+}
+
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
 }
 
 /* mass_matrix: (t, x[7], p[10], in[0]) -> out[25]  ops: 196 add, 397 mul, 9 div, 4 call */
@@ -998,6 +1008,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[22] = w119;  // M[q2_dot][vy_locked]
   out[23] = w126;  // M[q2_dot][q1_dot]
   out[24] = w128;  // M[q2_dot][q2_dot]
+}
+
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
 }
 
 /* forcing: (t, x[7], p[10], in[0]) -> out[5]  ops: 944 add, 1537 mul, 187 div, 4 call */
@@ -1750,10 +1765,15 @@ void forcing_part1(real t, const real* x, const real* p, const real* in, real* v
 
 }  // namespace
 
-void forcing(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[126];
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const v = work;
   forcing_part0(t, x, p, in, v, out);
   forcing_part1(t, x, p, in, v, out);
+}
+
+void forcing(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[126];
+  forcing_work(t, x, p, in, out, work);
 }
 
 /* hamel_coefficients: (t, x[7], p[10], in[0]) -> out[26]  ops: 421 add, 757 mul, 90 div, 4 call */
@@ -2111,10 +2131,20 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[25] = w321;  // gamma^vy_locked_q2_dot,q1_dot
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[7], p[10], in[0]) -> out[7]: rhs_with_pivots  ops: 1041 add, 1688 mul, 202 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)
   rhs_with_pivots(t, x, p, in, out, pivots);
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 /* jacobian: (t, x[7], p[10], in[0]) -> out[49]  ops: 5011 add, 7509 mul, 1270 div, 4 call */
@@ -6974,8 +7004,8 @@ HAMEL_NOINLINE void jacobian_part6(real t, const real* x, const real* p, const r
 
 }  // namespace
 
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[1320];
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const v = work;
   jacobian_part0(t, x, p, in, v, out);
   jacobian_part1(t, x, p, in, v, out);
   jacobian_part2(t, x, p, in, v, out);
@@ -6997,6 +7027,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[11] = real(0.0);  // dq2_dot/dvy_locked
   out[12] = real(0.0);  // dq2_dot/dq1_dot
   out[13] = real(1.0);  // dq2_dot/dq2_dot
+}
+
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[1320];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[7], p[10], in[0]) -> out[1]  ops: 204 add, 423 mul, 15 div, 4 call */
@@ -7145,6 +7180,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w137;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* group_velocity: (t, x[7], p[10], in[0]) -> out[3]  ops: 120 add, 266 mul, 9 div, 4 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -7245,6 +7285,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[0] = w83;  // w
   out[1] = w87;  // vx
   out[2] = w91;  // vy
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[7], p[10], in[0]) -> out[6]  ops: 116 add, 260 mul, 9 div, 4 call */
@@ -7353,6 +7398,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[5] = w92;  // A[vy][q2]
 }
 
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
+}
+
 /* locked_inertia: (t, x[7], p[10], in[0]) -> out[9]  ops: 19 add, 30 mul, 0 div, 4 call */
 void locked_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -7383,6 +7433,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[6] = w11;  // L[vy][w]
   out[7] = real(0.0);  // L[vy][vx]
   out[8] = w15;  // L[vy][vy]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 /* shape_inertia: (t, x[7], p[10], in[0]) -> out[4]  ops: 211 add, 489 mul, 11 div, 4 call */
@@ -7561,6 +7616,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[3] = w164;  // M_shape[q2][q2]
 }
 
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
+}
+
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
   real all[n_out_rhs];
   real pivots[n_pivots_rhs];
@@ -7615,5 +7675,16 @@ void planar_space_robot_connection(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_
 void planar_space_robot_locked_inertia(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out) { planar_space_robot::locked_inertia(t, x, p, in, out); }
 void planar_space_robot_shape_inertia(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out) { planar_space_robot::shape_inertia(t, x, p, in, out); }
 int planar_space_robot_rhs_status(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out) { return planar_space_robot::rhs_status(t, x, p, in, out); }
+void planar_space_robot_kinematics_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::kinematics_work(t, x, p, in, out, work); }
+void planar_space_robot_mass_matrix_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::mass_matrix_work(t, x, p, in, out, work); }
+void planar_space_robot_forcing_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::forcing_work(t, x, p, in, out, work); }
+void planar_space_robot_hamel_coefficients_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::hamel_coefficients_work(t, x, p, in, out, work); }
+void planar_space_robot_rhs_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::rhs_work(t, x, p, in, out, work); }
+void planar_space_robot_jacobian_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::jacobian_work(t, x, p, in, out, work); }
+void planar_space_robot_energy_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::energy_work(t, x, p, in, out, work); }
+void planar_space_robot_group_velocity_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::group_velocity_work(t, x, p, in, out, work); }
+void planar_space_robot_connection_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::connection_work(t, x, p, in, out, work); }
+void planar_space_robot_locked_inertia_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::locked_inertia_work(t, x, p, in, out, work); }
+void planar_space_robot_shape_inertia_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work) { planar_space_robot::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

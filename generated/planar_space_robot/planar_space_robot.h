@@ -11,6 +11,37 @@
 #define HAMEL_PLANAR_SPACE_ROBOT_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: planar_space_robot_rhs is the symbol planar_space_robot_rhs_double,
+   or planar_space_robot_rhs_float when HAMEL_PLANAR_SPACE_ROBOT_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_PLANAR_SPACE_ROBOT_REAL must be one token
+   (float or double). */
+#define HAMEL_PLANAR_SPACE_ROBOT_C_NAME(f) HAMEL_PLANAR_SPACE_ROBOT_C_NAME_EXPAND(f, HAMEL_PLANAR_SPACE_ROBOT_REAL)
+#define HAMEL_PLANAR_SPACE_ROBOT_C_NAME_EXPAND(f, r) HAMEL_PLANAR_SPACE_ROBOT_C_NAME_JOIN(f, r)
+#define HAMEL_PLANAR_SPACE_ROBOT_C_NAME_JOIN(f, r) planar_space_robot_##f##_##r
+#define planar_space_robot_kinematics HAMEL_PLANAR_SPACE_ROBOT_C_NAME(kinematics)
+#define planar_space_robot_mass_matrix HAMEL_PLANAR_SPACE_ROBOT_C_NAME(mass_matrix)
+#define planar_space_robot_forcing HAMEL_PLANAR_SPACE_ROBOT_C_NAME(forcing)
+#define planar_space_robot_hamel_coefficients HAMEL_PLANAR_SPACE_ROBOT_C_NAME(hamel_coefficients)
+#define planar_space_robot_rhs HAMEL_PLANAR_SPACE_ROBOT_C_NAME(rhs)
+#define planar_space_robot_jacobian HAMEL_PLANAR_SPACE_ROBOT_C_NAME(jacobian)
+#define planar_space_robot_energy HAMEL_PLANAR_SPACE_ROBOT_C_NAME(energy)
+#define planar_space_robot_group_velocity HAMEL_PLANAR_SPACE_ROBOT_C_NAME(group_velocity)
+#define planar_space_robot_connection HAMEL_PLANAR_SPACE_ROBOT_C_NAME(connection)
+#define planar_space_robot_locked_inertia HAMEL_PLANAR_SPACE_ROBOT_C_NAME(locked_inertia)
+#define planar_space_robot_shape_inertia HAMEL_PLANAR_SPACE_ROBOT_C_NAME(shape_inertia)
+#define planar_space_robot_rhs_status HAMEL_PLANAR_SPACE_ROBOT_C_NAME(rhs_status)
+#define planar_space_robot_kinematics_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(kinematics_work)
+#define planar_space_robot_mass_matrix_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(mass_matrix_work)
+#define planar_space_robot_forcing_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(forcing_work)
+#define planar_space_robot_hamel_coefficients_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(hamel_coefficients_work)
+#define planar_space_robot_rhs_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(rhs_work)
+#define planar_space_robot_jacobian_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(jacobian_work)
+#define planar_space_robot_energy_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(energy_work)
+#define planar_space_robot_group_velocity_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(group_velocity_work)
+#define planar_space_robot_connection_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(connection_work)
+#define planar_space_robot_locked_inertia_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(locked_inertia_work)
+#define planar_space_robot_shape_inertia_work HAMEL_PLANAR_SPACE_ROBOT_C_NAME(shape_inertia_work)
+
 #define PLANAR_SPACE_ROBOT_N_STATE 7
 #define PLANAR_SPACE_ROBOT_N_PARAMETERS 10
 #define PLANAR_SPACE_ROBOT_N_INPUTS 0
@@ -25,6 +56,17 @@
 #define PLANAR_SPACE_ROBOT_N_OUT_CONNECTION 6
 #define PLANAR_SPACE_ROBOT_N_OUT_LOCKED_INERTIA 9
 #define PLANAR_SPACE_ROBOT_N_OUT_SHAPE_INERTIA 4
+#define PLANAR_SPACE_ROBOT_N_WORK_KINEMATICS 0
+#define PLANAR_SPACE_ROBOT_N_WORK_MASS_MATRIX 0
+#define PLANAR_SPACE_ROBOT_N_WORK_FORCING 126
+#define PLANAR_SPACE_ROBOT_N_WORK_HAMEL_COEFFICIENTS 0
+#define PLANAR_SPACE_ROBOT_N_WORK_RHS 130
+#define PLANAR_SPACE_ROBOT_N_WORK_JACOBIAN 1320
+#define PLANAR_SPACE_ROBOT_N_WORK_ENERGY 0
+#define PLANAR_SPACE_ROBOT_N_WORK_GROUP_VELOCITY 0
+#define PLANAR_SPACE_ROBOT_N_WORK_CONNECTION 0
+#define PLANAR_SPACE_ROBOT_N_WORK_LOCKED_INERTIA 0
+#define PLANAR_SPACE_ROBOT_N_WORK_SHAPE_INERTIA 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +97,19 @@ void planar_space_robot_shape_inertia(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAM
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int planar_space_robot_rhs_status(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out);
+/* Work-space forms (planar_space_robot.hpp): <kernel>_work(t, x, p, in, out, work) with work[PLANAR_SPACE_ROBOT_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void planar_space_robot_kinematics_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_mass_matrix_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_forcing_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_hamel_coefficients_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_rhs_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_jacobian_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_energy_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_group_velocity_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_connection_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_locked_inertia_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
+void planar_space_robot_shape_inertia_work(HAMEL_PLANAR_SPACE_ROBOT_REAL t, const HAMEL_PLANAR_SPACE_ROBOT_REAL* x, const HAMEL_PLANAR_SPACE_ROBOT_REAL* p, const HAMEL_PLANAR_SPACE_ROBOT_REAL* in, HAMEL_PLANAR_SPACE_ROBOT_REAL* out, HAMEL_PLANAR_SPACE_ROBOT_REAL* work);
 
 #ifdef __cplusplus
 }

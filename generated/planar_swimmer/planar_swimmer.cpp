@@ -168,6 +168,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = x[8];  // q3_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[9], p[12], in[3]) -> out[36]  ops: 51 add, 53 mul, 0 div, 6 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -258,6 +263,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[35] = w46;  // M[q3_dot][q3_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[9], p[12], in[3]) -> out[6]  ops: 66 add, 87 mul, 0 div, 6 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -324,6 +334,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[5] = w53;  // f[q3_dot]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[9], p[12], in[3]) -> out[4]  ops: 0 add, 0 mul, 0 div, 0 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -334,6 +349,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[1] = real(1.0);  // gamma^vx_vy,w
   out[2] = real(1.0);  // gamma^vy_w,vx
   out[3] = real(-1.0);  // gamma^vy_vx,w
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[9], p[12], in[3]) -> out[9]  ops: 140 add, 198 mul, 5 div, 6 call */
@@ -464,6 +484,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[6] = w107;  // q1_dot_rate
   out[7] = w112;  // q2_dot_rate
   out[8] = w114;  // q3_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[9], p[12], in[3]) -> out[81]  ops: 625 add, 637 mul, 29 div, 6 call */
@@ -898,6 +923,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[80] = w344;  // dq3_dot_rate/dq3_dot
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[9], p[12], in[3]) -> out[1]  ops: 32 add, 63 mul, 0 div, 6 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -930,6 +960,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w23;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* group_velocity: (t, x[9], p[12], in[3]) -> out[3]  ops: 0 add, 0 mul, 0 div, 0 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -938,6 +973,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[0] = x[3];  // w
   out[1] = x[4];  // vx
   out[2] = x[5];  // vy
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[9], p[12], in[3]) -> out[9]  ops: 64 add, 75 mul, 6 div, 6 call */
@@ -1012,6 +1052,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[8] = w53;  // A[vy][q3]
 }
 
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
+}
+
 /* locked_inertia: (t, x[9], p[12], in[3]) -> out[9]  ops: 30 add, 35 mul, 0 div, 6 call */
 void locked_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1049,6 +1094,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[6] = w22;  // L[vy][w]
   out[7] = real(0.0);  // L[vy][vx]
   out[8] = real(4.8);  // L[vy][vy]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 /* shape_inertia: (t, x[9], p[12], in[3]) -> out[9]  ops: 91 add, 102 mul, 6 div, 6 call */
@@ -1133,6 +1183,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[8] = w65;  // M_shape[q3][q3]
 }
 
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
+}
+
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
   real all[n_out_rhs];
   real pivots[n_pivots_rhs];
@@ -1187,5 +1242,16 @@ void planar_swimmer_connection(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_S
 void planar_swimmer_locked_inertia(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out) { planar_swimmer::locked_inertia(t, x, p, in, out); }
 void planar_swimmer_shape_inertia(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out) { planar_swimmer::shape_inertia(t, x, p, in, out); }
 int planar_swimmer_rhs_status(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out) { return planar_swimmer::rhs_status(t, x, p, in, out); }
+void planar_swimmer_kinematics_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::kinematics_work(t, x, p, in, out, work); }
+void planar_swimmer_mass_matrix_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::mass_matrix_work(t, x, p, in, out, work); }
+void planar_swimmer_forcing_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::forcing_work(t, x, p, in, out, work); }
+void planar_swimmer_hamel_coefficients_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::hamel_coefficients_work(t, x, p, in, out, work); }
+void planar_swimmer_rhs_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::rhs_work(t, x, p, in, out, work); }
+void planar_swimmer_jacobian_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::jacobian_work(t, x, p, in, out, work); }
+void planar_swimmer_energy_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::energy_work(t, x, p, in, out, work); }
+void planar_swimmer_group_velocity_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::group_velocity_work(t, x, p, in, out, work); }
+void planar_swimmer_connection_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::connection_work(t, x, p, in, out, work); }
+void planar_swimmer_locked_inertia_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::locked_inertia_work(t, x, p, in, out, work); }
+void planar_swimmer_shape_inertia_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work) { planar_swimmer::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

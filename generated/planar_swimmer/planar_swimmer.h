@@ -11,6 +11,37 @@
 #define HAMEL_PLANAR_SWIMMER_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: planar_swimmer_rhs is the symbol planar_swimmer_rhs_double,
+   or planar_swimmer_rhs_float when HAMEL_PLANAR_SWIMMER_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_PLANAR_SWIMMER_REAL must be one token
+   (float or double). */
+#define HAMEL_PLANAR_SWIMMER_C_NAME(f) HAMEL_PLANAR_SWIMMER_C_NAME_EXPAND(f, HAMEL_PLANAR_SWIMMER_REAL)
+#define HAMEL_PLANAR_SWIMMER_C_NAME_EXPAND(f, r) HAMEL_PLANAR_SWIMMER_C_NAME_JOIN(f, r)
+#define HAMEL_PLANAR_SWIMMER_C_NAME_JOIN(f, r) planar_swimmer_##f##_##r
+#define planar_swimmer_kinematics HAMEL_PLANAR_SWIMMER_C_NAME(kinematics)
+#define planar_swimmer_mass_matrix HAMEL_PLANAR_SWIMMER_C_NAME(mass_matrix)
+#define planar_swimmer_forcing HAMEL_PLANAR_SWIMMER_C_NAME(forcing)
+#define planar_swimmer_hamel_coefficients HAMEL_PLANAR_SWIMMER_C_NAME(hamel_coefficients)
+#define planar_swimmer_rhs HAMEL_PLANAR_SWIMMER_C_NAME(rhs)
+#define planar_swimmer_jacobian HAMEL_PLANAR_SWIMMER_C_NAME(jacobian)
+#define planar_swimmer_energy HAMEL_PLANAR_SWIMMER_C_NAME(energy)
+#define planar_swimmer_group_velocity HAMEL_PLANAR_SWIMMER_C_NAME(group_velocity)
+#define planar_swimmer_connection HAMEL_PLANAR_SWIMMER_C_NAME(connection)
+#define planar_swimmer_locked_inertia HAMEL_PLANAR_SWIMMER_C_NAME(locked_inertia)
+#define planar_swimmer_shape_inertia HAMEL_PLANAR_SWIMMER_C_NAME(shape_inertia)
+#define planar_swimmer_rhs_status HAMEL_PLANAR_SWIMMER_C_NAME(rhs_status)
+#define planar_swimmer_kinematics_work HAMEL_PLANAR_SWIMMER_C_NAME(kinematics_work)
+#define planar_swimmer_mass_matrix_work HAMEL_PLANAR_SWIMMER_C_NAME(mass_matrix_work)
+#define planar_swimmer_forcing_work HAMEL_PLANAR_SWIMMER_C_NAME(forcing_work)
+#define planar_swimmer_hamel_coefficients_work HAMEL_PLANAR_SWIMMER_C_NAME(hamel_coefficients_work)
+#define planar_swimmer_rhs_work HAMEL_PLANAR_SWIMMER_C_NAME(rhs_work)
+#define planar_swimmer_jacobian_work HAMEL_PLANAR_SWIMMER_C_NAME(jacobian_work)
+#define planar_swimmer_energy_work HAMEL_PLANAR_SWIMMER_C_NAME(energy_work)
+#define planar_swimmer_group_velocity_work HAMEL_PLANAR_SWIMMER_C_NAME(group_velocity_work)
+#define planar_swimmer_connection_work HAMEL_PLANAR_SWIMMER_C_NAME(connection_work)
+#define planar_swimmer_locked_inertia_work HAMEL_PLANAR_SWIMMER_C_NAME(locked_inertia_work)
+#define planar_swimmer_shape_inertia_work HAMEL_PLANAR_SWIMMER_C_NAME(shape_inertia_work)
+
 #define PLANAR_SWIMMER_N_STATE 9
 #define PLANAR_SWIMMER_N_PARAMETERS 12
 #define PLANAR_SWIMMER_N_INPUTS 3
@@ -25,6 +56,17 @@
 #define PLANAR_SWIMMER_N_OUT_CONNECTION 9
 #define PLANAR_SWIMMER_N_OUT_LOCKED_INERTIA 9
 #define PLANAR_SWIMMER_N_OUT_SHAPE_INERTIA 9
+#define PLANAR_SWIMMER_N_WORK_KINEMATICS 0
+#define PLANAR_SWIMMER_N_WORK_MASS_MATRIX 0
+#define PLANAR_SWIMMER_N_WORK_FORCING 0
+#define PLANAR_SWIMMER_N_WORK_HAMEL_COEFFICIENTS 0
+#define PLANAR_SWIMMER_N_WORK_RHS 0
+#define PLANAR_SWIMMER_N_WORK_JACOBIAN 0
+#define PLANAR_SWIMMER_N_WORK_ENERGY 0
+#define PLANAR_SWIMMER_N_WORK_GROUP_VELOCITY 0
+#define PLANAR_SWIMMER_N_WORK_CONNECTION 0
+#define PLANAR_SWIMMER_N_WORK_LOCKED_INERTIA 0
+#define PLANAR_SWIMMER_N_WORK_SHAPE_INERTIA 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +97,19 @@ void planar_swimmer_shape_inertia(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANA
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int planar_swimmer_rhs_status(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out);
+/* Work-space forms (planar_swimmer.hpp): <kernel>_work(t, x, p, in, out, work) with work[PLANAR_SWIMMER_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void planar_swimmer_kinematics_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_mass_matrix_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_forcing_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_hamel_coefficients_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_rhs_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_jacobian_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_energy_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_group_velocity_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_connection_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_locked_inertia_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
+void planar_swimmer_shape_inertia_work(HAMEL_PLANAR_SWIMMER_REAL t, const HAMEL_PLANAR_SWIMMER_REAL* x, const HAMEL_PLANAR_SWIMMER_REAL* p, const HAMEL_PLANAR_SWIMMER_REAL* in, HAMEL_PLANAR_SWIMMER_REAL* out, HAMEL_PLANAR_SWIMMER_REAL* work);
 
 #ifdef __cplusplus
 }

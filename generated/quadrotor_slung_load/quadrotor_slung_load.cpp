@@ -167,6 +167,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[4] = w2;  // gravity_z_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[13], p[8], in[4]) -> out[64]  ops: 32 add, 37 mul, 0 div, 4 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -276,6 +281,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[63] = w37;  // M[phi_dot][phi_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[13], p[8], in[4]) -> out[8]  ops: 81 add, 97 mul, 0 div, 4 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -345,6 +355,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[7] = w54;  // f[phi_dot]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[13], p[8], in[4]) -> out[18]  ops: 0 add, 0 mul, 0 div, 0 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -369,6 +384,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[15] = real(-1.0);  // gamma^vz_wy,vx
   out[16] = real(1.0);  // gamma^vz_vx,wy
   out[17] = real(-1.0);  // gamma^vz_vy,wx
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[13], p[8], in[4]) -> out[13]  ops: 155 add, 223 mul, 6 div, 4 call */
@@ -491,6 +511,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[10] = w89;  // vz_rate
   out[11] = w100;  // theta_dot_rate
   out[12] = w102;  // phi_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 namespace {
@@ -1222,8 +1247,8 @@ HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const r
 }  // namespace
 
 /* jacobian: (t, x[13], p[8], in[4]) -> out[169]: jacobian_stage, then 7 calls of jacobian_column  ops: 1564 add, 1644 mul, 51 div, 4 call */
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real scratch[148];
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const scratch = work;
   jacobian_stage(t, x, p, in, out, scratch);
   jacobian_column(t, scratch + 36, scratch, in, out + 65);
   jacobian_column(t, scratch + 52, scratch, in, out + 67);
@@ -1232,6 +1257,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   jacobian_column(t, scratch + 100, scratch, in, out + 73);
   jacobian_column(t, scratch + 116, scratch, in, out + 75);
   jacobian_column(t, scratch + 132, scratch, in, out + 76);
+}
+
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[148];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[13], p[8], in[4]) -> out[1]  ops: 26 add, 51 mul, 0 div, 4 call */
@@ -1262,6 +1292,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w19;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* group_velocity: (t, x[13], p[8], in[4]) -> out[6]  ops: 0 add, 0 mul, 0 div, 0 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1273,6 +1308,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[3] = x[8];  // vx
   out[4] = x[9];  // vy
   out[5] = x[10];  // vz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[13], p[8], in[4]) -> out[12]  ops: 106 add, 121 mul, 19 div, 4 call */
@@ -1371,6 +1411,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[11] = w71;  // A[vz][phi]
 }
 
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
+}
+
 /* locked_inertia: (t, x[13], p[8], in[4]) -> out[36]  ops: 15 add, 17 mul, 0 div, 4 call */
 void locked_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1431,6 +1476,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[33] = real(0.0);  // L[vz][vx]
   out[34] = real(0.0);  // L[vz][vy]
   out[35] = real(1.8);  // L[vz][vz]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 /* shape_inertia: (t, x[13], p[8], in[4]) -> out[4]  ops: 125 add, 141 mul, 19 div, 4 call */
@@ -1534,6 +1584,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[3] = w89;  // M_shape[phi][phi]
 }
 
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
+}
+
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
   real all[n_out_rhs];
   real pivots[n_pivots_rhs];
@@ -1588,5 +1643,16 @@ void quadrotor_slung_load_connection(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HA
 void quadrotor_slung_load_locked_inertia(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out) { quadrotor_slung_load::locked_inertia(t, x, p, in, out); }
 void quadrotor_slung_load_shape_inertia(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out) { quadrotor_slung_load::shape_inertia(t, x, p, in, out); }
 int quadrotor_slung_load_rhs_status(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out) { return quadrotor_slung_load::rhs_status(t, x, p, in, out); }
+void quadrotor_slung_load_kinematics_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::kinematics_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_mass_matrix_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::mass_matrix_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_forcing_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::forcing_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_hamel_coefficients_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::hamel_coefficients_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_rhs_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::rhs_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_jacobian_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::jacobian_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_energy_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::energy_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_group_velocity_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::group_velocity_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_connection_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::connection_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_locked_inertia_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::locked_inertia_work(t, x, p, in, out, work); }
+void quadrotor_slung_load_shape_inertia_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work) { quadrotor_slung_load::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,6 +11,37 @@
 #define HAMEL_QUADROTOR_SLUNG_LOAD_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: quadrotor_slung_load_rhs is the symbol quadrotor_slung_load_rhs_double,
+   or quadrotor_slung_load_rhs_float when HAMEL_QUADROTOR_SLUNG_LOAD_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_QUADROTOR_SLUNG_LOAD_REAL must be one token
+   (float or double). */
+#define HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(f) HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME_EXPAND(f, HAMEL_QUADROTOR_SLUNG_LOAD_REAL)
+#define HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME_EXPAND(f, r) HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME_JOIN(f, r)
+#define HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME_JOIN(f, r) quadrotor_slung_load_##f##_##r
+#define quadrotor_slung_load_kinematics HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(kinematics)
+#define quadrotor_slung_load_mass_matrix HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(mass_matrix)
+#define quadrotor_slung_load_forcing HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(forcing)
+#define quadrotor_slung_load_hamel_coefficients HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(hamel_coefficients)
+#define quadrotor_slung_load_rhs HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(rhs)
+#define quadrotor_slung_load_jacobian HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(jacobian)
+#define quadrotor_slung_load_energy HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(energy)
+#define quadrotor_slung_load_group_velocity HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(group_velocity)
+#define quadrotor_slung_load_connection HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(connection)
+#define quadrotor_slung_load_locked_inertia HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(locked_inertia)
+#define quadrotor_slung_load_shape_inertia HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(shape_inertia)
+#define quadrotor_slung_load_rhs_status HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(rhs_status)
+#define quadrotor_slung_load_kinematics_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(kinematics_work)
+#define quadrotor_slung_load_mass_matrix_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(mass_matrix_work)
+#define quadrotor_slung_load_forcing_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(forcing_work)
+#define quadrotor_slung_load_hamel_coefficients_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(hamel_coefficients_work)
+#define quadrotor_slung_load_rhs_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(rhs_work)
+#define quadrotor_slung_load_jacobian_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(jacobian_work)
+#define quadrotor_slung_load_energy_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(energy_work)
+#define quadrotor_slung_load_group_velocity_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(group_velocity_work)
+#define quadrotor_slung_load_connection_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(connection_work)
+#define quadrotor_slung_load_locked_inertia_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(locked_inertia_work)
+#define quadrotor_slung_load_shape_inertia_work HAMEL_QUADROTOR_SLUNG_LOAD_C_NAME(shape_inertia_work)
+
 #define QUADROTOR_SLUNG_LOAD_N_STATE 13
 #define QUADROTOR_SLUNG_LOAD_N_PARAMETERS 8
 #define QUADROTOR_SLUNG_LOAD_N_INPUTS 4
@@ -25,6 +56,17 @@
 #define QUADROTOR_SLUNG_LOAD_N_OUT_CONNECTION 12
 #define QUADROTOR_SLUNG_LOAD_N_OUT_LOCKED_INERTIA 36
 #define QUADROTOR_SLUNG_LOAD_N_OUT_SHAPE_INERTIA 4
+#define QUADROTOR_SLUNG_LOAD_N_WORK_KINEMATICS 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_MASS_MATRIX 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_FORCING 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_HAMEL_COEFFICIENTS 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_RHS 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_JACOBIAN 148
+#define QUADROTOR_SLUNG_LOAD_N_WORK_ENERGY 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_GROUP_VELOCITY 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_CONNECTION 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_LOCKED_INERTIA 0
+#define QUADROTOR_SLUNG_LOAD_N_WORK_SHAPE_INERTIA 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +97,19 @@ void quadrotor_slung_load_shape_inertia(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int quadrotor_slung_load_rhs_status(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out);
+/* Work-space forms (quadrotor_slung_load.hpp): <kernel>_work(t, x, p, in, out, work) with work[QUADROTOR_SLUNG_LOAD_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void quadrotor_slung_load_kinematics_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_mass_matrix_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_forcing_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_hamel_coefficients_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_rhs_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_jacobian_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_energy_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_group_velocity_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_connection_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_locked_inertia_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
+void quadrotor_slung_load_shape_inertia_work(HAMEL_QUADROTOR_SLUNG_LOAD_REAL t, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* x, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* p, const HAMEL_QUADROTOR_SLUNG_LOAD_REAL* in, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* out, HAMEL_QUADROTOR_SLUNG_LOAD_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -54,6 +54,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = w6;  // phi_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[6], p[3], in[0]) -> out[9]  ops: 0 add, 0 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -70,6 +75,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[8] = p[2];  // M[wz][wz]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[6], p[3], in[0]) -> out[3]  ops: 4 add, 6 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -80,6 +90,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w0;  // f[wx]
   out[1] = w1;  // f[wy]
   out[2] = w2;  // f[wz]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[6], p[3], in[0]) -> out[6]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -94,6 +109,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[3] = real(1.0);  // gamma^wy_wz,wx
   out[4] = real(1.0);  // gamma^wz_wx,wy
   out[5] = real(-1.0);  // gamma^wz_wy,wx
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[6], p[3], in[0]) -> out[6]  ops: 8 add, 15 mul, 5 div, 4 call */
@@ -116,6 +136,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[3] = w7;  // wx_rate
   out[4] = w8;  // wy_rate
   out[5] = w9;  // wz_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[6], p[3], in[0]) -> out[36]  ops: 17 add, 33 mul, 12 div, 4 call */
@@ -190,12 +215,22 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[35] = real(0.0);  // dwz_rate/dwz
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[6], p[3], in[0]) -> out[1]  ops: 2 add, 9 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = real(0.5) * (p[1] * (x[4] * x[4])) + real(0.5) * (p[0] * (x[3] * x[3])) + real(0.5) * (p[2] * (x[5] * x[5]));
   out[0] = w0;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -282,6 +317,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[5] = w9;  // wz_rate
 }
 
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
 /* jacobian_prepared: (t, x[6], p[6], in[0]) -> out[36]  ops: 12 add, 27 mul, 9 div, 4 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -348,6 +388,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[35] = real(0.0);  // dwz_rate/dwz
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace rigid_body_euler_zyx
 
 extern "C" {
@@ -363,5 +408,14 @@ int rigid_body_euler_zyx_rhs_status(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAM
 void rigid_body_euler_zyx_prepare_parameters(const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, HAMEL_RIGID_BODY_EULER_ZYX_REAL* prepared) { rigid_body_euler_zyx::prepare_parameters(p, prepared); }
 void rigid_body_euler_zyx_rhs_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::rhs_prepared(t, x, p, in, out); }
 void rigid_body_euler_zyx_jacobian_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out) { rigid_body_euler_zyx::jacobian_prepared(t, x, p, in, out); }
+void rigid_body_euler_zyx_kinematics_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::kinematics_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_mass_matrix_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::mass_matrix_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_forcing_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::forcing_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_hamel_coefficients_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::hamel_coefficients_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_rhs_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::rhs_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_jacobian_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::jacobian_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_energy_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::energy_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_rhs_prepared_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::rhs_prepared_work(t, x, p, in, out, work); }
+void rigid_body_euler_zyx_jacobian_prepared_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work) { rigid_body_euler_zyx::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

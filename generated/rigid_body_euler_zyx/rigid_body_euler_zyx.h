@@ -11,6 +11,34 @@
 #define HAMEL_RIGID_BODY_EULER_ZYX_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: rigid_body_euler_zyx_rhs is the symbol rigid_body_euler_zyx_rhs_double,
+   or rigid_body_euler_zyx_rhs_float when HAMEL_RIGID_BODY_EULER_ZYX_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_RIGID_BODY_EULER_ZYX_REAL must be one token
+   (float or double). */
+#define HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(f) HAMEL_RIGID_BODY_EULER_ZYX_C_NAME_EXPAND(f, HAMEL_RIGID_BODY_EULER_ZYX_REAL)
+#define HAMEL_RIGID_BODY_EULER_ZYX_C_NAME_EXPAND(f, r) HAMEL_RIGID_BODY_EULER_ZYX_C_NAME_JOIN(f, r)
+#define HAMEL_RIGID_BODY_EULER_ZYX_C_NAME_JOIN(f, r) rigid_body_euler_zyx_##f##_##r
+#define rigid_body_euler_zyx_kinematics HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(kinematics)
+#define rigid_body_euler_zyx_mass_matrix HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(mass_matrix)
+#define rigid_body_euler_zyx_forcing HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(forcing)
+#define rigid_body_euler_zyx_hamel_coefficients HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(hamel_coefficients)
+#define rigid_body_euler_zyx_rhs HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(rhs)
+#define rigid_body_euler_zyx_jacobian HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(jacobian)
+#define rigid_body_euler_zyx_energy HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(energy)
+#define rigid_body_euler_zyx_rhs_status HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(rhs_status)
+#define rigid_body_euler_zyx_prepare_parameters HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(prepare_parameters)
+#define rigid_body_euler_zyx_rhs_prepared HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(rhs_prepared)
+#define rigid_body_euler_zyx_jacobian_prepared HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(jacobian_prepared)
+#define rigid_body_euler_zyx_kinematics_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(kinematics_work)
+#define rigid_body_euler_zyx_mass_matrix_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(mass_matrix_work)
+#define rigid_body_euler_zyx_forcing_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(forcing_work)
+#define rigid_body_euler_zyx_hamel_coefficients_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(hamel_coefficients_work)
+#define rigid_body_euler_zyx_rhs_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(rhs_work)
+#define rigid_body_euler_zyx_jacobian_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(jacobian_work)
+#define rigid_body_euler_zyx_energy_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(energy_work)
+#define rigid_body_euler_zyx_rhs_prepared_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(rhs_prepared_work)
+#define rigid_body_euler_zyx_jacobian_prepared_work HAMEL_RIGID_BODY_EULER_ZYX_C_NAME(jacobian_prepared_work)
+
 #define RIGID_BODY_EULER_ZYX_N_STATE 6
 #define RIGID_BODY_EULER_ZYX_N_PARAMETERS 3
 #define RIGID_BODY_EULER_ZYX_N_INPUTS 0
@@ -22,6 +50,15 @@
 #define RIGID_BODY_EULER_ZYX_N_OUT_JACOBIAN 36
 #define RIGID_BODY_EULER_ZYX_N_OUT_ENERGY 1
 #define RIGID_BODY_EULER_ZYX_N_PREPARED_PARAMETERS 6
+#define RIGID_BODY_EULER_ZYX_N_WORK_KINEMATICS 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_MASS_MATRIX 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_FORCING 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_HAMEL_COEFFICIENTS 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_RHS 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_JACOBIAN 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_ENERGY 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_RHS_PREPARED 0
+#define RIGID_BODY_EULER_ZYX_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -50,6 +87,17 @@ void rigid_body_euler_zyx_prepare_parameters(const HAMEL_RIGID_BODY_EULER_ZYX_RE
 void rigid_body_euler_zyx_rhs_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out);
 /* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
 void rigid_body_euler_zyx_jacobian_prepared(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out);
+/* Work-space forms (rigid_body_euler_zyx.hpp): <kernel>_work(t, x, p, in, out, work) with work[RIGID_BODY_EULER_ZYX_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void rigid_body_euler_zyx_kinematics_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_mass_matrix_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_forcing_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_hamel_coefficients_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_rhs_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_jacobian_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_energy_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_rhs_prepared_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
+void rigid_body_euler_zyx_jacobian_prepared_work(HAMEL_RIGID_BODY_EULER_ZYX_REAL t, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* x, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* p, const HAMEL_RIGID_BODY_EULER_ZYX_REAL* in, HAMEL_RIGID_BODY_EULER_ZYX_REAL* out, HAMEL_RIGID_BODY_EULER_ZYX_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -55,6 +55,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[4] = x[6];  // y_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[7], p[2], in[0]) -> out[4]  ops: 0 add, 1 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -67,6 +72,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[3] = w0;  // M[vy][vy]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[7], p[2], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -75,6 +85,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)in;
   out[0] = real(0.0);  // f[vx]
   out[1] = real(0.0);  // f[vy]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[7], p[2], in[0]) -> out[16]  ops: 2 add, 1 mul, 2 div, 0 call */
@@ -104,6 +119,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[15] = w2;  // gamma^u3_vy,vx
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[7], p[2], in[0]) -> out[7]  ops: 4 add, 8 mul, 3 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -123,6 +143,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[4] = x[6];  // y_dot
   out[5] = real(0.0);  // vx_rate
   out[6] = real(0.0);  // vy_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[7], p[2], in[0]) -> out[49]  ops: 10 add, 19 mul, 12 div, 4 call */
@@ -202,12 +227,22 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[48] = real(0.0);  // dvy_rate/dvy
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[7], p[2], in[0]) -> out[1]  ops: 1 add, 6 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = real(0.7) * (p[0] * (x[5] * x[5])) + real(0.7) * (p[0] * (x[6] * x[6]));
   out[0] = w0;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* constraint_residual: (t, x[7], p[2], in[0]) -> out[3]  ops: 9 add, 13 mul, 8 div, 4 call */
@@ -227,6 +262,11 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[0] = w5;  // u1
   out[1] = w6;  // u2
   out[2] = w9;  // u3
+}
+
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_residual(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -280,5 +320,13 @@ void rolling_ball_jacobian(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_R
 void rolling_ball_energy(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::energy(t, x, p, in, out); }
 void rolling_ball_constraint_residual(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { rolling_ball::constraint_residual(t, x, p, in, out); }
 int rolling_ball_rhs_status(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out) { return rolling_ball::rhs_status(t, x, p, in, out); }
+void rolling_ball_kinematics_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::kinematics_work(t, x, p, in, out, work); }
+void rolling_ball_mass_matrix_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::mass_matrix_work(t, x, p, in, out, work); }
+void rolling_ball_forcing_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::forcing_work(t, x, p, in, out, work); }
+void rolling_ball_hamel_coefficients_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::hamel_coefficients_work(t, x, p, in, out, work); }
+void rolling_ball_rhs_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::rhs_work(t, x, p, in, out, work); }
+void rolling_ball_jacobian_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::jacobian_work(t, x, p, in, out, work); }
+void rolling_ball_energy_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::energy_work(t, x, p, in, out, work); }
+void rolling_ball_constraint_residual_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work) { rolling_ball::constraint_residual_work(t, x, p, in, out, work); }
 
 }  // extern "C"

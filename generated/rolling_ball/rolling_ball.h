@@ -11,6 +11,31 @@
 #define HAMEL_ROLLING_BALL_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: rolling_ball_rhs is the symbol rolling_ball_rhs_double,
+   or rolling_ball_rhs_float when HAMEL_ROLLING_BALL_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_ROLLING_BALL_REAL must be one token
+   (float or double). */
+#define HAMEL_ROLLING_BALL_C_NAME(f) HAMEL_ROLLING_BALL_C_NAME_EXPAND(f, HAMEL_ROLLING_BALL_REAL)
+#define HAMEL_ROLLING_BALL_C_NAME_EXPAND(f, r) HAMEL_ROLLING_BALL_C_NAME_JOIN(f, r)
+#define HAMEL_ROLLING_BALL_C_NAME_JOIN(f, r) rolling_ball_##f##_##r
+#define rolling_ball_kinematics HAMEL_ROLLING_BALL_C_NAME(kinematics)
+#define rolling_ball_mass_matrix HAMEL_ROLLING_BALL_C_NAME(mass_matrix)
+#define rolling_ball_forcing HAMEL_ROLLING_BALL_C_NAME(forcing)
+#define rolling_ball_hamel_coefficients HAMEL_ROLLING_BALL_C_NAME(hamel_coefficients)
+#define rolling_ball_rhs HAMEL_ROLLING_BALL_C_NAME(rhs)
+#define rolling_ball_jacobian HAMEL_ROLLING_BALL_C_NAME(jacobian)
+#define rolling_ball_energy HAMEL_ROLLING_BALL_C_NAME(energy)
+#define rolling_ball_constraint_residual HAMEL_ROLLING_BALL_C_NAME(constraint_residual)
+#define rolling_ball_rhs_status HAMEL_ROLLING_BALL_C_NAME(rhs_status)
+#define rolling_ball_kinematics_work HAMEL_ROLLING_BALL_C_NAME(kinematics_work)
+#define rolling_ball_mass_matrix_work HAMEL_ROLLING_BALL_C_NAME(mass_matrix_work)
+#define rolling_ball_forcing_work HAMEL_ROLLING_BALL_C_NAME(forcing_work)
+#define rolling_ball_hamel_coefficients_work HAMEL_ROLLING_BALL_C_NAME(hamel_coefficients_work)
+#define rolling_ball_rhs_work HAMEL_ROLLING_BALL_C_NAME(rhs_work)
+#define rolling_ball_jacobian_work HAMEL_ROLLING_BALL_C_NAME(jacobian_work)
+#define rolling_ball_energy_work HAMEL_ROLLING_BALL_C_NAME(energy_work)
+#define rolling_ball_constraint_residual_work HAMEL_ROLLING_BALL_C_NAME(constraint_residual_work)
+
 #define ROLLING_BALL_N_STATE 7
 #define ROLLING_BALL_N_PARAMETERS 2
 #define ROLLING_BALL_N_INPUTS 0
@@ -22,6 +47,14 @@
 #define ROLLING_BALL_N_OUT_JACOBIAN 49
 #define ROLLING_BALL_N_OUT_ENERGY 1
 #define ROLLING_BALL_N_OUT_CONSTRAINT_RESIDUAL 3
+#define ROLLING_BALL_N_WORK_KINEMATICS 0
+#define ROLLING_BALL_N_WORK_MASS_MATRIX 0
+#define ROLLING_BALL_N_WORK_FORCING 0
+#define ROLLING_BALL_N_WORK_HAMEL_COEFFICIENTS 0
+#define ROLLING_BALL_N_WORK_RHS 0
+#define ROLLING_BALL_N_WORK_JACOBIAN 0
+#define ROLLING_BALL_N_WORK_ENERGY 0
+#define ROLLING_BALL_N_WORK_CONSTRAINT_RESIDUAL 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -46,6 +79,16 @@ void rolling_ball_constraint_residual(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROL
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int rolling_ball_rhs_status(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out);
+/* Work-space forms (rolling_ball.hpp): <kernel>_work(t, x, p, in, out, work) with work[ROLLING_BALL_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void rolling_ball_kinematics_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
+void rolling_ball_mass_matrix_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
+void rolling_ball_forcing_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
+void rolling_ball_hamel_coefficients_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
+void rolling_ball_rhs_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
+void rolling_ball_jacobian_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
+void rolling_ball_energy_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
+void rolling_ball_constraint_residual_work(HAMEL_ROLLING_BALL_REAL t, const HAMEL_ROLLING_BALL_REAL* x, const HAMEL_ROLLING_BALL_REAL* p, const HAMEL_ROLLING_BALL_REAL* in, HAMEL_ROLLING_BALL_REAL* out, HAMEL_ROLLING_BALL_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -34,6 +34,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[1] = x[3];  // y_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[4], p[2], in[0]) -> out[4]  ops: 0 add, 1 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -46,6 +51,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[3] = w0;  // M[y_dot][y_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[4], p[2], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -54,6 +64,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)in;
   out[0] = real(0.0);  // f[x_dot]
   out[1] = real(0.0);  // f[y_dot]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[4], p[2], in[0]) -> out[16]  ops: 2 add, 1 mul, 2 div, 0 call */
@@ -83,6 +98,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[15] = w2;  // gamma^omega_z_constraint_y_dot,x_dot
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[4], p[2], in[0]) -> out[4]  ops: 0 add, 0 mul, 0 div, 0 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -92,6 +112,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[1] = x[3];  // y_dot
   out[2] = real(0.0);  // x_dot_rate
   out[3] = real(0.0);  // y_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[4], p[2], in[0]) -> out[16]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -118,12 +143,22 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[15] = real(0.0);  // dy_dot_rate/dy_dot
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[4], p[2], in[0]) -> out[1]  ops: 1 add, 6 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = real(0.7) * (p[0] * (x[3] * x[3])) + real(0.7) * (p[0] * (x[2] * x[2]));
   out[0] = w0;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* group_velocity: (t, x[4], p[2], in[0]) -> out[3]  ops: 1 add, 0 mul, 2 div, 0 call */
@@ -135,6 +170,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[0] = w0;  // omega_x
   out[1] = w1;  // omega_y
   out[2] = real(0.0);  // omega_z
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[4], p[2], in[0]) -> out[6]  ops: 1 add, 0 mul, 1 div, 0 call */
@@ -152,6 +192,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[5] = real(0.0);  // A[omega_z][y]
 }
 
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
+}
+
 /* locked_inertia: (t, x[4], p[2], in[0]) -> out[9]  ops: 0 add, 3 mul, 0 div, 0 call */
 void locked_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -167,6 +212,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[6] = real(0.0);  // L[omega_z][omega_x]
   out[7] = real(0.0);  // L[omega_z][omega_y]
   out[8] = w0;  // L[omega_z][omega_z]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -235,6 +285,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[3] = real(0.0);  // y_dot_rate
 }
 
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
 /* jacobian_prepared: (t, x[4], p[2], in[0]) -> out[16]  ops: 0 add, 0 mul, 0 div, 0 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -259,6 +314,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[15] = real(0.0);  // dy_dot_rate/dy_dot
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace rolling_ball_bundle
 
 extern "C" {
@@ -277,5 +337,17 @@ int rolling_ball_bundle_rhs_status(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL
 void rolling_ball_bundle_prepare_parameters(const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, HAMEL_ROLLING_BALL_BUNDLE_REAL* prepared) { rolling_ball_bundle::prepare_parameters(p, prepared); }
 void rolling_ball_bundle_rhs_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::rhs_prepared(t, x, p, in, out); }
 void rolling_ball_bundle_jacobian_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out) { rolling_ball_bundle::jacobian_prepared(t, x, p, in, out); }
+void rolling_ball_bundle_kinematics_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::kinematics_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_mass_matrix_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::mass_matrix_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_forcing_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::forcing_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_hamel_coefficients_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::hamel_coefficients_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_rhs_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::rhs_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_jacobian_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::jacobian_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_energy_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::energy_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_group_velocity_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::group_velocity_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_connection_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::connection_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_locked_inertia_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::locked_inertia_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_rhs_prepared_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::rhs_prepared_work(t, x, p, in, out, work); }
+void rolling_ball_bundle_jacobian_prepared_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work) { rolling_ball_bundle::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

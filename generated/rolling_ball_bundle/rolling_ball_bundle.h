@@ -11,6 +11,40 @@
 #define HAMEL_ROLLING_BALL_BUNDLE_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: rolling_ball_bundle_rhs is the symbol rolling_ball_bundle_rhs_double,
+   or rolling_ball_bundle_rhs_float when HAMEL_ROLLING_BALL_BUNDLE_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_ROLLING_BALL_BUNDLE_REAL must be one token
+   (float or double). */
+#define HAMEL_ROLLING_BALL_BUNDLE_C_NAME(f) HAMEL_ROLLING_BALL_BUNDLE_C_NAME_EXPAND(f, HAMEL_ROLLING_BALL_BUNDLE_REAL)
+#define HAMEL_ROLLING_BALL_BUNDLE_C_NAME_EXPAND(f, r) HAMEL_ROLLING_BALL_BUNDLE_C_NAME_JOIN(f, r)
+#define HAMEL_ROLLING_BALL_BUNDLE_C_NAME_JOIN(f, r) rolling_ball_bundle_##f##_##r
+#define rolling_ball_bundle_kinematics HAMEL_ROLLING_BALL_BUNDLE_C_NAME(kinematics)
+#define rolling_ball_bundle_mass_matrix HAMEL_ROLLING_BALL_BUNDLE_C_NAME(mass_matrix)
+#define rolling_ball_bundle_forcing HAMEL_ROLLING_BALL_BUNDLE_C_NAME(forcing)
+#define rolling_ball_bundle_hamel_coefficients HAMEL_ROLLING_BALL_BUNDLE_C_NAME(hamel_coefficients)
+#define rolling_ball_bundle_rhs HAMEL_ROLLING_BALL_BUNDLE_C_NAME(rhs)
+#define rolling_ball_bundle_jacobian HAMEL_ROLLING_BALL_BUNDLE_C_NAME(jacobian)
+#define rolling_ball_bundle_energy HAMEL_ROLLING_BALL_BUNDLE_C_NAME(energy)
+#define rolling_ball_bundle_group_velocity HAMEL_ROLLING_BALL_BUNDLE_C_NAME(group_velocity)
+#define rolling_ball_bundle_connection HAMEL_ROLLING_BALL_BUNDLE_C_NAME(connection)
+#define rolling_ball_bundle_locked_inertia HAMEL_ROLLING_BALL_BUNDLE_C_NAME(locked_inertia)
+#define rolling_ball_bundle_rhs_status HAMEL_ROLLING_BALL_BUNDLE_C_NAME(rhs_status)
+#define rolling_ball_bundle_prepare_parameters HAMEL_ROLLING_BALL_BUNDLE_C_NAME(prepare_parameters)
+#define rolling_ball_bundle_rhs_prepared HAMEL_ROLLING_BALL_BUNDLE_C_NAME(rhs_prepared)
+#define rolling_ball_bundle_jacobian_prepared HAMEL_ROLLING_BALL_BUNDLE_C_NAME(jacobian_prepared)
+#define rolling_ball_bundle_kinematics_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(kinematics_work)
+#define rolling_ball_bundle_mass_matrix_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(mass_matrix_work)
+#define rolling_ball_bundle_forcing_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(forcing_work)
+#define rolling_ball_bundle_hamel_coefficients_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(hamel_coefficients_work)
+#define rolling_ball_bundle_rhs_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(rhs_work)
+#define rolling_ball_bundle_jacobian_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(jacobian_work)
+#define rolling_ball_bundle_energy_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(energy_work)
+#define rolling_ball_bundle_group_velocity_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(group_velocity_work)
+#define rolling_ball_bundle_connection_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(connection_work)
+#define rolling_ball_bundle_locked_inertia_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(locked_inertia_work)
+#define rolling_ball_bundle_rhs_prepared_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(rhs_prepared_work)
+#define rolling_ball_bundle_jacobian_prepared_work HAMEL_ROLLING_BALL_BUNDLE_C_NAME(jacobian_prepared_work)
+
 #define ROLLING_BALL_BUNDLE_N_STATE 4
 #define ROLLING_BALL_BUNDLE_N_PARAMETERS 2
 #define ROLLING_BALL_BUNDLE_N_INPUTS 0
@@ -25,6 +59,18 @@
 #define ROLLING_BALL_BUNDLE_N_OUT_CONNECTION 6
 #define ROLLING_BALL_BUNDLE_N_OUT_LOCKED_INERTIA 9
 #define ROLLING_BALL_BUNDLE_N_PREPARED_PARAMETERS 2
+#define ROLLING_BALL_BUNDLE_N_WORK_KINEMATICS 0
+#define ROLLING_BALL_BUNDLE_N_WORK_MASS_MATRIX 0
+#define ROLLING_BALL_BUNDLE_N_WORK_FORCING 0
+#define ROLLING_BALL_BUNDLE_N_WORK_HAMEL_COEFFICIENTS 0
+#define ROLLING_BALL_BUNDLE_N_WORK_RHS 0
+#define ROLLING_BALL_BUNDLE_N_WORK_JACOBIAN 0
+#define ROLLING_BALL_BUNDLE_N_WORK_ENERGY 0
+#define ROLLING_BALL_BUNDLE_N_WORK_GROUP_VELOCITY 0
+#define ROLLING_BALL_BUNDLE_N_WORK_CONNECTION 0
+#define ROLLING_BALL_BUNDLE_N_WORK_LOCKED_INERTIA 0
+#define ROLLING_BALL_BUNDLE_N_WORK_RHS_PREPARED 0
+#define ROLLING_BALL_BUNDLE_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -59,6 +105,20 @@ void rolling_ball_bundle_prepare_parameters(const HAMEL_ROLLING_BALL_BUNDLE_REAL
 void rolling_ball_bundle_rhs_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out);
 /* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
 void rolling_ball_bundle_jacobian_prepared(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out);
+/* Work-space forms (rolling_ball_bundle.hpp): <kernel>_work(t, x, p, in, out, work) with work[ROLLING_BALL_BUNDLE_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void rolling_ball_bundle_kinematics_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_mass_matrix_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_forcing_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_hamel_coefficients_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_rhs_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_jacobian_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_energy_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_group_velocity_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_connection_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_locked_inertia_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_rhs_prepared_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
+void rolling_ball_bundle_jacobian_prepared_work(HAMEL_ROLLING_BALL_BUNDLE_REAL t, const HAMEL_ROLLING_BALL_BUNDLE_REAL* x, const HAMEL_ROLLING_BALL_BUNDLE_REAL* p, const HAMEL_ROLLING_BALL_BUNDLE_REAL* in, HAMEL_ROLLING_BALL_BUNDLE_REAL* out, HAMEL_ROLLING_BALL_BUNDLE_REAL* work);
 
 #ifdef __cplusplus
 }

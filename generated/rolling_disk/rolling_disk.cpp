@@ -42,6 +42,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[3] = x[5];  // phi_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[6], p[4], in[2]) -> out[4]  ops: 1 add, 2 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -54,6 +59,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[3] = w0;  // M[omega_roll][omega_roll]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[6], p[4], in[2]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -61,6 +71,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)p;
   out[0] = in[0];  // f[omega_heading]
   out[1] = in[1];  // f[omega_roll]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[6], p[4], in[2]) -> out[4]  ops: 2 add, 2 mul, 0 div, 2 call */
@@ -77,6 +92,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[3] = w3;  // gamma^u_y_omega_roll,omega_heading
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[6], p[4], in[2]) -> out[6]  ops: 1 add, 6 mul, 2 div, 2 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -90,6 +110,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[3] = x[5];  // phi_dot
   out[4] = w2;  // omega_heading_rate
   out[5] = w3;  // omega_roll_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[6], p[4], in[2]) -> out[36]  ops: 1 add, 5 mul, 0 div, 2 call */
@@ -139,6 +164,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[35] = real(0.0);  // domega_roll_rate/domega_roll
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[6], p[4], in[2]) -> out[1]  ops: 2 add, 10 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -146,6 +176,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   const real w0 = x[5] * x[5];
   const real w1 = p[3] * w0 * real(0.5) + (real(0.5) * (p[1] * p[1] * p[0] * w0) + real(0.5) * (p[2] * (x[4] * x[4])));
   out[0] = w1;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* constraint_residual: (t, x[6], p[4], in[2]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -156,6 +191,11 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   (void)in;
   out[0] = real(0.0);  // u_x
   out[1] = real(0.0);  // u_y
+}
+
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_residual(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -234,6 +274,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[5] = w3;  // omega_roll_rate
 }
 
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
 /* jacobian_prepared: (t, x[6], p[6], in[2]) -> out[36]  ops: 1 add, 5 mul, 0 div, 2 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -281,6 +326,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[35] = real(0.0);  // domega_roll_rate/domega_roll
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace rolling_disk
 
 extern "C" {
@@ -297,5 +347,15 @@ int rolling_disk_rhs_status(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_
 void rolling_disk_prepare_parameters(const HAMEL_ROLLING_DISK_REAL* p, HAMEL_ROLLING_DISK_REAL* prepared) { rolling_disk::prepare_parameters(p, prepared); }
 void rolling_disk_rhs_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::rhs_prepared(t, x, p, in, out); }
 void rolling_disk_jacobian_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out) { rolling_disk::jacobian_prepared(t, x, p, in, out); }
+void rolling_disk_kinematics_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::kinematics_work(t, x, p, in, out, work); }
+void rolling_disk_mass_matrix_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::mass_matrix_work(t, x, p, in, out, work); }
+void rolling_disk_forcing_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::forcing_work(t, x, p, in, out, work); }
+void rolling_disk_hamel_coefficients_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::hamel_coefficients_work(t, x, p, in, out, work); }
+void rolling_disk_rhs_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::rhs_work(t, x, p, in, out, work); }
+void rolling_disk_jacobian_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::jacobian_work(t, x, p, in, out, work); }
+void rolling_disk_energy_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::energy_work(t, x, p, in, out, work); }
+void rolling_disk_constraint_residual_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::constraint_residual_work(t, x, p, in, out, work); }
+void rolling_disk_rhs_prepared_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::rhs_prepared_work(t, x, p, in, out, work); }
+void rolling_disk_jacobian_prepared_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work) { rolling_disk::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

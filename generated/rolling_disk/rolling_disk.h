@@ -11,6 +11,36 @@
 #define HAMEL_ROLLING_DISK_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: rolling_disk_rhs is the symbol rolling_disk_rhs_double,
+   or rolling_disk_rhs_float when HAMEL_ROLLING_DISK_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_ROLLING_DISK_REAL must be one token
+   (float or double). */
+#define HAMEL_ROLLING_DISK_C_NAME(f) HAMEL_ROLLING_DISK_C_NAME_EXPAND(f, HAMEL_ROLLING_DISK_REAL)
+#define HAMEL_ROLLING_DISK_C_NAME_EXPAND(f, r) HAMEL_ROLLING_DISK_C_NAME_JOIN(f, r)
+#define HAMEL_ROLLING_DISK_C_NAME_JOIN(f, r) rolling_disk_##f##_##r
+#define rolling_disk_kinematics HAMEL_ROLLING_DISK_C_NAME(kinematics)
+#define rolling_disk_mass_matrix HAMEL_ROLLING_DISK_C_NAME(mass_matrix)
+#define rolling_disk_forcing HAMEL_ROLLING_DISK_C_NAME(forcing)
+#define rolling_disk_hamel_coefficients HAMEL_ROLLING_DISK_C_NAME(hamel_coefficients)
+#define rolling_disk_rhs HAMEL_ROLLING_DISK_C_NAME(rhs)
+#define rolling_disk_jacobian HAMEL_ROLLING_DISK_C_NAME(jacobian)
+#define rolling_disk_energy HAMEL_ROLLING_DISK_C_NAME(energy)
+#define rolling_disk_constraint_residual HAMEL_ROLLING_DISK_C_NAME(constraint_residual)
+#define rolling_disk_rhs_status HAMEL_ROLLING_DISK_C_NAME(rhs_status)
+#define rolling_disk_prepare_parameters HAMEL_ROLLING_DISK_C_NAME(prepare_parameters)
+#define rolling_disk_rhs_prepared HAMEL_ROLLING_DISK_C_NAME(rhs_prepared)
+#define rolling_disk_jacobian_prepared HAMEL_ROLLING_DISK_C_NAME(jacobian_prepared)
+#define rolling_disk_kinematics_work HAMEL_ROLLING_DISK_C_NAME(kinematics_work)
+#define rolling_disk_mass_matrix_work HAMEL_ROLLING_DISK_C_NAME(mass_matrix_work)
+#define rolling_disk_forcing_work HAMEL_ROLLING_DISK_C_NAME(forcing_work)
+#define rolling_disk_hamel_coefficients_work HAMEL_ROLLING_DISK_C_NAME(hamel_coefficients_work)
+#define rolling_disk_rhs_work HAMEL_ROLLING_DISK_C_NAME(rhs_work)
+#define rolling_disk_jacobian_work HAMEL_ROLLING_DISK_C_NAME(jacobian_work)
+#define rolling_disk_energy_work HAMEL_ROLLING_DISK_C_NAME(energy_work)
+#define rolling_disk_constraint_residual_work HAMEL_ROLLING_DISK_C_NAME(constraint_residual_work)
+#define rolling_disk_rhs_prepared_work HAMEL_ROLLING_DISK_C_NAME(rhs_prepared_work)
+#define rolling_disk_jacobian_prepared_work HAMEL_ROLLING_DISK_C_NAME(jacobian_prepared_work)
+
 #define ROLLING_DISK_N_STATE 6
 #define ROLLING_DISK_N_PARAMETERS 4
 #define ROLLING_DISK_N_INPUTS 2
@@ -23,6 +53,16 @@
 #define ROLLING_DISK_N_OUT_ENERGY 1
 #define ROLLING_DISK_N_OUT_CONSTRAINT_RESIDUAL 2
 #define ROLLING_DISK_N_PREPARED_PARAMETERS 6
+#define ROLLING_DISK_N_WORK_KINEMATICS 0
+#define ROLLING_DISK_N_WORK_MASS_MATRIX 0
+#define ROLLING_DISK_N_WORK_FORCING 0
+#define ROLLING_DISK_N_WORK_HAMEL_COEFFICIENTS 0
+#define ROLLING_DISK_N_WORK_RHS 0
+#define ROLLING_DISK_N_WORK_JACOBIAN 0
+#define ROLLING_DISK_N_WORK_ENERGY 0
+#define ROLLING_DISK_N_WORK_CONSTRAINT_RESIDUAL 0
+#define ROLLING_DISK_N_WORK_RHS_PREPARED 0
+#define ROLLING_DISK_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -53,6 +93,18 @@ void rolling_disk_prepare_parameters(const HAMEL_ROLLING_DISK_REAL* p, HAMEL_ROL
 void rolling_disk_rhs_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out);
 /* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
 void rolling_disk_jacobian_prepared(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out);
+/* Work-space forms (rolling_disk.hpp): <kernel>_work(t, x, p, in, out, work) with work[ROLLING_DISK_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void rolling_disk_kinematics_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_mass_matrix_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_forcing_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_hamel_coefficients_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_rhs_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_jacobian_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_energy_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_constraint_residual_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_rhs_prepared_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
+void rolling_disk_jacobian_prepared_work(HAMEL_ROLLING_DISK_REAL t, const HAMEL_ROLLING_DISK_REAL* x, const HAMEL_ROLLING_DISK_REAL* p, const HAMEL_ROLLING_DISK_REAL* in, HAMEL_ROLLING_DISK_REAL* out, HAMEL_ROLLING_DISK_REAL* work);
 
 #ifdef __cplusplus
 }

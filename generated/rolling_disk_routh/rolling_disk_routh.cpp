@@ -78,6 +78,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[4] = x[7];  // phi_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[8], p[5], in[0]) -> out[9]  ops: 8 add, 9 mul, 0 div, 2 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -100,6 +105,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[6] = w6;  // M[w_phi][w_psi]
   out[7] = real(0.0);  // M[w_phi][w_theta]
   out[8] = w8;  // M[w_phi][w_phi]
+}
+
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
 }
 
 /* forcing: (t, x[8], p[5], in[0]) -> out[3]  ops: 11 add, 36 mul, 0 div, 6 call */
@@ -127,6 +137,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[2] = w15;  // f[w_phi]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[8], p[5], in[0]) -> out[4]  ops: 2 add, 2 mul, 0 div, 2 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -139,6 +154,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[1] = w0;  // gamma^u_x_w_phi,w_psi
   out[2] = w2;  // gamma^u_y_w_psi,w_phi
   out[3] = w3;  // gamma^u_y_w_phi,w_psi
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[8], p[5], in[0]) -> out[8]  ops: 22 add, 51 mul, 4 div, 6 call */
@@ -177,6 +197,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[5] = w22;  // w_psi_rate
   out[6] = w23;  // w_theta_rate
   out[7] = w21;  // w_phi_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[8], p[5], in[0]) -> out[64]  ops: 54 add, 114 mul, 6 div, 6 call */
@@ -312,6 +337,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[63] = w57;  // dw_phi_rate/dw_phi
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[8], p[5], in[0]) -> out[1]  ops: 11 add, 37 mul, 0 div, 2 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -330,6 +360,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w10;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* constraint_residual: (t, x[8], p[5], in[0]) -> out[2]  ops: 0 add, 0 mul, 0 div, 0 call */
 void constraint_residual(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -338,6 +373,11 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   (void)in;
   out[0] = real(0.0);  // u_x
   out[1] = real(0.0);  // u_y
+}
+
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_residual(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -391,5 +431,13 @@ void rolling_disk_routh_jacobian(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_RO
 void rolling_disk_routh_energy(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { rolling_disk_routh::energy(t, x, p, in, out); }
 void rolling_disk_routh_constraint_residual(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { rolling_disk_routh::constraint_residual(t, x, p, in, out); }
 int rolling_disk_routh_rhs_status(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { return rolling_disk_routh::rhs_status(t, x, p, in, out); }
+void rolling_disk_routh_kinematics_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::kinematics_work(t, x, p, in, out, work); }
+void rolling_disk_routh_mass_matrix_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::mass_matrix_work(t, x, p, in, out, work); }
+void rolling_disk_routh_forcing_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::forcing_work(t, x, p, in, out, work); }
+void rolling_disk_routh_hamel_coefficients_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::hamel_coefficients_work(t, x, p, in, out, work); }
+void rolling_disk_routh_rhs_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::rhs_work(t, x, p, in, out, work); }
+void rolling_disk_routh_jacobian_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::jacobian_work(t, x, p, in, out, work); }
+void rolling_disk_routh_energy_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::energy_work(t, x, p, in, out, work); }
+void rolling_disk_routh_constraint_residual_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::constraint_residual_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -63,6 +63,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[1] = x[6];  // phi2_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[7], p[6], in[0]) -> out[25]  ops: 2 add, 2 mul, 2 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -99,6 +104,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[24] = w3;  // M[phi2_dot][phi2_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[7], p[6], in[0]) -> out[5]  ops: 26 add, 32 mul, 8 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -120,6 +130,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[2] = w8;  // f[wz_locked]
   out[3] = w10;  // f[phi1_dot]
   out[4] = w11;  // f[phi2_dot]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[7], p[6], in[0]) -> out[16]  ops: 8 add, 4 mul, 3 div, 0 call */
@@ -152,6 +167,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[15] = w6;  // gamma^wz_locked_phi2_dot,phi1_dot
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[7], p[6], in[0]) -> out[7]  ops: 26 add, 34 mul, 15 div, 0 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -175,6 +195,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[4] = w8;  // wz_locked_rate
   out[5] = w10;  // phi1_dot_rate
   out[6] = w11;  // phi2_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[7], p[6], in[0]) -> out[49]  ops: 29 add, 49 mul, 22 div, 0 call */
@@ -271,6 +296,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[48] = real(0.0);  // dphi2_dot_rate/dphi2_dot
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[7], p[6], in[0]) -> out[1]  ops: 26 add, 72 mul, 1 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -300,6 +330,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w21;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* group_velocity: (t, x[7], p[6], in[0]) -> out[3]  ops: 4 add, 2 mul, 2 div, 0 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -309,6 +344,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[0] = w0;  // wx
   out[1] = w1;  // wy
   out[2] = x[4];  // wz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[7], p[6], in[0]) -> out[6]  ops: 2 add, 0 mul, 2 div, 0 call */
@@ -324,6 +364,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[3] = w1;  // A[wy][phi2]
   out[4] = real(0.0);  // A[wz][phi1]
   out[5] = real(0.0);  // A[wz][phi2]
+}
+
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
 }
 
 /* locked_inertia: (t, x[7], p[6], in[0]) -> out[9]  ops: 2 add, 0 mul, 0 div, 0 call */
@@ -344,6 +389,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[8] = p[2];  // L[wz][wz]
 }
 
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
+}
+
 /* shape_inertia: (t, x[7], p[6], in[0]) -> out[4]  ops: 2 add, 2 mul, 2 div, 0 call */
 void shape_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -355,6 +405,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[1] = real(0.0);  // M_shape[phi1][phi2]
   out[2] = real(0.0);  // M_shape[phi2][phi1]
   out[3] = w1;  // M_shape[phi2][phi2]
+}
+
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -475,6 +530,11 @@ void rhs_prepared(real t, const real* x, const real* p, const real* in, real* ou
   out[6] = w8;  // phi2_dot_rate
 }
 
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
 /* jacobian_prepared: (t, x[7], p[18], in[0]) -> out[49]  ops: 6 add, 22 mul, 0 div, 0 call */
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -546,6 +606,11 @@ void jacobian_prepared(real t, const real* x, const real* p, const real* in, rea
   out[48] = real(0.0);  // dphi2_dot_rate/dphi2_dot
 }
 
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace satellite_compliant_rotor
 
 extern "C" {
@@ -565,5 +630,18 @@ int satellite_compliant_rotor_rhs_status(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t,
 void satellite_compliant_rotor_prepare_parameters(const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* prepared) { satellite_compliant_rotor::prepare_parameters(p, prepared); }
 void satellite_compliant_rotor_rhs_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::rhs_prepared(t, x, p, in, out); }
 void satellite_compliant_rotor_jacobian_prepared(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out) { satellite_compliant_rotor::jacobian_prepared(t, x, p, in, out); }
+void satellite_compliant_rotor_kinematics_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::kinematics_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_mass_matrix_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::mass_matrix_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_forcing_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::forcing_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_hamel_coefficients_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::hamel_coefficients_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_rhs_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::rhs_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_jacobian_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::jacobian_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_energy_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::energy_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_group_velocity_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::group_velocity_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_connection_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::connection_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_locked_inertia_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::locked_inertia_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_shape_inertia_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::shape_inertia_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_rhs_prepared_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::rhs_prepared_work(t, x, p, in, out, work); }
+void satellite_compliant_rotor_jacobian_prepared_work(HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL t, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* x, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* p, const HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* in, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* out, HAMEL_SATELLITE_COMPLIANT_ROTOR_REAL* work) { satellite_compliant_rotor::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

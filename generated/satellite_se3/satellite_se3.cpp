@@ -18,6 +18,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = x[11];  // phi3_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[12], p[19], in[0]) -> out[81]  ops: 0 add, 0 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -107,6 +112,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[80] = real(1.8467881521552443);  // M[phi3_dot][phi3_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[12], p[19], in[0]) -> out[9]  ops: 173 add, 202 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -185,6 +195,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[6] = w57;  // f[phi1_dot]
   out[7] = w60;  // f[phi2_dot]
   out[8] = w63;  // f[phi3_dot]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[12], p[19], in[0]) -> out[162]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -357,6 +372,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[161] = real(5.11593025795895e-05);  // gamma^vz_locked_phi3_dot,phi2_dot
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[12], p[19], in[0]) -> out[12]  ops: 144 add, 174 mul, 0 div, 0 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -422,6 +442,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[9] = w43;  // phi1_dot_rate
   out[10] = w45;  // phi2_dot_rate
   out[11] = w47;  // phi3_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[12], p[19], in[0]) -> out[144]  ops: 217 add, 237 mul, 0 div, 0 call */
@@ -647,6 +672,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[143] = w71;  // dphi3_dot_rate/dphi3_dot
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[12], p[19], in[0]) -> out[1]  ops: 20 add, 40 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -658,6 +688,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   const real w3 = real(0.9159249438120903) * (x[10] * x[10]) + (x[8] * x[8] * real(65.0) + (x[5] * x[7] * real(9.0) + w1 + x[11] * x[11] * real(0.9233940760776221) + real(0.9100925681556677) * (x[9] * x[9]))) + w2;
   const real w4 = w3 + real(0.0001014278056232365) * (x[9] * x[11]) + x[6] * x[6] * real(65.0) + real(65.0) * (x[7] * x[7]) - real(9.0) * (x[8] * x[4]);
   out[0] = w4;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* group_velocity: (t, x[12], p[19], in[0]) -> out[6]  ops: 19 add, 18 mul, 0 div, 0 call */
@@ -677,6 +712,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[3] = w3;  // vx
   out[4] = w4;  // vy
   out[5] = w5;  // vz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[12], p[19], in[0]) -> out[18]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -703,6 +743,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[15] = real(-0.0006704919626336827);  // A[vz][phi1]
   out[16] = real(0.005818235961127118);  // A[vz][phi2]
   out[17] = real(4.3592166090881715e-05);  // A[vz][phi3]
+}
+
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
 }
 
 /* locked_inertia: (t, x[12], p[19], in[0]) -> out[36]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -749,6 +794,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[35] = real(130.0);  // L[vz][vz]
 }
 
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
+}
+
 /* shape_inertia: (t, x[12], p[19], in[0]) -> out[9]  ops: 0 add, 0 mul, 0 div, 0 call */
 void shape_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -764,6 +814,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[6] = real(0.0001014278056232365);  // M_shape[phi3][phi1]
   out[7] = real(-0.0012480594864451122);  // M_shape[phi3][phi2]
   out[8] = real(1.8467881521552443);  // M_shape[phi3][phi3]
+}
+
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -817,5 +872,16 @@ void satellite_se3_connection(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_
 void satellite_se3_locked_inertia(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out) { satellite_se3::locked_inertia(t, x, p, in, out); }
 void satellite_se3_shape_inertia(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out) { satellite_se3::shape_inertia(t, x, p, in, out); }
 int satellite_se3_rhs_status(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out) { return satellite_se3::rhs_status(t, x, p, in, out); }
+void satellite_se3_kinematics_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::kinematics_work(t, x, p, in, out, work); }
+void satellite_se3_mass_matrix_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::mass_matrix_work(t, x, p, in, out, work); }
+void satellite_se3_forcing_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::forcing_work(t, x, p, in, out, work); }
+void satellite_se3_hamel_coefficients_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::hamel_coefficients_work(t, x, p, in, out, work); }
+void satellite_se3_rhs_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::rhs_work(t, x, p, in, out, work); }
+void satellite_se3_jacobian_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::jacobian_work(t, x, p, in, out, work); }
+void satellite_se3_energy_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::energy_work(t, x, p, in, out, work); }
+void satellite_se3_group_velocity_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::group_velocity_work(t, x, p, in, out, work); }
+void satellite_se3_connection_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::connection_work(t, x, p, in, out, work); }
+void satellite_se3_locked_inertia_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::locked_inertia_work(t, x, p, in, out, work); }
+void satellite_se3_shape_inertia_work(HAMEL_SATELLITE_SE3_REAL t, const HAMEL_SATELLITE_SE3_REAL* x, const HAMEL_SATELLITE_SE3_REAL* p, const HAMEL_SATELLITE_SE3_REAL* in, HAMEL_SATELLITE_SE3_REAL* out, HAMEL_SATELLITE_SE3_REAL* work) { satellite_se3::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

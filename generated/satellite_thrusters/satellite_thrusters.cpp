@@ -257,6 +257,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = x[11];  // q2_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[12], p[23], in[9]) -> out[81]  ops: 87 add, 108 mul, 0 div, 6 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -415,6 +420,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[80] = w69;  // M[q2_dot][q2_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[12], p[23], in[9]) -> out[9]  ops: 186 add, 238 mul, 0 div, 6 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -529,6 +539,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[8] = w98;  // f[q2_dot]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[12], p[23], in[9]) -> out[18]  ops: 0 add, 0 mul, 0 div, 0 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -553,6 +568,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[15] = real(-1.0);  // gamma^vz_wy,vx
   out[16] = real(1.0);  // gamma^vz_vx,wy
   out[17] = real(-1.0);  // gamma^vz_vy,wx
+}
+
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
 }
 
 /* rhs: (t, x[12], p[23], in[9]) -> out[12]  ops: 358 add, 480 mul, 7 div, 6 call */
@@ -769,6 +789,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[9] = w190;  // phiw_dot_rate
   out[10] = w194;  // q1_dot_rate
   out[11] = w197;  // q2_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 namespace {
@@ -1741,8 +1766,8 @@ void jacobian_stage_part1(real t, const real* x, const real* p, const real* in, 
 
 }  // namespace
 
-HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
-  real v[127];
+HAMEL_NOINLINE void jacobian_stage_work(real t, const real* x, const real* p, const real* in, real* out, real* scratch, real* work) {
+  real* const v = work;
   jacobian_stage_part0(t, x, p, in, v, out, scratch);
   jacobian_stage_part1(t, x, p, in, v, out, scratch);
   out[0] = real(0.0);  // dphiw_dot/dphiw
@@ -1815,18 +1840,28 @@ HAMEL_NOINLINE void jacobian_stage(real t, const real* x, const real* p, const r
   scratch[143] = real(0.0);  // call 5, argument 8, lane 1
 }
 
+[[maybe_unused]] void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
+  real work[127];
+  jacobian_stage_work(t, x, p, in, out, scratch, work);
+}
+
 }  // namespace
 
 /* jacobian: (t, x[12], p[23], in[9]) -> out[144]: jacobian_stage, then 6 calls of jacobian_column  ops: 1892 add, 1807 mul, 56 div, 6 call */
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real scratch[144];
-  jacobian_stage(t, x, p, in, out, scratch);
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const scratch = work;
+  jacobian_stage_work(t, x, p, in, out, scratch, work + 144);
   jacobian_column(t, scratch + 36, scratch, in, out + 36);
   jacobian_column(t, scratch + 54, scratch, in, out + 38);
   jacobian_column(t, scratch + 72, scratch, in, out + 40);
   jacobian_column(t, scratch + 90, scratch, in, out + 42);
   jacobian_column(t, scratch + 108, scratch, in, out + 44);
   jacobian_column(t, scratch + 126, scratch, in, out + 46);
+}
+
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[271];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[12], p[23], in[9]) -> out[1]  ops: 76 add, 142 mul, 0 div, 6 call */
@@ -1883,6 +1918,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w45;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* group_velocity: (t, x[12], p[23], in[9]) -> out[6]  ops: 0 add, 0 mul, 0 div, 0 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1894,6 +1934,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[3] = x[6];  // vx
   out[4] = x[7];  // vy
   out[5] = x[8];  // vz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[12], p[23], in[9]) -> out[18]  ops: 188 add, 225 mul, 20 div, 6 call */
@@ -2037,6 +2082,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[17] = w110;  // A[vz][q2]
 }
 
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
+}
+
 /* locked_inertia: (t, x[12], p[23], in[9]) -> out[36]  ops: 63 add, 80 mul, 0 div, 6 call */
 void locked_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -2121,6 +2171,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[33] = real(0.0);  // L[vz][vx]
   out[34] = real(0.0);  // L[vz][vy]
   out[35] = real(421.0);  // L[vz][vz]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 /* shape_inertia: (t, x[12], p[23], in[9]) -> out[9]  ops: 204 add, 241 mul, 20 div, 6 call */
@@ -2267,6 +2322,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[8] = w127;  // M_shape[q2][q2]
 }
 
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
+}
+
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
   real all[n_out_rhs];
   real pivots[n_pivots_rhs];
@@ -2321,5 +2381,16 @@ void satellite_thrusters_connection(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAME
 void satellite_thrusters_locked_inertia(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out) { satellite_thrusters::locked_inertia(t, x, p, in, out); }
 void satellite_thrusters_shape_inertia(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out) { satellite_thrusters::shape_inertia(t, x, p, in, out); }
 int satellite_thrusters_rhs_status(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out) { return satellite_thrusters::rhs_status(t, x, p, in, out); }
+void satellite_thrusters_kinematics_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::kinematics_work(t, x, p, in, out, work); }
+void satellite_thrusters_mass_matrix_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::mass_matrix_work(t, x, p, in, out, work); }
+void satellite_thrusters_forcing_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::forcing_work(t, x, p, in, out, work); }
+void satellite_thrusters_hamel_coefficients_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::hamel_coefficients_work(t, x, p, in, out, work); }
+void satellite_thrusters_rhs_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::rhs_work(t, x, p, in, out, work); }
+void satellite_thrusters_jacobian_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::jacobian_work(t, x, p, in, out, work); }
+void satellite_thrusters_energy_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::energy_work(t, x, p, in, out, work); }
+void satellite_thrusters_group_velocity_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::group_velocity_work(t, x, p, in, out, work); }
+void satellite_thrusters_connection_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::connection_work(t, x, p, in, out, work); }
+void satellite_thrusters_locked_inertia_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::locked_inertia_work(t, x, p, in, out, work); }
+void satellite_thrusters_shape_inertia_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work) { satellite_thrusters::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

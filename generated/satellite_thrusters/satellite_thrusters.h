@@ -11,6 +11,37 @@
 #define HAMEL_SATELLITE_THRUSTERS_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: satellite_thrusters_rhs is the symbol satellite_thrusters_rhs_double,
+   or satellite_thrusters_rhs_float when HAMEL_SATELLITE_THRUSTERS_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_SATELLITE_THRUSTERS_REAL must be one token
+   (float or double). */
+#define HAMEL_SATELLITE_THRUSTERS_C_NAME(f) HAMEL_SATELLITE_THRUSTERS_C_NAME_EXPAND(f, HAMEL_SATELLITE_THRUSTERS_REAL)
+#define HAMEL_SATELLITE_THRUSTERS_C_NAME_EXPAND(f, r) HAMEL_SATELLITE_THRUSTERS_C_NAME_JOIN(f, r)
+#define HAMEL_SATELLITE_THRUSTERS_C_NAME_JOIN(f, r) satellite_thrusters_##f##_##r
+#define satellite_thrusters_kinematics HAMEL_SATELLITE_THRUSTERS_C_NAME(kinematics)
+#define satellite_thrusters_mass_matrix HAMEL_SATELLITE_THRUSTERS_C_NAME(mass_matrix)
+#define satellite_thrusters_forcing HAMEL_SATELLITE_THRUSTERS_C_NAME(forcing)
+#define satellite_thrusters_hamel_coefficients HAMEL_SATELLITE_THRUSTERS_C_NAME(hamel_coefficients)
+#define satellite_thrusters_rhs HAMEL_SATELLITE_THRUSTERS_C_NAME(rhs)
+#define satellite_thrusters_jacobian HAMEL_SATELLITE_THRUSTERS_C_NAME(jacobian)
+#define satellite_thrusters_energy HAMEL_SATELLITE_THRUSTERS_C_NAME(energy)
+#define satellite_thrusters_group_velocity HAMEL_SATELLITE_THRUSTERS_C_NAME(group_velocity)
+#define satellite_thrusters_connection HAMEL_SATELLITE_THRUSTERS_C_NAME(connection)
+#define satellite_thrusters_locked_inertia HAMEL_SATELLITE_THRUSTERS_C_NAME(locked_inertia)
+#define satellite_thrusters_shape_inertia HAMEL_SATELLITE_THRUSTERS_C_NAME(shape_inertia)
+#define satellite_thrusters_rhs_status HAMEL_SATELLITE_THRUSTERS_C_NAME(rhs_status)
+#define satellite_thrusters_kinematics_work HAMEL_SATELLITE_THRUSTERS_C_NAME(kinematics_work)
+#define satellite_thrusters_mass_matrix_work HAMEL_SATELLITE_THRUSTERS_C_NAME(mass_matrix_work)
+#define satellite_thrusters_forcing_work HAMEL_SATELLITE_THRUSTERS_C_NAME(forcing_work)
+#define satellite_thrusters_hamel_coefficients_work HAMEL_SATELLITE_THRUSTERS_C_NAME(hamel_coefficients_work)
+#define satellite_thrusters_rhs_work HAMEL_SATELLITE_THRUSTERS_C_NAME(rhs_work)
+#define satellite_thrusters_jacobian_work HAMEL_SATELLITE_THRUSTERS_C_NAME(jacobian_work)
+#define satellite_thrusters_energy_work HAMEL_SATELLITE_THRUSTERS_C_NAME(energy_work)
+#define satellite_thrusters_group_velocity_work HAMEL_SATELLITE_THRUSTERS_C_NAME(group_velocity_work)
+#define satellite_thrusters_connection_work HAMEL_SATELLITE_THRUSTERS_C_NAME(connection_work)
+#define satellite_thrusters_locked_inertia_work HAMEL_SATELLITE_THRUSTERS_C_NAME(locked_inertia_work)
+#define satellite_thrusters_shape_inertia_work HAMEL_SATELLITE_THRUSTERS_C_NAME(shape_inertia_work)
+
 #define SATELLITE_THRUSTERS_N_STATE 12
 #define SATELLITE_THRUSTERS_N_PARAMETERS 23
 #define SATELLITE_THRUSTERS_N_INPUTS 9
@@ -25,6 +56,17 @@
 #define SATELLITE_THRUSTERS_N_OUT_CONNECTION 18
 #define SATELLITE_THRUSTERS_N_OUT_LOCKED_INERTIA 36
 #define SATELLITE_THRUSTERS_N_OUT_SHAPE_INERTIA 9
+#define SATELLITE_THRUSTERS_N_WORK_KINEMATICS 0
+#define SATELLITE_THRUSTERS_N_WORK_MASS_MATRIX 0
+#define SATELLITE_THRUSTERS_N_WORK_FORCING 0
+#define SATELLITE_THRUSTERS_N_WORK_HAMEL_COEFFICIENTS 0
+#define SATELLITE_THRUSTERS_N_WORK_RHS 0
+#define SATELLITE_THRUSTERS_N_WORK_JACOBIAN 271
+#define SATELLITE_THRUSTERS_N_WORK_ENERGY 0
+#define SATELLITE_THRUSTERS_N_WORK_GROUP_VELOCITY 0
+#define SATELLITE_THRUSTERS_N_WORK_CONNECTION 0
+#define SATELLITE_THRUSTERS_N_WORK_LOCKED_INERTIA 0
+#define SATELLITE_THRUSTERS_N_WORK_SHAPE_INERTIA 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +97,19 @@ void satellite_thrusters_shape_inertia(HAMEL_SATELLITE_THRUSTERS_REAL t, const H
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int satellite_thrusters_rhs_status(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out);
+/* Work-space forms (satellite_thrusters.hpp): <kernel>_work(t, x, p, in, out, work) with work[SATELLITE_THRUSTERS_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void satellite_thrusters_kinematics_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_mass_matrix_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_forcing_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_hamel_coefficients_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_rhs_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_jacobian_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_energy_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_group_velocity_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_connection_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_locked_inertia_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
+void satellite_thrusters_shape_inertia_work(HAMEL_SATELLITE_THRUSTERS_REAL t, const HAMEL_SATELLITE_THRUSTERS_REAL* x, const HAMEL_SATELLITE_THRUSTERS_REAL* p, const HAMEL_SATELLITE_THRUSTERS_REAL* in, HAMEL_SATELLITE_THRUSTERS_REAL* out, HAMEL_SATELLITE_THRUSTERS_REAL* work);
 
 #ifdef __cplusplus
 }

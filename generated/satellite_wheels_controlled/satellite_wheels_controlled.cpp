@@ -18,6 +18,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = x[11];  // phi3_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* mass_matrix: (t, x[12], p[19], in[3]) -> out[81]  ops: 0 add, 0 mul, 0 div, 0 call */
 void mass_matrix(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -107,6 +112,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[80] = real(1.8467881521552443);  // M[phi3_dot][phi3_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[12], p[19], in[3]) -> out[9]  ops: 76 add, 93 mul, 0 div, 0 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -151,6 +161,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[6] = w26;  // f[phi1_dot]
   out[7] = w28;  // f[phi2_dot]
   out[8] = w30;  // f[phi3_dot]
+}
+
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
 }
 
 /* hamel_coefficients: (t, x[12], p[19], in[3]) -> out[60]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -221,6 +236,11 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[59] = real(-4.453997679712453e-06);  // gamma^wz_locked_phi3_dot,phi2_dot
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[12], p[19], in[3]) -> out[12]  ops: 86 add, 105 mul, 0 div, 0 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -271,6 +291,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[9] = w25;  // phi1_dot_rate
   out[10] = w29;  // phi2_dot_rate
   out[11] = w33;  // phi3_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[12], p[19], in[3]) -> out[144]  ops: 112 add, 132 mul, 0 div, 0 call */
@@ -466,6 +491,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[143] = w41;  // dphi3_dot_rate/dphi3_dot
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[12], p[19], in[3]) -> out[1]  ops: 14 add, 30 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -476,6 +506,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   const real w2 = real(0.9159249438120903) * (x[10] * x[10]) + (x[8] * x[8] * real(65.0) + (real(0.9100925681556677) * (x[9] * x[9]) + w1)) + real(0.015384615384615385) * (x[3] * x[5]) + real(11.122692307692308) * (x[3] * x[3]);
   const real w3 = real(0.0001014278056232365) * (x[9] * x[11]) + w2 + x[4] * x[4] * real(11.895) + x[6] * x[6] * real(65.0) + real(65.0) * (x[7] * x[7]);
   out[0] = w3;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* group_velocity: (t, x[12], p[19], in[3]) -> out[6]  ops: 10 add, 9 mul, 0 div, 0 call */
@@ -492,6 +527,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[3] = x[6];  // vx
   out[4] = x[7];  // vy
   out[5] = x[8];  // vz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[12], p[19], in[3]) -> out[18]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -518,6 +558,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[15] = real(0.0);  // A[vz][phi1]
   out[16] = real(0.0);  // A[vz][phi2]
   out[17] = real(0.0);  // A[vz][phi3]
+}
+
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
 }
 
 /* locked_inertia: (t, x[12], p[19], in[3]) -> out[36]  ops: 0 add, 0 mul, 0 div, 0 call */
@@ -564,6 +609,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[35] = real(130.0);  // L[vz][vz]
 }
 
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
+}
+
 /* shape_inertia: (t, x[12], p[19], in[3]) -> out[9]  ops: 0 add, 0 mul, 0 div, 0 call */
 void shape_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -579,6 +629,11 @@ void shape_inertia(real t, const real* x, const real* p, const real* in, real* o
   out[6] = real(0.0001014278056232365);  // M_shape[phi3][phi1]
   out[7] = real(-0.0012480594864451122);  // M_shape[phi3][phi2]
   out[8] = real(1.8467881521552443);  // M_shape[phi3][phi3]
+}
+
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  shape_inertia(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -632,5 +687,16 @@ void satellite_wheels_controlled_connection(HAMEL_SATELLITE_WHEELS_CONTROLLED_RE
 void satellite_wheels_controlled_locked_inertia(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::locked_inertia(t, x, p, in, out); }
 void satellite_wheels_controlled_shape_inertia(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { satellite_wheels_controlled::shape_inertia(t, x, p, in, out); }
 int satellite_wheels_controlled_rhs_status(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out) { return satellite_wheels_controlled::rhs_status(t, x, p, in, out); }
+void satellite_wheels_controlled_kinematics_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::kinematics_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_mass_matrix_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::mass_matrix_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_forcing_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::forcing_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_hamel_coefficients_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::hamel_coefficients_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_rhs_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::rhs_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_jacobian_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::jacobian_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_energy_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::energy_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_group_velocity_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::group_velocity_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_connection_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::connection_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_locked_inertia_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::locked_inertia_work(t, x, p, in, out, work); }
+void satellite_wheels_controlled_shape_inertia_work(HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL t, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* x, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* p, const HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* in, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* out, HAMEL_SATELLITE_WHEELS_CONTROLLED_REAL* work) { satellite_wheels_controlled::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -55,6 +55,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[4] = x[6];  // y_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* rhs: (t, x[7], p[2], in[0]) -> out[7]  ops: 4 add, 8 mul, 3 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -76,12 +81,22 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[6] = real(0.0);  // vy_rate
 }
 
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
+}
+
 /* energy: (t, x[7], p[2], in[0]) -> out[1]  ops: 1 add, 6 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = real(0.7) * (p[0] * (x[5] * x[5])) + real(0.7) * (p[0] * (x[6] * x[6]));
   out[0] = w0;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* constraint_residual: (t, x[7], p[2], in[0]) -> out[3]  ops: 9 add, 13 mul, 8 div, 4 call */
@@ -101,6 +116,11 @@ void constraint_residual(real t, const real* x, const real* p, const real* in, r
   out[0] = w5;  // u1
   out[1] = w6;  // u2
   out[2] = w9;  // u3
+}
+
+void constraint_residual_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  constraint_residual(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -150,5 +170,9 @@ void rolling_ball_scene_rhs(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING
 void rolling_ball_scene_energy(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out) { rolling_ball_scene::energy(t, x, p, in, out); }
 void rolling_ball_scene_constraint_residual(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out) { rolling_ball_scene::constraint_residual(t, x, p, in, out); }
 int rolling_ball_scene_rhs_status(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out) { return rolling_ball_scene::rhs_status(t, x, p, in, out); }
+void rolling_ball_scene_kinematics_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work) { rolling_ball_scene::kinematics_work(t, x, p, in, out, work); }
+void rolling_ball_scene_rhs_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work) { rolling_ball_scene::rhs_work(t, x, p, in, out, work); }
+void rolling_ball_scene_energy_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work) { rolling_ball_scene::energy_work(t, x, p, in, out, work); }
+void rolling_ball_scene_constraint_residual_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work) { rolling_ball_scene::constraint_residual_work(t, x, p, in, out, work); }
 
 }  // extern "C"

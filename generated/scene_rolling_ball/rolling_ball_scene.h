@@ -11,6 +11,23 @@
 #define HAMEL_ROLLING_BALL_SCENE_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: rolling_ball_scene_rhs is the symbol rolling_ball_scene_rhs_double,
+   or rolling_ball_scene_rhs_float when HAMEL_ROLLING_BALL_SCENE_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_ROLLING_BALL_SCENE_REAL must be one token
+   (float or double). */
+#define HAMEL_ROLLING_BALL_SCENE_C_NAME(f) HAMEL_ROLLING_BALL_SCENE_C_NAME_EXPAND(f, HAMEL_ROLLING_BALL_SCENE_REAL)
+#define HAMEL_ROLLING_BALL_SCENE_C_NAME_EXPAND(f, r) HAMEL_ROLLING_BALL_SCENE_C_NAME_JOIN(f, r)
+#define HAMEL_ROLLING_BALL_SCENE_C_NAME_JOIN(f, r) rolling_ball_scene_##f##_##r
+#define rolling_ball_scene_kinematics HAMEL_ROLLING_BALL_SCENE_C_NAME(kinematics)
+#define rolling_ball_scene_rhs HAMEL_ROLLING_BALL_SCENE_C_NAME(rhs)
+#define rolling_ball_scene_energy HAMEL_ROLLING_BALL_SCENE_C_NAME(energy)
+#define rolling_ball_scene_constraint_residual HAMEL_ROLLING_BALL_SCENE_C_NAME(constraint_residual)
+#define rolling_ball_scene_rhs_status HAMEL_ROLLING_BALL_SCENE_C_NAME(rhs_status)
+#define rolling_ball_scene_kinematics_work HAMEL_ROLLING_BALL_SCENE_C_NAME(kinematics_work)
+#define rolling_ball_scene_rhs_work HAMEL_ROLLING_BALL_SCENE_C_NAME(rhs_work)
+#define rolling_ball_scene_energy_work HAMEL_ROLLING_BALL_SCENE_C_NAME(energy_work)
+#define rolling_ball_scene_constraint_residual_work HAMEL_ROLLING_BALL_SCENE_C_NAME(constraint_residual_work)
+
 #define ROLLING_BALL_SCENE_N_STATE 7
 #define ROLLING_BALL_SCENE_N_PARAMETERS 2
 #define ROLLING_BALL_SCENE_N_INPUTS 0
@@ -18,6 +35,10 @@
 #define ROLLING_BALL_SCENE_N_OUT_RHS 7
 #define ROLLING_BALL_SCENE_N_OUT_ENERGY 1
 #define ROLLING_BALL_SCENE_N_OUT_CONSTRAINT_RESIDUAL 3
+#define ROLLING_BALL_SCENE_N_WORK_KINEMATICS 0
+#define ROLLING_BALL_SCENE_N_WORK_RHS 0
+#define ROLLING_BALL_SCENE_N_WORK_ENERGY 0
+#define ROLLING_BALL_SCENE_N_WORK_CONSTRAINT_RESIDUAL 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -34,6 +55,12 @@ void rolling_ball_scene_constraint_residual(HAMEL_ROLLING_BALL_SCENE_REAL t, con
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int rolling_ball_scene_rhs_status(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out);
+/* Work-space forms (rolling_ball_scene.hpp): <kernel>_work(t, x, p, in, out, work) with work[ROLLING_BALL_SCENE_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void rolling_ball_scene_kinematics_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work);
+void rolling_ball_scene_rhs_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work);
+void rolling_ball_scene_energy_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work);
+void rolling_ball_scene_constraint_residual_work(HAMEL_ROLLING_BALL_SCENE_REAL t, const HAMEL_ROLLING_BALL_SCENE_REAL* x, const HAMEL_ROLLING_BALL_SCENE_REAL* p, const HAMEL_ROLLING_BALL_SCENE_REAL* in, HAMEL_ROLLING_BALL_SCENE_REAL* out, HAMEL_ROLLING_BALL_SCENE_REAL* work);
 
 #ifdef __cplusplus
 }

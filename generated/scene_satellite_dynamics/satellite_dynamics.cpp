@@ -18,6 +18,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[2] = x[11];  // phi3_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* rhs: (t, x[12], p[19], in[0]) -> out[12]  ops: 144 add, 174 mul, 0 div, 0 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -83,6 +88,11 @@ void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   out[9] = w43;  // phi1_dot_rate
   out[10] = w45;  // phi2_dot_rate
   out[11] = w47;  // phi3_dot_rate
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs(t, x, p, in, out);
 }
 
 /* jacobian: (t, x[12], p[19], in[0]) -> out[144]  ops: 217 add, 237 mul, 0 div, 0 call */
@@ -308,6 +318,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[143] = w71;  // dphi3_dot_rate/dphi3_dot
 }
 
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian(t, x, p, in, out);
+}
+
 /* energy: (t, x[12], p[19], in[0]) -> out[1]  ops: 20 add, 40 mul, 0 div, 0 call */
 void energy(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -319,6 +334,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   const real w3 = real(0.9159249438120903) * (x[10] * x[10]) + (x[8] * x[8] * real(65.0) + (x[5] * x[7] * real(9.0) + w1 + x[11] * x[11] * real(0.9233940760776221) + real(0.9100925681556677) * (x[9] * x[9]))) + w2;
   const real w4 = w3 + real(0.0001014278056232365) * (x[9] * x[11]) + x[6] * x[6] * real(65.0) + real(65.0) * (x[7] * x[7]) - real(9.0) * (x[8] * x[4]);
   out[0] = w4;  // E
+}
+
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
 }
 
 /* group_velocity: (t, x[12], p[19], in[0]) -> out[6]  ops: 19 add, 18 mul, 0 div, 0 call */
@@ -338,6 +358,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[3] = w3;  // vx
   out[4] = w4;  // vy
   out[5] = w5;  // vz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -385,5 +410,10 @@ void satellite_dynamics_jacobian(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SA
 void satellite_dynamics_energy(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { satellite_dynamics::energy(t, x, p, in, out); }
 void satellite_dynamics_group_velocity(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { satellite_dynamics::group_velocity(t, x, p, in, out); }
 int satellite_dynamics_rhs_status(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out) { return satellite_dynamics::rhs_status(t, x, p, in, out); }
+void satellite_dynamics_kinematics_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work) { satellite_dynamics::kinematics_work(t, x, p, in, out, work); }
+void satellite_dynamics_rhs_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work) { satellite_dynamics::rhs_work(t, x, p, in, out, work); }
+void satellite_dynamics_jacobian_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work) { satellite_dynamics::jacobian_work(t, x, p, in, out, work); }
+void satellite_dynamics_energy_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work) { satellite_dynamics::energy_work(t, x, p, in, out, work); }
+void satellite_dynamics_group_velocity_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work) { satellite_dynamics::group_velocity_work(t, x, p, in, out, work); }
 
 }  // extern "C"

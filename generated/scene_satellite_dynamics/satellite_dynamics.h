@@ -11,6 +11,25 @@
 #define HAMEL_SATELLITE_DYNAMICS_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: satellite_dynamics_rhs is the symbol satellite_dynamics_rhs_double,
+   or satellite_dynamics_rhs_float when HAMEL_SATELLITE_DYNAMICS_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_SATELLITE_DYNAMICS_REAL must be one token
+   (float or double). */
+#define HAMEL_SATELLITE_DYNAMICS_C_NAME(f) HAMEL_SATELLITE_DYNAMICS_C_NAME_EXPAND(f, HAMEL_SATELLITE_DYNAMICS_REAL)
+#define HAMEL_SATELLITE_DYNAMICS_C_NAME_EXPAND(f, r) HAMEL_SATELLITE_DYNAMICS_C_NAME_JOIN(f, r)
+#define HAMEL_SATELLITE_DYNAMICS_C_NAME_JOIN(f, r) satellite_dynamics_##f##_##r
+#define satellite_dynamics_kinematics HAMEL_SATELLITE_DYNAMICS_C_NAME(kinematics)
+#define satellite_dynamics_rhs HAMEL_SATELLITE_DYNAMICS_C_NAME(rhs)
+#define satellite_dynamics_jacobian HAMEL_SATELLITE_DYNAMICS_C_NAME(jacobian)
+#define satellite_dynamics_energy HAMEL_SATELLITE_DYNAMICS_C_NAME(energy)
+#define satellite_dynamics_group_velocity HAMEL_SATELLITE_DYNAMICS_C_NAME(group_velocity)
+#define satellite_dynamics_rhs_status HAMEL_SATELLITE_DYNAMICS_C_NAME(rhs_status)
+#define satellite_dynamics_kinematics_work HAMEL_SATELLITE_DYNAMICS_C_NAME(kinematics_work)
+#define satellite_dynamics_rhs_work HAMEL_SATELLITE_DYNAMICS_C_NAME(rhs_work)
+#define satellite_dynamics_jacobian_work HAMEL_SATELLITE_DYNAMICS_C_NAME(jacobian_work)
+#define satellite_dynamics_energy_work HAMEL_SATELLITE_DYNAMICS_C_NAME(energy_work)
+#define satellite_dynamics_group_velocity_work HAMEL_SATELLITE_DYNAMICS_C_NAME(group_velocity_work)
+
 #define SATELLITE_DYNAMICS_N_STATE 12
 #define SATELLITE_DYNAMICS_N_PARAMETERS 19
 #define SATELLITE_DYNAMICS_N_INPUTS 0
@@ -19,6 +38,11 @@
 #define SATELLITE_DYNAMICS_N_OUT_JACOBIAN 144
 #define SATELLITE_DYNAMICS_N_OUT_ENERGY 1
 #define SATELLITE_DYNAMICS_N_OUT_GROUP_VELOCITY 6
+#define SATELLITE_DYNAMICS_N_WORK_KINEMATICS 0
+#define SATELLITE_DYNAMICS_N_WORK_RHS 0
+#define SATELLITE_DYNAMICS_N_WORK_JACOBIAN 0
+#define SATELLITE_DYNAMICS_N_WORK_ENERGY 0
+#define SATELLITE_DYNAMICS_N_WORK_GROUP_VELOCITY 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -37,6 +61,13 @@ void satellite_dynamics_group_velocity(HAMEL_SATELLITE_DYNAMICS_REAL t, const HA
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int satellite_dynamics_rhs_status(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out);
+/* Work-space forms (satellite_dynamics.hpp): <kernel>_work(t, x, p, in, out, work) with work[SATELLITE_DYNAMICS_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void satellite_dynamics_kinematics_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work);
+void satellite_dynamics_rhs_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work);
+void satellite_dynamics_jacobian_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work);
+void satellite_dynamics_energy_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work);
+void satellite_dynamics_group_velocity_work(HAMEL_SATELLITE_DYNAMICS_REAL t, const HAMEL_SATELLITE_DYNAMICS_REAL* x, const HAMEL_SATELLITE_DYNAMICS_REAL* p, const HAMEL_SATELLITE_DYNAMICS_REAL* in, HAMEL_SATELLITE_DYNAMICS_REAL* out, HAMEL_SATELLITE_DYNAMICS_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -27,10 +27,16 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[5] = w5;  // vz
 }
 
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
+}
+
 }  // namespace satellite_reconstruction
 
 extern "C" {
 
 void satellite_reconstruction_group_velocity(HAMEL_SATELLITE_RECONSTRUCTION_REAL t, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* x, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* p, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* in, HAMEL_SATELLITE_RECONSTRUCTION_REAL* out) { satellite_reconstruction::group_velocity(t, x, p, in, out); }
+void satellite_reconstruction_group_velocity_work(HAMEL_SATELLITE_RECONSTRUCTION_REAL t, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* x, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* p, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* in, HAMEL_SATELLITE_RECONSTRUCTION_REAL* out, HAMEL_SATELLITE_RECONSTRUCTION_REAL* work) { satellite_reconstruction::group_velocity_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,10 +11,21 @@
 #define HAMEL_SATELLITE_RECONSTRUCTION_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: satellite_reconstruction_rhs is the symbol satellite_reconstruction_rhs_double,
+   or satellite_reconstruction_rhs_float when HAMEL_SATELLITE_RECONSTRUCTION_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_SATELLITE_RECONSTRUCTION_REAL must be one token
+   (float or double). */
+#define HAMEL_SATELLITE_RECONSTRUCTION_C_NAME(f) HAMEL_SATELLITE_RECONSTRUCTION_C_NAME_EXPAND(f, HAMEL_SATELLITE_RECONSTRUCTION_REAL)
+#define HAMEL_SATELLITE_RECONSTRUCTION_C_NAME_EXPAND(f, r) HAMEL_SATELLITE_RECONSTRUCTION_C_NAME_JOIN(f, r)
+#define HAMEL_SATELLITE_RECONSTRUCTION_C_NAME_JOIN(f, r) satellite_reconstruction_##f##_##r
+#define satellite_reconstruction_group_velocity HAMEL_SATELLITE_RECONSTRUCTION_C_NAME(group_velocity)
+#define satellite_reconstruction_group_velocity_work HAMEL_SATELLITE_RECONSTRUCTION_C_NAME(group_velocity_work)
+
 #define SATELLITE_RECONSTRUCTION_N_STATE 6
 #define SATELLITE_RECONSTRUCTION_N_PARAMETERS 19
 #define SATELLITE_RECONSTRUCTION_N_INPUTS 0
 #define SATELLITE_RECONSTRUCTION_N_OUT_GROUP_VELOCITY 6
+#define SATELLITE_RECONSTRUCTION_N_WORK_GROUP_VELOCITY 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -22,6 +33,9 @@ extern "C" {
 
 /* xi^alpha = u^alpha - A^alpha_I r_dot^I for the reconstruction, eq. (KinRec) */
 void satellite_reconstruction_group_velocity(HAMEL_SATELLITE_RECONSTRUCTION_REAL t, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* x, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* p, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* in, HAMEL_SATELLITE_RECONSTRUCTION_REAL* out);
+/* Work-space forms (satellite_reconstruction.hpp): <kernel>_work(t, x, p, in, out, work) with work[SATELLITE_RECONSTRUCTION_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void satellite_reconstruction_group_velocity_work(HAMEL_SATELLITE_RECONSTRUCTION_REAL t, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* x, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* p, const HAMEL_SATELLITE_RECONSTRUCTION_REAL* in, HAMEL_SATELLITE_RECONSTRUCTION_REAL* out, HAMEL_SATELLITE_RECONSTRUCTION_REAL* work);
 
 #ifdef __cplusplus
 }

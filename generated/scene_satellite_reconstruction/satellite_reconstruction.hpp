@@ -10,10 +10,12 @@
 // p: parameters (n_parameters, defaults in default_parameters; parameters folded at generation time
 // are ignored, see README.md); in: inputs (n_inputs, may be null when n_inputs == 0); out: the
 // kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and
-// branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is
-// n_temporaries_<kernel> reals, one per operation (an upper bound; the compiler keeps most in registers).
+// branch-free; they allocate nothing, throw nothing and need only <cmath>. Their stack holds what the
+// compiler does not keep in registers of their n_temporaries_<kernel> values (one per operation; not a bound
+// on the stack in either direction: hamel's docs/firmware.md has measured figures for Cortex-M).
 // A kernel longer than 2000 operations is printed as functions <kernel>_part<k> of at most that many,
-// called in turn, which pass values in a local array v[] (counted in n_temporaries).
+// called in turn, which pass values in an array of n_work_<kernel> reals: on the stack of
+// <kernel>, in the caller's work space for <kernel>_work.
 // Scalar type: define HAMEL_SATELLITE_RECONSTRUCTION_REAL (e.g. to float) before including this header and
 // when compiling satellite_reconstruction.cpp (CMake: -DHAMEL_SATELLITE_RECONSTRUCTION_REAL=float); the kernels' signatures
 // change with it, so a mismatch fails to link instead of running wrong.
@@ -55,16 +57,25 @@ constexpr int n_out_max = 6;  // the largest out[] of any kernel
 /// xi^alpha = u^alpha - A^alpha_I r_dot^I for the reconstruction, eq. (KinRec); out[6]
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out);
 
+// Work-space forms: <kernel>_work(t, x, p, in, out, work) computes what <kernel> does, bit for bit, keeping in
+// work[n_work_<kernel>] (the caller's, e.g. a static array) the values the parts of a split kernel pass on,
+// which <kernel> keeps on its stack. n_work_<kernel> = 0: nothing to keep, and work may be null.
+constexpr int n_work_group_velocity = 0;
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+
 using kernel_function = void (*)(real t, const real* x, const real* p, const real* in, real* out);
+using kernel_work_function = void (*)(real t, const real* x, const real* p, const real* in, real* out, real* work);
 struct kernel_info {
   const char* name;
   kernel_function function;
   int n_out;
   int n_temporaries;
+  kernel_work_function work_function;  // <name>_work
+  int n_work;                          // n_work_<name>
 };
 constexpr int n_kernels = 1;
 constexpr kernel_info kernel_table[n_kernels] = {
-    {"group_velocity", group_velocity, n_out_group_velocity, n_temporaries_group_velocity},
+    {"group_velocity", group_velocity, n_out_group_velocity, n_temporaries_group_velocity, group_velocity_work, n_work_group_velocity},
 };
 
 }  // namespace satellite_reconstruction

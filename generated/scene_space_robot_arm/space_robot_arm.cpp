@@ -821,8 +821,8 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
 
 }  // namespace
 
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
-  real v[148];
+void rhs_with_pivots_work(real t, const real* x, const real* p, const real* in, real* out, real* pivots, real* work) {
+  real* const v = work;
   rhs_with_pivots_part0(t, x, p, in, v, out, pivots);
   rhs_with_pivots_part1(t, x, p, in, v, out, pivots);
   out[0] = x[13];  // q1_dot
@@ -833,6 +833,11 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
   out[5] = x[18];  // q6_dot
   out[6] = x[19];  // q7_dot
   pivots[0] = real(0.002);  // pivot 0
+}
+
+[[maybe_unused]] void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  real work[148];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 }  // namespace
@@ -851,10 +856,20 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[6] = x[19];  // q7_dot
 }
 
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
+}
+
 /* rhs: (t, x[20], p[26], in[7]) -> out[20]: rhs_with_pivots  ops: 1097 add, 1411 mul, 12 div, 14 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)
   rhs_with_pivots(t, x, p, in, out, pivots);
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 /* energy: (t, x[20], p[26], in[7]) -> out[1]  ops: 211 add, 349 mul, 0 div, 14 call */
@@ -973,6 +988,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w107;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
   real all[n_out_rhs];
   real pivots[n_pivots_rhs];
@@ -1019,5 +1039,8 @@ void space_robot_arm_kinematics(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_
 void space_robot_arm_rhs(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out) { space_robot_arm::rhs(t, x, p, in, out); }
 void space_robot_arm_energy(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out) { space_robot_arm::energy(t, x, p, in, out); }
 int space_robot_arm_rhs_status(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out) { return space_robot_arm::rhs_status(t, x, p, in, out); }
+void space_robot_arm_kinematics_work(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out, HAMEL_SPACE_ROBOT_ARM_REAL* work) { space_robot_arm::kinematics_work(t, x, p, in, out, work); }
+void space_robot_arm_rhs_work(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out, HAMEL_SPACE_ROBOT_ARM_REAL* work) { space_robot_arm::rhs_work(t, x, p, in, out, work); }
+void space_robot_arm_energy_work(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out, HAMEL_SPACE_ROBOT_ARM_REAL* work) { space_robot_arm::energy_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,12 +11,30 @@
 #define HAMEL_SPACE_ROBOT_ARM_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: space_robot_arm_rhs is the symbol space_robot_arm_rhs_double,
+   or space_robot_arm_rhs_float when HAMEL_SPACE_ROBOT_ARM_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_SPACE_ROBOT_ARM_REAL must be one token
+   (float or double). */
+#define HAMEL_SPACE_ROBOT_ARM_C_NAME(f) HAMEL_SPACE_ROBOT_ARM_C_NAME_EXPAND(f, HAMEL_SPACE_ROBOT_ARM_REAL)
+#define HAMEL_SPACE_ROBOT_ARM_C_NAME_EXPAND(f, r) HAMEL_SPACE_ROBOT_ARM_C_NAME_JOIN(f, r)
+#define HAMEL_SPACE_ROBOT_ARM_C_NAME_JOIN(f, r) space_robot_arm_##f##_##r
+#define space_robot_arm_kinematics HAMEL_SPACE_ROBOT_ARM_C_NAME(kinematics)
+#define space_robot_arm_rhs HAMEL_SPACE_ROBOT_ARM_C_NAME(rhs)
+#define space_robot_arm_energy HAMEL_SPACE_ROBOT_ARM_C_NAME(energy)
+#define space_robot_arm_rhs_status HAMEL_SPACE_ROBOT_ARM_C_NAME(rhs_status)
+#define space_robot_arm_kinematics_work HAMEL_SPACE_ROBOT_ARM_C_NAME(kinematics_work)
+#define space_robot_arm_rhs_work HAMEL_SPACE_ROBOT_ARM_C_NAME(rhs_work)
+#define space_robot_arm_energy_work HAMEL_SPACE_ROBOT_ARM_C_NAME(energy_work)
+
 #define SPACE_ROBOT_ARM_N_STATE 20
 #define SPACE_ROBOT_ARM_N_PARAMETERS 26
 #define SPACE_ROBOT_ARM_N_INPUTS 7
 #define SPACE_ROBOT_ARM_N_OUT_KINEMATICS 7
 #define SPACE_ROBOT_ARM_N_OUT_RHS 20
 #define SPACE_ROBOT_ARM_N_OUT_ENERGY 1
+#define SPACE_ROBOT_ARM_N_WORK_KINEMATICS 0
+#define SPACE_ROBOT_ARM_N_WORK_RHS 148
+#define SPACE_ROBOT_ARM_N_WORK_ENERGY 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -31,6 +49,11 @@ void space_robot_arm_energy(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBO
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int space_robot_arm_rhs_status(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out);
+/* Work-space forms (space_robot_arm.hpp): <kernel>_work(t, x, p, in, out, work) with work[SPACE_ROBOT_ARM_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void space_robot_arm_kinematics_work(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out, HAMEL_SPACE_ROBOT_ARM_REAL* work);
+void space_robot_arm_rhs_work(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out, HAMEL_SPACE_ROBOT_ARM_REAL* work);
+void space_robot_arm_energy_work(HAMEL_SPACE_ROBOT_ARM_REAL t, const HAMEL_SPACE_ROBOT_ARM_REAL* x, const HAMEL_SPACE_ROBOT_ARM_REAL* p, const HAMEL_SPACE_ROBOT_ARM_REAL* in, HAMEL_SPACE_ROBOT_ARM_REAL* out, HAMEL_SPACE_ROBOT_ARM_REAL* work);
 
 #ifdef __cplusplus
 }

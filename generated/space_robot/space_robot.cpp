@@ -831,8 +831,8 @@ void rhs_with_pivots_part1(real t, const real* x, const real* p, const real* in,
 
 }  // namespace
 
-void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
-  real v[148];
+void rhs_with_pivots_work(real t, const real* x, const real* p, const real* in, real* out, real* pivots, real* work) {
+  real* const v = work;
   rhs_with_pivots_part0(t, x, p, in, v, out, pivots);
   rhs_with_pivots_part1(t, x, p, in, v, out, pivots);
   out[0] = x[13];  // q1_dot
@@ -843,6 +843,11 @@ void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real*
   out[5] = x[18];  // q6_dot
   out[6] = x[19];  // q7_dot
   pivots[0] = real(0.002);  // pivot 0
+}
+
+[[maybe_unused]] void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
+  real work[148];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 }  // namespace
@@ -859,6 +864,11 @@ void kinematics(real t, const real* x, const real* p, const real* in, real* out)
   out[4] = x[17];  // q5_dot
   out[5] = x[18];  // q6_dot
   out[6] = x[19];  // q7_dot
+}
+
+void kinematics_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  kinematics(t, x, p, in, out);
 }
 
 /* mass_matrix: (t, x[20], p[26], in[7]) -> out[169]  ops: 501 add, 684 mul, 0 div, 14 call */
@@ -1334,6 +1344,11 @@ void mass_matrix(real t, const real* x, const real* p, const real* in, real* out
   out[168] = w296;  // M[q7_dot][q7_dot]
 }
 
+void mass_matrix_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  mass_matrix(t, x, p, in, out);
+}
+
 /* forcing: (t, x[20], p[26], in[7]) -> out[13]  ops: 545 add, 708 mul, 0 div, 14 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1612,6 +1627,11 @@ void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   out[12] = w258;  // f[q7_dot]
 }
 
+void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  forcing(t, x, p, in, out);
+}
+
 /* hamel_coefficients: (t, x[20], p[26], in[7]) -> out[18]  ops: 0 add, 0 mul, 0 div, 0 call */
 void hamel_coefficients(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -1638,10 +1658,20 @@ void hamel_coefficients(real t, const real* x, const real* p, const real* in, re
   out[17] = real(-1.0);  // gamma^vz_vy,wx
 }
 
+void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  hamel_coefficients(t, x, p, in, out);
+}
+
 /* rhs: (t, x[20], p[26], in[7]) -> out[20]: rhs_with_pivots  ops: 1097 add, 1411 mul, 12 div, 14 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)
   rhs_with_pivots(t, x, p, in, out, pivots);
+}
+
+void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real pivots[n_pivots_rhs];
+  rhs_with_pivots_work(t, x, p, in, out, pivots, work);
 }
 
 namespace {
@@ -5412,8 +5442,8 @@ HAMEL_NOINLINE void jacobian_stage_part6(real t, const real* x, const real* p, c
 
 }  // namespace
 
-void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
-  real v[746];
+void jacobian_stage_work(real t, const real* x, const real* p, const real* in, real* out, real* scratch, real* work) {
+  real* const v = work;
   jacobian_stage_part0(t, x, p, in, v, out, scratch);
   jacobian_stage_part1(t, x, p, in, v, out, scratch);
   jacobian_stage_part2(t, x, p, in, v, out, scratch);
@@ -5423,12 +5453,17 @@ void jacobian_stage(real t, const real* x, const real* p, const real* in, real* 
   jacobian_stage_part6(t, x, p, in, v, out, scratch);
 }
 
+[[maybe_unused]] void jacobian_stage(real t, const real* x, const real* p, const real* in, real* out, real* scratch) {
+  real work[746];
+  jacobian_stage_work(t, x, p, in, out, scratch, work);
+}
+
 }  // namespace
 
 /* jacobian: (t, x[20], p[26], in[7]) -> out[400]: jacobian_stage, then 10 calls of jacobian_column  ops: 7711 add, 7803 mul, 113 div, 14 call */
-void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
-  real scratch[351];
-  jacobian_stage(t, x, p, in, out, scratch);
+void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const scratch = work;
+  jacobian_stage_work(t, x, p, in, out, scratch, work + 351);
   jacobian_column(t, scratch + 91, scratch, in, out + 140);
   jacobian_column(t, scratch + 117, scratch, in, out + 142);
   jacobian_column(t, scratch + 143, scratch, in, out + 144);
@@ -5439,6 +5474,11 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   jacobian_column(t, scratch + 273, scratch, in, out + 154);
   jacobian_column(t, scratch + 299, scratch, in, out + 156);
   jacobian_column(t, scratch + 325, scratch, in, out + 158);
+}
+
+void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[1097];
+  jacobian_work(t, x, p, in, out, work);
 }
 
 /* energy: (t, x[20], p[26], in[7]) -> out[1]  ops: 211 add, 349 mul, 0 div, 14 call */
@@ -5557,6 +5597,11 @@ void energy(real t, const real* x, const real* p, const real* in, real* out) {
   out[0] = w107;  // E
 }
 
+void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  energy(t, x, p, in, out);
+}
+
 /* group_velocity: (t, x[20], p[26], in[7]) -> out[6]  ops: 0 add, 0 mul, 0 div, 0 call */
 void group_velocity(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -5568,6 +5613,11 @@ void group_velocity(real t, const real* x, const real* p, const real* in, real* 
   out[3] = x[10];  // vx
   out[4] = x[11];  // vy
   out[5] = x[12];  // vz
+}
+
+void group_velocity_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  group_velocity(t, x, p, in, out);
 }
 
 /* connection: (t, x[20], p[26], in[7]) -> out[42]  ops: 636 add, 841 mul, 20 div, 14 call */
@@ -5956,6 +6006,11 @@ void connection(real t, const real* x, const real* p, const real* in, real* out)
   out[41] = w331;  // A[vz][q7]
 }
 
+void connection_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  connection(t, x, p, in, out);
+}
+
 /* locked_inertia: (t, x[20], p[26], in[7]) -> out[36]  ops: 289 add, 405 mul, 0 div, 14 call */
 void locked_inertia(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
@@ -6184,6 +6239,11 @@ void locked_inertia(real t, const real* x, const real* p, const real* in, real* 
   out[33] = real(0.0);  // L[vz][vx]
   out[34] = real(0.0);  // L[vz][vy]
   out[35] = real(168.7);  // L[vz][vz]
+}
+
+void locked_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  locked_inertia(t, x, p, in, out);
 }
 
 /* shape_inertia: (t, x[20], p[26], in[7]) -> out[49]  ops: 885 add, 1110 mul, 20 div, 14 call */
@@ -6763,10 +6823,15 @@ void shape_inertia_part1(real t, const real* x, const real* p, const real* in, r
 
 }  // namespace
 
-void shape_inertia(real t, const real* x, const real* p, const real* in, real* out) {
-  real v[80];
+void shape_inertia_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  real* const v = work;
   shape_inertia_part0(t, x, p, in, v, out);
   shape_inertia_part1(t, x, p, in, v, out);
+}
+
+void shape_inertia(real t, const real* x, const real* p, const real* in, real* out) {
+  real work[80];
+  shape_inertia_work(t, x, p, in, out, work);
 }
 
 int rhs_status(real t, const real* x, const real* p, const real* in, real* out) {
@@ -6823,5 +6888,16 @@ void space_robot_connection(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_RE
 void space_robot_locked_inertia(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out) { space_robot::locked_inertia(t, x, p, in, out); }
 void space_robot_shape_inertia(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out) { space_robot::shape_inertia(t, x, p, in, out); }
 int space_robot_rhs_status(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out) { return space_robot::rhs_status(t, x, p, in, out); }
+void space_robot_kinematics_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::kinematics_work(t, x, p, in, out, work); }
+void space_robot_mass_matrix_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::mass_matrix_work(t, x, p, in, out, work); }
+void space_robot_forcing_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::forcing_work(t, x, p, in, out, work); }
+void space_robot_hamel_coefficients_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::hamel_coefficients_work(t, x, p, in, out, work); }
+void space_robot_rhs_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::rhs_work(t, x, p, in, out, work); }
+void space_robot_jacobian_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::jacobian_work(t, x, p, in, out, work); }
+void space_robot_energy_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::energy_work(t, x, p, in, out, work); }
+void space_robot_group_velocity_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::group_velocity_work(t, x, p, in, out, work); }
+void space_robot_connection_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::connection_work(t, x, p, in, out, work); }
+void space_robot_locked_inertia_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::locked_inertia_work(t, x, p, in, out, work); }
+void space_robot_shape_inertia_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work) { space_robot::shape_inertia_work(t, x, p, in, out, work); }
 
 }  // extern "C"

@@ -11,6 +11,37 @@
 #define HAMEL_SPACE_ROBOT_REAL double
 #endif
 
+/* The linked name of every entry point carries the scalar type: space_robot_rhs is the symbol space_robot_rhs_double,
+   or space_robot_rhs_float when HAMEL_SPACE_ROBOT_REAL is float. A caller built with another type than the library
+   then fails to link instead of passing doubles where floats are read. HAMEL_SPACE_ROBOT_REAL must be one token
+   (float or double). */
+#define HAMEL_SPACE_ROBOT_C_NAME(f) HAMEL_SPACE_ROBOT_C_NAME_EXPAND(f, HAMEL_SPACE_ROBOT_REAL)
+#define HAMEL_SPACE_ROBOT_C_NAME_EXPAND(f, r) HAMEL_SPACE_ROBOT_C_NAME_JOIN(f, r)
+#define HAMEL_SPACE_ROBOT_C_NAME_JOIN(f, r) space_robot_##f##_##r
+#define space_robot_kinematics HAMEL_SPACE_ROBOT_C_NAME(kinematics)
+#define space_robot_mass_matrix HAMEL_SPACE_ROBOT_C_NAME(mass_matrix)
+#define space_robot_forcing HAMEL_SPACE_ROBOT_C_NAME(forcing)
+#define space_robot_hamel_coefficients HAMEL_SPACE_ROBOT_C_NAME(hamel_coefficients)
+#define space_robot_rhs HAMEL_SPACE_ROBOT_C_NAME(rhs)
+#define space_robot_jacobian HAMEL_SPACE_ROBOT_C_NAME(jacobian)
+#define space_robot_energy HAMEL_SPACE_ROBOT_C_NAME(energy)
+#define space_robot_group_velocity HAMEL_SPACE_ROBOT_C_NAME(group_velocity)
+#define space_robot_connection HAMEL_SPACE_ROBOT_C_NAME(connection)
+#define space_robot_locked_inertia HAMEL_SPACE_ROBOT_C_NAME(locked_inertia)
+#define space_robot_shape_inertia HAMEL_SPACE_ROBOT_C_NAME(shape_inertia)
+#define space_robot_rhs_status HAMEL_SPACE_ROBOT_C_NAME(rhs_status)
+#define space_robot_kinematics_work HAMEL_SPACE_ROBOT_C_NAME(kinematics_work)
+#define space_robot_mass_matrix_work HAMEL_SPACE_ROBOT_C_NAME(mass_matrix_work)
+#define space_robot_forcing_work HAMEL_SPACE_ROBOT_C_NAME(forcing_work)
+#define space_robot_hamel_coefficients_work HAMEL_SPACE_ROBOT_C_NAME(hamel_coefficients_work)
+#define space_robot_rhs_work HAMEL_SPACE_ROBOT_C_NAME(rhs_work)
+#define space_robot_jacobian_work HAMEL_SPACE_ROBOT_C_NAME(jacobian_work)
+#define space_robot_energy_work HAMEL_SPACE_ROBOT_C_NAME(energy_work)
+#define space_robot_group_velocity_work HAMEL_SPACE_ROBOT_C_NAME(group_velocity_work)
+#define space_robot_connection_work HAMEL_SPACE_ROBOT_C_NAME(connection_work)
+#define space_robot_locked_inertia_work HAMEL_SPACE_ROBOT_C_NAME(locked_inertia_work)
+#define space_robot_shape_inertia_work HAMEL_SPACE_ROBOT_C_NAME(shape_inertia_work)
+
 #define SPACE_ROBOT_N_STATE 20
 #define SPACE_ROBOT_N_PARAMETERS 26
 #define SPACE_ROBOT_N_INPUTS 7
@@ -25,6 +56,17 @@
 #define SPACE_ROBOT_N_OUT_CONNECTION 42
 #define SPACE_ROBOT_N_OUT_LOCKED_INERTIA 36
 #define SPACE_ROBOT_N_OUT_SHAPE_INERTIA 49
+#define SPACE_ROBOT_N_WORK_KINEMATICS 0
+#define SPACE_ROBOT_N_WORK_MASS_MATRIX 0
+#define SPACE_ROBOT_N_WORK_FORCING 0
+#define SPACE_ROBOT_N_WORK_HAMEL_COEFFICIENTS 0
+#define SPACE_ROBOT_N_WORK_RHS 148
+#define SPACE_ROBOT_N_WORK_JACOBIAN 1097
+#define SPACE_ROBOT_N_WORK_ENERGY 0
+#define SPACE_ROBOT_N_WORK_GROUP_VELOCITY 0
+#define SPACE_ROBOT_N_WORK_CONNECTION 0
+#define SPACE_ROBOT_N_WORK_LOCKED_INERTIA 0
+#define SPACE_ROBOT_N_WORK_SHAPE_INERTIA 80
 
 #ifdef __cplusplus
 extern "C" {
@@ -55,6 +97,19 @@ void space_robot_shape_inertia(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int space_robot_rhs_status(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out);
+/* Work-space forms (space_robot.hpp): <kernel>_work(t, x, p, in, out, work) with work[SPACE_ROBOT_N_WORK_<KERNEL>]
+   of the caller's in place of the kernel's stack array */
+void space_robot_kinematics_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_mass_matrix_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_forcing_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_hamel_coefficients_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_rhs_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_jacobian_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_energy_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_group_velocity_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_connection_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_locked_inertia_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
+void space_robot_shape_inertia_work(HAMEL_SPACE_ROBOT_REAL t, const HAMEL_SPACE_ROBOT_REAL* x, const HAMEL_SPACE_ROBOT_REAL* p, const HAMEL_SPACE_ROBOT_REAL* in, HAMEL_SPACE_ROBOT_REAL* out, HAMEL_SPACE_ROBOT_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -96,8 +96,12 @@ class ProgramPrinter {
     else
       print_whole(os);
     const int n_slots = schedule_.split ? schedule_.parts.n_slots : 0;
-    return {k_.name, os.str(), (static_cast<int>(schedule_.statements.size()) + n_slots) * d_.lanes, counts,
-            static_cast<int>(schedule_.functions.size())};
+    return {k_.name,
+            os.str(),
+            (static_cast<int>(schedule_.statements.size()) + n_slots) * d_.lanes,
+            counts,
+            static_cast<int>(schedule_.functions.size()),
+            n_slots * d_.lanes};
   }
 
  private:
@@ -171,10 +175,23 @@ void ProgramPrinter::print_parts(std::ostringstream& os) {
     calls << "  " << k_.name << "_part" << part << "(t, x, p, in, " << v << array_arguments(d_)
           << stage_arguments(d_, reads_, -1) << ");\n";
   const int driver_statements = static_cast<int>(schedule_.functions.size() + schedule_.driver.size());
-  os << "}  // namespace\n\n"
-     << out_of_line(d_.internal, driver_statements) << head_of(d_, k_.name, reads_) << " {\n"
-     << (n_slots > 0 ? "  real v[" + std::to_string(n_slots * d_.lanes) + "];\n" : std::string()) << calls.str()
-     << copies << "}\n";
+  os << "}  // namespace\n\n";
+  if (n_slots == 0) {
+    os << out_of_line(d_.internal, driver_statements) << head_of(d_, k_.name, reads_) << " {\n"
+       << calls.str() << copies << "}\n";
+    return;
+  }
+  // v[] in the caller's work space (<name>_work, for a caller with little stack: firmware), or on the stack.
+  const std::string head = head_of(d_, k_.name + "_work", reads_);
+  os << out_of_line(d_.internal, driver_statements) << head.substr(0, head.size() - 1) << ", real* work) {\n"
+     << "  real* const v = work;\n"
+     << calls.str() << copies
+     << "}\n\n"
+     // An internal function's callers may all take the work-space form (a kernel's stage, its column solve).
+     << (d_.internal ? "[[maybe_unused]] " : "") << head_of(d_, k_.name, reads_) << " {\n"
+     << "  real work[" << n_slots * d_.lanes << "];\n"
+     << "  " << k_.name << "_work(t, x, p, in" << array_arguments(d_) << stage_arguments(d_, reads_, -1)
+     << ", work);\n}\n";
 }
 
 std::string joined(const std::vector<std::string>& names) {
@@ -227,16 +244,34 @@ PrintedKernel print_with_calls(const ExpressionGraph& g, const Kernel& k, const 
   os << "namespace {\n\n" << called.text << "\n" << staged.text << "\n}  // namespace\n\n";
   os << kernel_comment(k, s, "out[" + std::to_string(k.outputs.size()) + "]",
                        ": " + joined(steps) + ", then " + std::to_string(n_calls) + " calls of " + k.name + "_column",
-                       total)
-     << signature(k) << " {\n  real scratch[" << std::max<std::size_t>(n_scratch, 1) << "];\n"
-     << stages.prologue << "  " << k.name << "_stage(t, x, p, in, out, scratch"
-     << stage_arguments(into, stages.reads, stages.unit) << ");\n";
+                       total);
+  const int temporaries = stages.temporaries + staged.temporaries + called.temporaries + static_cast<int>(n_scratch);
+  const std::size_t scratch_size = std::max<std::size_t>(n_scratch, 1);
+  if (stages.reads) {  // the shared stages' arrays stay on the stack: no work-space form
+    os << signature(k) << " {\n  real scratch[" << scratch_size << "];\n"
+       << stages.prologue << "  " << k.name << "_stage(t, x, p, in, out, scratch"
+       << stage_arguments(into, stages.reads, stages.unit) << ");\n";
+    for (std::size_t c = 0; c < sub.calls.size(); ++c)
+      os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, out + "
+         << sub.calls[c].results.front() << ");\n";
+    os << "}\n";
+    return {k.name, os.str(), temporaries, total, staged.parts};
+  }
+  // scratch[] and what the stage's and the column's parts pass on (the calls run one after another) in the caller's
+  // work space (<name>_work), or on the stack.
+  const std::string after_scratch = "work + " + std::to_string(scratch_size);
+  os << "void " << k.name << "_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {\n"
+     << "  real* const scratch = work;\n"
+     << "  " << k.name << (staged.work > 0 ? "_stage_work" : "_stage") << "(t, x, p, in, out, scratch"
+     << (staged.work > 0 ? ", " + after_scratch : std::string()) << ");\n";
   for (std::size_t c = 0; c < sub.calls.size(); ++c)
-    os << "  " << k.name << "_column(t, scratch + " << n_shared + c * n_arguments << ", scratch, in, out + "
-       << sub.calls[c].results.front() << ");\n";
-  os << "}\n";
-  return {k.name, os.str(), stages.temporaries + staged.temporaries + called.temporaries + static_cast<int>(n_scratch),
-          total, staged.parts};
+    os << "  " << k.name << (called.work > 0 ? "_column_work" : "_column") << "(t, scratch + "
+       << n_shared + c * n_arguments << ", scratch, in, out + " << sub.calls[c].results.front()
+       << (called.work > 0 ? ", " + after_scratch : std::string()) << ");\n";
+  const int work = static_cast<int>(scratch_size) + std::max(staged.work, called.work);
+  os << "}\n\n"
+     << signature(k) << " {\n  real work[" << work << "];\n  " << k.name << "_work(t, x, p, in, out, work);\n}\n";
+  return {k.name, os.str(), temporaries, total, staged.parts, work};
 }
 
 // The function of stage i of `plan`: <prefix>shared_<i>, writing its exports to out[] and the outputs it writes for

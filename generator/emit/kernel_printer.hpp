@@ -33,6 +33,9 @@ struct PrintedKernel {
   int temporaries = 0;  ///< its values, one per operation (locals, printed or inside an expression, and v[] slots)
   OpCounts ops;
   int parts = 1;  ///< functions the kernel is printed as (emit --split)
+  /// Reals of the caller's work space <name>_work(..., real* work) takes in place of the stack array v[] through which
+  /// the parts of a split kernel pass values (<name> itself declares that array and calls it); 0: no such function.
+  int work = 0;
 };
 
 /// The kernel ABI's signature of k: void <name>(real t, const real* x, const real* p, const real* in, real* out).

@@ -50,10 +50,9 @@ std::string print_rhs_with_pivots(const KernelSet& kernels, const Kernel& rhs, c
   }
   Destination two = to_two_arrays(checked, rhs.outputs.size(), "pivots");
   two.internal = true;
-  std::string text = (stages.reads ? print_after_stages(kernels.graph, checked, s, two, stages)
-                                   : print_program(kernels.graph, checked, s, two))
-                         .text;
-  if (shared)
+  const PrintedKernel with_pivots = stages.reads ? print_after_stages(kernels.graph, checked, s, two, stages)
+                                                 : print_program(kernels.graph, checked, s, two);
+  if (shared) {
     printed.text =
         kernel_comment(rhs, s, "out[" + std::to_string(rhs.outputs.size()) + "]", ": rhs_with_pivots", printed.ops) +
         signature(rhs) +
@@ -61,7 +60,16 @@ std::string print_rhs_with_pivots(const KernelSet& kernels, const Kernel& rhs, c
         "  real pivots[n_pivots_rhs];  // computed on the way, not checked (rhs_status checks them)\n"
         "  rhs_with_pivots(t, x, p, in, out, pivots);\n"
         "}\n";
-  return text;
+    // rhs_with_pivots split into parts passes their values in the caller's work space, and so may rhs.
+    printed.work = with_pivots.work;
+    if (with_pivots.work > 0)
+      printed.text +=
+          "\nvoid rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {\n"
+          "  real pivots[n_pivots_rhs];\n"
+          "  rhs_with_pivots_work(t, x, p, in, out, pivots, work);\n"
+          "}\n";
+  }
+  return with_pivots.text;
 }
 
 // prepare_parameters and the prepared kernels, whose p is the prepared parameters, with stages of their own.

@@ -120,6 +120,32 @@ class PackageWriter {
   static std::string quoted(const std::string& x) { return "\"" + x + "\""; }
   static std::string str(int x) { return std::to_string(x); }
   // The C signature <name>_<fn>(t, x, p, in, out) with the package's scalar macro.
+  // The C entry points' names after the prefix, in order.
+  std::vector<std::string> c_functions() const {
+    std::vector<std::string> names;
+    for (const Kernel& k : kernels.kernels) names.push_back(k.name);
+    if (has_rhs) names.push_back("rhs_status");
+    if (prepared) {
+      names.push_back("prepare_parameters");
+      for (const Kernel& k : prepared->kernels) names.push_back(k.name);
+    }
+    for (const Kernel& k : kernels.kernels) names.push_back(k.name + "_work");
+    if (prepared)
+      for (const Kernel& k : prepared->kernels) names.push_back(k.name + "_work");
+    return names;
+  }
+  // The work-space form of kernel `name`: <name>_work(t, x, p, in, out, work).
+  static std::string work_signature(const std::string& name) {
+    return "void " + name + "_work(real t, const real* x, const real* p, const real* in, real* out, real* work)";
+  }
+  // The work-space form of a kernel printed without one (nothing to keep): the kernel itself.
+  static std::string trivial_work(const std::string& name) {
+    return work_signature(name) + " {\n  (void)work;\n  " + name + "(t, x, p, in, out);\n}\n";
+  }
+  std::string c_work_signature(const std::string& fn) const {
+    return "void " + prefix + fn + "_work(" + c_real + " t, const " + c_real + "* x, const " + c_real + "* p, const " +
+           c_real + "* in, " + c_real + "* out, " + c_real + "* work)";
+  }
   std::string c_signature(const std::string& ret, const std::string& fn) const {
     return ret + " " + prefix + fn + "(" + c_real + " t, const " + c_real + "* x, const " + c_real + "* p, const " +
            c_real + "* in, " + c_real + "* out)";
@@ -130,7 +156,7 @@ class PackageWriter {
   const HamelEquations& eq;
   const HamelSystem& sys;
   Sizes s;
-  std::string file, origin, stamp, guard_macro, library, prefix, c_real;
+  std::string file, origin, stamp, guard_macro, library, prefix, c_real, c_name_macro;
   std::vector<std::string> coordinate_names, velocity_names, parameter_names, input_names, constraint_names,
       state_names;
   std::vector<double> defaults;
@@ -165,6 +191,7 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   library = model.name + "_kernels";
   prefix = model.name + "_";
   c_real = guard_macro;
+  c_name_macro = "HAMEL_" + upper(model.name) + "_C_NAME";
 
   for (const auto& q : sys.coordinates) coordinate_names.push_back(q.get_name());
   for (int I : eq.independent) velocity_names.push_back(sys.velocities[static_cast<std::size_t>(I)].get_name());
@@ -213,11 +240,13 @@ void PackageWriter::header_abi(std::ostream& h) const {
     << "// p: parameters (n_parameters, defaults in default_parameters; parameters folded at generation time\n"
     << "// are ignored, see README.md); in: inputs (n_inputs, may be null when n_inputs == 0); out: the\n"
     << "// kernel's outputs, n_out_<kernel> entries. x, p, in and out must not overlap. Kernels are flat and\n"
-    << "// branch-free; they allocate nothing, throw nothing and need only <cmath>; their only stack use is\n"
-    << "// n_temporaries_<kernel> reals, one per operation (an upper bound; the compiler keeps most in registers).\n"
+    << "// branch-free; they allocate nothing, throw nothing and need only <cmath>. Their stack holds what the\n"
+    << "// compiler does not keep in registers of their n_temporaries_<kernel> values (one per operation; not a bound\n"
+    << "// on the stack in either direction: hamel's docs/firmware.md has measured figures for Cortex-M).\n"
     << (s.split > 0 ? "// A kernel longer than " + std::to_string(s.split) +
                           " operations is printed as functions <kernel>_part<k> of at most that many,\n"
-                          "// called in turn, which pass values in a local array v[] (counted in n_temporaries).\n"
+                          "// called in turn, which pass values in an array of n_work_<kernel> reals: on the stack of\n"
+                          "// <kernel>, in the caller's work space for <kernel>_work.\n"
                     : std::string("// Every kernel is printed as one function (emit --split 0).\n"))
     << "// Scalar type: define " << guard_macro << " (e.g. to float) before including this header and\n"
     << "// when compiling " << model.name << ".cpp (CMake: -D" << guard_macro << "=float); the kernels' signatures\n"
@@ -264,18 +293,31 @@ void PackageWriter::header_kernels(std::ostream& h) const {
   for (const Kernel& k : kernels.kernels)
     h << "/// " << k.summary << "; out[" << k.outputs.size() << "]\n" << signature(k) << ";\n";
   h << "\n"
+    << "// Work-space forms: <kernel>_work(t, x, p, in, out, work) computes what <kernel> does, bit for bit, keeping "
+       "in\n"
+    << "// work[n_work_<kernel>] (the caller's, e.g. a static array) the values the parts of a split kernel pass on,\n"
+    << "// which <kernel> keeps on its stack. n_work_<kernel> = 0: nothing to keep, and work may be null.\n";
+  for (std::size_t i = 0; i < kernels.kernels.size(); ++i)
+    h << "constexpr int n_work_" << kernels.kernels[i].name << " = " << code.printed[i].work << ";\n"
+      << work_signature(kernels.kernels[i].name) << ";\n";
+  h << "\n"
     << "using kernel_function = void (*)(real t, const real* x, const real* p, const real* in, real* out);\n"
+    << "using kernel_work_function = void (*)(real t, const real* x, const real* p, const real* in, real* out, "
+       "real* work);\n"
     << "struct kernel_info {\n"
     << "  const char* name;\n"
     << "  kernel_function function;\n"
     << "  int n_out;\n"
     << "  int n_temporaries;\n"
+    << "  kernel_work_function work_function;  // <name>_work\n"
+    << "  int n_work;                          // n_work_<name>\n"
     << "};\n"
     << "constexpr int n_kernels = " << kernels.kernels.size() << ";\n";
   if (!kernels.kernels.empty()) {
     h << "constexpr kernel_info kernel_table[n_kernels] = {\n";
     for (const Kernel& k : kernels.kernels)
-      h << "    {\"" << k.name << "\", " << k.name << ", n_out_" << k.name << ", n_temporaries_" << k.name << "},\n";
+      h << "    {\"" << k.name << "\", " << k.name << ", n_out_" << k.name << ", n_temporaries_" << k.name << ", "
+        << k.name << "_work, n_work_" << k.name << "},\n";
     h << "};\n";
   }
   if (has_rhs)
@@ -308,7 +350,9 @@ void PackageWriter::header_kernels(std::ostream& h) const {
     for (std::size_t i = 0; i < prepared->kernels.size(); ++i)
       h << "constexpr int n_temporaries_" << prepared->kernels[i].name << " = " << code.prepared[i].temporaries
         << ";\n/// " << prepared->kernels[i].summary << "; out[" << prepared->kernels[i].outputs.size() << "]\n"
-        << signature(prepared->kernels[i]) << ";\n";
+        << signature(prepared->kernels[i]) << ";\n"
+        << "constexpr int n_work_" << prepared->kernels[i].name << " = " << code.prepared[i].work << ";\n"
+        << work_signature(prepared->kernels[i].name) << ";\n";
   }
 }
 
@@ -317,7 +361,7 @@ std::string PackageWriter::source() const {
   c << "\nnamespace " << model.name << " {\n";
   if (!code.stage_text.empty()) c << "\nnamespace {\n\n" << code.stage_text << "}  // namespace\n";
   if (!code.rhs_with_pivots.empty()) c << "\nnamespace {\n\n" << code.rhs_with_pivots << "\n}  // namespace\n";
-  for (const PrintedKernel& k : code.printed) c << "\n" << k.text;
+  for (const PrintedKernel& k : code.printed) c << "\n" << k.text << (k.work > 0 ? "" : "\n" + trivial_work(k.name));
   if (has_rhs) {
     // The checks are in rhs_status, outside the branch-free kernel.
     c << "\nint rhs_status(real t, const real* x, const real* p, const real* in, real* out) {\n"
@@ -344,7 +388,7 @@ std::string PackageWriter::source() const {
       << "void prepare_parameters(const real* p, real* prepared) {\n"
       << "  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);\n"
       << "}\n";
-    for (const PrintedKernel& k : code.prepared) c << "\n" << k.text;
+    for (const PrintedKernel& k : code.prepared) c << "\n" << k.text << (k.work > 0 ? "" : "\n" + trivial_work(k.name));
   }
   c << "\n}  // namespace " << model.name << "\n";
   c << "\nextern \"C\" {\n\n";
@@ -358,6 +402,11 @@ std::string PackageWriter::source() const {
     for (const Kernel& k : prepared->kernels)
       c << c_signature("void", k.name) << " { " << model.name << "::" << k.name << "(t, x, p, in, out); }\n";
   }
+  for (const Kernel& k : kernels.kernels)
+    c << c_work_signature(k.name) << " { " << model.name << "::" << k.name << "_work(t, x, p, in, out, work); }\n";
+  if (prepared)
+    for (const Kernel& k : prepared->kernels)
+      c << c_work_signature(k.name) << " { " << model.name << "::" << k.name << "_work(t, x, p, in, out, work); }\n";
   c << "\n}  // extern \"C\"\n";
   const std::string body = c.str();
   const std::string includes =
@@ -382,12 +431,32 @@ std::string PackageWriter::c_header() const {
      << "// arguments and sizes of " << model.name << ".hpp (documented there); link the same library.\n"
      << "#ifndef HAMEL_" << upper(model.name) << "_H\n#define HAMEL_" << upper(model.name) << "_H\n\n"
      << "#ifndef " << guard_macro << "\n#define " << guard_macro << " double\n#endif\n\n"
+     << "/* The linked name of every entry point carries the scalar type: " << prefix << "rhs is the symbol " << prefix
+     << "rhs_double,\n"
+     << "   or " << prefix << "rhs_float when " << guard_macro
+     << " is float. A caller built with another type than the library\n"
+     << "   then fails to link instead of passing doubles where floats are read. " << guard_macro
+     << " must be one token\n"
+     << "   (float or double). */\n"
+     << "#define " << c_name_macro << "(f) " << c_name_macro << "_EXPAND(f, " << guard_macro << ")\n"
+     << "#define " << c_name_macro << "_EXPAND(f, r) " << c_name_macro << "_JOIN(f, r)\n"
+     << "#define " << c_name_macro << "_JOIN(f, r) " << prefix << "##f##_##r\n";
+  for (const std::string& f : c_functions())
+    ch << "#define " << prefix << f << " " << c_name_macro << "(" << f << ")\n";
+  ch << "\n"
      << "#define " << upper(prefix) << "N_STATE " << s.n_x << "\n"
      << "#define " << upper(prefix) << "N_PARAMETERS " << s.n_p << "\n"
      << "#define " << upper(prefix) << "N_INPUTS " << s.n_in << "\n";
   for (const Kernel& k : kernels.kernels)
     ch << "#define " << upper(prefix) << "N_OUT_" << upper(k.name) << " " << k.outputs.size() << "\n";
   if (prepared) ch << "#define " << upper(prefix) << "N_PREPARED_PARAMETERS " << code.n_prepared << "\n";
+  for (std::size_t i = 0; i < kernels.kernels.size(); ++i)
+    ch << "#define " << upper(prefix) << "N_WORK_" << upper(kernels.kernels[i].name) << " " << code.printed[i].work
+       << "\n";
+  if (prepared)
+    for (std::size_t i = 0; i < prepared->kernels.size(); ++i)
+      ch << "#define " << upper(prefix) << "N_WORK_" << upper(prepared->kernels[i].name) << " " << code.prepared[i].work
+         << "\n";
   ch << "\n#ifdef __cplusplus\nextern \"C\" {\n#endif\n\n";
   for (const Kernel& k : kernels.kernels) ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
   if (has_rhs)
@@ -401,6 +470,11 @@ std::string PackageWriter::c_header() const {
     for (const Kernel& k : prepared->kernels)
       ch << "/* " << k.summary << " */\n" << c_signature("void", k.name) << ";\n";
   }
+  ch << "/* Work-space forms (" << model.name << ".hpp): <kernel>_work(t, x, p, in, out, work) with work["
+     << upper(prefix) << "N_WORK_<KERNEL>]\n   of the caller's in place of the kernel's stack array */\n";
+  for (const Kernel& k : kernels.kernels) ch << c_work_signature(k.name) << ";\n";
+  if (prepared)
+    for (const Kernel& k : prepared->kernels) ch << c_work_signature(k.name) << ";\n";
   ch << "\n#ifdef __cplusplus\n}\n#endif\n\n#endif\n";
   return ch.str();
 }
@@ -429,6 +503,15 @@ std::string PackageWriter::cmake() const {
      << "if(" << guard_macro << ")\n"
      << "  # PUBLIC: users of the library see the same scalar type.\n"
      << "  target_compile_definitions(" << library << " PUBLIC " << guard_macro << "=${" << guard_macro << "})\n"
+     << "endif()\n"
+     << "# -fno-math-errno: std::sqrt compiles to the FPU's square root; with errno semantics it is a compare, a "
+        "branch\n"
+     << "# and a libm call that may set errno (the kernels never read errno), so the kernels would not be "
+        "branch-free.\n"
+     << "# -ffp-contract=off: a*b + c stays two roundings; contracted into fused multiply-adds (GCC's default outside\n"
+     << "# ISO modes, Clang's within an expression) firmware with an FMA unit and a desktop without differ by ulps.\n"
+     << "if(CMAKE_CXX_COMPILER_ID MATCHES \"GNU|Clang\")\n"
+     << "  target_compile_options(" << library << " PRIVATE -fno-math-errno -ffp-contract=off)\n"
      << "endif()\n\n"
      << "# Optional, when hamel is installed (find_package(hamel): hamel::runtime, header-only): the target "
      << model.name << "::with_runtime,\n"
@@ -481,12 +564,20 @@ void PackageWriter::readme_kernels(std::ostream& md) const {
      << "reading the time `t`, the state `x[n_state]`, the parameters `p[n_parameters]` and the inputs "
         "`in[n_inputs]` (may be null when `n_inputs == 0`), and writing `out[n_out_<kernel>]`. `kernel_table` "
         "lists them with their sizes.\n\n"
-     << "| Kernel | Outputs | Temporaries | Operations (add, mul, div, call) | Computes |\n|---|---|---|---|---|\n";
+     << "Each has a work-space form `<kernel>_work(t, x, p, in, out, work)` (C: `" << prefix
+     << "<kernel>_work`) with the same results, for callers with little stack (firmware tasks): a kernel long enough "
+        "to be split into parts passes values between them in an array of `n_work_<kernel>` reals (column Work; a "
+        "tree's jacobian also the arguments of its column solves), which the kernel keeps on its stack and the "
+        "work-space form in the caller's `work` (a static array, say). "
+        "The stack each needs on a Cortex-M is measured in hamel's docs/firmware.md.\n\n"
+     << "| Kernel | Outputs | Temporaries | Work | Operations (add, mul, div, call) | Computes |\n"
+        "|---|---|---|---|---|---|\n";
   for (std::size_t i = 0; i < kernels.kernels.size(); ++i) {
     const Kernel& k = kernels.kernels[i];
     const OpCounts& o = code.printed[i].ops;
-    md << "| `" << k.name << "` | " << k.outputs.size() << " | " << code.printed[i].temporaries << " | " << o.add
-       << ", " << o.mul << ", " << o.div << ", " << o.call << " | " << k.summary << " |\n";
+    md << "| `" << k.name << "` | " << k.outputs.size() << " | " << code.printed[i].temporaries << " | "
+       << code.printed[i].work << " | " << o.add << ", " << o.mul << ", " << o.div << ", " << o.call << " | "
+       << k.summary << " |\n";
   }
   if (prepared) {
     md << "\n### Prepared parameters\n\n"
@@ -611,7 +702,20 @@ void PackageWriter::readme_build(std::ostream& md) const {
         "are fine). The scalar type is the macro `"
      << guard_macro
      << "` (default `double`); it must be the same for the library and its users (CMake sets it PUBLIC); a "
-        "mismatch fails to link.\n\n";
+        "mismatch fails to link, in C++ and in C (the C symbols carry the type: `"
+     << prefix << "rhs` links as `" << prefix << "rhs_double` or `" << prefix << "rhs_float`).\n\n"
+     << "Two flags matter for firmware, and CMakeLists.txt sets both for GCC and Clang (set them yourself in another "
+        "build):\n\n"
+     << "- `-fno-math-errno`: without it `std::sqrt` keeps C's errno semantics and compiles to a compare, a branch and "
+        "a libm call next to the FPU's square root instruction, so kernels that take square roots are no longer "
+        "branch-free (and link errno). The kernels never read errno.\n"
+     << "- `-ffp-contract=off`: no fusing of `a*b + c` into fused multiply-adds. With FMA contraction (GCC's default "
+        "in GNU modes, e.g. for a Cortex-M4F or M7 with `-std=gnu++17`) results differ from a desktop build by a few "
+        "ulps; with it off the firmware reproduces the host's numbers bit for bit.\n\n"
+     << "On a microcontroller, use float where the FPU is single-precision (Cortex-M4F, M33, M7 with fpv5-sp-d16): "
+        "double arithmetic there is emulated in software and costs 24 to 51 times the instructions of float per "
+        "kernel (measured on a Cortex-M4F under QEMU; hamel's docs/firmware.md has the figures per kernel). A "
+        "double-precision FPU (Cortex-M7 with fpv5-d16) runs double in hardware.\n\n";
 }
 
 void PackageWriter::readme_bad_input(std::ostream& md) const {

@@ -162,7 +162,9 @@ struct Expression {
 // (Parsed by hand: GCC 12's <regex> trips -Wmaybe-uninitialized in the sanitized build.)
 Interpreted interpret(const std::string& text, const double* x, std::size_t n_out) {
   std::map<int, std::vector<std::string>> parts;
-  std::vector<std::string> main_body;
+  // The function calling the parts: f, or when the parts pass values, f_work (v[] in the caller's work space), which
+  // f calls with its stack array (`wrapper`).
+  std::vector<std::string> main_body, wrapper, work_body;
   std::vector<std::string>* current = nullptr;
   std::istringstream lines(text);
   std::string line;
@@ -174,6 +176,8 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
       current = &parts[std::stoi(line.substr(11, line.find('(') - 11))];
     } else if (starts(line, "void f(") && ends(line, ") {")) {
       current = &main_body;
+    } else if (starts(line, "void f_work(") && ends(line, ", real* work) {")) {
+      current = &work_body;
     } else if (line == "}") {
       current = nullptr;
     } else if (current && !starts(line, "  (void)")) {
@@ -182,6 +186,21 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
   }
   std::vector<double> v;
   run.out.assign(n_out, std::numeric_limits<double>::quiet_NaN());
+  if (!work_body.empty()) {
+    // f declares the array and passes it on: `real work[n];` and `f_work(t, x, p, in, out, work);`, nothing else.
+    wrapper = main_body;
+    main_body = work_body;
+    EXPECT_EQ(wrapper.size(), 2u);
+    if (wrapper.size() == 2) {
+      const std::vector<std::string> w = words(wrapper[0]);
+      EXPECT_TRUE(w.size() == 2 && w[0] == "real" && starts(w[1], "work[") && ends(w[1], "];")) << wrapper[0];
+      if (w.size() == 2 && starts(w[1], "work[")) {
+        run.slots = static_cast<int>(subscript(w[1]));
+        v.assign(static_cast<std::size_t>(run.slots), std::numeric_limits<double>::quiet_NaN());
+      }
+      EXPECT_EQ(wrapper[1], "  f_work(t, x, p, in, out, work);");
+    }
+  }
   std::function<void(const std::vector<std::string>&, int)> execute = [&](const std::vector<std::string>& body,
                                                                           int part) {
     std::map<std::string, double> locals;
@@ -208,9 +227,8 @@ Interpreted interpret(const std::string& text, const double* x, std::size_t n_ou
       } else if (w.size() == 3 && starts(w[0], "v[") && w[1] == "=" && starts(w[2], "w") && ends(w[2], ";")) {
         v.at(subscript(w[0])) = value(w[2].substr(0, w[2].size() - 1));
         ++run.slot_writes;
-      } else if (w.size() == 2 && w[0] == "real" && starts(w[1], "v[") && ends(w[1], "];")) {
-        run.slots = static_cast<int>(subscript(w[1]));
-        v.assign(static_cast<std::size_t>(run.slots), std::numeric_limits<double>::quiet_NaN());
+      } else if (l == "  real* const v = work;") {
+        EXPECT_GT(run.slots, 0) << "v[] in a work space of no size";
       } else if (starts(l, "  f_part") &&
                  (ends(l, "(t, x, p, in, v, out);") || ends(l, "(t, x, p, in, nullptr, out);"))) {
         if (ends(l, "nullptr, out);")) {

@@ -20,14 +20,16 @@
 
 namespace hamel::runtime {
 
-/// Settings of integrate_dop853.
-struct Dop853Options {
-  double rtol = 1e-10;        // relative tolerance, per component
-  double atol = 1e-12;        // absolute tolerance, per component; keep it > 0 for states near 0
-  double h0 = 0;              // initial step (sign ignored, finite); 0: automatic (Hairer's algorithm)
-  double h_max = 0;           // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
+/// Settings of integrate_dop853, in the run's scalar type Real (Dop853Options for double).
+template <class Real>
+struct BasicDop853Options {
+  Real rtol = Real(1e-10);    // relative tolerance, per component
+  Real atol = Real(1e-12);    // absolute tolerance, per component; keep it > 0 for states near 0
+  Real h0 = 0;                // initial step (sign ignored, finite); 0: automatic (Hairer's algorithm)
+  Real h_max = 0;             // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
   long max_steps = 10000000;  // limit on step attempts, accepted plus rejected
 };
+using Dop853Options = BasicDop853Options<double>;
 
 namespace detail::dop853 {
 
@@ -152,17 +154,43 @@ constexpr double fac_min = 0.333;  // h_new / h >= 0.333
 constexpr double fac_max = 6.0;    // h_new / h <= 6
 constexpr double expo = 1.0 / 8.0;
 
+/// The tables above in the scalar type Real, converted at compile time: a float run reads no double.
+template <class Real>
+struct Tables {
+  Real c[kStages] = {};
+  Real a[kStages][kStages] = {};
+  Real er[kStepStages] = {};
+  Real d[4][kStages] = {};
+};
+template <class Real>
+constexpr Tables<Real> convert_tables() {
+  Tables<Real> t{};
+  for (int i = 0; i < kStages; ++i) {
+    t.c[i] = static_cast<Real>(c[i]);
+    for (int j = 0; j < kStages; ++j) t.a[i][j] = static_cast<Real>(a[i][j]);
+    for (int m = 0; m < 4; ++m) t.d[m][i] = static_cast<Real>(d[m][i]);
+  }
+  for (int i = 0; i < kStepStages; ++i) t.er[i] = static_cast<Real>(er[i]);
+  return t;
+}
+template <class Real>
+inline constexpr Tables<Real> tables = convert_tables<Real>();
+
 }  // namespace detail::dop853
 
-/// Caller-provided work space of the heap-free integrate_dop853: a non-owning view of doubles(n) doubles.
-struct Dop853Workspace {
-  /// Doubles needed for n states: 16 stage derivatives, a stage argument, the new state, seven dense
+/// Caller-provided work space of the heap-free integrate_dop853: a non-owning view of reals(n) reals of type Real (the
+/// run's scalar type); Dop853Workspace for double.
+template <class Real>
+struct BasicDop853Workspace {
+  /// Reals needed for n states: 16 stage derivatives, a stage argument, the new state, seven dense
   /// output terms and a sample.
-  static constexpr std::size_t doubles(std::size_t n) { return (detail::dop853::kStages + 10) * n; }
+  static constexpr std::size_t reals(std::size_t n) { return (detail::dop853::kStages + 10) * n; }
+  static constexpr std::size_t doubles(std::size_t n) { return reals(n); }
 
-  double* data = nullptr;
-  std::size_t size = 0;  // doubles at data
+  Real* data = nullptr;
+  std::size_t size = 0;  // reals at data
 };
+using Dop853Workspace = BasicDop853Workspace<double>;
 
 /// Integrates x' = rhs(t, x) from t0 to t_end (t_end may lie before t0) with
 /// the adaptive Dormand-Prince 8(5,3) method, advancing with the eighth-order
@@ -207,42 +235,45 @@ struct Dop853Workspace {
 /// observed, and the first stage of the next step is evaluated at it (one more
 /// rhs evaluation per step). A projector status other than ok ends the run with
 /// it and the last accepted state.
-template <class Rhs, class Observer, class Projector>
-IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
-                                    const Dop853Options& opt, double sample_dt, Observer&& observe,
-                                    Dop853Workspace work, Projector&& project) {
+template <class Rhs, class Real, class Observer, class Projector>
+BasicIntegrationOutcome<Real> integrate_dop853(Rhs&& rhs, detail::same_t<Real>* x, std::size_t n,
+                                               detail::same_t<Real> t0, detail::same_t<Real> t_end,
+                                               const BasicDop853Options<Real>& opt, detail::same_t<Real> sample_dt,
+                                               Observer&& observe, BasicDop853Workspace<Real> work,
+                                               Projector&& project) {
   namespace k = detail::dop853;
-  detail::AdaptiveSteps<Dop853Options> steps(t0, t_end, opt);
-  if (!steps.start(x, n, work.data, work.size, Dop853Workspace::doubles(n), sample_dt, observe)) {
+  const detail::dop853::Tables<Real>& T = k::tables<Real>;
+  detail::AdaptiveSteps<BasicDop853Options<Real>> steps(t0, t_end, opt);
+  if (!steps.start(x, n, work.data, work.size, BasicDop853Workspace<Real>::reals(n), sample_dt, observe)) {
     return steps.result;
   }
 
   // The work space: 16 stage derivatives, the stage argument, the new state,
   // the dense output terms r1..r7 and a sample.
-  double* f[k::kStages];
+  Real* f[k::kStages];
   for (int s = 0; s < k::kStages; ++s) f[s] = work.data + static_cast<std::size_t>(s) * n;
-  double* stage = work.data + static_cast<std::size_t>(k::kStages) * n;
-  double* x_new = stage + n;
-  double* r[8] = {nullptr};  // r[0] would be x itself
+  Real* stage = work.data + static_cast<std::size_t>(k::kStages) * n;
+  Real* x_new = stage + n;
+  Real* r[8] = {nullptr};  // r[0] would be x itself
   for (int m = 1; m < 8; ++m) r[m] = x_new + static_cast<std::size_t>(m) * n;
-  double* sample = r[7] + n;
+  Real* sample = r[7] + n;
 
   if (!steps.first_derivative(rhs, x, f[0], n)) {
     return steps.result;
   }
   steps.first_step(rhs, x, f[0], 8, stage, f[1], n);
 
-  detail::SampleClock clock(t0, t_end, sample_dt);
-  const double inv_n = n > 0 ? 1.0 / static_cast<double>(n) : 0.0;
+  detail::SampleClock<Real> clock(t0, t_end, sample_dt);
+  const Real inv_n = n > 0 ? Real(1.0) / static_cast<Real>(n) : Real(0.0);
 
   // Stage s from the stages before it: stage = x + hs * sum_j a[s][j] f[j],
   // skipping the many zero coefficients; f[s] = rhs(t + c[s] hs, stage).
-  auto eval_stage = [&](int s, double t_stage, double hs) {
+  auto eval_stage = [&](int s, Real t_stage, Real hs) {
     std::copy(x, x + n, stage);
     for (int j = 0; j < s; ++j) {
-      const double w = hs * k::a[s][j];
-      if (w != 0.0) {
-        const double* fj = f[j];
+      const Real w = hs * T.a[s][j];
+      if (w != Real(0.0)) {
+        const Real* fj = f[j];
         for (std::size_t i = 0; i < n; ++i) stage[i] += w * fj[i];
       }
     }
@@ -252,41 +283,41 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
   };
 
   while (steps.begin_attempt()) {
-    const double t = steps.t, hs = steps.hs, t_next = steps.t_next;
+    const Real t = steps.t, hs = steps.hs, t_next = steps.t_next;
 
     bool finite = true;
     for (int s = 1; s < k::kStepStages && finite; ++s) {
-      finite = eval_stage(s, s == k::kStepStages - 1 ? t_next : t + k::c[s] * hs, hs);
+      finite = eval_stage(s, s == k::kStepStages - 1 ? t_next : t + T.c[s] * hs, hs);
     }
-    double err = 0.0;
+    Real err = Real(0.0);
     if (finite) {
-      double err5 = 0.0;
-      double err3 = 0.0;
+      Real err5 = Real(0.0);
+      Real err3 = Real(0.0);
       for (std::size_t i = 0; i < n; ++i) {
-        double incr = 0.0;  // sum_j b_j f_j
-        double e5 = 0.0;    // sum_j er_j f_j
+        Real incr = Real(0.0);  // sum_j b_j f_j
+        Real e5 = Real(0.0);    // sum_j er_j f_j
         for (int j = 0; j < k::kStepStages; ++j) {
-          incr += k::b[j] * f[j][i];
-          e5 += k::er[j] * f[j][i];
+          incr += T.a[k::kStepStages][j] * f[j][i];
+          e5 += T.er[j] * f[j][i];
         }
         x_new[i] = x[i] + hs * incr;
-        const double e3 = incr - k::bhh0 * f[0][i] - k::bhh8 * f[8][i] - k::bhh11 * f[11][i];
-        const double sk = opt.atol + opt.rtol * std::max(std::fabs(x[i]), std::fabs(x_new[i]));
+        const Real e3 = incr - Real(k::bhh0) * f[0][i] - Real(k::bhh8) * f[8][i] - Real(k::bhh11) * f[11][i];
+        const Real sk = opt.atol + opt.rtol * std::max(std::fabs(x[i]), std::fabs(x_new[i]));
         err5 += (e5 / sk) * (e5 / sk);
         err3 += (e3 / sk) * (e3 / sk);
       }
       // err5 and err3 are sums of squares here; the combination is dop853.f's.
-      double deno = err5 + 0.01 * err3;
-      if (deno <= 0.0) deno = 1.0;
+      Real deno = err5 + Real(0.01) * err3;
+      if (deno <= Real(0.0)) deno = Real(1.0);
       err = steps.h * err5 * std::sqrt(inv_n / deno);
       finite = std::isfinite(err) && all_finite(x_new, n);
     }
 
-    double fac11 = 0.0;
+    Real fac11 = Real(0.0);
     if (finite) {
-      fac11 = std::pow(err, k::expo);
-      if (err > 1.0) {
-        steps.reject(std::min(1.0 / k::fac_min, fac11 / k::safety));
+      fac11 = std::pow(err, Real(k::expo));
+      if (err > Real(1.0)) {
+        steps.reject(std::min(Real(1.0) / Real(k::fac_min), fac11 / Real(k::safety)));
         continue;
       }
       // The step is good; the derivative at its end (the next first stage) and,
@@ -298,15 +329,16 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
     const bool sample_due = clock.due(t_next);
     if (finite && sample_due) {
       for (int s = k::kStepStages + 1; s < k::kStages && finite; ++s) {
-        finite = eval_stage(s, t + k::c[s] * hs, hs);
+        finite = eval_stage(s, t + T.c[s] * hs, hs);
       }
     }
     if (!finite) {
-      steps.reject_non_finite(k::fac_min);
+      steps.reject_non_finite(Real(k::fac_min));
       continue;
     }
 
-    const double h_new = steps.next_step(std::clamp(fac11 / k::safety, 1.0 / k::fac_max, 1.0 / k::fac_min));
+    const Real h_new = steps.next_step(
+        std::clamp(fac11 / Real(k::safety), Real(1.0) / Real(k::fac_max), Real(1.0) / Real(k::fac_min)));
 
     if (sample_due) {
       // Continuous extension of dop853.f:
@@ -315,23 +347,23 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
       // with r1 = x_new - x, r2 = hs f0 - r1, r3 = r1 - hs f12 - r2 and
       // r4..r7 = hs * sum_j d[m][j] f_j over all 16 stages.
       for (std::size_t i = 0; i < n; ++i) {
-        const double dx = x_new[i] - x[i];
-        const double bspl = hs * f[0][i] - dx;
+        const Real dx = x_new[i] - x[i];
+        const Real bspl = hs * f[0][i] - dx;
         r[1][i] = dx;
         r[2][i] = bspl;
         r[3][i] = dx - hs * f[k::kStepStages][i] - bspl;
         for (int m = 0; m < 4; ++m) {
-          double s = 0.0;
-          for (int j = 0; j < k::kStages; ++j) s += k::d[m][j] * f[j][i];
+          Real s = Real(0.0);
+          for (int j = 0; j < k::kStages; ++j) s += T.d[m][j] * f[j][i];
           r[4 + m][i] = hs * s;
         }
       }
       while (clock.due(t_next)) {
-        const double ts = clock.next();
-        const double theta = (ts - t) / hs;
-        const double theta1 = 1.0 - theta;
+        const Real ts = clock.next();
+        const Real theta = (ts - t) / hs;
+        const Real theta1 = Real(1.0) - theta;
         for (std::size_t i = 0; i < n; ++i) {
-          const double tail = r[4][i] + theta * (r[5][i] + theta1 * (r[6][i] + theta * r[7][i]));
+          const Real tail = r[4][i] + theta * (r[5][i] + theta1 * (r[6][i] + theta * r[7][i]));
           sample[i] = x[i] + theta * (r[1][i] + theta1 * (r[2][i] + theta * (r[3][i] + theta1 * tail)));
         }
         if constexpr (detail::projects<Projector>) {
@@ -367,10 +399,11 @@ IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double 
 }
 
 /// Heap-free form without a projector.
-template <class Rhs, class Observer>
-IntegrationOutcome integrate_dop853(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
-                                    const Dop853Options& opt, double sample_dt, Observer&& observe,
-                                    Dop853Workspace work) {
+template <class Rhs, class Real, class Observer>
+BasicIntegrationOutcome<Real> integrate_dop853(Rhs&& rhs, detail::same_t<Real>* x, std::size_t n,
+                                               detail::same_t<Real> t0, detail::same_t<Real> t_end,
+                                               const BasicDop853Options<Real>& opt, detail::same_t<Real> sample_dt,
+                                               Observer&& observe, BasicDop853Workspace<Real> work) {
   return integrate_dop853(rhs, x, n, t0, t_end, opt, sample_dt, observe, work, NoProjector{});
 }
 

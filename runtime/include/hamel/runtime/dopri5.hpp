@@ -18,14 +18,16 @@
 
 namespace hamel::runtime {
 
-/// Settings of integrate_dopri5.
-struct Dopri5Options {
-  double rtol = 1e-8;         // relative tolerance, per component
-  double atol = 1e-10;        // absolute tolerance, per component; keep it > 0 for states near 0
-  double h0 = 0;              // initial step (sign ignored, finite); 0: automatic (Hairer's algorithm)
-  double h_max = 0;           // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
+/// Settings of integrate_dopri5, in the run's scalar type Real (Dopri5Options for double).
+template <class Real>
+struct BasicDopri5Options {
+  Real rtol = Real(1e-8);     // relative tolerance, per component
+  Real atol = Real(1e-10);    // absolute tolerance, per component; keep it > 0 for states near 0
+  Real h0 = 0;                // initial step (sign ignored, finite); 0: automatic (Hairer's algorithm)
+  Real h_max = 0;             // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
   long max_steps = 10000000;  // limit on step attempts, accepted plus rejected
 };
+using Dopri5Options = BasicDopri5Options<double>;
 
 namespace detail::dopri5 {
 
@@ -58,15 +60,19 @@ constexpr double expo1 = 0.2 - beta * 0.75;
 
 }  // namespace detail::dopri5
 
-/// Caller-provided work space of the heap-free integrate_dopri5: a non-owning view of doubles(n) doubles.
-struct Dopri5Workspace {
-  /// Doubles needed for n states: seven stages, a stage argument, the new state, two dense output
+/// Caller-provided work space of the heap-free integrate_dopri5: a non-owning view of reals(n) reals of type Real (the
+/// run's scalar type); Dopri5Workspace for double.
+template <class Real>
+struct BasicDopri5Workspace {
+  /// Reals needed for n states: seven stages, a stage argument, the new state, two dense output
   /// terms and a sample.
-  static constexpr std::size_t doubles(std::size_t n) { return 12 * n; }
+  static constexpr std::size_t reals(std::size_t n) { return 12 * n; }
+  static constexpr std::size_t doubles(std::size_t n) { return reals(n); }
 
-  double* data = nullptr;
-  std::size_t size = 0;  // doubles at data
+  Real* data = nullptr;
+  std::size_t size = 0;  // reals at data
 };
+using Dopri5Workspace = BasicDopri5Workspace<double>;
 
 /// Integrates x' = rhs(t, x) from t0 to t_end (t_end may lie before t0) with
 /// the adaptive Dormand-Prince 5(4) pair, advancing with the fifth-order
@@ -101,116 +107,122 @@ struct Dopri5Workspace {
 /// rhs evaluation per step: FSAL's last stage belongs to the unprojected state).
 /// A projector status other than ok ends the run with it and the last accepted
 /// state.
-template <class Rhs, class Observer, class Projector>
-IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
-                                    const Dopri5Options& opt, double sample_dt, Observer&& observe,
-                                    Dopri5Workspace work, Projector&& project) {
+template <class Rhs, class Real, class Observer, class Projector>
+BasicIntegrationOutcome<Real> integrate_dopri5(Rhs&& rhs, detail::same_t<Real>* x, std::size_t n,
+                                               detail::same_t<Real> t0, detail::same_t<Real> t_end,
+                                               const BasicDopri5Options<Real>& opt, detail::same_t<Real> sample_dt,
+                                               Observer&& observe, BasicDopri5Workspace<Real> work,
+                                               Projector&& project) {
   namespace k = detail::dopri5;
-  detail::AdaptiveSteps<Dopri5Options> steps(t0, t_end, opt);
-  if (!steps.start(x, n, work.data, work.size, Dopri5Workspace::doubles(n), sample_dt, observe)) {
+  detail::AdaptiveSteps<BasicDopri5Options<Real>> steps(t0, t_end, opt);
+  if (!steps.start(x, n, work.data, work.size, BasicDopri5Workspace<Real>::reals(n), sample_dt, observe)) {
     return steps.result;
   }
 
   // Pointers into the work space are swapped, not data.
-  double* k1 = work.data;
-  double* k2 = k1 + n;
-  double* k3 = k2 + n;
-  double* k4 = k3 + n;
-  double* k5 = k4 + n;
-  double* k6 = k5 + n;
-  double* k7 = k6 + n;
-  double* stage = k7 + n;
-  double* x_new = stage + n;
-  double* r4 = x_new + n;  // dense output coefficients besides x, x_new - x and bspl
-  double* r5 = r4 + n;
-  double* sample = r5 + n;
+  Real* k1 = work.data;
+  Real* k2 = k1 + n;
+  Real* k3 = k2 + n;
+  Real* k4 = k3 + n;
+  Real* k5 = k4 + n;
+  Real* k6 = k5 + n;
+  Real* k7 = k6 + n;
+  Real* stage = k7 + n;
+  Real* x_new = stage + n;
+  Real* r4 = x_new + n;  // dense output coefficients besides x, x_new - x and bspl
+  Real* r5 = r4 + n;
+  Real* sample = r5 + n;
 
   if (!steps.first_derivative(rhs, x, k1, n)) {
     return steps.result;
   }
   steps.first_step(rhs, x, k1, 5, stage, k2, n);
 
-  detail::SampleClock clock(t0, t_end, sample_dt);
-  double fac_old = 1e-4;
-  const double inv_n = n > 0 ? 1.0 / static_cast<double>(n) : 0.0;
+  detail::SampleClock<Real> clock(t0, t_end, sample_dt);
+  Real fac_old = Real(1e-4);
+  const Real inv_n = n > 0 ? Real(1.0) / static_cast<Real>(n) : Real(0.0);
 
   while (steps.begin_attempt()) {
-    const double t = steps.t, hs = steps.hs, t_next = steps.t_next;
+    const Real t = steps.t, hs = steps.hs, t_next = steps.t_next;
 
     // Stages 2..7; a non-finite derivative aborts the attempt early.
     bool finite = true;
-    auto eval = [&](double ts, const double* in, double* out) {
+    auto eval = [&](Real ts, const Real* in, Real* out) {
       rhs(ts, in, out);
       ++steps.result.stats.rhs_evals;
       finite = all_finite(out, n);
       return finite;
     };
     do {
-      for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + hs * k::a21 * k1[i];
-      if (!eval(t + k::c2 * hs, stage, k2)) break;
-      for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + hs * (k::a31 * k1[i] + k::a32 * k2[i]);
-      if (!eval(t + k::c3 * hs, stage, k3)) break;
+      for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + hs * Real(k::a21) * k1[i];
+      if (!eval(t + Real(k::c2) * hs, stage, k2)) break;
+      for (std::size_t i = 0; i < n; ++i) stage[i] = x[i] + hs * (Real(k::a31) * k1[i] + Real(k::a32) * k2[i]);
+      if (!eval(t + Real(k::c3) * hs, stage, k3)) break;
       for (std::size_t i = 0; i < n; ++i) {
-        stage[i] = x[i] + hs * (k::a41 * k1[i] + k::a42 * k2[i] + k::a43 * k3[i]);
+        stage[i] = x[i] + hs * (Real(k::a41) * k1[i] + Real(k::a42) * k2[i] + Real(k::a43) * k3[i]);
       }
-      if (!eval(t + k::c4 * hs, stage, k4)) break;
+      if (!eval(t + Real(k::c4) * hs, stage, k4)) break;
       for (std::size_t i = 0; i < n; ++i) {
-        stage[i] = x[i] + hs * (k::a51 * k1[i] + k::a52 * k2[i] + k::a53 * k3[i] + k::a54 * k4[i]);
+        stage[i] =
+            x[i] + hs * (Real(k::a51) * k1[i] + Real(k::a52) * k2[i] + Real(k::a53) * k3[i] + Real(k::a54) * k4[i]);
       }
-      if (!eval(t + k::c5 * hs, stage, k5)) break;
+      if (!eval(t + Real(k::c5) * hs, stage, k5)) break;
       for (std::size_t i = 0; i < n; ++i) {
-        stage[i] = x[i] + hs * (k::a61 * k1[i] + k::a62 * k2[i] + k::a63 * k3[i] + k::a64 * k4[i] + k::a65 * k5[i]);
+        stage[i] = x[i] + hs * (Real(k::a61) * k1[i] + Real(k::a62) * k2[i] + Real(k::a63) * k3[i] +
+                                Real(k::a64) * k4[i] + Real(k::a65) * k5[i]);
       }
       if (!eval(t_next, stage, k6)) break;
       for (std::size_t i = 0; i < n; ++i) {
-        x_new[i] = x[i] + hs * (k::a71 * k1[i] + k::a73 * k3[i] + k::a74 * k4[i] + k::a75 * k5[i] + k::a76 * k6[i]);
+        x_new[i] = x[i] + hs * (Real(k::a71) * k1[i] + Real(k::a73) * k3[i] + Real(k::a74) * k4[i] +
+                                Real(k::a75) * k5[i] + Real(k::a76) * k6[i]);
       }
       finite = all_finite(x_new, n);
       if (!finite) break;
       eval(t_next, x_new, k7);
     } while (false);
 
-    double err = 0.0;
+    Real err = Real(0.0);
     if (finite) {
       for (std::size_t i = 0; i < n; ++i) {
-        const double e =
-            hs * (k::e1 * k1[i] + k::e3 * k3[i] + k::e4 * k4[i] + k::e5 * k5[i] + k::e6 * k6[i] + k::e7 * k7[i]);
-        const double sk = opt.atol + opt.rtol * std::max(std::fabs(x[i]), std::fabs(x_new[i]));
+        const Real e = hs * (Real(k::e1) * k1[i] + Real(k::e3) * k3[i] + Real(k::e4) * k4[i] + Real(k::e5) * k5[i] +
+                             Real(k::e6) * k6[i] + Real(k::e7) * k7[i]);
+        const Real sk = opt.atol + opt.rtol * std::max(std::fabs(x[i]), std::fabs(x_new[i]));
         err += (e / sk) * (e / sk);
       }
       err = std::sqrt(err * inv_n);
       finite = std::isfinite(err);
     }
     if (!finite) {
-      steps.reject_non_finite(k::fac_min);
+      steps.reject_non_finite(Real(k::fac_min));
       continue;
     }
-    const double fac11 = std::pow(err, k::expo1);
-    if (err > 1.0) {
-      steps.reject(std::min(1.0 / k::fac_min, fac11 / k::safety));
+    const Real fac11 = std::pow(err, Real(k::expo1));
+    if (err > Real(1.0)) {
+      steps.reject(std::min(Real(1.0) / Real(k::fac_min), fac11 / Real(k::safety)));
       continue;
     }
 
     // Lund stabilisation: the previous error damps the growth (PI control).
-    double fac = fac11 / std::pow(fac_old, k::beta);
-    fac = std::clamp(fac / k::safety, 1.0 / k::fac_max, 1.0 / k::fac_min);
-    const double h_new = steps.next_step(fac);
-    fac_old = std::max(err, 1e-4);
+    Real fac = fac11 / std::pow(fac_old, Real(k::beta));
+    fac = std::clamp(fac / Real(k::safety), Real(1.0) / Real(k::fac_max), Real(1.0) / Real(k::fac_min));
+    const Real h_new = steps.next_step(fac);
+    fac_old = std::max(err, Real(1e-4));
 
     if (clock.due(t_next)) {
       // Dense output of dopri5.f: x + theta*(dx + (1-theta)*(bspl + theta*(r4 + (1-theta)*r5))),
       // with r3 = bspl kept in k2, whose stage value is not needed any more.
-      double* bspl = k2;
+      Real* bspl = k2;
       for (std::size_t i = 0; i < n; ++i) {
-        const double dx = x_new[i] - x[i];
+        const Real dx = x_new[i] - x[i];
         bspl[i] = hs * k1[i] - dx;
         r4[i] = dx - hs * k7[i] - bspl[i];
-        r5[i] = hs * (k::d1 * k1[i] + k::d3 * k3[i] + k::d4 * k4[i] + k::d5 * k5[i] + k::d6 * k6[i] + k::d7 * k7[i]);
+        r5[i] = hs * (Real(k::d1) * k1[i] + Real(k::d3) * k3[i] + Real(k::d4) * k4[i] + Real(k::d5) * k5[i] +
+                      Real(k::d6) * k6[i] + Real(k::d7) * k7[i]);
       }
       while (clock.due(t_next)) {
-        const double s = clock.next();
-        const double theta = (s - t) / hs;
-        const double theta1 = 1.0 - theta;
+        const Real s = clock.next();
+        const Real theta = (s - t) / hs;
+        const Real theta1 = Real(1.0) - theta;
         for (std::size_t i = 0; i < n; ++i) {
           sample[i] = x[i] + theta * ((x_new[i] - x[i]) + theta1 * (bspl[i] + theta * (r4[i] + theta1 * r5[i])));
         }
@@ -247,10 +259,11 @@ IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double 
 }
 
 /// Heap-free form without a projector.
-template <class Rhs, class Observer>
-IntegrationOutcome integrate_dopri5(Rhs&& rhs, double* x, std::size_t n, double t0, double t_end,
-                                    const Dopri5Options& opt, double sample_dt, Observer&& observe,
-                                    Dopri5Workspace work) {
+template <class Rhs, class Real, class Observer>
+BasicIntegrationOutcome<Real> integrate_dopri5(Rhs&& rhs, detail::same_t<Real>* x, std::size_t n,
+                                               detail::same_t<Real> t0, detail::same_t<Real> t_end,
+                                               const BasicDopri5Options<Real>& opt, detail::same_t<Real> sample_dt,
+                                               Observer&& observe, BasicDopri5Workspace<Real> work) {
   return integrate_dopri5(rhs, x, n, t0, t_end, opt, sample_dt, observe, work, NoProjector{});
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
+#include <type_traits>
 #include <utility>
 
 #include "hamel/runtime/status.hpp"
@@ -27,24 +28,26 @@ namespace hamel::runtime {
 /// singular matrix whose leading block is merely ill-conditioned can leave a
 /// rounding-sized last pivot amplified far above the threshold; with it the
 /// rank deficiency shows up as a pivot at rounding level.
-inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tolerance = 1e-13) {
+/// Real: the scalar type (Real, or float for a float package).
+template <class Real>
+Status ldlt_solve(Real* M, Real* b, int n, std::common_type_t<Real> relative_pivot_tolerance = Real(1e-13)) {
   if (n <= 0) {
     return Status::ok;  // The empty system is trivially solved.
   }
   const auto N = static_cast<std::size_t>(n);
-  auto A = [M, N](std::size_t i, std::size_t j) -> double& { return M[i * N + j]; };
+  auto A = [M, N](std::size_t i, std::size_t j) -> Real& { return M[i * N + j]; };
 
   // The threshold scales with the matrix so that models in any unit system
   // (grams or tonnes) are judged alike.
-  double max_diagonal = 0.0;
+  Real max_diagonal = Real(0.0);
   for (std::size_t i = 0; i < N; ++i) {
-    const double d = std::fabs(A(i, i));
+    const Real d = std::fabs(A(i, i));
     if (!std::isfinite(d)) {
       return Status::singular_mass_matrix;
     }
     max_diagonal = std::fmax(max_diagonal, d);
   }
-  const double threshold = relative_pivot_tolerance * max_diagonal;
+  const Real threshold = relative_pivot_tolerance * max_diagonal;
 
   // Right-looking factorisation: after step j the trailing lower triangle holds
   // the Schur complement, whose diagonal is what pivoting chooses from.
@@ -58,7 +61,7 @@ inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tole
         p = i;
       }
     }
-    const double d = A(p, p);
+    const Real d = A(p, p);
     if (!(d > threshold)) {
       return Status::singular_mass_matrix;
     }
@@ -72,11 +75,11 @@ inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tole
       for (std::size_t i = p + 1; i < N; ++i) std::swap(A(i, j), A(i, p));
     }
     if (j + 1 < N) {
-      A(j, j + 1) = static_cast<double>(p);  // unused upper triangle: record the pivot
+      A(j, j + 1) = static_cast<Real>(p);  // unused upper triangle: record the pivot
     }
 
     for (std::size_t i = j + 1; i < N; ++i) {
-      const double c = A(i, j) / d;
+      const Real c = A(i, j) / d;
       for (std::size_t l = j + 1; l <= i; ++l) {
         A(i, l) -= c * A(l, j);
       }
@@ -91,7 +94,7 @@ inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tole
     std::swap(b[j], b[static_cast<std::size_t>(A(j, j + 1))]);
   }
   for (std::size_t i = 0; i < N; ++i) {
-    double s = b[i];
+    Real s = b[i];
     for (std::size_t k = 0; k < i; ++k) {
       s -= A(i, k) * b[k];
     }
@@ -102,7 +105,7 @@ inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tole
   }
   // L^T x = z, reading L by columns to avoid a transposed copy.
   for (std::size_t i = N; i-- > 0;) {
-    double s = b[i];
+    Real s = b[i];
     for (std::size_t k = i + 1; k < N; ++k) {
       s -= A(k, i) * b[k];
     }
@@ -112,6 +115,11 @@ inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tole
     std::swap(b[j], b[static_cast<std::size_t>(A(j, j + 1))]);
   }
   return Status::ok;
+}
+
+/// The double form (also for a null system of size 0, which names no scalar type).
+inline Status ldlt_solve(double* M, double* b, int n, double relative_pivot_tolerance = 1e-13) {
+  return ldlt_solve<double>(M, b, n, relative_pivot_tolerance);
 }
 
 /// Fixed-size convenience overload of ldlt_solve for generated code that knows n at compile time.

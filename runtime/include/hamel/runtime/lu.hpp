@@ -5,6 +5,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <type_traits>
 #include <utility>
 
 namespace hamel::runtime {
@@ -28,28 +29,30 @@ namespace hamel::runtime {
 /// 1 / tolerance), where a solve would return mostly amplified rounding
 /// errors; relative_pivot_tolerance = 0 rejects only exactly zero pivots. The
 /// threshold scales with the matrix so that the unit system does not matter.
-inline bool lu_factor(double* A, int* pivots, int n, double relative_pivot_tolerance = 1e-14) {
+/// Real: the scalar type (double, or float for a float package).
+template <class Real>
+bool lu_factor(Real* A, int* pivots, int n, std::common_type_t<Real> relative_pivot_tolerance = Real(1e-14)) {
   if (n <= 0) {
     return true;  // The empty matrix is trivially factored.
   }
   const auto N = static_cast<std::size_t>(n);
-  double max_entry = 0.0;
+  Real max_entry = Real(0.0);
   for (std::size_t i = 0; i < N * N; ++i) {
-    const double a = std::fabs(A[i]);
+    const Real a = std::fabs(A[i]);
     if (!std::isfinite(a)) {
       return false;
     }
     max_entry = std::fmax(max_entry, a);
   }
-  const double threshold = relative_pivot_tolerance * max_entry;
+  const Real threshold = relative_pivot_tolerance * max_entry;
 
   // Right-looking elimination, row-major friendly: the update of the trailing
   // block runs along rows.
   for (std::size_t k = 0; k < N; ++k) {
     std::size_t p = k;
-    double best = std::fabs(A[k * N + k]);
+    Real best = std::fabs(A[k * N + k]);
     for (std::size_t i = k + 1; i < N; ++i) {
-      const double a = std::fabs(A[i * N + k]);
+      const Real a = std::fabs(A[i * N + k]);
       if (a > best) {
         best = a;
         p = i;
@@ -63,13 +66,13 @@ inline bool lu_factor(double* A, int* pivots, int n, double relative_pivot_toler
     if (p != k) {
       for (std::size_t j = 0; j < N; ++j) std::swap(A[k * N + j], A[p * N + j]);
     }
-    const double inv_pivot = 1.0 / A[k * N + k];
+    const Real inv_pivot = Real(1.0) / A[k * N + k];
     for (std::size_t i = k + 1; i < N; ++i) {
-      double* row = A + i * N;
-      const double l = row[k] * inv_pivot;
+      Real* row = A + i * N;
+      const Real l = row[k] * inv_pivot;
       row[k] = l;
-      if (l != 0.0) {  // sparse Jacobians give many zero multipliers
-        const double* pivot_row = A + k * N;
+      if (l != Real(0.0)) {  // sparse Jacobians give many zero multipliers
+        const Real* pivot_row = A + k * N;
         for (std::size_t j = k + 1; j < N; ++j) row[j] -= l * pivot_row[j];
       }
     }
@@ -80,7 +83,8 @@ inline bool lu_factor(double* A, int* pivots, int n, double relative_pivot_toler
 /// Solves A x = b in place (b becomes x) with the factors from a successful
 /// lu_factor. The factors are only read, so one factorisation serves any
 /// number of right-hand sides.
-inline void lu_solve(const double* LU, const int* pivots, double* b, int n) {
+template <class Real>
+void lu_solve(const Real* LU, const int* pivots, Real* b, int n) {
   if (n <= 0) {
     return;
   }
@@ -91,17 +95,23 @@ inline void lu_solve(const double* LU, const int* pivots, double* b, int n) {
     if (p != k) std::swap(b[k], b[p]);
   }
   for (std::size_t i = 1; i < N; ++i) {
-    double s = b[i];
-    const double* row = LU + i * N;
+    Real s = b[i];
+    const Real* row = LU + i * N;
     for (std::size_t j = 0; j < i; ++j) s -= row[j] * b[j];
     b[i] = s;
   }
   for (std::size_t i = N; i-- > 0;) {
-    double s = b[i];
-    const double* row = LU + i * N;
+    Real s = b[i];
+    const Real* row = LU + i * N;
     for (std::size_t j = i + 1; j < N; ++j) s -= row[j] * b[j];
     b[i] = s / row[i];
   }
 }
+
+/// The double forms (also for a null matrix of size 0, which names no scalar type).
+inline bool lu_factor(double* A, int* pivots, int n, double relative_pivot_tolerance = 1e-14) {
+  return lu_factor<double>(A, pivots, n, relative_pivot_tolerance);
+}
+inline void lu_solve(const double* LU, const int* pivots, double* b, int n) { lu_solve<double>(LU, pivots, b, n); }
 
 }  // namespace hamel::runtime

@@ -46,16 +46,20 @@ namespace hamel::runtime {
 /// at rtol = 1e-9..1e-11 with the transformation against at most 4 rtol
 /// without it. Callers who want radau5.f's behaviour pass the transformed
 /// values.
-struct Radau5Options {
-  double rtol = 1e-6;             // relative tolerance; values below 1e-13 are raised to 1e-13
-  double atol = 1e-8;             // absolute tolerance; keep it > 0 for states near 0
-  double h0 = 0;                  // initial step (sign ignored, finite); 0: 1e-6 as in radau5.f (capped by interval)
-  double h_max = 0;               // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
+///
+/// Real is the run's scalar type (Radau5Options for double).
+template <class Real>
+struct BasicRadau5Options {
+  Real rtol = Real(1e-6);         // relative tolerance; values below 1e-13 are raised to 1e-13
+  Real atol = Real(1e-8);         // absolute tolerance; keep it > 0 for states near 0
+  Real h0 = 0;                    // initial step (sign ignored, finite); 0: 1e-6 as in radau5.f (capped by interval)
+  Real h_max = 0;                 // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
   long max_steps = 1000000;       // limit on step attempts, accepted plus rejected
   int max_newton_iterations = 7;  // per step attempt (NIT of radau5.f)
   int max_newton_failures = 10;   // Newton failures without an accepted step in between before newton_failure
-  double fixed_step = 0;          // > 0: fixed steps without error control (see integrate_radau5); < 0, NaN: invalid
+  Real fixed_step = 0;            // > 0: fixed steps without error control (see integrate_radau5); < 0, NaN: invalid
 };
+using Radau5Options = BasicRadau5Options<double>;
 
 namespace detail::radau5 {
 
@@ -92,21 +96,24 @@ constexpr int max_singular = 5;  // consecutive singular iteration matrices befo
 
 }  // namespace detail::radau5
 
-/// Caller-provided work space of the heap-free integrate_radau5: non-owning views of doubles(n) doubles
-/// and ints(n) ints.
-struct Radau5Workspace {
-  /// Doubles needed for n states: the n x n Jacobian, the 3n x 3n iteration matrix, the n x n matrix
+/// Caller-provided work space of the heap-free integrate_radau5: non-owning views of reals(n) reals of type Real
+/// (the run's scalar type) and ints(n) ints; Radau5Workspace for double.
+template <class Real>
+struct BasicRadau5Workspace {
+  /// Reals needed for n states: the n x n Jacobian, the 3n x 3n iteration matrix, the n x n matrix
   /// of the error estimate, four vectors of 3n (stage increments and derivatives, Newton increment,
   /// collocation polynomial) and six of n.
-  static constexpr std::size_t doubles(std::size_t n) { return 11 * n * n + 18 * n; }
+  static constexpr std::size_t reals(std::size_t n) { return 11 * n * n + 18 * n; }
+  static constexpr std::size_t doubles(std::size_t n) { return reals(n); }
   /// Ints needed for n states: the pivots of the two LU factorisations.
   static constexpr std::size_t ints(std::size_t n) { return 4 * n; }
 
-  double* data = nullptr;
-  std::size_t size = 0;  // doubles at data
+  Real* data = nullptr;
+  std::size_t size = 0;  // reals at data
   int* pivots = nullptr;
   std::size_t pivot_count = 0;  // ints at pivots
 };
+using Radau5Workspace = BasicRadau5Workspace<double>;
 
 /// Forward-difference Jacobian for callers without an analytic one.
 ///
@@ -117,28 +124,60 @@ struct Radau5Workspace {
 /// needs an approximate Jacobian to converge; the solution's accuracy is set
 /// by the residual, not by the Jacobian. Each call costs n + 1 rhs evaluations,
 /// which the integrator does not see: rhs_evals() counts them here.
-template <class Rhs>
+///
+/// Heap-free unless asked: with the caller's work space (the three-argument constructor) nothing allocates, and no
+/// allocation or release is compiled in (the object holds no container; firmware links no malloc or free through it).
+/// Only the two-argument constructor allocates its work space, with new[], and only its objects (and copies of them)
+/// release it. Real is the scalar type (double, or float for a float package), deduced from the work space.
+template <class Rhs, class Real = double>
 class FiniteDifferenceJacobian {
  public:
-  /// Doubles of work space for n states (the heap-free constructor's `work`).
+  /// Reals of work space for n states (the heap-free constructor's `work`).
   static constexpr std::size_t doubles(std::size_t n) { return 3 * n; }
+  static constexpr std::size_t reals(std::size_t n) { return 3 * n; }
 
-  /// Keeps a copy of rhs (pass std::ref for a stateful one) and allocates work space for n states.
-  FiniteDifferenceJacobian(Rhs rhs, std::size_t n) : rhs_(std::move(rhs)), n_(n), own_(doubles(n)) {}
+  /// Keeps a copy of rhs (pass std::ref for a stateful one) and allocates work space for n states (new[]).
+  FiniteDifferenceJacobian(Rhs rhs, std::size_t n)
+      : rhs_(std::move(rhs)), n_(n), work_(allocate(reals(n))), allocate_(&allocate), release_(&release) {}
 
-  /// Heap-free: work is doubles(n) doubles of the caller's, used for as long as this object is.
-  FiniteDifferenceJacobian(Rhs rhs, std::size_t n, double* work) : rhs_(std::move(rhs)), n_(n), work_(work) {}
+  /// Heap-free: work is reals(n) reals of the caller's, used for as long as this object is.
+  FiniteDifferenceJacobian(Rhs rhs, std::size_t n, Real* work) : rhs_(std::move(rhs)), n_(n), work_(work) {}
+
+  /// A copy of an allocating object allocates its own work space; a copy of a heap-free one shares the caller's.
+  FiniteDifferenceJacobian(const FiniteDifferenceJacobian& other)
+      : rhs_(other.rhs_),
+        n_(other.n_),
+        work_(other.allocate_ != nullptr ? other.allocate_(reals(other.n_)) : other.work_),
+        allocate_(other.allocate_),
+        release_(other.release_),
+        evals_(other.evals_) {}
+  FiniteDifferenceJacobian(FiniteDifferenceJacobian&& other) noexcept
+      : rhs_(std::move(other.rhs_)),
+        n_(other.n_),
+        work_(other.work_),
+        allocate_(other.allocate_),
+        release_(other.release_),
+        evals_(other.evals_) {
+    other.work_ = nullptr;
+    other.allocate_ = nullptr;
+    other.release_ = nullptr;
+  }
+  FiniteDifferenceJacobian& operator=(const FiniteDifferenceJacobian&) = delete;
+  FiniteDifferenceJacobian& operator=(FiniteDifferenceJacobian&&) = delete;
+  ~FiniteDifferenceJacobian() {
+    if (release_ != nullptr) release_(work_);
+  }
 
   /// Writes df/dx at (t, x) to J, row-major n x n.
-  void operator()(double t, const double* x, double* J) {
-    double* f0 = work_ != nullptr ? work_ : own_.data();  // (a copy of this object then uses its own vector)
-    double* f1 = f0 + n_;
-    double* xp = f1 + n_;
+  void operator()(Real t, const Real* x, Real* J) {
+    Real* f0 = work_;
+    Real* f1 = f0 + n_;
+    Real* xp = f1 + n_;
     rhs_(t, x, f0);
     std::copy(x, x + n_, xp);
     for (std::size_t j = 0; j < n_; ++j) {
-      xp[j] = x[j] + std::sqrt(std::numeric_limits<double>::epsilon() * std::max(1e-5, std::fabs(x[j])));
-      const double delta = xp[j] - x[j];  // the increment actually represented
+      xp[j] = x[j] + std::sqrt(std::numeric_limits<Real>::epsilon() * std::max(Real(1e-5), std::fabs(x[j])));
+      const Real delta = xp[j] - x[j];  // the increment actually represented
       rhs_(t, xp, f1);
       for (std::size_t i = 0; i < n_; ++i) J[i * n_ + j] = (f1[i] - f0[i]) / delta;
       xp[j] = x[j];
@@ -150,22 +189,32 @@ class FiniteDifferenceJacobian {
   long rhs_evals() const { return evals_; }
 
  private:
+  // Reached only through the pointers the allocating constructor sets: a heap-free object compiles no new[]/delete[].
+  static Real* allocate(std::size_t count) { return new Real[count]; }
+  static void release(Real* work) { delete[] work; }
+
   Rhs rhs_;
   std::size_t n_;
-  std::vector<double> own_;  // empty when the caller provides the work space
-  double* work_ = nullptr;   // the caller's work space, or null for own_
+  Real* work_ = nullptr;                      // the caller's work space, or the one allocate_ gave
+  Real* (*allocate_)(std::size_t) = nullptr;  // null for the caller's work space
+  void (*release_)(Real*) = nullptr;          // null for the caller's work space
   long evals_ = 0;
 };
+
+template <class Rhs>
+FiniteDifferenceJacobian(Rhs, std::size_t) -> FiniteDifferenceJacobian<Rhs, double>;
+template <class Rhs, class Real>
+FiniteDifferenceJacobian(Rhs, std::size_t, Real*) -> FiniteDifferenceJacobian<Rhs, Real>;
 
 namespace detail::radau5 {
 
 /// One run of integrate_radau5 (documented there): its settings, work space and step-control state, with one method
 /// per part of a step attempt. operator() runs it.
-template <class Rhs, class Jac, class Observer, class Projector>
+template <class Real, class Rhs, class Jac, class Observer, class Projector>
 class Run {
  public:
-  Run(Rhs& rhs, Jac& jac, double* x, std::size_t n, double t0, double t_end, const Radau5Options& opt, double sample_dt,
-      Observer& observe, Radau5Workspace work, Projector& project)
+  Run(Rhs& rhs, Jac& jac, Real* x, std::size_t n, Real t0, Real t_end, const BasicRadau5Options<Real>& opt,
+      Real sample_dt, Observer& observe, BasicRadau5Workspace<Real> work, Projector& project)
       : rhs_(rhs),
         jac_(jac),
         observe_(observe),
@@ -178,22 +227,22 @@ class Run {
         t0_(t0),
         t_end_(t_end),
         span_(t_end - t0),
-        dir_(span_ > 0 ? 1.0 : -1.0),
+        dir_(span_ > 0 ? Real(1.0) : -Real(1.0)),
         fixed_(opt.fixed_step > 0),
-        h_limit_(opt.h_max > 0 ? opt.h_max : std::numeric_limits<double>::infinity()),
+        h_limit_(opt.h_max > 0 ? opt.h_max : std::numeric_limits<Real>::infinity()),
         nit_(std::max(1, opt.max_newton_iterations)),
-        rtol_(std::max(opt.rtol, 1e-13)),
+        rtol_(std::max(opt.rtol, Real(1e-13))),
         atol_(opt.atol),
         // Newton stopping threshold of radau5.f, relative to the error weights: a few percent of the tolerance, but
         // no less than rounding can deliver.
-        fnewt_(std::max(10.0 * 0.5 * eps / rtol_, std::min(0.03, std::sqrt(rtol_)))),
-        inv_n_(n > 0 ? 1.0 / static_cast<double>(n) : 0.0),
-        inv_n3_(n > 0 ? 1.0 / static_cast<double>(3 * n) : 0.0),
+        fnewt_(std::max(Real(10.0) * Real(0.5) * eps / rtol_, std::min(Real(0.03), std::sqrt(rtol_)))),
+        inv_n_(n > 0 ? Real(1.0) / static_cast<Real>(n) : Real(0.0)),
+        inv_n3_(n > 0 ? Real(1.0) / static_cast<Real>(3 * n) : Real(0.0)),
         clock_(t0, t_end, sample_dt) {
     result_.t = t0;
   }
 
-  IntegrationOutcome operator()() {
+  BasicIntegrationOutcome<Real> operator()() {
     if (start() == Next::stop) return result_;
     for (;;) {
       Next next = plan_attempt();
@@ -204,7 +253,17 @@ class Run {
   }
 
  private:
-  static constexpr double eps = std::numeric_limits<double>::epsilon();
+  static constexpr Real eps = std::numeric_limits<Real>::epsilon();
+  // The method's constants in the run's scalar type; they hide the namespace's doubles of the same names.
+  static constexpr Real c1 = Real(radau5::c1), c2 = Real(radau5::c2), gamma0 = Real(radau5::gamma0);
+  static constexpr Real c[3] = {Real(radau5::c[0]), Real(radau5::c[1]), Real(radau5::c[2])};
+  static constexpr Real a[3][3] = {{Real(radau5::a[0][0]), Real(radau5::a[0][1]), Real(radau5::a[0][2])},
+                                   {Real(radau5::a[1][0]), Real(radau5::a[1][1]), Real(radau5::a[1][2])},
+                                   {Real(radau5::a[2][0]), Real(radau5::a[2][1]), Real(radau5::a[2][2])}};
+  static constexpr Real dd[3] = {Real(radau5::dd[0]), Real(radau5::dd[1]), Real(radau5::dd[2])};
+  static constexpr Real safety = Real(radau5::safety), fac_min = Real(radau5::fac_min), fac_max = Real(radau5::fac_max),
+                        thet = Real(radau5::thet), keep_low = Real(radau5::keep_low),
+                        keep_high = Real(radau5::keep_high);
   enum class Failure { none, non_finite, newton };
   /// What a part of the run leaves to the loop: go on with this attempt, make the next one, or return the result.
   enum class Next { proceed, again, stop };
@@ -216,8 +275,9 @@ class Run {
 
   // The checks before any work, the first observation, the work space, the first derivative and the first step.
   Next start() {
-    if (!detail::buffers_fit(x_, n_, work_.data, work_.size, Radau5Workspace::doubles(n_)) ||
-        (work_.pivots == nullptr && Radau5Workspace::ints(n_) > 0) || work_.pivot_count < Radau5Workspace::ints(n_) ||
+    if (!detail::buffers_fit(x_, n_, work_.data, work_.size, BasicRadau5Workspace<Real>::doubles(n_)) ||
+        (work_.pivots == nullptr && BasicRadau5Workspace<Real>::ints(n_) > 0) ||
+        work_.pivot_count < BasicRadau5Workspace<Real>::ints(n_) ||
         !detail::adaptive_settings_valid(opt_.rtol, opt_.atol, opt_.h0, opt_.h_max) || !(opt_.fixed_step >= 0) ||
         !clock_.valid()) {
       return stop(Status::invalid_argument);
@@ -231,7 +291,7 @@ class Run {
       }
     }
     observe_(t0_, x_);
-    if (span_ == 0.0) {
+    if (span_ == Real(0.0)) {
       return stop(Status::ok);
     }
     J_ = work_.data;
@@ -257,10 +317,10 @@ class Run {
       return stop(Status::non_finite_state);
     }
     update_scal();
-    h_fixed_ = fixed_ ? std::fabs(span_) / static_cast<double>(count_) : 0.0;
+    h_fixed_ = fixed_ ? std::fabs(span_) / static_cast<Real>(count_) : Real(0.0);
     h_ = fixed_ ? h_fixed_ : std::fabs(opt_.h0);
-    if (h_ == 0.0 || !std::isfinite(h_)) {
-      h_ = 1e-6;
+    if (h_ == Real(0.0) || !std::isfinite(h_)) {
+      h_ = detail::default_first_step(t_);
     }
     h_ = std::min({h_, h_limit_, std::fabs(span_)});
     return Next::proceed;
@@ -285,10 +345,10 @@ class Run {
       // As in rk4.hpp: step ends from t0 + i*h, so the grid does not drift.
       const long i = result_.stats.steps + 1;
       last_ = i == count_;
-      t_next_ = last_ ? t_end_ : t0_ + dir_ * static_cast<double>(i) * h_fixed_;
+      t_next_ = last_ ? t_end_ : t0_ + dir_ * static_cast<Real>(i) * h_fixed_;
     } else {
       // Stretch or shrink the step to hit t_end exactly rather than leave a sliver.
-      if ((t_ + 1.01 * dir_ * h_ - t_end_) * dir_ > 0) {
+      if ((t_ + Real(1.01) * dir_ * h_ - t_end_) * dir_ > 0) {
         h_ = std::fabs(t_end_ - t_);
         last_ = true;
       }
@@ -312,35 +372,35 @@ class Run {
       need_jac_ = false;
       jac_current_ = true;
       jac_unproven_ = true;
-      h_lu_ = 0.0;
+      h_lu_ = Real(0.0);
     }
     if (h_mat_ == h_lu_) return Next::proceed;
     for (std::size_t p = 0; p < 3; ++p) {
       for (std::size_t i = 0; i < n_; ++i) {
-        double* row = M_ + (p * n_ + i) * n3_;
+        Real* row = M_ + (p * n_ + i) * n3_;
         for (std::size_t q = 0; q < 3; ++q) {
-          const double w = -h_mat_ * a[p][q];
+          const Real w = -h_mat_ * a[p][q];
           for (std::size_t j = 0; j < n_; ++j) row[q * n_ + j] = w * J_[i * n_ + j];
         }
-        row[p * n_ + i] += 1.0;
+        row[p * n_ + i] += Real(1.0);
       }
     }
     for (std::size_t i = 0; i < n_ * n_; ++i) E_[i] = -h_mat_ * gamma0 * J_[i];
-    for (std::size_t i = 0; i < n_; ++i) E_[i * n_ + i] += 1.0;
+    for (std::size_t i = 0; i < n_; ++i) E_[i * n_ + i] += Real(1.0);
     ++result_.stats.lu_decompositions;
     const bool ok = lu_factor(M_, piv_M_, static_cast<int>(n3_)) && lu_factor(E_, piv_E_, static_cast<int>(n_));
     if (ok) {
       h_lu_ = h_mat_;
       return Next::proceed;
     }
-    h_lu_ = 0.0;
+    h_lu_ = Real(0.0);
     ++result_.stats.rejected;
     reject_ = true;
     last_failure_ = Failure::newton;
     if (fixed_ || ++singular_ >= max_singular) {
       return stop(Status::newton_failure);
     }
-    h_ *= 0.5;
+    h_ *= Real(0.5);
     if (!jac_current_) need_jac_ = true;
     return Next::again;
   }
@@ -350,25 +410,26 @@ class Run {
   // its end; zero before.
   void starting_values() {
     if (!have_cont_) {
-      std::fill(Z_, Z_ + n3_, 0.0);
+      std::fill(Z_, Z_ + n3_, Real(0.0));
       return;
     }
-    const double ratio = hs_ / h_old_;
+    const Real ratio = hs_ / h_old_;
     for (std::size_t p = 0; p < 3; ++p) {
-      const double s = c[p] * ratio;
+      const Real s = c[p] * ratio;
       for (std::size_t i = 0; i < n_; ++i) {
-        Z_[p * n_ + i] = s * (cont_[i] + (s - c2 + 1.0) * (cont_[n_ + i] + (s - c1 + 1.0) * cont_[2 * n_ + i]));
+        Z_[p * n_ + i] =
+            s * (cont_[i] + (s - c2 + Real(1.0)) * (cont_[n_ + i] + (s - c1 + Real(1.0)) * cont_[2 * n_ + i]));
       }
     }
   }
 
   // Simplified Newton iteration (radau5.f's convergence control): Z, newt_ and theta_, and h_factor_ after a failure.
   Failure newton() {
-    h_factor_ = 0.5;  // step reduction after a Newton failure
-    faccon_ = std::pow(std::max(faccon_, eps), 0.8);
+    h_factor_ = Real(0.5);  // step reduction after a Newton failure
+    faccon_ = std::pow(std::max(faccon_, eps), Real(0.8));
     theta_ = thet;
-    double dyno_old = 0.0;
-    double thq_old = 0.0;
+    Real dyno_old = Real(0.0);
+    Real thq_old = Real(0.0);
     newt_ = 0;
     for (;;) {
       if (newt_ >= nit_) return Failure::newton;
@@ -386,27 +447,27 @@ class Run {
       }
       lu_solve(M_, piv_M_, dZ_, static_cast<int>(n3_));
       ++newt_;
-      double dyno = 0.0;
+      Real dyno = Real(0.0);
       for (std::size_t p = 0; p < 3; ++p) {
         for (std::size_t i = 0; i < n_; ++i) {
-          const double q = dZ_[p * n_ + i] / scal_[i];
+          const Real q = dZ_[p * n_ + i] / scal_[i];
           dyno += q * q;
         }
       }
       dyno = std::sqrt(dyno * inv_n3_);
       if (!std::isfinite(dyno)) return Failure::non_finite;
       if (newt_ > 1) {
-        const double thq = dyno / dyno_old;
+        const Real thq = dyno / dyno_old;
         theta_ = newt_ == 2 ? thq : std::sqrt(thq * thq_old);
         thq_old = thq;
-        if (!(theta_ < 0.99)) return Failure::newton;  // diverging
-        faccon_ = theta_ / (1.0 - theta_);
+        if (!(theta_ < Real(0.99))) return Failure::newton;  // diverging
+        faccon_ = theta_ / (Real(1.0) - theta_);
         if (newt_ < nit_) {
           // Predicted size of the remaining error after the iterations still allowed.
-          const double dyth = faccon_ * dyno * std::pow(theta_, nit_ - 1 - newt_) / fnewt_;
-          if (dyth >= 1.0) {
-            const double qnewt = std::clamp(dyth, 1e-4, 20.0);
-            h_factor_ = 0.8 * std::pow(qnewt, -1.0 / (4.0 + nit_ - 1 - newt_));
+          const Real dyth = faccon_ * dyno * std::pow(theta_, static_cast<Real>(nit_ - 1 - newt_)) / fnewt_;
+          if (dyth >= Real(1.0)) {
+            const Real qnewt = std::clamp(dyth, Real(1e-4), Real(20.0));
+            h_factor_ = Real(0.8) * std::pow(qnewt, -Real(1.0) / (Real(4.0) + nit_ - 1 - newt_));
             return Failure::newton;
           }
         }
@@ -420,22 +481,22 @@ class Run {
       //   seen in the tests);
       // - the increment itself must be within the tolerance (dyno <= 1): an estimate inherited from steps where
       //   theta was at rounding level otherwise certifies a large first correction after the step has grown
-      //   eightfold (seen on the Kepler orbit at rtol = 1e-3: a 300x tol global error instead of 5x). Measured cost:
-      //   < 1% more evaluations.
-      const bool may_stop = newt_ >= 2 || nit_ < 2 || (!jac_unproven_ && dyno <= 1.0);
+      //   eightfold (seen on the Kepler orbit at rtol = 1e-3: a 300x tol global error instead of 5x). Measured
+      //   cost: < 1% more evaluations.
+      const bool may_stop = newt_ >= 2 || nit_ < 2 || (!jac_unproven_ && dyno <= Real(1.0));
       if (may_stop && faccon_ * dyno <= fnewt_) return Failure::none;
     }
   }
 
   // The error estimate with the derivative f_start at the step start, in the RMS norm of the error weights.
-  double estimate(const double* f_start) {
+  Real estimate(const Real* f_start) {
     for (std::size_t i = 0; i < n_; ++i) {
       err_vec_[i] = gamma0 * (hs_ * f_start[i] + dd[0] * Z_[i] + dd[1] * Z_[n_ + i] + dd[2] * Z_[2 * n_ + i]);
     }
     lu_solve(E_, piv_E_, err_vec_, static_cast<int>(n_));
-    double sum = 0.0;
+    Real sum = Real(0.0);
     for (std::size_t i = 0; i < n_; ++i) sum += (err_vec_[i] / scal_[i]) * (err_vec_[i] / scal_[i]);
-    return std::max(std::sqrt(sum * inv_n_), 1e-10);
+    return std::max(std::sqrt(sum * inv_n_), Real(1e-10));
   }
 
   // One attempt from the prepared matrices: the Newton iteration, the new state x_new (in stage_), its error and its
@@ -448,10 +509,10 @@ class Run {
       for (std::size_t i = 0; i < n_; ++i) stage_[i] = x_[i] + Z_[2 * n_ + i];  // x_new (stiffly accurate)
       if (!all_finite(stage_, n_)) failure = Failure::non_finite;
     }
-    double err = 0.0;
+    Real err = Real(0.0);
     if (failure == Failure::none && !fixed_) {
       err = estimate(f0_);
-      if (err >= 1.0 && (first_ || reject_)) {
+      if (err >= Real(1.0) && (first_ || reject_)) {
         // err_vec + x stands in for the unknown stiff part of the solution.
         for (std::size_t i = 0; i < n_; ++i) err_vec_[i] += x_[i];
         rhs_(t_, err_vec_, f_new_);
@@ -460,7 +521,7 @@ class Run {
       }
       if (!std::isfinite(err)) failure = Failure::non_finite;
     }
-    if (failure == Failure::none && err < 1.0) {
+    if (failure == Failure::none && err < Real(1.0)) {
       rhs_(t_next_, stage_, f_new_);
       ++result_.stats.rhs_evals;
       if (!all_finite(f_new_, n_)) failure = Failure::non_finite;
@@ -468,13 +529,13 @@ class Run {
     if (failure != Failure::none) return failed(failure);
 
     // Proposed next step from the error (unused in fixed-step mode).
-    const double fac = std::min(safety, safety * (1 + 2 * nit_) / (newt_ + 2 * nit_));
-    const double quot = std::clamp(std::pow(err, 0.25) / fac, 1.0 / fac_max, 1.0 / fac_min);
-    if (err >= 1.0) {
+    const Real fac = std::min(safety, safety * (1 + 2 * nit_) / (newt_ + 2 * nit_));
+    const Real quot = std::clamp(std::pow(err, Real(0.25)) / fac, Real(1.0) / fac_max, Real(1.0) / fac_min);
+    if (err >= Real(1.0)) {
       ++result_.stats.rejected;
       reject_ = true;
       last_failure_ = Failure::none;
-      h_ = first_ ? 0.1 * h_ : h_ / quot;
+      h_ = first_ ? Real(0.1) * h_ : h_ / quot;
       if (!jac_current_) need_jac_ = true;
       return Next::again;
     }
@@ -503,8 +564,8 @@ class Run {
 
   // An accepted step with error err (< 1) and proposed step ratio quot: the controllers, the collocation polynomial,
   // the samples in the step, the new state, and the next step and Jacobian.
-  Next accept(double err, double quot) {
-    double h_new = h_ / quot;
+  Next accept(Real err, Real quot) {
+    Real h_new = h_ / quot;
     ++result_.stats.steps;
     first_ = false;
     newton_failures_ = 0;
@@ -513,13 +574,13 @@ class Run {
       // Gustafsson's predictive controller: the observed change of the error from the previous accepted step may
       // call for a smaller step.
       if (result_.stats.steps > 1) {
-        const double facgus =
-            std::clamp((h_acc_ / h_) * std::pow(err * err / err_acc_, 0.25) / safety, 1.0 / fac_max, 1.0 / fac_min);
+        const Real facgus = std::clamp((h_acc_ / h_) * std::pow(err * err / err_acc_, Real(0.25)) / safety,
+                                       Real(1.0) / fac_max, Real(1.0) / fac_min);
         quot = std::max(quot, facgus);
         h_new = h_ / quot;
       }
       h_acc_ = h_;
-      err_acc_ = std::max(1e-2, err);
+      err_acc_ = std::max(Real(1e-2), err);
     }
     if (const Status projected = observe_step(); projected != Status::ok) {
       return stop(projected);
@@ -561,7 +622,7 @@ class Run {
     if (theta_ <= thet) {
       // Newton converged so fast that J can serve another step; if the step would change only a little, keep it and
       // the factors as well.
-      const double qt = h_new / h_;
+      const Real qt = h_new / h_;
       if (!(qt >= keep_low && qt <= keep_high)) h_ = h_new;
     } else {
       need_jac_ = true;
@@ -576,12 +637,12 @@ class Run {
     // The polynomial through x (s = -1), x + Z1 (s = c1 - 1), x + Z2 (s = c2 - 1) and x_new = x + Z3 (s = 0), in
     // Newton form about the end point: cont1..3 are divided differences of u(s) = poly(s) - x_new.
     for (std::size_t i = 0; i < n_; ++i) {
-      const double z1 = Z_[i], z2 = Z_[n_ + i], z3 = Z_[2 * n_ + i];
-      const double u01 = (z2 - z3) / (c2 - 1.0);     // u[0, c2-1]
-      const double u12 = (z1 - z2) / (c1 - c2);      // u[c2-1, c1-1]
-      const double u23 = z1 / c1;                    // u[c1-1, -1], as u(-1) = -z3
-      const double u012 = (u12 - u01) / (c1 - 1.0);  // u[0, c2-1, c1-1]
-      const double u123 = (u12 - u23) / c2;          // u[c2-1, c1-1, -1]
+      const Real z1 = Z_[i], z2 = Z_[n_ + i], z3 = Z_[2 * n_ + i];
+      const Real u01 = (z2 - z3) / (c2 - Real(1.0));     // u[0, c2-1]
+      const Real u12 = (z1 - z2) / (c1 - c2);            // u[c2-1, c1-1]
+      const Real u23 = z1 / c1;                          // u[c1-1, -1], as u(-1) = -z3
+      const Real u012 = (u12 - u01) / (c1 - Real(1.0));  // u[0, c2-1, c1-1]
+      const Real u123 = (u12 - u23) / c2;                // u[c2-1, c1-1, -1]
       cont_[i] = u01;
       cont_[n_ + i] = u012;
       cont_[2 * n_ + i] = u012 - u123;  // u[0, c2-1, c1-1, -1] = (u123 - u012) / (-1 - 0)
@@ -589,10 +650,11 @@ class Run {
     have_cont_ = true;
     h_old_ = hs_;
     while (clock_.due(t_next_)) {
-      const double ts = clock_.next();
-      const double s = (ts - t_next_) / hs_;
+      const Real ts = clock_.next();
+      const Real s = (ts - t_next_) / hs_;
       for (std::size_t i = 0; i < n_; ++i) {
-        sample_[i] = stage_[i] + s * (cont_[i] + (s - c2 + 1.0) * (cont_[n_ + i] + (s - c1 + 1.0) * cont_[2 * n_ + i]));
+        sample_[i] = stage_[i] +
+                     s * (cont_[i] + (s - c2 + Real(1.0)) * (cont_[n_ + i] + (s - c1 + Real(1.0)) * cont_[2 * n_ + i]));
       }
       if constexpr (detail::projects<Projector>) {
         if (const Status projected = project_(ts, sample_); projected != Status::ok) {
@@ -609,57 +671,57 @@ class Run {
   Jac& jac_;
   Observer& observe_;
   Projector& project_;
-  const Radau5Options& opt_;
-  const Radau5Workspace work_;
-  double* const x_;
+  const BasicRadau5Options<Real>& opt_;
+  const BasicRadau5Workspace<Real> work_;
+  Real* const x_;
   const std::size_t n_, n3_;
-  const double t0_, t_end_, span_, dir_;
+  const Real t0_, t_end_, span_, dir_;
   const bool fixed_;
-  const double h_limit_;
+  const Real h_limit_;
   const int nit_;
-  const double rtol_, atol_, fnewt_, inv_n_, inv_n3_;
-  detail::SampleClock clock_;
-  IntegrationOutcome result_;
+  const Real rtol_, atol_, fnewt_, inv_n_, inv_n3_;
+  detail::SampleClock<Real> clock_;
+  BasicIntegrationOutcome<Real> result_;
 
-  // Work space (Radau5Workspace::doubles(n) and ints(n)), laid out by start().
-  double* J_ = nullptr;        // n x n Jacobian
-  double* M_ = nullptr;        // 3n x 3n iteration matrix, then its LU factors
-  double* E_ = nullptr;        // n x n matrix I - h gamma0 J, then its LU factors
-  double* Z_ = nullptr;        // stage increments Z1, Z2, Z3 (3n)
-  double* F_ = nullptr;        // stage derivatives (3n)
-  double* dZ_ = nullptr;       // Newton increment (3n)
-  double* cont_ = nullptr;     // collocation polynomial of the last accepted step (3n)
-  double* f0_ = nullptr;       // f(t, x)
-  double* f_new_ = nullptr;    // f(t + h, x_new)
-  double* scal_ = nullptr;     // error weights atol + rtol |x|
-  double* stage_ = nullptr;    // a stage argument, then x_new
-  double* err_vec_ = nullptr;  // error estimate
-  double* sample_ = nullptr;
+  // Work space (BasicRadau5Workspace<Real>::doubles(n) and ints(n)), laid out by start().
+  Real* J_ = nullptr;        // n x n Jacobian
+  Real* M_ = nullptr;        // 3n x 3n iteration matrix, then its LU factors
+  Real* E_ = nullptr;        // n x n matrix I - h gamma0 J, then its LU factors
+  Real* Z_ = nullptr;        // stage increments Z1, Z2, Z3 (3n)
+  Real* F_ = nullptr;        // stage derivatives (3n)
+  Real* dZ_ = nullptr;       // Newton increment (3n)
+  Real* cont_ = nullptr;     // collocation polynomial of the last accepted step (3n)
+  Real* f0_ = nullptr;       // f(t, x)
+  Real* f_new_ = nullptr;    // f(t + h, x_new)
+  Real* scal_ = nullptr;     // error weights atol + rtol |x|
+  Real* stage_ = nullptr;    // a stage argument, then x_new
+  Real* err_vec_ = nullptr;  // error estimate
+  Real* sample_ = nullptr;
   int* piv_M_ = nullptr;
   int* piv_E_ = nullptr;
 
   long count_ = 0;  // number of steps in fixed-step mode
-  double h_fixed_ = 0.0;
-  double t_ = 0.0;
-  double h_ = 0.0;  // unsigned step of the next attempt
+  Real h_fixed_ = Real(0.0);
+  Real t_ = Real(0.0);
+  Real h_ = Real(0.0);  // unsigned step of the next attempt
   // The attempt: whether it ends the run, where it ends, its signed step and the step its matrices use.
   bool last_ = false;
-  double t_next_ = 0.0, hs_ = 0.0, h_mat_ = 0.0;
+  Real t_next_ = Real(0.0), hs_ = Real(0.0), h_mat_ = Real(0.0);
   Failure last_failure_ = Failure::none;  // why the last attempt was rejected
   bool need_jac_ = true;                  // evaluate J before the next attempt
   bool jac_current_ = false;              // J was evaluated at the current (t, x)
   bool jac_unproven_ = true;              // no Newton iteration with this J has converged over >= 2 iterations yet
-  double h_lu_ = 0.0;                     // signed step of the current factors; 0: none
+  Real h_lu_ = Real(0.0);                 // signed step of the current factors; 0: none
   bool first_ = true;                     // no step accepted yet
   bool reject_ = false;                   // the last attempt was rejected
   bool have_cont_ = false;                // cont and h_old describe an accepted step
-  double h_old_ = 0.0;                    // signed step of that accepted step
-  double faccon_ = 1.0;                   // contraction-based convergence factor eta, carried between steps
-  double theta_ = thet;                   // contraction of the last Newton iteration
-  double h_factor_ = 0.5;                 // step reduction after a Newton failure
+  Real h_old_ = Real(0.0);                // signed step of that accepted step
+  Real faccon_ = Real(1.0);               // contraction-based convergence factor eta, carried between steps
+  Real theta_ = thet;                     // contraction of the last Newton iteration
+  Real h_factor_ = Real(0.5);             // step reduction after a Newton failure
   int newt_ = 0;                          // Newton iterations of the last attempt
-  double h_acc_ = 0.0;                    // Gustafsson controller: last accepted step ...
-  double err_acc_ = 0.0;                  // ... and its error
+  Real h_acc_ = Real(0.0);                // Gustafsson controller: last accepted step ...
+  Real err_acc_ = Real(0.0);              // ... and its error
   int newton_failures_ = 0;               // consecutive
   int singular_ = 0;                      // consecutive
 };
@@ -753,20 +815,23 @@ class Run {
 /// evaluated again: one more rhs evaluation per step. The next Newton iteration
 /// still starts from the step's polynomial. A projector status other than ok
 /// ends the run with it and the last accepted state.
-template <class Rhs, class Jac, class Observer, class Projector>
-IntegrationOutcome integrate_radau5(Rhs&& rhs, Jac&& jac, double* x, std::size_t n, double t0, double t_end,
-                                    const Radau5Options& opt, double sample_dt, Observer&& observe,
-                                    Radau5Workspace work, Projector&& project) {
-  return detail::radau5::Run<std::remove_reference_t<Rhs>, std::remove_reference_t<Jac>,
+template <class Rhs, class Jac, class Real, class Observer, class Projector>
+BasicIntegrationOutcome<Real> integrate_radau5(Rhs&& rhs, Jac&& jac, detail::same_t<Real>* x, std::size_t n,
+                                               detail::same_t<Real> t0, detail::same_t<Real> t_end,
+                                               const BasicRadau5Options<Real>& opt, detail::same_t<Real> sample_dt,
+                                               Observer&& observe, BasicRadau5Workspace<Real> work,
+                                               Projector&& project) {
+  return detail::radau5::Run<Real, std::remove_reference_t<Rhs>, std::remove_reference_t<Jac>,
                              std::remove_reference_t<Observer>, std::remove_reference_t<Projector>>(
       rhs, jac, x, n, t0, t_end, opt, sample_dt, observe, work, project)();
 }
 
 /// Heap-free form without a projector.
-template <class Rhs, class Jac, class Observer>
-IntegrationOutcome integrate_radau5(Rhs&& rhs, Jac&& jac, double* x, std::size_t n, double t0, double t_end,
-                                    const Radau5Options& opt, double sample_dt, Observer&& observe,
-                                    Radau5Workspace work) {
+template <class Rhs, class Jac, class Real, class Observer>
+BasicIntegrationOutcome<Real> integrate_radau5(Rhs&& rhs, Jac&& jac, detail::same_t<Real>* x, std::size_t n,
+                                               detail::same_t<Real> t0, detail::same_t<Real> t_end,
+                                               const BasicRadau5Options<Real>& opt, detail::same_t<Real> sample_dt,
+                                               Observer&& observe, BasicRadau5Workspace<Real> work) {
   NoProjector none;
   return integrate_radau5(rhs, jac, x, n, t0, t_end, opt, sample_dt, observe, work, none);
 }

@@ -18,25 +18,31 @@ namespace detail {
 /// Cubic Hermite interpolant on [t, t + h] at fraction theta, written as a
 /// correction to linear interpolation (Hairer's form) so that it loses no
 /// digits when x0 and x1 are close.
-inline void hermite_interpolate(const double* x0, const double* f0, const double* x1, const double* f1, double h,
-                                double theta, double* out, std::size_t n) {
-  const double theta1 = theta - 1.0;
+template <class Real>
+void hermite_interpolate(const Real* x0, const Real* f0, const Real* x1, const Real* f1, same_t<Real> h,
+                         same_t<Real> theta, Real* out, std::size_t n) {
+  const Real theta1 = theta - Real(1.0);
   for (std::size_t i = 0; i < n; ++i) {
-    const double dx = x1[i] - x0[i];
-    out[i] = x0[i] + theta * dx + theta * theta1 * ((1.0 - 2.0 * theta) * dx + theta1 * h * f0[i] + theta * h * f1[i]);
+    const Real dx = x1[i] - x0[i];
+    out[i] = x0[i] + theta * dx +
+             theta * theta1 * ((Real(1.0) - Real(2.0) * theta) * dx + theta1 * h * f0[i] + theta * h * f1[i]);
   }
 }
 
 }  // namespace detail
 
-/// Caller-provided work space of the heap-free integrate_rk4: a non-owning view of doubles(n) doubles.
-struct Rk4Workspace {
-  /// Doubles needed for n states: the four stages, a stage argument, the new state and a sample.
-  static constexpr std::size_t doubles(std::size_t n) { return 7 * n; }
+/// Caller-provided work space of the heap-free integrate_rk4: a non-owning view of reals(n) reals of type Real (the
+/// run's scalar type); Rk4Workspace for double.
+template <class Real>
+struct BasicRk4Workspace {
+  /// Reals needed for n states: the four stages, a stage argument, the new state and a sample.
+  static constexpr std::size_t reals(std::size_t n) { return 7 * n; }
+  static constexpr std::size_t doubles(std::size_t n) { return reals(n); }
 
-  double* data = nullptr;
-  std::size_t size = 0;  // doubles at data
+  Real* data = nullptr;
+  std::size_t size = 0;  // reals at data
 };
+using Rk4Workspace = BasicRk4Workspace<double>;
 
 /// Integrates x' = rhs(t, x) from t0 to t_end with the classic RK4 method.
 ///
@@ -66,20 +72,22 @@ struct Rk4Workspace {
 /// derivative at it is taken (which is the next step's first stage and the samples' end slope: no extra rhs
 /// evaluation), and every sample before it is observed; a projector status other than ok ends the run with it and
 /// the state at the start of the step.
-template <class Rhs, class Observer, class Projector>
-IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double t0, double t_end, double h,
-                                 double sample_dt, Observer&& observe, Rk4Workspace work, Projector&& project) {
-  IntegrationOutcome result;
+template <class Rhs, class Real, class Observer, class Projector>
+BasicIntegrationOutcome<Real> integrate_rk4(Rhs&& rhs, detail::same_t<Real>* x_io, std::size_t n,
+                                            detail::same_t<Real> t0, detail::same_t<Real> t_end, detail::same_t<Real> h,
+                                            detail::same_t<Real> sample_dt, Observer&& observe,
+                                            BasicRk4Workspace<Real> work, Projector&& project) {
+  BasicIntegrationOutcome<Real> result;
   result.t = t0;
-  if (!detail::buffers_fit(x_io, n, work.data, work.size, Rk4Workspace::doubles(n)) ||
+  if (!detail::buffers_fit(x_io, n, work.data, work.size, BasicRk4Workspace<Real>::reals(n)) ||
       !detail::sampling_valid(t0, t_end, sample_dt)) {
     result.status = Status::invalid_argument;
     return result;
   }
   // The current and the new state swap roles every step (pointers, not data); the final state is
   // copied back into the caller's x_io if it ends up in the work space.
-  double* x = x_io;
-  double* x_new = work.data + 6 * n;
+  Real* x = x_io;
+  Real* x_new = work.data + 6 * n;
   auto finish = [&](Status status) {
     result.status = status;
     if (x != x_io) std::copy(x, x + n, x_io);
@@ -89,7 +97,7 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
   if (!std::isfinite(t0) || !std::isfinite(t_end) || !all_finite(x, n)) {
     return finish(Status::non_finite_state);
   }
-  const double span = t_end - t0;
+  const Real span = t_end - t0;
   long count = 0;
   if (const Status grid = detail::fixed_step_count(t0, t_end, h, count); grid != Status::ok) {
     return finish(grid);
@@ -99,17 +107,17 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
   if (count == 0) {
     return finish(Status::ok);
   }
-  const double h_eff = span / static_cast<double>(count);
+  const Real h_eff = span / static_cast<Real>(count);
 
-  double* k1 = work.data;  // derivative at the step start
-  double* k2 = k1 + n;     // also receives the derivative at the step end
-  double* k3 = k2 + n;
-  double* k4 = k3 + n;
-  double* stage = k4 + n;
-  double* sample = stage + n;
+  Real* k1 = work.data;  // derivative at the step start
+  Real* k2 = k1 + n;     // also receives the derivative at the step end
+  Real* k3 = k2 + n;
+  Real* k4 = k3 + n;
+  Real* stage = k4 + n;
+  Real* sample = stage + n;
 
-  detail::SampleClock clock(t0, t_end, sample_dt);
-  double t = t0;
+  detail::SampleClock<Real> clock(t0, t_end, sample_dt);
+  Real t = t0;
   rhs(t, x, k1);
   ++result.stats.rhs_evals;
   if (!all_finite(k1, n)) {
@@ -119,9 +127,9 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
   for (long i = 1; i <= count; ++i) {
     // Step ends come from t0 + i*h_eff, not from accumulation, so the grid does
     // not drift; the actual step is whatever separates consecutive grid points.
-    const double t_next = (i == count) ? t_end : t0 + static_cast<double>(i) * h_eff;
-    const double hs = t_next - t;
-    const double half = 0.5 * hs;
+    const Real t_next = (i == count) ? t_end : t0 + static_cast<Real>(i) * h_eff;
+    const Real hs = t_next - t;
+    const Real half = Real(0.5) * hs;
 
     for (std::size_t j = 0; j < n; ++j) stage[j] = x[j] + half * k1[j];
     rhs(t + half, stage, k2);
@@ -130,9 +138,9 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
     for (std::size_t j = 0; j < n; ++j) stage[j] = x[j] + hs * k3[j];
     rhs(t_next, stage, k4);
     result.stats.rhs_evals += 3;
-    const double sixth = hs / 6.0;
+    const Real sixth = hs / Real(6.0);
     for (std::size_t j = 0; j < n; ++j) {
-      x_new[j] = x[j] + sixth * (k1[j] + 2.0 * (k2[j] + k3[j]) + k4[j]);
+      x_new[j] = x[j] + sixth * (k1[j] + Real(2.0) * (k2[j] + k3[j]) + k4[j]);
     }
     if (!all_finite(x_new, n)) {
       return finish(Status::non_finite_state);
@@ -159,7 +167,7 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
       }
     }
     while (clock.due(t_next)) {
-      const double s = clock.next();
+      const Real s = clock.next();
       detail::hermite_interpolate(x, k1, x_new, k2, hs, (s - t) / hs, sample, n);
       if constexpr (detail::projects<Projector>) {
         const Status projected = project(s, sample);
@@ -183,9 +191,11 @@ IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double 
 }
 
 /// Heap-free form without a projector.
-template <class Rhs, class Observer>
-IntegrationOutcome integrate_rk4(Rhs&& rhs, double* x_io, std::size_t n, double t0, double t_end, double h,
-                                 double sample_dt, Observer&& observe, Rk4Workspace work) {
+template <class Rhs, class Real, class Observer>
+BasicIntegrationOutcome<Real> integrate_rk4(Rhs&& rhs, detail::same_t<Real>* x_io, std::size_t n,
+                                            detail::same_t<Real> t0, detail::same_t<Real> t_end, detail::same_t<Real> h,
+                                            detail::same_t<Real> sample_dt, Observer&& observe,
+                                            BasicRk4Workspace<Real> work) {
   return integrate_rk4(rhs, x_io, n, t0, t_end, h, sample_dt, observe, work, NoProjector{});
 }
 

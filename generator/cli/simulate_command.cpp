@@ -548,7 +548,7 @@ void run(const SimulateOptions& given) {
     ProjectFunction project;
     if (positions.size() > 0) project = [&](double t, double* x) { return positions.project(t, x); };
     result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
-                       observe, 0, project);
+                       observe, 0, project, sources.knots());
   }
   if (result.status == runtime::Status::ok) output.commit();
   std::optional<ProjectionSummary> projection;

@@ -26,7 +26,9 @@ std::string upper(std::string s) {
 
 template <class T, class F>
 std::string array_decl(const std::string& type, const std::string& name, const std::vector<T>& items, F format) {
-  if (items.empty()) return "// " + name + ": none\n";
+  // Every table exists, empty ones as a null pointer (C++ has no arrays of size 0): a generic harness reads
+  // name[k] for k below its count without asking first whether the model has any.
+  if (items.empty()) return "constexpr " + type + " const* " + name + " = nullptr;  // none\n";
   std::string s = "constexpr " + type + " " + name + "[" + std::to_string(items.size()) + "] = {";
   for (std::size_t i = 0; i < items.size(); ++i) s += (i ? ", " : "") + format(items[i]);
   return s + "};\n";

@@ -26,6 +26,9 @@ class InputSources {
   /// linear in its size (8 bytes per value).
   void load_csv(const std::string& path);
 
+  /// The times of the --input-file table (empty without one): its knots, where a linearly interpolated input has a
+  /// kink; the adaptive integrators end steps on them (numeric/integrators.hpp).
+  const std::vector<double>& knots() const { return times_; }
   /// True when some input depends on t or the state (else one evaluation serves the whole run).
   bool varying() const { return varying_; }
   /// in[k] for the model's k-th input at (t, x). Laws run compiled, in the IR's interpreter in double

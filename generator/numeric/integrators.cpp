@@ -35,24 +35,28 @@ namespace {
 template <class Projector>
 runtime::IntegrationResult run(const IntegratorInfo& info, double setting, const RhsFunction& rhs,
                                const JacobianFunction& jacobian, std::vector<double> x0, double t0, double t_end,
-                               double sample_dt, const ObserveFunction& observe, long max_steps, Projector&& project) {
+                               double sample_dt, const ObserveFunction& observe, long max_steps,
+                               const std::vector<double>& stops, Projector&& project) {
+  const auto with = [&](auto& o) {
+    o.rtol = o.atol = setting;
+    if (max_steps > 0) o.max_steps = max_steps;
+    o.stops = stops.empty() ? nullptr : stops.data();
+    o.n_stops = stops.size();
+  };
   if (info.name == "rk4" || info.name == "rkmk4")
     return runtime::integrate_rk4(rhs, std::move(x0), t0, t_end, setting, sample_dt, observe, project);
   if (info.name == "dopri5") {
     runtime::Dopri5Options o;
-    o.rtol = o.atol = setting;
-    if (max_steps > 0) o.max_steps = max_steps;
+    with(o);
     return runtime::integrate_dopri5(rhs, std::move(x0), t0, t_end, o, sample_dt, observe, project);
   }
   if (info.name == "dop853") {
     runtime::Dop853Options o;
-    o.rtol = o.atol = setting;
-    if (max_steps > 0) o.max_steps = max_steps;
+    with(o);
     return runtime::integrate_dop853(rhs, std::move(x0), t0, t_end, o, sample_dt, observe, project);
   }
   runtime::Radau5Options o;
-  o.rtol = o.atol = setting;
-  if (max_steps > 0) o.max_steps = max_steps;
+  with(o);
   return runtime::integrate_radau5(rhs, jacobian, std::move(x0), t0, t_end, o, sample_dt, observe, project);
 }
 
@@ -61,14 +65,14 @@ runtime::IntegrationResult run(const IntegratorInfo& info, double setting, const
 runtime::IntegrationResult integrate(const std::string& name, double setting, const RhsFunction& rhs,
                                      const JacobianFunction& jacobian, std::vector<double> x0, double t0, double t_end,
                                      double sample_dt, const ObserveFunction& observe, long max_steps,
-                                     const ProjectFunction& project) {
+                                     const ProjectFunction& project, const std::vector<double>& stops) {
   const IntegratorInfo& info = find_integrator(name);
   if (!(setting > 0) || !std::isfinite(setting))
     throw InputError(std::string(info.adaptive ? "--tol" : "--dt") + ": expected a positive finite number");
   if (!project)
-    return run(info, setting, rhs, jacobian, std::move(x0), t0, t_end, sample_dt, observe, max_steps,
+    return run(info, setting, rhs, jacobian, std::move(x0), t0, t_end, sample_dt, observe, max_steps, stops,
                runtime::NoProjector{});
-  return run(info, setting, rhs, jacobian, std::move(x0), t0, t_end, sample_dt, observe, max_steps, project);
+  return run(info, setting, rhs, jacobian, std::move(x0), t0, t_end, sample_dt, observe, max_steps, stops, project);
 }
 
 }  // namespace hamel

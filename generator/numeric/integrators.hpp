@@ -34,10 +34,11 @@ using ProjectFunction = std::function<runtime::Status(double, double*)>;
 /// or step). sample_dt > 0 observes at t0 + k sample_dt, else every step. max_steps > 0 limits the step attempts of
 /// the adaptive integrators (status too_many_steps beyond; 0: their own limits); fixed-step runs take t_end / step.
 /// `project`, when set, is called on every accepted state and every sample (the runtime's projector argument); when
-/// empty the integrators run without one (bit-identical to before projectors).
+/// empty the integrators run without one (bit-identical to before projectors). `stops` (ascending): times the
+/// adaptive integrators' steps end on exactly, the knots of an --input-file table (rk4 steps on its own grid).
 runtime::IntegrationResult integrate(const std::string& name, double setting, const RhsFunction& rhs,
                                      const JacobianFunction& jacobian, std::vector<double> x0, double t0, double t_end,
                                      double sample_dt, const ObserveFunction& observe, long max_steps = 0,
-                                     const ProjectFunction& project = {});
+                                     const ProjectFunction& project = {}, const std::vector<double>& stops = {});
 
 }  // namespace hamel

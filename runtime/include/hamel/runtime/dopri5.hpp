@@ -26,6 +26,10 @@ struct BasicDopri5Options {
   Real h0 = 0;                // initial step (sign ignored, finite); 0: automatic (Hairer's algorithm)
   Real h_max = 0;             // largest step; 0 (or +infinity): no limit; negative or NaN: invalid_argument
   long max_steps = 10000000;  // limit on step attempts, accepted plus rejected
+  // Times the steps end on exactly, ascending (knots of a piecewise-linear input table, where the right-hand side has a
+  // kink); those outside (t0, t_end) are ignored. nullptr: none. Not owned: they must outlive the run.
+  const Real* stops = nullptr;
+  std::size_t n_stops = 0;
 };
 using Dopri5Options = BasicDopri5Options<double>;
 

@@ -281,6 +281,35 @@ class SampleClock {
   Real k_ = Real(1.0);  // a real so that absurdly many samples cannot overflow an integer
 };
 
+/// Times an adaptive run's steps end on exactly (Options::stops, ascending): the knots of a piecewise input (a table
+/// interpolated linearly), where the right-hand side has a kink that a step straddling it would resolve only by
+/// rejections and with a larger error. `clamp` shortens a step from t that would pass the next stop strictly between
+/// t and t_end so that it ends there.
+template <class Real>
+class Stops {
+ public:
+  Stops(const Real* stops, std::size_t count, Real dir) : stops_(stops), count_(stops ? count : 0), dir_(dir) {}
+  /// The step h (unsigned) from t, shortened to end on the next stop ahead when it would pass it (or stop within 1 %
+  /// of it); `at` is then that stop.
+  bool clamp(Real t, Real t_end, Real& h, Real& at) const {
+    for (std::size_t k = 0; k < count_; ++k) {
+      const Real s = dir_ > 0 ? stops_[k] : stops_[count_ - 1 - k];
+      if ((s - t) * dir_ <= 0) continue;      // behind or at t
+      if ((s - t_end) * dir_ >= 0) return false;  // at or beyond the end: t_end is where the run stops anyway
+      if ((t + Real(1.01) * dir_ * h - s) * dir_ <= 0) return false;
+      h = std::fabs(s - t);
+      at = s;
+      return true;
+    }
+    return false;
+  }
+
+ private:
+  const Real* stops_;
+  std::size_t count_;
+  Real dir_;
+};
+
 /// The step bookkeeping the explicit adaptive integrators share (integrate_dopri5, integrate_dop853): the checks
 /// before any work, the first derivative and step, where every attempt ends (t_end exactly, never a sliver short of
 /// it), rejections, the step after an accepted one and the end of an accepted step. A method adds its stages, its
@@ -353,12 +382,16 @@ struct AdaptiveSteps {
       return end(non_finite_last ? Status::non_finite_state : Status::step_size_underflow);
     }
     last = false;
+    Real stop = t_end;
+    bool at_stop = false;
     if ((t + Real(1.01) * dir * h - t_end) * dir > 0) {
       h = std::fabs(t_end - t);
       last = true;
+    } else {
+      at_stop = stops.clamp(t, t_end, h, stop);
     }
     hs = dir * h;
-    t_next = last ? t_end : t + hs;
+    t_next = last ? t_end : at_stop ? stop : t + hs;
     return true;
   }
 
@@ -409,6 +442,7 @@ struct AdaptiveSteps {
   const Real t0, t_end;
   const Real dir;      ///< +1 forward in time, -1 backward
   const Real h_limit;  ///< the largest step
+  const Stops<Real> stops{opt.stops, opt.n_stops, dir};
   BasicIntegrationOutcome<Real> result;
   Real t;                        ///< the last accepted time
   Real h = Real(0.0);            ///< the next attempt's step (unsigned)

@@ -58,6 +58,10 @@ struct BasicRadau5Options {
   int max_newton_iterations = 7;  // per step attempt (NIT of radau5.f)
   int max_newton_failures = 10;   // Newton failures without an accepted step in between before newton_failure
   Real fixed_step = 0;            // > 0: fixed steps without error control (see integrate_radau5); < 0, NaN: invalid
+  // Times the steps end on exactly, ascending (knots of a piecewise-linear input table, where the right-hand side has a
+  // kink); those outside (t0, t_end) are ignored. nullptr: none. Not owned: they must outlive the run.
+  const Real* stops = nullptr;
+  std::size_t n_stops = 0;
 };
 using Radau5Options = BasicRadau5Options<double>;
 
@@ -348,11 +352,15 @@ class Run {
       t_next_ = last_ ? t_end_ : t0_ + dir_ * static_cast<Real>(i) * h_fixed_;
     } else {
       // Stretch or shrink the step to hit t_end exactly rather than leave a sliver.
+      Real stop = t_end_;
+      bool at_stop = false;
       if ((t_ + Real(1.01) * dir_ * h_ - t_end_) * dir_ > 0) {
         h_ = std::fabs(t_end_ - t_);
         last_ = true;
+      } else {
+        at_stop = detail::Stops<Real>(opt_.stops, opt_.n_stops, dir_).clamp(t_, t_end_, h_, stop);
       }
-      t_next_ = last_ ? t_end_ : t_ + dir_ * h_;
+      t_next_ = last_ ? t_end_ : at_stop ? stop : t_ + dir_ * h_;
     }
     hs_ = fixed_ ? t_next_ - t_ : dir_ * h_;
     // In fixed-step mode the grid's rounding must not force a new LU per step: the matrices use the nominal step

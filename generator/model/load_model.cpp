@@ -340,7 +340,7 @@ class Loader {
   void declare_gravity_state(const YAML::Node& gravity, const std::string& group, const Model& model);
   void load_wrenches(Model& model, const KinematicTree& tree, const GiNaC::symtab& table);
   std::vector<TreeLoop> load_loops(const Model& model, const KinematicTree& tree);
-  KinematicTree load_tree(const YAML::Node& tree, Model& model);
+  KinematicTree load_tree(const YAML::Node& tree, Model& model, const Bundle* bundle = nullptr);
   RigidBody rigid_body(const YAML::Node& body, const std::string& key, const GiNaC::symtab& table,
                        const std::vector<std::string>& keys, const std::string& allowed,
                        const std::vector<std::string>& optional = {});
@@ -894,7 +894,7 @@ void Loader::load_bundle_lagrangian(const YAML::Node& tree, Model& model, Bundle
                              : "missing; expected 'kinetic' (an expression), 'bodies' (a list of rigid bodies) "
                                "or 'tree' (a kinematic tree)");
   if (tree) {
-    b.tree = load_tree(tree, model);  // T follows from the bodies in the derivation (derive/kinematic_tree.hpp)
+    b.tree = load_tree(tree, model, &b);  // T follows from the bodies in the derivation (derive/kinematic_tree.hpp)
     b.kinetic = 0;
   } else if (kinetic) {
     model.locations["kinetic"] = where(kinetic);
@@ -1214,7 +1214,7 @@ std::vector<TreeLoop> Loader::load_loops(const Model& model, const KinematicTree
   return out;
 }
 
-KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model) {
+KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model, const Bundle* bundle) {
   KinematicTree out;
   // Inertial data and joint geometry are constant: parameters only (the joints move the bodies).
   GiNaC::symtab constants;
@@ -1329,6 +1329,24 @@ KinematicTree Loader::load_tree(const YAML::Node& tree, Model& model) {
         }
     }
     out.bodies.push_back(tb);
+  }
+  // A massless body, a point mass on its joint's axis, coaxial joints on a massless link: M singular everywhere,
+  // which the derivation cannot see through its intermediates and emit met as "matrix::inverse(): singular matrix".
+  // Not with loops: the tree's M may then be singular and the loops' constrained one regular (a massless body welded
+  // to another, tests/loops/four_bar_weld.yaml).
+  if (root_["loops"]) return out;
+  std::vector<int> directions;
+  std::vector<std::string> direction_names;
+  if (bundle) {
+    directions = tree_base_directions(bundle->group);
+    for (const auto& v : bundle->group_velocity) direction_names.push_back(v.get_name());
+  }
+  int singular = -1;
+  if (const std::string problem = tree_mass_matrix_problem(model, out, directions, direction_names, singular);
+      !problem.empty()) {
+    if (singular == -2) fail(base, "tree.base", problem);
+    fail(list[static_cast<std::size_t>(singular)]["joint"], "tree.bodies[" + std::to_string(singular) + "].joint",
+         problem);
   }
   return out;
 }

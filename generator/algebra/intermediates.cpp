@@ -115,19 +115,47 @@ std::vector<ex> Intermediates::diff(const ex& e, const std::vector<GiNaC::symbol
 }
 
 ex Intermediates::substitute(const ex& e, const GiNaC::exmap& map, SubstitutionMemo& memo) {
-  std::set<std::size_t> used;
-  collect(e, position_, used);
-  GiNaC::exmap with = map;
-  for (std::size_t k : used) {
-    if (memo.replaced.size() <= k) memo.replaced.resize(k + 1);
-    if (!memo.replaced[k]) {
-      const ex value = definitions_[k].value;  // copy: define() below may grow the vector
-      const ex replaced = substitute(value, map, memo);
-      memo.replaced[k] = replaced.is_equal(value) ? ex(definitions_[k].symbol) : define(replaced);
+  // Depth first through the definitions e uses, with an explicit stack (a chain of 10 000 definitions needed
+  // 10 000 frames of recursion): each definition is replaced after the ones it uses, in the order the recursion
+  // visited them (uses ascending), so the new intermediates are numbered as before.
+  constexpr std::size_t kTop = static_cast<std::size_t>(-1);
+  struct Frame {
+    std::size_t k;                  // the definition being replaced, kTop for e itself
+    std::vector<std::size_t> used;  // the intermediates its value uses directly, ascending
+    std::size_t next = 0;           // the first of `used` not yet replaced
+  };
+  const auto uses = [this](const ex& value) {
+    std::set<std::size_t> used;
+    collect(value, position_, used);
+    return std::vector<std::size_t>(used.begin(), used.end());
+  };
+  std::vector<Frame> stack;
+  stack.push_back({kTop, uses(e)});
+  for (;;) {
+    Frame& top = stack.back();
+    bool descended = false;
+    while (top.next < top.used.size()) {
+      const std::size_t k = top.used[top.next];
+      if (memo.replaced.size() <= k) memo.replaced.resize(k + 1);
+      if (!memo.replaced[k]) {
+        stack.push_back({k, uses(definitions_[k].value)});  // invalidates `top`
+        descended = true;
+        break;
+      }
+      ++top.next;
     }
-    if (!memo.replaced[k]->is_equal(definitions_[k].symbol)) with[definitions_[k].symbol] = *memo.replaced[k];
+    if (descended) continue;
+    const Frame done = std::move(stack.back());
+    stack.pop_back();
+    const ex value = done.k == kTop ? e : definitions_[done.k].value;  // copy: define() below may grow the vector
+    GiNaC::exmap with = map;
+    for (std::size_t k : done.used)
+      if (!memo.replaced[k]->is_equal(definitions_[k].symbol)) with[definitions_[k].symbol] = *memo.replaced[k];
+    const ex replaced = value.subs(with);
+    if (done.k == kTop) return replaced;
+    memo.replaced[done.k] = replaced.is_equal(value) ? ex(definitions_[done.k].symbol) : define(replaced);
+    ++stack.back().next;
   }
-  return e.subs(with);
 }
 
 std::optional<ex> Intermediates::inline_bounded(const ex& e, std::size_t limit) const {

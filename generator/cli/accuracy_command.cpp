@@ -74,8 +74,16 @@ std::string number(double v, int precision = 3) {
 }
 
 void run(const AccuracyOptions& opt) {
+  // Each point is a 50-digit evaluation of every kernel (milliseconds): 10^8 points ran for days, without bound
+  // like --sample's rows and --dt's steps before their limits.
+  constexpr int kMaxPoints = 1000000;
   if (opt.points < 1) throw InputError("--points: expected a positive number of points");
-  if (!(opt.range > 0) || !(opt.velocity_range > 0)) throw InputError("--range: expected a positive half-width");
+  if (opt.points > kMaxPoints)
+    throw InputError("--points: " + std::to_string(opt.points) + " points, more than the limit of " +
+                     std::to_string(kMaxPoints) + "; expected fewer points");
+  if (!(opt.range > 0) || !std::isfinite(opt.range)) throw InputError("--range: expected a positive half-width");
+  if (!(opt.velocity_range > 0) || !std::isfinite(opt.velocity_range))
+    throw InputError("--velocity-range: expected a positive half-width");
   if (!(opt.floor > 0) || !(opt.floor <= 1)) throw InputError("--floor: expected a fraction in (0, 1]");
   Pipeline pipeline(opt.in);
   const Model& model = pipeline.loaded();

@@ -228,8 +228,14 @@ void print_outcome(const Model& model, const SimulateOptions& opt, const Derivat
   std::cerr << "hamel: simulated " << model.name << " with " << opt.integrator << " to t = " << result.t << ": "
             << result.stats.steps << " steps (" << result.stats.rejected << " rejected), " << result.stats.rhs_evals
             << " right-hand-side evaluations, " << result.stats.jac_evals << " Jacobians\n";
-  std::cerr << "  energy: initial " << energy.initial() << ", max relative drift " << energy.max_relative_deviation()
-            << (derivation.equations.conservative
+  // Relative to the initial energy only when it is not 0: from E = 0 (a system at rest) the relative drift is the
+  // absolute one over the smallest double, and a forced spring printed "max relative drift 3.63e+307".
+  if (energy.initial() != 0)
+    std::cerr << "  energy: initial " << energy.initial() << ", max relative drift " << energy.max_relative_deviation();
+  else
+    std::cerr << "  energy: initial 0, max drift " << energy.max_abs_deviation()
+              << " (absolute: the energy starts at 0)";
+  std::cerr << (derivation.equations.conservative
                     ? ""
                     : " (an invariant only while the model's forces vanish and L has no explicit t)")
             << "\n";

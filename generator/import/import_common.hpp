@@ -79,9 +79,12 @@ inline void add_in_frame(MassProperties& to, const Frame& X, double m, const dou
   to.add(m, cx, Ix);
 }
 
-/// A robot file's text: a regular file of at most kMaxRobotFileBytes (model/input_file.hpp), else InputError.
+/// A robot file's text: a regular file of at most kMaxRobotFileBytes (model/input_file.hpp), else InputError. A UTF-8
+/// byte order mark at its start is dropped (XML allows one; left in, it shifted every column of line 1 by 3).
 inline std::string read_text(const std::string& path) {
-  return InputFile(path, "robot file", kMaxRobotFileBytes).read_all();
+  std::string text = InputFile(path, "robot file", kMaxRobotFileBytes).read_all();
+  if (text.compare(0, 3, "\xEF\xBB\xBF") == 0) text.erase(0, 3);
+  return text;
 }
 
 /// Where name="NAME" first stands in a file (line 0 when not found: compiled models keep no lines; name="..."

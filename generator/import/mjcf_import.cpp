@@ -4,6 +4,7 @@
 // joints of a body act in order, each in the frame the previous ones left; a hinge turns the body about its
 // anchor, x ↦ T(anchor) Rot(axis, q − qpos0) T(−anchor) x.
 #include "import/import_common.hpp"
+#include "report/atomic_file.hpp"
 
 #include <mujoco/mujoco.h>
 
@@ -48,7 +49,7 @@ std::vector<std::string> attribute_values(const std::string& text, const std::st
 // MuJoCo opens the files an MJCF file names itself (includes, meshes, textures), and would read a device or block on
 // a FIFO: every file named by a file="..." attribute, looked up where MuJoCo looks (the model's folder and its
 // meshdir, texturedir and assetdir), in the main file and the files it includes, is checked as the robot file is
-// (model/input_file.hpp) before MuJoCo sees any of them.
+// (model/input_file.hpp) before MuJoCo sees any of them, and recorded as an input of the run (note_input_file).
 void check_mjcf_files(const std::string& path) {
   namespace fs = std::filesystem;
   const fs::path folder = fs::path(path).parent_path();
@@ -65,6 +66,8 @@ void check_mjcf_files(const std::string& path) {
         std::error_code ec;
         if (!fs::exists(fs::symlink_status(candidate, ec)) || !seen.insert(candidate).second) continue;
         check_input_file(candidate, "robot file", kMaxRobotFileBytes);
+        // An input of this run like the robot file itself: no output (import's -o) may replace it.
+        note_input_file(candidate, "a file the robot file names (file=\"" + file + "\")");
         const std::string lower = [&] {
           std::string s = candidate;
           for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));

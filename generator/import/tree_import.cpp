@@ -1,6 +1,7 @@
 #include "import/tree_import.hpp"
 
 #include "model/expression_parser.hpp"
+#include "model/physical_checks.hpp"
 
 #include <algorithm>
 #include <charconv>
@@ -18,19 +19,24 @@ const std::vector<std::string>& ignorable_categories() {
 }
 
 void MassProperties::add(double m, const double c[3], const double I[3][3]) {
-  mass += m;
-  const double cc = c[0] * c[0] + c[1] * c[1] + c[2] * c[2];
-  for (int i = 0; i < 3; ++i) {
-    moment[i] += m * c[i];
-    for (int j = 0; j < 3; ++j) origin_inertia[i][j] += I[i][j] + m * ((i == j ? cc : 0) - c[i] * c[j]);
-  }
+  const double total = mass + m;
+  // Shares of the new total (each at most 1, so nothing below overflows that the data does not): the new centre is
+  // com + (m / total) d, and the parallel-axis term m1 m2 / total |d|^2 = mass (m / total) |d|^2.
+  const double share = total > 0 ? m / total : 0;
+  const double d[3] = {c[0] - com[0], c[1] - com[1], c[2] - com[2]};
+  const double reduced = mass * share;  // m1 m2 / (m1 + m2)
+  const double dd = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j) inertia[i][j] += I[i][j] + reduced * ((i == j ? dd : 0) - d[i] * d[j]);
+  for (int i = 0; i < 3; ++i) com[i] = mass > 0 || m > 0 ? com[i] + share * d[i] : 0;
+  mass = total;
 }
 
-void MassProperties::about_com(double com[3], double inertia[3][3]) const {
-  for (int i = 0; i < 3; ++i) com[i] = mass > 0 ? moment[i] / mass : 0;
-  const double cc = com[0] * com[0] + com[1] * com[1] + com[2] * com[2];
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) inertia[i][j] = origin_inertia[i][j] - mass * ((i == j ? cc : 0) - com[i] * com[j]);
+void MassProperties::about_com(double c[3], double I[3][3]) const {
+  for (int i = 0; i < 3; ++i) {
+    c[i] = com[i];
+    for (int j = 0; j < 3; ++j) I[i][j] = inertia[i][j];
+  }
 }
 
 namespace {
@@ -128,8 +134,10 @@ void symmetric_eigenvalues(const double A[3][3], double out[3]) {
 
 // Mass properties as a body of the tree can have them; `who` names the body in the message.
 void check_mass_properties(const MassProperties& m, const SourceLocation& where, const std::string& who) {
-  if (!std::isfinite(m.mass) || !finite(m.moment, 3) || !finite(&m.origin_inertia[0][0], 9))
-    throw InputError(where, who, "its mass, centre of mass or inertia is not a finite number; expected finite values");
+  if (!std::isfinite(m.mass) || !finite(m.com, 3) || !finite(&m.inertia[0][0], 9))
+    throw InputError(where, who,
+                     "its mass, centre of mass or inertia (with every body merged into it) is not a finite number, or "
+                     "beyond the range of a double; expected finite values");
   if (m.mass < 0) throw InputError(where, who, "its mass is " + number(m.mass) + "; expected a mass of at least 0");
   double com[3], I[3][3];
   m.about_com(com, I);
@@ -198,7 +206,7 @@ void check_imported_tree(const ImportedTree& t) {
     check_mass_properties(b.inertial, b.where, "body '" + b.name + "' (moved by " + who + ")");
     double weight = b.inertial.mass;
     for (int i = 0; i < 3; ++i)
-      for (int j = 0; j < 3; ++j) weight += std::abs(b.inertial.origin_inertia[i][j]);
+      for (int j = 0; j < 3; ++j) weight += std::abs(b.inertial.inertia[i][j]);
     carried[k] += weight;
     if (b.parent >= 0) carried[static_cast<std::size_t>(b.parent)] += carried[k];
     if (carried[k] == 0 && b.armature == 0)
@@ -206,6 +214,41 @@ void check_imported_tree(const ImportedTree& t) {
                        "moves nothing: body '" + b.name +
                            "' and every body beyond it have no mass and no inertia, so the mass matrix would be "
                            "singular; expected an <inertial> with a positive mass on a body it moves (or armature)");
+  }
+  // What carries mass can still move nothing along a joint's motion: a point mass on a hinge's axis, a link whose
+  // only mass sits on the axis of a second, coaxial hinge. The mass matrix is then singular at every configuration
+  // (with closed loops only the constrained one counts: a massless body welded to another is fine).
+  if (!t.loops.empty()) return;
+  std::vector<NumericTreeBody> numeric;
+  for (const ImportedBody& b : t.bodies) {
+    NumericTreeBody n;
+    n.parent = b.parent;
+    n.prismatic = b.prismatic;
+    n.mass = b.inertial.mass;
+    n.armature = b.armature;
+    b.inertial.about_com(n.com, n.inertia);
+    for (int i = 0; i < 3; ++i) {
+      n.axis[i] = b.axis[i];
+      n.offset[i] = b.joint_frame.p[i];
+      for (int j = 0; j < 3; ++j) n.rotation[i][j] = b.joint_frame.R[i][j];
+    }
+    numeric.push_back(n);
+  }
+  NumericTreeBody base;
+  base.mass = t.base.mass;
+  t.base.about_com(base.com, base.inertia);
+  const int k = singular_tree_joint(numeric, t.floating ? &base : nullptr, {0, 1, 2, 3, 4, 5});  // SE3
+  if (k == -2)
+    throw InputError(t.base_where, "base '" + t.base_name + "'",
+                     "the floating base and the bodies it carries have no mass or inertia along one of its motions, "
+                     "so the mass matrix would be singular; expected an <inertial> with a positive mass and inertia");
+  if (k >= 0) {
+    const ImportedBody& b = t.bodies[static_cast<std::size_t>(k)];
+    throw InputError(b.where, b.what.empty() ? "joint '" + b.joint + "'" : b.what,
+                     "moves no mass or inertia along its motion that the joints beyond it do not take up (body '" +
+                         b.name +
+                         "' and the bodies it carries, at three sampled configurations), so the mass "
+                         "matrix would be singular; expected an <inertial> the joint moves off its axis (or armature)");
   }
 }
 

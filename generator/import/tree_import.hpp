@@ -22,9 +22,12 @@ struct Frame {
 /// origin, so that bodies merged over fixed joints simply add up.
 struct MassProperties {
   double mass = 0;
-  double moment[3] = {0, 0, 0};  ///< m c
-  double origin_inertia[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};
-  /// Adds a body of mass m, centre of mass c and inertia I about c, all resolved in this frame.
+  double com[3] = {0, 0, 0};                                 ///< the centre of mass (0 while massless)
+  double inertia[3][3] = {{0, 0, 0}, {0, 0, 0}, {0, 0, 0}};  ///< about the centre of mass
+  /// Adds a body of mass m, centre of mass c and inertia I about c, all resolved in this frame. Held about the
+  /// centre of mass and merged by the parallel-axis theorem between the two centres (I1 + I2 + m1 m2/(m1+m2) of the
+  /// distance), a sum of positive semi-definite terms: about the frame's origin, the inertia of a heavy body far from
+  /// it (mass 1e308) was the difference of two huge numbers and lost itself to cancellation, or overflowed.
   void add(double m, const double c[3], const double I[3][3]);
   /// The centre of mass and the inertia about it (zeros for a massless body).
   void about_com(double com[3], double inertia[3][3]) const;

@@ -305,4 +305,18 @@ bool is_valid_model_name(const std::string& name, std::string* why) {
   return true;
 }
 
+std::string describe_parse_error(std::string msg) {
+  const std::string unknown = "symbol \"";
+  if (auto at = msg.find(unknown); at != std::string::npos && msg.find("not found") != std::string::npos) {
+    const auto start = at + unknown.size();
+    return "unknown name '" + msg.substr(start, msg.find('"', start) - start) + "'";
+  }
+  if (auto bracket = msg.find("\n["); bracket != std::string::npos) msg.erase(bracket);
+  if (auto bracket = msg.find(" ["); bracket != std::string::npos) msg.erase(bracket);
+  for (const std::string prefix : {"GiNaC: ", "parse error at line 0, column 0: "})
+    if (auto at = msg.find(prefix); at != std::string::npos) msg.erase(at, prefix.size());
+  while (!msg.empty() && (msg.back() == '\n' || msg.back() == ' ')) msg.pop_back();
+  return msg;
+}
+
 }  // namespace hamel

@@ -33,6 +33,10 @@ std::vector<std::string> split_top_level(const std::string& list);
 /// (unknown symbol, syntax), or for nesting deeper than max_expression_nesting, on failure.
 GiNaC::ex parse_expression(const std::string& text, const GiNaC::symtab& table);
 
+/// The substance of a parse error parse_expression threw: GiNaC's messages carry C++ function names and a position
+/// that is always 0:0 ("unknown name 'x'", "expected ')' or ',' in argument list, got: EOF").
+std::string describe_parse_error(std::string msg);
+
 /// Empty if every part of `e` can be emitted as C++ (real numbers, symbols, + - * / ^, Pi, Euler,
 /// Catalan and the functions of emittable_functions()); otherwise a description of the first part
 /// that cannot, e.g. "the function 'atan2' (2 arguments)" or "the complex number I".

@@ -8,7 +8,9 @@
 #include "report/atomic_file.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -136,7 +138,7 @@ void InputSources::add_assignments(const std::vector<std::string>& items, const 
         for (const auto& s : state_names_) names += (names.empty() ? "" : ", ") + s;
         throw InputError(option + ": the law of " + quote(name) +
                          " is not a number or an expression in t, the state (" + names +
-                         ") and parameters: " + err.what());
+                         ") and parameters: " + describe_parse_error(err.what()));
       }
       claim(k, option, option);
       sources_[k].kind = Source::law;
@@ -191,9 +193,17 @@ void InputSources::load_csv(const std::string& path) {
     int column = 1;
     for (std::size_t c = 0; c < cells.size(); ++c) {
       double v = 0;
-      if (!parse_double(cells[c], v))
+      if (!parse_double(cells[c], v)) {
+        errno = 0;
+        char* end = nullptr;
+        std::strtod(cells[c].c_str(), &end);
+        const bool range = errno == ERANGE && end && *end == '\0' && !cells[c].empty();
         throw InputError(SourceLocation{path, line_no, column}, c == 0 ? "t" : model_.inputs[targets[c - 1]].get_name(),
-                         "expected a finite number, got " + quote(cells[c]));
+                         (range ? "the number " + quote(cells[c]) +
+                                      " is beyond the range of a double (about 2.2e-308 to 1.8e308 in magnitude, or 0)"
+                                : "expected a finite number, got " + quote(cells[c])) +
+                             (range ? "; expected a finite number in that range" : ""));
+      }
       if (c == 0) {
         if (!times_.empty() && !(v > times_.back()))
           throw InputError(SourceLocation{path, line_no, column}, "t", "times must increase from row to row");
@@ -252,7 +262,13 @@ void InputSources::evaluate(double t, const double* x, double* in) const {
           // evaluated once more by GiNaC below, which tells a complex value from a pole.
           if (std::isfinite(in[k])) break;
         }
-        const GiNaC::ex v = s.expression.subs(point()).evalf();
+        GiNaC::ex v;
+        try {
+          v = s.expression.subs(point()).evalf();
+        } catch (const std::exception& e) {  // a pole (log(0), 1/0 at this t): the law's, not the model's
+          throw InputError(s.origin + ": the law of " + quote(model_.inputs[k].get_name()) + " has no value at t = " +
+                           std::to_string(t) + " (" + e.what() + "); expected a law defined along the motion");
+        }
         if (GiNaC::is_a<GiNaC::numeric>(v) && !GiNaC::ex_to<GiNaC::numeric>(v).is_real())  // not its real part
           throw InputError(s.origin + ": the law of " + quote(model_.inputs[k].get_name()) +
                            " takes the complex value " + quote(to_text(v)) + " at t = " + std::to_string(t) +

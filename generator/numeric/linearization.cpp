@@ -18,8 +18,37 @@ Spectrum spectrum(const LinearSystem& s) {
                                 "] = d x'/d x at this point (the equations are singular or overflow there), so A "
                                 "has no eigenvalues; expected a point where the equations and their derivatives are "
                                 "finite");
+  // Balanced first (Parlett & Reinsch: D^-1 A D with D a diagonal of powers of 2, exact and with the same eigenvalues),
+  // so that rows and columns have comparable norms: the tests for zero below are relative to the largest entry, and
+  // unbalanced, A = [[0, 1], [-1e20, 0]] (a spring of stiffness 1e20) had its 1 taken for 0 and the eigenvalues
+  // +-1e10 i reported as 0, 0.
+  Eigen::MatrixXd balanced(n, n);
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) balanced(i, k) = s.a(i, k);
+  for (int sweep = 0, done = 0; sweep < 200 && !done; ++sweep) {
+    done = 1;
+    for (int i = 0; i < n; ++i) {
+      double c = 0, r = 0;
+      for (int j = 0; j < n; ++j)
+        if (j != i) c += std::fabs(balanced(j, i)), r += std::fabs(balanced(i, j));
+      if (c == 0 || r == 0 || !std::isfinite(c + r)) continue;
+      const double total = c + r;
+      double f = 1;
+      for (double g = r / 2; c < g && f < 0x1p500; f *= 2, c *= 4) {
+      }
+      for (double g = r * 2; c > g && f > 0x1p-500; f /= 2, c /= 4) {
+      }
+      if ((c + r) / f < 0.95 * total) {
+        done = 0;
+        balanced.row(i) /= f;
+        balanced.col(i) *= f;
+      }
+    }
+  }
+  const auto a_at = [&](int i, int k) { return balanced(i, k); };
   double scale = 1;
-  for (double v : s.A) scale = std::max(scale, std::fabs(v));
+  for (int i = 0; i < n; ++i)
+    for (int k = 0; k < n; ++k) scale = std::max(scale, std::fabs(a_at(i, k)));
   const double zero = 1e-12 * scale;
   // Deflation: a component whose column vanishes on the remaining rows splits A block-triangularly.
   std::vector<bool> kept(static_cast<std::size_t>(n), true);
@@ -30,8 +59,8 @@ Spectrum spectrum(const LinearSystem& s) {
       if (!kept[static_cast<std::size_t>(k)]) continue;
       bool column_zero = true;
       for (int i = 0; i < n && column_zero; ++i)
-        if (kept[static_cast<std::size_t>(i)] && i != k) column_zero = std::fabs(s.a(i, k)) <= zero;
-      if (column_zero && std::fabs(s.a(k, k)) <= zero) {
+        if (kept[static_cast<std::size_t>(i)] && i != k) column_zero = std::fabs(a_at(i, k)) <= zero;
+      if (column_zero && std::fabs(a_at(k, k)) <= zero) {
         kept[static_cast<std::size_t>(k)] = false;
         out.decoupled.push_back(k);
         out.values.push_back({0, 0});
@@ -47,7 +76,7 @@ Spectrum spectrum(const LinearSystem& s) {
     Eigen::MatrixXd a(m, m);
     for (Eigen::Index i = 0; i < m; ++i)
       for (Eigen::Index j = 0; j < m; ++j)
-        a(i, j) = s.a(rest[static_cast<std::size_t>(i)], rest[static_cast<std::size_t>(j)]);
+        a(i, j) = a_at(rest[static_cast<std::size_t>(i)], rest[static_cast<std::size_t>(j)]);
     Eigen::EigenSolver<Eigen::MatrixXd> solver(a, false);
     if (solver.info() != Eigen::Success)
       throw EigenvalueFailure(

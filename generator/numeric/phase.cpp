@@ -9,9 +9,11 @@
 #include <hamel/runtime/ldlt.hpp>
 #include <hamel/runtime/lie/rkmk.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <functional>
 #include <map>
+#include <sstream>
 
 namespace hamel {
 
@@ -176,6 +178,24 @@ void check_phase_request(const Model& model, const PhaseRequest& req) {
   if (!(req.period > 0) || !std::isfinite(req.period)) throw InputError("--period: expected a positive time");
   if (req.cycles < 1) throw InputError("--cycles: expected at least 1");
   if (req.steps_per_cycle < 1) throw InputError("--steps-per-cycle: expected at least 1");
+  // 0 or a negative number of samples made the sampling interval infinite or negative, and every step was written.
+  if (req.samples_per_cycle < 1) throw InputError("--samples-per-cycle: expected at least 1");
+  // The limits of simulate (docs/errors.md, "Limits"): --cycles 1000000000 ran without bound.
+  const double steps = static_cast<double>(req.cycles) * req.steps_per_cycle;
+  const double rows = static_cast<double>(req.cycles) * std::min(req.samples_per_cycle, req.steps_per_cycle);
+  const auto count = [](double v) {
+    std::ostringstream os;
+    os << v;
+    return os.str();
+  };
+  if (steps > 1e8)
+    throw InputError("--cycles: " + std::to_string(req.cycles) + " cycles of " + std::to_string(req.steps_per_cycle) +
+                     " steps are " + count(steps) +
+                     " RKMK4 steps, more than the limit of 1e+08; expected fewer --cycles or --steps-per-cycle");
+  if (rows > 1e7)
+    throw InputError("--cycles: " + std::to_string(req.cycles) + " cycles of " + std::to_string(req.samples_per_cycle) +
+                     " samples are " + count(rows) +
+                     " trajectory rows, more than the limit of 1e+07; expected fewer --cycles or --samples-per-cycle");
 }
 
 PhaseResult compute_phase(const Model& model, const Derivation& d, const std::vector<double>& parameters,

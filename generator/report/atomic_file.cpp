@@ -4,6 +4,8 @@
 #include "report/temporaries.hpp"
 
 #include <fcntl.h>
+#include <pthread.h>
+#include <signal.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -163,9 +165,91 @@ void OutputTransaction::check() {
   for (const auto& f : files_) f->check();
 }
 
+namespace {
+
+// SIGINT, SIGTERM and SIGHUP held back while outputs are renamed into place: the handler (report/temporaries.hpp)
+// would exit between two renames and leave some outputs new and some old. They are delivered when this ends.
+class TerminationSignalsHeld {
+ public:
+  TerminationSignalsHeld() {
+    sigset_t held;
+    sigemptyset(&held);
+    for (int sig : {SIGINT, SIGTERM, SIGHUP}) sigaddset(&held, sig);
+    active_ = ::pthread_sigmask(SIG_BLOCK, &held, &previous_) == 0;
+  }
+  ~TerminationSignalsHeld() {
+    if (active_) ::pthread_sigmask(SIG_SETMASK, &previous_, nullptr);
+  }
+  TerminationSignalsHeld(const TerminationSignalsHeld&) = delete;
+  TerminationSignalsHeld& operator=(const TerminationSignalsHeld&) = delete;
+
+ private:
+  sigset_t previous_;
+  bool active_ = false;
+};
+
+// A second name for the old content of `target` ("<target>.old-<pid>-<n>", which sweep_stale_temporaries removes
+// if a killed run leaves it): a hard link, so `target` itself stays in place; a copy where the file system has no
+// hard links. Empty when there is no old file. An OutputError when neither works: nothing has been renamed yet.
+std::string keep_old_content(const std::string& target, const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::status(target, ec))) return "";
+  std::string aside = temporary_name_for(target);
+  aside.replace(target.size(), 5, ".old-");
+  if (::link(target.c_str(), aside.c_str()) == 0) return aside;
+  const int error = errno;
+  if (fs::copy_file(target, aside, ec) && !ec) return aside;
+  throw OutputError("cannot write " + quote(path) + ": cannot keep its old content aside for the case another output " +
+                    "fails (" + std::strerror(error) + ")");
+}
+
+}  // namespace
+
 void OutputTransaction::commit() {
   for (const auto& f : files_) f->prepare();
-  for (const auto& f : files_) f->publish();
+  if (files_.size() < 2) {
+    for (const auto& f : files_) f->publish();
+    return;
+  }
+  // Several files: all or nothing, as far as the file system allows. Each old file gets a second name first; if a
+  // rename fails, the outputs already renamed get their old content back (or are removed where there was none).
+  const TerminationSignalsHeld held;
+  struct Undo {
+    OutputFile* file;
+    std::string aside;  // the old content's second name, "" if the target did not exist
+    bool published = false;
+  };
+  std::vector<Undo> undo;
+  const auto drop_asides = [&undo] {
+    for (const Undo& u : undo)
+      if (!u.aside.empty()) ::unlink(u.aside.c_str());
+  };
+  try {
+    for (const auto& f : files_)
+      undo.push_back({f.get(), f->to_stdout_ || f->staging_.empty() ? "" : keep_old_content(f->target_, f->path_)});
+  } catch (...) {
+    drop_asides();
+    throw;
+  }
+  for (Undo& u : undo) {
+    try {
+      u.file->publish();
+      u.published = true;
+    } catch (const OutputError& e) {
+      std::string restored = "; the other files keep their old content";
+      for (const Undo& done : undo) {
+        if (!done.published || done.file->to_stdout_ || done.file->target_.empty()) continue;
+        const std::string& target = done.file->target_;
+        const bool ok =
+            done.aside.empty() ? ::unlink(target.c_str()) == 0 : ::rename(done.aside.c_str(), target.c_str()) == 0;
+        const int error = errno;
+        if (!ok) restored = "; restoring " + quote(done.file->path_) + " failed too: " + std::strerror(error);
+      }
+      drop_asides();
+      throw OutputError(e.what() + restored);
+    }
+  }
+  drop_asides();
 }
 
 void note_input_file(const std::string& path, const std::string& what) {

@@ -2,6 +2,7 @@
 
 #include "emit/kernel_registry.hpp"
 #include "model/expression_parser.hpp"
+#include "model/input_file.hpp"
 #include "model/load_model.hpp"
 
 #include <yaml-cpp/yaml.h>
@@ -49,7 +50,8 @@ SourceLocation where(const std::string& path, const YAML::Node& n) {
 bool is_scene_file(const std::string& path) {
   std::string text;
   try {
-    text = read_input_file(path, "model file");
+    // Not recorded as an input here: the scene or model loader that reads it next does, with its kind.
+    text = InputFile(path, "model file", kMaxInputFileBytes).read_all();
   } catch (const InputError&) {
     return false;  // the model loader reports it
   }
@@ -152,10 +154,21 @@ Scene load_scene(const std::string& path) {
     }
   }
   if (root["integrator"]) s.integrator = scalar("integrator");
-  if (root["dt"]) s.dt = number(root["dt"], "dt");
-  if (root["tol"]) s.tol = number(root["tol"], "tol");
-  if (root["t_end"]) s.t_end = number(root["t_end"], "t_end");
-  if (root["sample"]) s.sample = number(root["sample"], "sample");
+  // The run's numbers get the checks of the options they stand for (--dt, --tol, --t-end, --sample), at the scene's
+  // line: tol: 0 or sample: -1 were taken without a word, and dt: -1 was reported as the option's.
+  const auto positive = [&](const char* key, const std::string& what) {
+    const double v = number(root[key], key);
+    if (!(v > 0)) fail(root[key], key, "expected " + what + ", got " + root[key].Scalar());
+    return v;
+  };
+  if (root["dt"]) s.dt = positive("dt", "a positive step");
+  if (root["tol"]) {
+    s.tol = number(root["tol"], "tol");
+    if (!(*s.tol >= 1e-15 && *s.tol < 1))
+      fail(root["tol"], "tol", "expected a tolerance in [1e-15, 1), got " + root["tol"].Scalar());
+  }
+  if (root["t_end"]) s.t_end = positive("t_end", "a positive end time");
+  if (root["sample"]) s.sample = positive("sample", "a positive output interval");
   return s;
 }
 

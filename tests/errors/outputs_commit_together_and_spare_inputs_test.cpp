@@ -117,6 +117,29 @@ TEST_F(Transaction, AnOutputNeverReplacesAnInput) {
   EXPECT_FALSE(has_temporaries(dir));
 }
 
+// A file an MJCF robot file includes (<include file=...>) is an input of the run like the robot file itself: import's
+// -o onto it, by its name or through another path to it, is refused and the file kept.
+TEST_F(Transaction, AnIncludedFileIsAnInputToo) {
+  const std::string included =
+      "<mujoco>\n  <worldbody><body name=\"b\"><joint name=\"h\" type=\"hinge\" axis=\"0 1 0\"/>"
+      "<geom type=\"sphere\" size=\"0.1\" mass=\"1\" contype=\"0\" conaffinity=\"0\"/></body></worldbody>\n"
+      "</mujoco>\n";
+  fs::create_directory(dir / "parts");
+  spit(dir / "parts" / "body.xml", included);
+  spit(dir / "robot.xml", "<mujoco model=\"r\">\n  <include file=\"parts/body.xml\"/>\n</mujoco>\n");
+  for (const std::string& target : {path("parts/body.xml"), path("parts/../parts/body.xml")}) {
+    const Outcome r = hamel("import " + path("robot.xml") + " -o " + target, dir);
+    EXPECT_EQ(r.status, 2) << r.err;
+    EXPECT_NE(r.err.find("is a file the robot file names (file=\"parts/body.xml\") of this run"), std::string::npos)
+        << r.err;
+    EXPECT_EQ(slurp(dir / "parts" / "body.xml"), included);
+  }
+  // Elsewhere, the import works.
+  const Outcome r = hamel("import " + path("robot.xml") + " -o " + path("robot.yaml"), dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  EXPECT_FALSE(has_temporaries(dir));
+}
+
 TEST_F(Transaction, AReadOnlyOutputIsNotReplaced) {
   spit(dir / "kept.csv", "mine\n");
   fs::permissions(dir / "kept.csv", fs::perms::owner_read | fs::perms::group_read | fs::perms::others_read);

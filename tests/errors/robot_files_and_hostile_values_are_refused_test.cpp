@@ -2,8 +2,11 @@
 // imported as a different robot nor reported as an internal error about the model hamel would have written: joints
 // that form a cycle or a joint whose parent is its child (a SIGSEGV after deep recursion), an <inertial> urdfdom
 // drops (no mass, no inertia, nan, 1e400, hex), negative mass, a triangle violation, negative damping, a massless
-// moving link, non-finite gravity. Warnings escape names as errors do; a newline in the robot file's path stays
-// inside the YAML header's comment and string. A UTF-8 byte order mark in an --input-file is read.
+// moving link, a mass that moves nothing along its joint (a point mass on a hinge's axis, coaxial hinges on a massless
+// link), non-finite gravity. Merged mass properties neither cancel nor overflow silently (a body of mass 1e200 far from
+// its frame's origin). Warnings escape names as errors do; a newline in the robot file's path stays inside the YAML
+// header's comment and string. A UTF-8 byte order mark at the start of an --input-file, a URDF or MJCF file and a
+// model file is read, and errors on line 1 keep their columns.
 #include "run_hamel.hpp"
 
 #include <gtest/gtest.h>
@@ -93,6 +96,73 @@ TEST_F(Robot, BadMassPropertiesAndDampingAreTheRobotFilesErrors) {
                  "expected a value of at least 0");
   expect_refused("massless.urdf", robot(link("base", "") + link("upper", "") + joint("shoulder", "base", "upper")), 4,
                  "joint 'shoulder'", "moves nothing");
+}
+
+TEST_F(Robot, AMassThatMovesNothingAlongItsJointIsRefused) {
+  const std::string point_mass =
+      "<inertial><origin xyz=\"0 0 0.5\"/><mass value=\"1\"/>"
+      "<inertia ixx=\"0\" ixy=\"0\" ixz=\"0\" iyy=\"0\" iyz=\"0\" izz=\"0\"/></inertial>";
+  expect_refused("on_axis.urdf",
+                 robot(link("base", "") + link("upper", point_mass) + joint("shoulder", "base", "upper")), 4,
+                 "joint 'shoulder'", "moves no mass or inertia along its motion");
+  // Coaxial hinges: the outer body has inertia, the spacer none; the inner joint only repeats the outer one.
+  expect_refused("coaxial.urdf",
+                 robot(link("base", "") + link("spacer", "") + link("wheel") + joint("inner", "base", "spacer") +
+                       joint("outer", "spacer", "wheel")),
+                 5, "joint 'inner'", "so the mass matrix would be singular");
+}
+
+TEST_F(Robot, AHeavyMergedBodyKeepsItsInertia) {
+  // Body b: mass M at (3, 0, 0), inertia diag(1, 1, 1); its fixed child c: mass 1 at (0, 0, 1), diag(1, 1, 1). Merged
+  // about the centre of mass (3, 0, 0): 2 I + (M / (M + 1)) (|d|^2 I - d d'), d = (-3, 0, 1).
+  const auto heavy = [](const std::string& m1, const std::string& m2) {
+    return "<mujoco model=\"heavy\">\n  <worldbody>\n    <body name=\"b\">\n"
+           "      <joint name=\"h\" type=\"hinge\" axis=\"0 1 0\"/>\n"
+           "      <inertial pos=\"3 0 0\" mass=\"" +
+           m1 +
+           "\" diaginertia=\"1 1 1\"/>\n"
+           "      <body name=\"c\" pos=\"0 0 1\"><inertial pos=\"0 0 0\" mass=\"" +
+           m2 + "\" diaginertia=\"1 1 1\"/></body>\n    </body>\n  </worldbody>\n</mujoco>\n";
+  };
+  spit(dir / "heavy.xml", heavy("1e200", "1"));
+  const Outcome r = hamel("import " + shell_quote((dir / "heavy.xml").string()) + " -o -", dir);
+  ASSERT_EQ(r.status, 0) << r.err;  // was: "a negative principal moment (-1.85)", the inertia lost to cancellation
+  EXPECT_NE(r.out.find("inertia: [[3, 0, 3], [0, 12, 0], [3, 0, 11]]"), std::string::npos) << r.out;
+  // Beyond the range of a double: refused at the body, not written as inf or nan.
+  expect_refused("overflow.xml", heavy("1.7e308", "1e308"), 4, "body 'b'", "beyond the range of a double");
+}
+
+TEST_F(Robot, AByteOrderMarkStartsARobotOrModelFile) {
+  const std::string bom = "\xEF\xBB\xBF";
+  spit(dir / "arm.urdf", bom + robot(link("base", "") + link("upper") + joint("shoulder", "base", "upper")));
+  Outcome r = hamel(
+      "import " + shell_quote((dir / "arm.urdf").string()) + " -o " + shell_quote((dir / "arm.yaml").string()), dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  const std::string mjcf_body =
+      "<worldbody><body name=\"b\"><joint name=\"h\" type=\"ball\"/><geom type=\"sphere\" size=\"0.1\" "
+      "mass=\"1\" contype=\"0\" conaffinity=\"0\"/></body></worldbody></mujoco>\n";
+  spit(dir / "ok.xml", bom + "<mujoco model=\"r\">\n" + mjcf_body);
+  std::string text = slurp(dir / "ok.xml");
+  text.replace(text.find("ball"), 4, "hinge");
+  spit(dir / "ok.xml", text);
+  r = hamel("import " + shell_quote((dir / "ok.xml").string()) + " -o -", dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  // An error on line 1 has the column of the text after the mark (52, as without it; was 55).
+  expect_refused("ball.xml", bom + "<mujoco model=\"r\">" + mjcf_body, 1, "joint 'h'", "ball joints");
+  spit(dir / "ball.xml", bom + "<mujoco model=\"r\">" + mjcf_body);
+  r = hamel("import " + shell_quote((dir / "ball.xml").string()) + " -o -", dir);
+  EXPECT_NE(r.err.find("ball.xml:1:52:"), std::string::npos) << r.err;
+  // A model file: read, and an error on line 1 is at column 1.
+  const std::string model =
+      "parameters: {m: 1, k: 4}\ncoordinates: [x]\nquasi_velocities: {names: [u], A: [[1]]}\n"
+      "lagrangian: \"m/2*x_dot^2 - k/2*x^2\"\n";
+  spit(dir / "m.yaml", bom + "name: spring\n" + model);
+  r = hamel("derive " + shell_quote((dir / "m.yaml").string()), dir);
+  EXPECT_EQ(r.status, 0) << r.err;
+  spit(dir / "bad.yaml", bom + "nam: spring\n" + model);
+  r = hamel("derive " + shell_quote((dir / "bad.yaml").string()), dir);
+  EXPECT_EQ(r.status, 2) << r.err;
+  EXPECT_NE(r.err.find("bad.yaml:1:1: error: 'nam'"), std::string::npos) << r.err;
 }
 
 TEST_F(Robot, NonFiniteGravityInMjcfIsNamed) {

@@ -3,20 +3,21 @@
 //   - checks work on the program, never on its expansion: 60 definitions d_k = d_{k-1}^2 + d_{k-1} in the
 //     Lagrangian or in A load (the kinetic-energy check inlined them: 2^60 terms);
 //   - loading is linear: 10 000 definitions and a URDF chain of 2 000 links load (the time is measured in the
-//     notes, not here: this guards against the hang, with the ctest timeout);
+//     notes, not here: this guards against the hang, with the ctest timeout), on the default stack: substituting
+//     through definitions does not recurse per definition;
 //   - every input is bounded: a device, a FIFO or a folder as a model, robot, include or CSV file is refused before
 //     anything is read, and a file beyond its size limit is refused with the limit in the message;
 //   - input laws run compiled in the IR's interpreter, with GiNaC's values;
 //   - an MJCF file with several elements hamel has no place for is refused once, with every element and its line.
 #include <gtest/gtest.h>
 
+#include "algebra/intermediates.hpp"
 #include "import/tree_import.hpp"
 #include "model/input_error.hpp"
 #include "model/input_file.hpp"
 #include "model/load_model.hpp"
 #include "numeric/input_sources.hpp"
 
-#include <pthread.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <cmath>
@@ -75,36 +76,31 @@ TEST(ChecksOnTheProgram, ANegativeKineticEnergyThroughSixtyDefinitionsIsStillFou
   EXPECT_NE(e.find("the kinetic energy is not positive semi-definite"), std::string::npos) << e;
 }
 
-// Runs `work` on a thread with a 512 MiB stack (reserved, committed as used). The program's substitution recurses once
-// per definition in a chain: 10 000 frames fit the default 8 MiB in an optimized build, not under AddressSanitizer,
-// whose frames are several times larger.
-static void with_deep_stack(const std::function<void()>& work) {
-  pthread_attr_t attr;
-  ASSERT_EQ(pthread_attr_init(&attr), 0);
-  ASSERT_EQ(pthread_attr_setstacksize(&attr, std::size_t{512} << 20), 0);
-  pthread_t thread;
-  std::function<void()> task = work;
-  ASSERT_EQ(pthread_create(
-                &thread, &attr,
-                [](void* f) -> void* {
-                  (*static_cast<std::function<void()>*>(f))();
-                  return nullptr;
-                },
-                &task),
-            0);
-  pthread_join(thread, nullptr);
-  pthread_attr_destroy(&attr);
-}
-
 TEST(LinearLoading, TenThousandDefinitionsLoad) {
   std::string s =
       "schema: 1\nname: many\nparameters:\n  m: 1.0\ncoordinates: [x]\nquasi_velocities:\n"
       "  names: [u]\n  A:\n    - [1]\ndefinitions:\n  d0: \"x\"\n";
   for (int k = 1; k <= 10000; ++k) s += "  d" + std::to_string(k) + ": \"d" + std::to_string(k - 1) + " + m*x\"\n";
   s += "lagrangian: \"1/2*m*x_dot^2 - d10000\"\n";
-  std::size_t definitions = 0;
-  with_deep_stack([&] { definitions = hamel::load_model_from_text(s, "many.yaml").definitions.size(); });
-  EXPECT_EQ(definitions, 10001u);
+  EXPECT_EQ(hamel::load_model_from_text(s, "many.yaml").definitions.size(), 10001u);
+}
+
+// Intermediates::substitute goes through a chain of definitions with a stack of its own, not by recursion: 100 000
+// definitions d_k = d_{k-1} + x on the 8 MiB of the main thread (the recursion took a frame of 256 bytes per
+// definition at -O2, 25 MB here; under AddressSanitizer 10 000 overflowed). Each changed definition becomes a new one.
+TEST(LinearLoading, SubstitutionThroughADeepChainNeedsNoDeepStack) {
+  hamel::Intermediates program;
+  const GiNaC::realsymbol x("x"), y("y");
+  GiNaC::ex last = program.define(x + y);
+  const std::size_t n = 100000;
+  for (std::size_t k = 1; k < n; ++k) last = program.define(last + x);
+  hamel::Intermediates::SubstitutionMemo memo;
+  const GiNaC::ex replaced = program.substitute(last + 1, {{x, GiNaC::ex(2)}}, memo);
+  EXPECT_EQ(program.size(), 2 * n);  // every definition uses x: each one replaced
+  hamel::Intermediates::ValueMemo values;
+  const GiNaC::ex v = program.value_at(replaced, {{y, GiNaC::ex(5)}}, values);
+  ASSERT_TRUE(GiNaC::is_a<GiNaC::numeric>(v)) << v;
+  EXPECT_EQ(GiNaC::ex_to<GiNaC::numeric>(v).to_double(), 2.0 * n + 6);  // d_0 = 7, then + 2 per definition, + 1
 }
 
 TEST(LinearLoading, AUrdfChainOfTwoThousandLinksImports) {

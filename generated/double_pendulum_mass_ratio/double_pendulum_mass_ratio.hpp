@@ -40,13 +40,13 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[4] = {"theta1", "theta2", "omega1", "omega2"};
 constexpr const char* parameter_names[5] = {"m1", "mu", "l1", "l2", "g"};
 constexpr real default_parameters[5] = {real(1.0), real(1.0), real(1.0), real(1.0), real(9.81)};
-// input_names: none
-// constraint_names: none
+constexpr const char* const* input_names = nullptr;  // none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[2] = {"omega1", "omega2"};
-// hamel_upper: none
-// hamel_lower_a: none
-// hamel_lower_b: none
+constexpr int const* hamel_upper = nullptr;  // none
+constexpr int const* hamel_lower_a = nullptr;  // none
+constexpr int const* hamel_lower_b = nullptr;  // none
 
 // Output sizes (out[] entries) and named temporaries of each kernel.
 constexpr int n_out_kinematics = 2;

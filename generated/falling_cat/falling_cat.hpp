@@ -40,8 +40,8 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[7] = {"psi", "theta", "wx_locked", "wy_locked", "wz_locked", "psi_dot", "theta_dot"};
 constexpr const char* parameter_names[9] = {"m1", "m2", "A1", "C1", "A2", "B2", "C2", "l1", "l2"};
 constexpr real default_parameters[9] = {real(2.0), real(1.5), real(0.02), real(0.008), real(0.015), real(0.012), real(0.006), real(0.12), real(0.1)};
-// input_names: none
-// constraint_names: none
+constexpr const char* const* input_names = nullptr;  // none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[5] = {"wx_locked", "wy_locked", "wz_locked", "psi_dot", "theta_dot"};
 constexpr int hamel_upper[32] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2};

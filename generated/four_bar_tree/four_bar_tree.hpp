@@ -40,13 +40,13 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[4] = {"crank", "coupler", "rocker", "coupler_dot"};
 constexpr const char* parameter_names[8] = {"l1", "l2", "l3", "d", "m1", "m2", "m3", "g"};
 constexpr real default_parameters[8] = {real(0.2), real(0.6), real(0.45), real(0.5), real(0.4), real(1.2), real(0.9), real(9.81)};
-// input_names: none
+constexpr const char* const* input_names = nullptr;  // none
 constexpr const char* constraint_names[2] = {"tip_x", "tip_y"};
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[3] = {"tip_x", "tip_y", "coupler_dot"};
-// hamel_upper: none
-// hamel_lower_a: none
-// hamel_lower_b: none
+constexpr int const* hamel_upper = nullptr;  // none
+constexpr int const* hamel_lower_a = nullptr;  // none
+constexpr int const* hamel_lower_b = nullptr;  // none
 
 // Output sizes (out[] entries) and named temporaries of each kernel.
 constexpr int n_out_kinematics = 3;

@@ -40,8 +40,8 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[7] = {"q1", "q2", "w_locked", "vx_locked", "vy_locked", "q1_dot", "q2_dot"};
 constexpr const char* parameter_names[10] = {"m0", "J0", "c0", "m1", "J1", "c1", "l1", "m2", "J2", "c2"};
 constexpr real default_parameters[10] = {real(20.0), real(1.5), real(-0.6), real(4.0), real(0.35), real(0.5), real(1.0), real(3.0), real(0.15), real(0.4)};
-// input_names: none
-// constraint_names: none
+constexpr const char* const* input_names = nullptr;  // none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[5] = {"w_locked", "vx_locked", "vy_locked", "q1_dot", "q2_dot"};
 constexpr int hamel_upper[26] = {0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2};

@@ -41,7 +41,7 @@ constexpr const char* state_names[9] = {"q1", "q2", "q3", "w", "vx", "vy", "q1_d
 constexpr const char* parameter_names[12] = {"m0", "L0", "J0", "m1", "L1", "J1", "m2", "L2", "J2", "m3", "L3", "J3"};
 constexpr real default_parameters[12] = {real(2.0), real(0.5), real(0.0416667), real(1.2), real(0.4), real(0.016), real(1.0), real(0.4), real(0.0133333), real(0.6), real(0.3), real(0.0045)};
 constexpr const char* input_names[3] = {"tau1", "tau2", "tau3"};
-// constraint_names: none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[6] = {"w", "vx", "vy", "q1_dot", "q2_dot", "q3_dot"};
 constexpr int hamel_upper[4] = {1, 1, 2, 2};

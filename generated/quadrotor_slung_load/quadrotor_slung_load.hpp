@@ -41,7 +41,7 @@ constexpr const char* state_names[13] = {"theta", "phi", "gravity_x", "gravity_y
 constexpr const char* parameter_names[8] = {"m", "Ixx", "Iyy", "Izz", "mL", "l", "d", "g"};
 constexpr real default_parameters[8] = {real(1.5), real(0.029), real(0.029), real(0.055), real(0.3), real(1.0), real(0.05), real(9.81)};
 constexpr const char* input_names[4] = {"f", "tx", "ty", "tz"};
-// constraint_names: none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[8] = {"wx", "wy", "wz", "vx", "vy", "vz", "theta_dot", "phi_dot"};
 constexpr int hamel_upper[18] = {0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5};

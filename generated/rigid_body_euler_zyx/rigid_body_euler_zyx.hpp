@@ -40,8 +40,8 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[6] = {"psi", "theta", "phi", "wx", "wy", "wz"};
 constexpr const char* parameter_names[3] = {"I1", "I2", "I3"};
 constexpr real default_parameters[3] = {real(1.0), real(2.0), real(3.0)};
-// input_names: none
-// constraint_names: none
+constexpr const char* const* input_names = nullptr;  // none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[3] = {"wx", "wy", "wz"};
 constexpr int hamel_upper[6] = {0, 0, 1, 1, 2, 2};

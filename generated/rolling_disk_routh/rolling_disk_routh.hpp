@@ -40,7 +40,7 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[8] = {"x", "y", "psi", "theta", "phi", "w_psi", "w_theta", "w_phi"};
 constexpr const char* parameter_names[5] = {"m", "r", "A", "C", "g"};
 constexpr real default_parameters[5] = {real(1.0), real(0.1), real(0.0025), real(0.005), real(9.81)};
-// input_names: none
+constexpr const char* const* input_names = nullptr;  // none
 constexpr const char* constraint_names[2] = {"u_x", "u_y"};
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[5] = {"u_x", "u_y", "w_psi", "w_theta", "w_phi"};

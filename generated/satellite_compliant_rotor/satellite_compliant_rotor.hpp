@@ -40,8 +40,8 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[7] = {"phi1", "phi2", "wx_locked", "wy_locked", "wz_locked", "phi1_dot", "phi2_dot"};
 constexpr const char* parameter_names[6] = {"Ix", "Iy", "Iz", "J1", "J2", "k"};
 constexpr real default_parameters[6] = {real(10.0), real(12.0), real(14.0), real(1.0), real(1.0), real(1000000.0)};
-// input_names: none
-// constraint_names: none
+constexpr const char* const* input_names = nullptr;  // none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[5] = {"wx_locked", "wy_locked", "wz_locked", "phi1_dot", "phi2_dot"};
 constexpr int hamel_upper[16] = {0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2};

@@ -40,8 +40,8 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[12] = {"phi1", "phi2", "phi3", "wx_locked", "wy_locked", "wz_locked", "vx_locked", "vy_locked", "vz_locked", "phi1_dot", "phi2_dot", "phi3_dot"};
 constexpr const char* parameter_names[19] = {"m0", "c0x", "c0y", "c0z", "T0x", "T0y", "T0z", "mr", "J", "Jt", "d1x", "d1y", "d1z", "d2x", "d2y", "d2z", "d3x", "d3y", "d3z"};
 constexpr real default_parameters[19] = {real(100.0), real(0.05), real(-0.03), real(0.02), real(16.0), real(18.0), real(20.0), real(10.0), real(2.0), real(1.2), real(0.3), real(0.1), real(0.0), real(0.0), real(0.3), real(0.1), real(0.1), real(0.0), real(0.3)};
-// input_names: none
-// constraint_names: none
+constexpr const char* const* input_names = nullptr;  // none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[9] = {"wx_locked", "wy_locked", "wz_locked", "vx_locked", "vy_locked", "vz_locked", "phi1_dot", "phi2_dot", "phi3_dot"};
 constexpr int hamel_upper[60] = {0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 1, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2, 2};

@@ -41,7 +41,7 @@ constexpr const char* state_names[12] = {"phiw", "q1", "q2", "wx", "wy", "wz", "
 constexpr const char* parameter_names[23] = {"m0", "c0x", "c0y", "c0z", "I0x", "I0y", "I0z", "I0xy", "mw", "Jw", "Jwt", "hw", "bx", "by", "bz", "l1", "m1", "J1a", "I1", "l2", "m2", "J2a", "I2"};
 constexpr real default_parameters[23] = {real(400.0), real(0.02), real(-0.01), real(0.05), real(120.0), real(150.0), real(100.0), real(5.0), real(5.0), real(0.05), real(0.03), real(0.4), real(1.0), real(0.8), real(0.9), real(1.5), real(10.0), real(0.02), real(1.875), real(1.2), real(6.0), real(0.01), real(0.72)};
 constexpr const char* input_names[9] = {"f1", "f2", "f3", "f4", "f5", "f6", "tau_w", "tau1", "tau2"};
-// constraint_names: none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[9] = {"wx", "wy", "wz", "vx", "vy", "vz", "phiw_dot", "q1_dot", "q2_dot"};
 constexpr int hamel_upper[18] = {0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5};

@@ -41,7 +41,7 @@ constexpr bool conservative = true;  // energy() is an invariant
 constexpr const char* state_names[7] = {"psi", "theta", "phi", "x", "y", "vx", "vy"};
 constexpr const char* parameter_names[2] = {"m", "R"};
 constexpr real default_parameters[2] = {real(1.0), real(0.1)};
-// input_names: none
+constexpr const char* const* input_names = nullptr;  // none
 constexpr const char* constraint_names[3] = {"u1", "u2", "u3"};
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[5] = {"u1", "u2", "u3", "vx", "vy"};

@@ -42,7 +42,7 @@ constexpr const char* state_names[20] = {"q1", "q2", "q3", "q4", "q5", "q6", "q7
 constexpr const char* parameter_names[26] = {"m0", "c0x", "c0y", "c0z", "I0xx", "I0yy", "I0zz", "I0xy", "I0xz", "I0yz", "ax", "ay", "az", "l1", "l2", "l3", "l4", "l5", "l6", "m1", "m2", "m3", "m4", "m5", "m6", "m7"};
 constexpr real default_parameters[26] = {real(150.0), real(0.03), real(-0.02), real(-0.05), real(30.5), real(34.0), real(25.0), real(-0.9), real(1.4), real(-0.6), real(0.25), real(0.15), real(0.7575), real(0.2025), real(0.2045), real(0.2155), real(0.1845), real(0.2155), real(0.081), real(4.0), real(4.0), real(3.0), real(2.7), real(1.7), real(1.8), real(1.5)};
 constexpr const char* input_names[7] = {"tau1", "tau2", "tau3", "tau4", "tau5", "tau6", "tau7"};
-// constraint_names: none
+constexpr const char* const* constraint_names = nullptr;  // none
 // gamma^upper_{lower_a lower_b}: indices into all quasi-velocities, in file order
 constexpr const char* quasi_velocity_names[13] = {"wx", "wy", "wz", "vx", "vy", "vz", "q1_dot", "q2_dot", "q3_dot", "q4_dot", "q5_dot", "q6_dot", "q7_dot"};
 constexpr int hamel_upper[18] = {0, 0, 1, 1, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5};

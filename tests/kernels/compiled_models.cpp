@@ -16,11 +16,12 @@
 
 namespace hamel::test {
 
-#define HAMEL_ENTRY(NS, RESIDUAL)                                                                             \
-  CompiledModel {                                                                                             \
-#NS, "models/" #NS ".yaml", NS::n_coordinates, NS::n_independent, NS::n_parameters, NS::n_inputs,         \
-        NS::n_constraints, NS::n_hamel, NS::default_parameters, NS::kinematics, NS::mass_matrix, NS::forcing, \
-        NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL, "", 0, nullptr, nullptr, nullptr               \
+#define HAMEL_ENTRY(NS, RESIDUAL)                                                                                 \
+  CompiledModel {                                                                                                 \
+#NS, "models/" #NS ".yaml", NS::n_coordinates, NS::n_independent, NS::n_parameters, NS::n_inputs,             \
+        NS::n_constraints, NS::n_hamel, NS::default_parameters, NS::kinematics, NS::mass_matrix, NS::forcing,     \
+        NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL, "", 0, nullptr, nullptr, nullptr, NS::input_names, \
+        NS::constraint_names                                                                                      \
   }
 
 // Bundle models: their group velocity, connection (null without shape) and locked inertia kernels, and
@@ -30,7 +31,7 @@ namespace hamel::test {
 #NS, "models/" #NS ".yaml", NS::n_coordinates, NS::n_independent, NS::n_parameters, NS::n_inputs,         \
         NS::n_constraints, NS::n_hamel, NS::default_parameters, NS::kinematics, NS::mass_matrix, NS::forcing, \
         NS::hamel_coefficients, NS::rhs, NS::energy, RESIDUAL, FOLD, N_GROUP, NS::group_velocity, CONNECTION, \
-        NS::locked_inertia                                                                                    \
+        NS::locked_inertia, NS::input_names, NS::constraint_names                                             \
   }
 
 const std::vector<CompiledModel>& compiled_models() {

@@ -23,6 +23,9 @@ struct CompiledModel {
   KernelFn group_velocity;  ///< xi^alpha(r, u_I) for the reconstruction
   KernelFn connection;      ///< A^alpha_I(r), row-major; null without shape
   KernelFn locked_inertia;  ///< L_alpha_beta(r), row-major
+  /// The packages' name tables, read generically: every package has them, null where there is nothing.
+  const char* const* input_names;
+  const char* const* constraint_names;
 };
 
 /// Test names print the model's name, not the struct's bytes.

@@ -172,6 +172,19 @@ TEST_P(EmittedKernels, MatchGinacAtRandomStates) {
   }
 }
 
+// Every package has its name tables, read here without knowing whether the model has inputs or constraints: the
+// input names are the model's, in order; a table without entries is a null pointer.
+TEST_P(EmittedKernels, NameTablesAreTheModelsEvenWhenEmpty) {
+  const CompiledModel& cm = GetParam();
+  const hamel::Model model = hamel::load_model(hamel::test::source_path(cm.model_file));
+  ASSERT_EQ(cm.n_inputs, static_cast<int>(model.inputs.size())) << cm.name;
+  EXPECT_EQ(cm.input_names == nullptr, model.inputs.empty()) << cm.name;
+  for (int k = 0; k < cm.n_inputs; ++k)
+    EXPECT_EQ(cm.input_names[k], model.inputs[static_cast<std::size_t>(k)].get_name()) << cm.name;
+  EXPECT_EQ(cm.constraint_names == nullptr, cm.n_constraints == 0) << cm.name;
+  for (int k = 0; k < cm.n_constraints; ++k) EXPECT_NE(cm.constraint_names[k], nullptr) << cm.name;
+}
+
 INSTANTIATE_TEST_SUITE_P(ShippedModels, EmittedKernels, ::testing::ValuesIn(hamel::test::compiled_models()),
                          [](const ::testing::TestParamInfo<CompiledModel>& info) { return info.param.name; });
 

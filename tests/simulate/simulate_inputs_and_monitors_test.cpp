@@ -228,10 +228,10 @@ inputs: [F]
     v += h * (f[k] + f[k + 1]) / 2;
   }
   for (const char* integrator : {"dopri5", "dop853", "radau5"}) {
-    const Outcome r = hamel("simulate " + shell_quote((dir / "mass.yaml").string()) + " --integrator " + integrator +
-                                " --t-end 2 --sample 1 --tol 1e-12 --input-file " +
-                                shell_quote((dir / "force.csv").string()),
-                            dir);
+    const Outcome r =
+        hamel("simulate " + shell_quote((dir / "mass.yaml").string()) + " --integrator " + integrator +
+                  " --t-end 2 --sample 1 --tol 1e-12 --input-file " + shell_quote((dir / "force.csv").string()),
+              dir);
     ASSERT_EQ(r.status, 0) << r.err;
     const Csv csv = parse_csv(r.out);
     const std::size_t last = csv.rows.size() - 1;

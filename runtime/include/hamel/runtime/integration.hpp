@@ -294,7 +294,7 @@ class Stops {
   bool clamp(Real t, Real t_end, Real& h, Real& at) const {
     for (std::size_t k = 0; k < count_; ++k) {
       const Real s = dir_ > 0 ? stops_[k] : stops_[count_ - 1 - k];
-      if ((s - t) * dir_ <= 0) continue;      // behind or at t
+      if ((s - t) * dir_ <= 0) continue;          // behind or at t
       if ((s - t_end) * dir_ >= 0) return false;  // at or beyond the end: t_end is where the run stops anyway
       if ((t + Real(1.01) * dir_ * h - s) * dir_ <= 0) return false;
       h = std::fabs(s - t);

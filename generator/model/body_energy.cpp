@@ -1,7 +1,5 @@
 #include "model/body_energy.hpp"
 
-#include "algebra/simplify.hpp"
-
 #include <array>
 #include <string>
 
@@ -39,39 +37,40 @@ GiNaC::ex posed_body_kinetic_energy(Model& model, const RigidBody& body, const G
     return out;
   };
   const std::string prefix = "_" + body.name + "_";
-  GiNaC::matrix Rs(3, 3), Rdot(3, 3);
+  GiNaC::matrix Rs(3, 3);
   for (unsigned i = 0; i < 3; ++i)
     for (unsigned j = 0; j < 3; ++j)
       Rs(i, j) = GiNaC::is_a<GiNaC::numeric>(R(i, j))
                      ? R(i, j)
                      : GiNaC::ex(program.define_named(prefix + "R" + std::to_string(i) + std::to_string(j), R(i, j)));
-  for (unsigned i = 0; i < 3; ++i)
-    for (unsigned j = 0; j < 3; ++j) Rdot(i, j) = rate(Rs(i, j));
   // ω̂ = RᵀṘ: ω = ((RᵀṘ)_21, (RᵀṘ)_02, (RᵀṘ)_10), ω = Σ_a Ω_a q̇_a + Ω_t with Ω_a = (Rᵀ ∂R/∂q_a)^∨. Where R is written
   // out in the coordinates (no definitions in it), each Ω_a is formed from R itself and brought to its normal form:
   // RᵀR = I holds there through sin² + cos² = 1, so a product of elementary rotations gives the short rows of the
   // kinematic equations (ZYX angles: Ω_psi = (−sin θ, cos θ sin φ, cos θ cos φ)) instead of the products of nine
   // named entries whose cancellation no later step sees (issue 48: M of a rigid body in its own angular velocity
-  // printed as 1 149 characters where it is exactly its inertia).
-  const GiNaC::matrix W = Rs.transpose().mul(Rdot);
-  GiNaC::ex omega_entries[3] = {W(2, 1), W(0, 2), W(1, 0)};
+  // printed as 1 149 characters where it is exactly its inertia); an Ω_a entry that stays large after that is named
+  // (Intermediates::keep), so its derivatives go through the program. Otherwise Ṙ by the chain rule through R's names.
+  const auto vee = [](const GiNaC::matrix& M) { return std::array<GiNaC::ex, 3>{M(2, 1), M(0, 2), M(1, 0)}; };
   bool explicit_R = true;
   for (unsigned i = 0; i < 9; ++i) explicit_R = explicit_R && program.used_by(R.op(i)).empty();
+  std::array<GiNaC::ex, 3> omega_entries{0, 0, 0};
   if (explicit_R) {
-    const auto vee = [](const GiNaC::matrix& M) { return std::array<GiNaC::ex, 3>{M(2, 1), M(0, 2), M(1, 0)}; };
-    std::array<GiNaC::ex, 3> rows{0, 0, 0};
-    std::vector<GiNaC::ex> variables(model.rates.begin(), model.rates.end());
-    variables.push_back(model.time);
     for (std::size_t a = 0; a <= model.coordinates.size(); ++a) {
-      const GiNaC::ex by = a < model.coordinates.size() ? GiNaC::ex(model.coordinates[a]) : GiNaC::ex(model.time);
+      const bool time = a == model.coordinates.size();
+      const GiNaC::symbol& by = time ? model.time : model.coordinates[a];
       GiNaC::matrix dR(3, 3);
       for (unsigned i = 0; i < 3; ++i)
-        for (unsigned j = 0; j < 3; ++j) dR(i, j) = R(i, j).diff(GiNaC::ex_to<GiNaC::symbol>(by));
+        for (unsigned j = 0; j < 3; ++j) dR(i, j) = R(i, j).diff(by);
       const std::array<GiNaC::ex, 3> column = vee(R.transpose().mul(dR));
-      const GiNaC::ex rate = a < model.coordinates.size() ? GiNaC::ex(model.rates[a]) : GiNaC::ex(1);
-      for (unsigned i = 0; i < 3; ++i) rows[i] += simplify_bounded(column[i]) * rate;
+      const GiNaC::ex rate = time ? GiNaC::ex(1) : GiNaC::ex(model.rates[a]);
+      // Small entries inline (where the equations' simplification sees them), larger ones as intermediates.
+      for (unsigned i = 0; i < 3; ++i) omega_entries[i] += program.keep(column[i]) * rate;
     }
-    for (unsigned i = 0; i < 3; ++i) omega_entries[i] = rows[i];
+  } else {
+    GiNaC::matrix Rdot(3, 3);
+    for (unsigned i = 0; i < 3; ++i)
+      for (unsigned j = 0; j < 3; ++j) Rdot(i, j) = rate(Rs(i, j));
+    omega_entries = vee(Rs.transpose().mul(Rdot));
   }
   GiNaC::ex omega[3], velocity[3];
   for (unsigned i = 0; i < 3; ++i) {

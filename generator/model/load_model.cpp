@@ -72,6 +72,15 @@ GiNaC::symtab Model::symbols() const {
   return table;
 }
 
+std::size_t Model::input_index(const std::string& input, const std::string& option) const {
+  for (std::size_t k = 0; k < inputs.size(); ++k)
+    if (inputs[k].get_name() == input) return k;
+  std::string list;
+  for (const auto& u : inputs) list += (list.empty() ? "" : ", ") + u.get_name();
+  throw InputError(option + ": " + quote(input) + " is not an input of model '" + name + "'" +
+                   (list.empty() ? " (it has none)" : " (inputs: " + list + ")"));
+}
+
 namespace {
 
 // A divisor of `e` (the base of a negative power) that is identically zero, such as sin(x)^2 + cos(x)^2 - 1:

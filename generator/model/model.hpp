@@ -149,6 +149,8 @@ struct Model {
   std::vector<int> independent() const;
   /// All symbols a numeric evaluation of the model may need, by name.
   GiNaC::symtab symbols() const;
+  /// The position of the input called `name`; an InputError naming `option` and listing the inputs otherwise.
+  std::size_t input_index(const std::string& name, const std::string& option) const;
 };
 
 /// 0, …, n − 1 without the indices in `constrained`, in order: the independent quasi-velocities, eq. (PfaffForm).

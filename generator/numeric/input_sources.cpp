@@ -92,15 +92,6 @@ InputSources::InputSources(const Model& model, std::vector<std::string> state_na
   }
 }
 
-std::size_t InputSources::index_of(const std::string& name, const std::string& option) const {
-  for (std::size_t k = 0; k < model_.inputs.size(); ++k)
-    if (model_.inputs[k].get_name() == name) return k;
-  std::string list;
-  for (const auto& u : model_.inputs) list += (list.empty() ? "" : ", ") + u.get_name();
-  throw InputError(option + ": " + quote(name) + " is not an input of model '" + model_.name + "'" +
-                   (list.empty() ? " (it has none)" : " (inputs: " + list + ")"));
-}
-
 void InputSources::claim(std::size_t k, const std::string& origin, const std::string& option) {
   if (!sources_[k].origin.empty() && sources_[k].origin != "scene")
     throw InputError(option + ": " + quote(model_.inputs[k].get_name()) + " is given twice (also by " +
@@ -110,7 +101,7 @@ void InputSources::claim(std::size_t k, const std::string& origin, const std::st
 }
 
 void InputSources::set_constant(const std::string& name, double value, const std::string& option) {
-  const std::size_t k = index_of(name, option);
+  const std::size_t k = model_.input_index(name, option);
   claim(k, option, option);
   sources_[k].value = value;
 }
@@ -129,7 +120,7 @@ void InputSources::add_assignments(const std::vector<std::string>& items, const 
         set_constant(name, v, option);
         continue;
       }
-      const std::size_t k = index_of(name, option);
+      const std::size_t k = model_.input_index(name, option);
       GiNaC::ex e;
       try {
         e = parse_expression(text, table_);
@@ -177,7 +168,7 @@ void InputSources::load_csv(const std::string& path) {
       if (cells.size() < 2)
         throw InputError(SourceLocation{path, line_no, 1}, "", "expected input names after t in the header");
       for (std::size_t c = 1; c < cells.size(); ++c) {
-        const std::size_t k = index_of(cells[c], path + ":" + std::to_string(line_no));
+        const std::size_t k = model_.input_index(cells[c], path + ":" + std::to_string(line_no));
         claim(k, "--input-file " + path, "--input-file");
         sources_[k].kind = Source::table;
         sources_[k].column = static_cast<int>(c - 1);

@@ -48,7 +48,6 @@ class InputSources {
   };
   struct CompiledLaws;  // the laws' graph and its evaluator
   void compile_laws();
-  std::size_t index_of(const std::string& name, const std::string& option) const;
   void claim(std::size_t k, const std::string& origin, const std::string& option);
 
   const Model& model_;

@@ -284,30 +284,33 @@ class SampleClock {
 /// Times an adaptive run's steps end on exactly (Options::stops, ascending): the knots of a piecewise input (a table
 /// interpolated linearly), where the right-hand side has a kink that a step straddling it would resolve only by
 /// rejections and with a larger error. `clamp` shortens a step from t that would pass the next stop strictly between
-/// t and t_end so that it ends there.
+/// t and t_end so that it ends there. The run's time only advances, so a cursor passes each stop once: a step costs
+/// O(1) whatever the table's length.
 template <class Real>
 class Stops {
  public:
   Stops(const Real* stops, std::size_t count, Real dir) : stops_(stops), count_(stops ? count : 0), dir_(dir) {}
   /// The step h (unsigned) from t, shortened to end on the next stop ahead when it would pass it (or stop within 1 %
   /// of it); `at` is then that stop.
-  bool clamp(Real t, Real t_end, Real& h, Real& at) const {
-    for (std::size_t k = 0; k < count_; ++k) {
-      const Real s = dir_ > 0 ? stops_[k] : stops_[count_ - 1 - k];
-      if ((s - t) * dir_ <= 0) continue;          // behind or at t
-      if ((s - t_end) * dir_ >= 0) return false;  // at or beyond the end: t_end is where the run stops anyway
-      if ((t + Real(1.01) * dir_ * h - s) * dir_ <= 0) return false;
-      h = std::fabs(s - t);
-      at = s;
-      return true;
-    }
-    return false;
+  bool clamp(Real t, Real t_end, Real& h, Real& at) {
+    while (passed_ < count_ && (ahead(passed_) - t) * dir_ <= 0) ++passed_;  // behind or at t
+    if (passed_ == count_) return false;
+    const Real s = ahead(passed_);
+    if ((s - t_end) * dir_ >= 0) return false;  // at or beyond the end: t_end is where the run stops anyway
+    if ((t + Real(1.01) * dir_ * h - s) * dir_ <= 0) return false;
+    h = std::fabs(s - t);
+    at = s;
+    return true;
   }
 
  private:
+  // The k-th stop in the direction of integration.
+  Real ahead(std::size_t k) const { return dir_ > 0 ? stops_[k] : stops_[count_ - 1 - k]; }
+
   const Real* stops_;
   std::size_t count_;
   Real dir_;
+  std::size_t passed_ = 0;  ///< stops behind the run's time
 };
 
 /// The step bookkeeping the explicit adaptive integrators share (integrate_dopri5, integrate_dop853): the checks
@@ -442,7 +445,7 @@ struct AdaptiveSteps {
   const Real t0, t_end;
   const Real dir;      ///< +1 forward in time, -1 backward
   const Real h_limit;  ///< the largest step
-  const Stops<Real> stops{opt.stops, opt.n_stops, dir};
+  Stops<Real> stops{opt.stops, opt.n_stops, dir};
   BasicIntegrationOutcome<Real> result;
   Real t;                        ///< the last accepted time
   Real h = Real(0.0);            ///< the next attempt's step (unsigned)

@@ -242,7 +242,8 @@ class Run {
         fnewt_(std::max(Real(10.0) * Real(0.5) * eps / rtol_, std::min(Real(0.03), std::sqrt(rtol_)))),
         inv_n_(n > 0 ? Real(1.0) / static_cast<Real>(n) : Real(0.0)),
         inv_n3_(n > 0 ? Real(1.0) / static_cast<Real>(3 * n) : Real(0.0)),
-        clock_(t0, t_end, sample_dt) {
+        clock_(t0, t_end, sample_dt),
+        stops_(opt.stops, opt.n_stops, dir_) {
     result_.t = t0;
   }
 
@@ -358,7 +359,7 @@ class Run {
         h_ = std::fabs(t_end_ - t_);
         last_ = true;
       } else {
-        at_stop = detail::Stops<Real>(opt_.stops, opt_.n_stops, dir_).clamp(t_, t_end_, h_, stop);
+        at_stop = stops_.clamp(t_, t_end_, h_, stop);
       }
       t_next_ = last_ ? t_end_ : at_stop ? stop : t_ + dir_ * h_;
     }
@@ -689,6 +690,7 @@ class Run {
   const int nit_;
   const Real rtol_, atol_, fnewt_, inv_n_, inv_n3_;
   detail::SampleClock<Real> clock_;
+  detail::Stops<Real> stops_;  // where steps end exactly (opt.stops)
   BasicIntegrationOutcome<Real> result_;
 
   // Work space (BasicRadau5Workspace<Real>::doubles(n) and ints(n)), laid out by start().

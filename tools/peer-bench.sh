@@ -22,8 +22,9 @@
 # Prints Markdown tables: ratios of minima hamel/peer, minima in ns (CPU time), agreement.
 #
 #   tools/peer-bench.sh [--repetitions N] [--ns 4,8,16,30] [--no-humanoid]
-#     --repetitions N   interleaved repetitions of each benchmark (default 10, about 4 minutes on a quiet
-#                       2-core host, most of it compiling; 50 for the docs)
+#     --repetitions N   interleaved repetitions of each benchmark (default 10: 16 minutes on the 2-core host at
+#                       load 9-16, nearly all of it compiling; a rerun compiles only what changed and then
+#                       takes about 10 s per robot and 10 repetitions)
 #     --min-time S      Google Benchmark's --benchmark_min_time per repetition (default 0.05)
 #     --ns LIST         joint counts of the chains and trees (default 4,8,16,30)
 #     --no-humanoid     leave the humanoid out
@@ -97,9 +98,16 @@ for name in "${models[@]}"; do
   [[ $name == humanoid ]] && flags=(--zero-armature)
   "$hamel" -q emit "$work/$name.yaml" -o "$work/pkg/$name" --fold all --kernels rhs,jacobian,mass_matrix \
     > "$work/$name.emit.log" 2>&1 || { cat "$work/$name.emit.log" >&2; exit 1; }
-  "${cxx[@]}" -DPKG="$name" -DPKG_NAME="\"$name\"" -DPKG_HEADER="\"$name.hpp\"" -I"$work/pkg/$name" \
-    tools/peer-bench/bench.cpp "$work/pkg/$name/$name.cpp" "$work/peers.o" -o "$work/bench_$name" \
-    -ldart -lmujoco -lbenchmark -lpthread
+  # The binary is rebuilt only when the package or the bench sources changed (a rerun with more repetitions
+  # compiles nothing).
+  stamp=$(cat "$work/pkg/$name/$name.cpp" "$work/pkg/$name/$name.hpp" tools/peer-bench/bench.cpp \
+    tools/peer-bench/peers.hpp "$work/peers.o" | sha256sum | cut -c1-16)
+  if [[ ! -x $work/bench_$name || $(cat "$work/bench_$name.stamp" 2> /dev/null) != "$stamp" ]]; then
+    "${cxx[@]}" -DPKG="$name" -DPKG_NAME="\"$name\"" -DPKG_HEADER="\"$name.hpp\"" -I"$work/pkg/$name" \
+      tools/peer-bench/bench.cpp "$work/pkg/$name/$name.cpp" "$work/peers.o" -o "$work/bench_$name" \
+      -ldart -lmujoco -lbenchmark -lpthread
+    echo "$stamp" > "$work/bench_$name.stamp"
+  fi
   # DART warns about the massless bodies between a MuJoCo body's hinges on stderr: kept in a log.
   if ! "$work/bench_$name" "$work/$name.xml" "${flags[@]}" check 20 > "$work/$name.check" 2> "$work/$name.stderr"; then
     echo "peer-bench.sh: $name disagrees: $(cat "$work/$name.check")" >&2

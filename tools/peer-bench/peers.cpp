@@ -240,38 +240,38 @@ void Mujoco::mass_matrix_hamel(double* M) {
 }
 
 void Mujoco::jacobian_fd() {
-  // As mjd_transitionFD does, the position stage is skipped where only velocities (or gravity) change.
+  // As mjd_transitionFD does, the position stage is skipped where only velocities (or gravity) change; those
+  // columns come first, while the position stage holds the unperturbed state. Columns in hamel's order.
   Impl& s = *impl_;
   const double h = 1e-7;
-  const int nv = s.m->nv;
+  const int nv = s.m->nv, n = static_cast<int>(s.qadr.size()), G = s.layout.gravity ? 3 : 0;
   mj_forwardSkip(s.m, s.d, mjSTAGE_NONE, 1);
   std::copy(s.d->qacc, s.d->qacc + nv, s.a0.begin());
-  double* col = s.J.data();
-  auto column = [&] {
+  auto column = [&](int c) {
+    double* col = s.J.data() + static_cast<std::ptrdiff_t>(c) * nv;
     for (int k = 0; k < nv; ++k) col[k] = (s.d->qacc[k] - s.a0[static_cast<std::size_t>(k)]) / h;
-    col += nv;
   };
-  for (int adr : s.qadr) {
-    const double q = s.d->qpos[adr];
-    s.d->qpos[adr] = q + h;
-    mj_forwardSkip(s.m, s.d, mjSTAGE_NONE, 1);
-    column();
-    s.d->qpos[adr] = q;
+  for (int k = 0; k < G; ++k) {
+    const double g = s.m->opt.gravity[k];
+    s.m->opt.gravity[k] = g + h;
+    mj_forwardSkip(s.m, s.d, mjSTAGE_POS, 1);
+    column(n + k);
+    s.m->opt.gravity[k] = g;
   }
-  if (s.layout.gravity)
-    for (int k = 0; k < 3; ++k) {
-      const double g = s.m->opt.gravity[k];
-      s.m->opt.gravity[k] = g + h;
-      mj_forwardSkip(s.m, s.d, mjSTAGE_POS, 1);
-      column();
-      s.m->opt.gravity[k] = g;
-    }
   for (int k = 0; k < nv; ++k) {
     const double v = s.d->qvel[k];
     s.d->qvel[k] = v + h;
     mj_forwardSkip(s.m, s.d, mjSTAGE_POS, 1);
-    column();
+    column(n + G + k);
     s.d->qvel[k] = v;
+  }
+  for (int i = 0; i < n; ++i) {
+    const int adr = s.qadr[static_cast<std::size_t>(i)];
+    const double q = s.d->qpos[adr];
+    s.d->qpos[adr] = q + h;
+    mj_forwardSkip(s.m, s.d, mjSTAGE_NONE, 1);
+    column(i);
+    s.d->qpos[adr] = q;
   }
 }
 

@@ -23,8 +23,7 @@
 #
 #   tools/peer-bench.sh [--repetitions N] [--ns 4,8,16,30] [--no-humanoid]
 #     --repetitions N   interleaved repetitions of each benchmark (default 10: 16 minutes on the 2-core host at
-#                       load 9-16, nearly all of it compiling; a rerun compiles only what changed and then
-#                       takes about 10 s per robot and 10 repetitions)
+#                       load 9-16, most of it compiling; a rerun compiles only what changed)
 #     --min-time S      Google Benchmark's --benchmark_min_time per repetition (default 0.05)
 #     --ns LIST         joint counts of the chains and trees (default 4,8,16,30)
 #     --no-humanoid     leave the humanoid out

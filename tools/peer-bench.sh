@@ -27,6 +27,8 @@
 #     --min-time S      Google Benchmark's --benchmark_min_time per repetition (default 0.05)
 #     --ns LIST         joint counts of the chains and trees (default 4,8,16,30)
 #     --no-humanoid     leave the humanoid out
+#     --package-flags F the emitted package's g++ flags (default "-O2"; e.g. "-O2 -march=native": the peers are
+#                       Debian's builds for generic x86-64 whatever this says)
 # Needs build/bin/hamel (or HAMEL=<binary>) and Debian's libdart-dev, libmujoco-dev, libmujoco-samples,
 # libbenchmark-dev, libeigen3-dev, python3-numpy; as root it installs the missing ones with apt-get.
 # Work files in build/peer-bench/.
@@ -36,12 +38,14 @@ reps=10
 min_time=0.05
 ns=4,8,16,30
 humanoid=1
+package_flags=-O2
 while (($#)); do
   case $1 in
     --repetitions) reps=$2; shift 2 ;;
     --min-time) min_time=$2; shift 2 ;;
     --ns) ns=$2; shift 2 ;;
     --no-humanoid) humanoid=0; shift ;;
+    --package-flags) package_flags=$2; shift 2 ;;
     *) echo "peer-bench.sh: unknown option $1" >&2; exit 2 ;;
   esac
 done
@@ -91,7 +95,8 @@ fi
 echo "# $(date -u '+%Y-%m-%d %H:%M UTC'), $(git rev-parse --short HEAD), $(lscpu | sed -n 's/^Model name:[[:space:]]*//p')," \
   "$(nproc) cores, load $(cut -d' ' -f1-3 /proc/loadavg); $(g++ --version | head -1);" \
   "DART $(dpkg-query -W -f '${Version}' libdart-dev), MuJoCo $(dpkg-query -W -f '${Version}' libmujoco-dev)," \
-  "Google Benchmark $(dpkg-query -W -f '${Version}' libbenchmark-dev); $reps repetitions, min time $min_time s"
+  "Google Benchmark $(dpkg-query -W -f '${Version}' libbenchmark-dev); package $package_flags;" \
+  "$reps repetitions, min time $min_time s"
 for name in "${models[@]}"; do
   flags=()
   [[ $name == humanoid ]] && flags=(--zero-armature)
@@ -99,11 +104,13 @@ for name in "${models[@]}"; do
     > "$work/$name.emit.log" 2>&1 || { cat "$work/$name.emit.log" >&2; exit 1; }
   # The binary is rebuilt only when the package or the bench sources changed (a rerun with more repetitions
   # compiles nothing).
-  stamp=$(cat "$work/pkg/$name/$name.cpp" "$work/pkg/$name/$name.hpp" tools/peer-bench/bench.cpp \
-    tools/peer-bench/peers.hpp "$work/peers.o" | sha256sum | cut -c1-16)
+  stamp=$( (cat "$work/pkg/$name/$name.cpp" "$work/pkg/$name/$name.hpp" tools/peer-bench/bench.cpp \
+    tools/peer-bench/peers.hpp "$work/peers.o"; echo "$package_flags") | sha256sum | cut -c1-16)
   if [[ ! -x $work/bench_$name || $(cat "$work/bench_$name.stamp" 2> /dev/null) != "$stamp" ]]; then
+    # shellcheck disable=SC2086 # the flags are words
+    g++ -std=c++17 $package_flags -c "$work/pkg/$name/$name.cpp" -o "$work/pkg/$name/$name.o"
     "${cxx[@]}" -DPKG="$name" -DPKG_NAME="\"$name\"" -DPKG_HEADER="\"$name.hpp\"" -I"$work/pkg/$name" \
-      tools/peer-bench/bench.cpp "$work/pkg/$name/$name.cpp" "$work/peers.o" -o "$work/bench_$name" \
+      tools/peer-bench/bench.cpp "$work/pkg/$name/$name.o" "$work/peers.o" -o "$work/bench_$name" \
       -ldart -lmujoco -lbenchmark -lpthread
     echo "$stamp" > "$work/bench_$name.stamp"
   fi

@@ -2,6 +2,7 @@
 
 #include "model/input_error.hpp"
 #include "numeric/connection_field.hpp"
+#include "numeric/phase.hpp"
 
 #include <hamel/runtime/lie/rkmk_coupled.hpp>
 
@@ -328,6 +329,7 @@ Eigen::VectorXd least_norm_step(const Eigen::MatrixXd& J, const Eigen::VectorXd&
 
 void check_gait_request(const Model& model, const GaitRequest& req) {
   if (!model.bundle) throw InputError("gait: '" + model.source_path + "' is not a bundle model");
+  check_conserved_momentum(model, "'hamel gait'");
   const FourierGait& g = req.initial;
   if (req.target.size() != model.bundle->group_velocity.size())
     throw InputError("--target: expected " + std::to_string(model.bundle->group_velocity.size()) + " values");

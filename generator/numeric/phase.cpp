@@ -136,8 +136,7 @@ PhaseResult run(const Model& model, const Derivation& d, const std::vector<doubl
 
 }  // namespace
 
-void check_phase_request(const Model& model, const PhaseRequest& req) {
-  if (!model.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
+void check_conserved_momentum(const Model& model, const std::string& verb) {
   // The phase rests on the conserved momentum of a symmetric system; gravity and applied wrenches change it.
   const bool gravity = model.bundle->tree && model.bundle->tree->has_gravity();
   if (gravity || !model.wrenches.empty()) {
@@ -146,9 +145,14 @@ void check_phase_request(const Model& model, const PhaseRequest& req) {
     throw InputError(where != model.locations.end() ? where->second : SourceLocation{model.source_path, 0, 0}, key,
                      std::string(gravity ? "gravity" : "applied wrenches") +
                          " break the symmetry of the floating base: its momentum is not conserved, so shape changes "
-                         "do not determine its motion (the geometric phase); expected a model without them for "
-                         "'hamel phase', or 'hamel simulate' for the motion under them");
+                         "do not determine its motion (the geometric phase); expected a model without them for " +
+                         verb + ", or 'hamel simulate' for the motion under them");
   }
+}
+
+void check_phase_request(const Model& model, const PhaseRequest& req) {
+  if (!model.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
+  check_conserved_momentum(model, "'hamel phase'");
   if (req.path.size() != model.coordinates.size())
     throw InputError("--path: expected " + std::to_string(model.coordinates.size()) +
                      " expressions separated by ';' (one per shape coordinate of " + model.name + "), got " +

@@ -163,6 +163,7 @@ TEST(GaitCli, BadInputExitsWithStatus2AndWritesNothing) {
   };
   for (const Bad& b : {Bad{"gait " + source("models/double_pendulum.yaml") + " --target w=1", "bundle model"},
                        Bad{"gait " + source("models/falling_cat.yaml") + " --target spin=1", "--target"},
+                       Bad{"gait " + source("models/satellite_thrusters.yaml") + " --pseudo-holonomic", "wrenches"},
                        Bad{"gait " + source("models/falling_cat.yaml"), "--target"},
                        Bad{"gait " + source("models/falling_cat.yaml") + " --target wz=1 --harmonics 0", "--harmonics"},
                        Bad{"gait " + source("models/falling_cat.yaml") + " --target wz=1 --plot psi,psi", "--plot"}}) {

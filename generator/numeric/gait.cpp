@@ -272,6 +272,18 @@ class GaitProblem {
       g[static_cast<long>(i)] = free_[i] < 2 * h ? 2 * metric_[i] * x[static_cast<long>(i)] : 0.0;
     return g;
   }
+  /// For pseudo-holonomic loops: x with its harmonics scaled onto the cost of the initial path (the cost is a
+  /// quadratic form in them), so that the cost row of the residual holds exactly and steps cannot overshoot it.
+  Eigen::VectorXd held(Eigen::VectorXd x) const {
+    if (!req_.pseudo_holonomic) return x;
+    const double c = cost(x);
+    if (!(c > 0)) return x;
+    const double s = std::sqrt(size0_ / c);
+    const std::size_t h = gait_.cosine.size();
+    for (std::size_t i = 0; i < size(); ++i)
+      if (free_[i] < 2 * h) x[static_cast<long>(i)] *= s;
+    return x;
+  }
   bool within_limits(const Eigen::VectorXd& x) const {
     const auto [amplitude, rate] = extent(gait_at(x));
     return amplitude <= req_.max_amplitude && rate <= req_.max_rate;
@@ -395,7 +407,7 @@ GaitResult design_gait(const Model& model, const Derivation& d, const std::vecto
     ++out.target_iterations;
     bool accepted = false;
     for (int tries = 0; tries < 30 && !accepted; ++tries) {
-      const Eigen::VectorXd trial = x + least_norm_step(v.J, v.e, M, mu);
+      const Eigen::VectorXd trial = problem.held(x + least_norm_step(v.J, v.e, M, mu));
       if (!problem.within_limits(trial)) {
         mu *= 4;
         continue;
@@ -476,7 +488,7 @@ GaitResult design_gait(const Model& model, const Derivation& d, const std::vecto
   v = problem.evaluate(x, true);
   // Gauss–Newton converges quadratically: continue while it still halves |e|, to the rounding level.
   for (int k = 0; k < 10; ++k) {
-    const Eigen::VectorXd trial = x + least_norm_step(v.J, v.e, M, 0.0);
+    const Eigen::VectorXd trial = problem.held(x + least_norm_step(v.J, v.e, M, 0.0));
     GaitProblem::Value w = problem.evaluate(trial, true);
     if (!(w.e.norm() < v.e.norm())) break;
     const bool halved = w.e.norm() < 0.5 * v.e.norm();

@@ -40,7 +40,7 @@ int index_of(const std::vector<std::string>& names, const std::string& name, con
   if (it == names.end()) {
     std::string list;
     for (const auto& n : names) list += (list.empty() ? "" : ", ") + n;
-    throw InputError(option + ": '" + name + "' is not one of " + list);
+    throw InputError(option + ": '" + name + "' is not a name of the model's; expected one of " + list);
   }
   return static_cast<int>(it - names.begin());
 }

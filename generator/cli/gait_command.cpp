@@ -303,14 +303,12 @@ Run add_gait_command(CLI::App& app) {
   add_pipeline_options(cmd, opt->in, PipelineFlags{"Bundle model or scene file (YAML, schema 1)", false, true});
   cmd->add_option("--target", opt->target,
                   "Net motion per cycle g* = exp(v), v in exponential coordinates named by the model's group velocity "
-                  "(e.g. wz=pi; unnamed ones 0; values may use pi)")
-      ->delimiter(',');
+                  "(e.g. wz=pi; unnamed ones 0; values may use pi)");
   cmd->add_flag("--pseudo-holonomic", opt->pseudo_holonomic,
                 "Find a loop whose phase is the identity, of the cost of the initial path");
   cmd->add_option("--harmonics", opt->harmonics, "Harmonics H of the Fourier series")->capture_default_str();
   cmd->add_option("--period", opt->period, "Period T of the path [s]")->capture_default_str();
-  cmd->add_option("--center", opt->center, "Centre of the path per shape coordinate (name=value; default 0)")
-      ->delimiter(',');
+  cmd->add_option("--center", opt->center, "Centre of the path per shape coordinate (name=value; default 0)");
   cmd->add_flag("--free-center", opt->free_center, "Optimise the centre too");
   cmd->add_option("--amplitude", opt->amplitude,
                   "Radius of the initial path (first harmonic in every shape coordinate)")

@@ -295,10 +295,20 @@ class GaitProblem {
     Eigen::MatrixXd J;
     GaitPhase phase;
   };
-  Value evaluate(const Eigen::VectorXd& x, bool jacobian) {
+  /// A trial point whose reconstruction fails (a non-finite state: the path left the shape space where 𝒜 is
+  /// defined) gets an infinite residual, so that the optimiser rejects it; `strict` throws the InputError instead.
+  Value evaluate(const Eigen::VectorXd& x, bool jacobian, bool strict = false) {
     ++evaluations_;
     Value v;
-    v.phase = rec_(gait_at(x), req_.target, steps_, jacobian);
+    try {
+      v.phase = rec_(gait_at(x), req_.target, steps_, jacobian);
+    } catch (const InputError&) {
+      if (strict) throw;
+      const long rows = static_cast<long>(req_.target.size()) + (req_.pseudo_holonomic ? 1 : 0);
+      v.e = Eigen::VectorXd::Constant(rows, std::numeric_limits<double>::infinity());
+      v.J = Eigen::MatrixXd::Zero(rows, static_cast<long>(size()));
+      return v;
+    }
     const long m = static_cast<long>(v.phase.residual.size()), rows = m + (req_.pseudo_holonomic ? 1 : 0);
     v.e.resize(rows);
     for (long a = 0; a < m; ++a) v.e[a] = v.phase.residual[static_cast<std::size_t>(a)];
@@ -397,7 +407,7 @@ GaitResult design_gait(const Model& model, const Derivation& d, const std::vecto
   if (!problem.within_limits(x))
     throw InputError("--amplitude: the initial path exceeds --max-amplitude or --max-rate; expected a smaller one");
   problem.set_coarse(true);
-  GaitProblem::Value v = problem.evaluate(x, true);
+  GaitProblem::Value v = problem.evaluate(x, true, true);
 
   // Stage 1: reach the target (Levenberg–Marquardt, least M-norm steps).
   double mu = 1e-3 * std::max(1e-300, (v.J * M.cwiseInverse().asDiagonal() * v.J.transpose()).trace());
@@ -460,7 +470,7 @@ GaitResult design_gait(const Model& model, const Derivation& d, const std::vecto
       for (; alpha > 1e-6 && !accepted; alpha *= 0.5) {
         Eigen::VectorXd trial = x + alpha * d;
         GaitProblem::Value w = problem.evaluate(trial, true);
-        for (int k = 0; k < 8 && w.e.norm() > req.tolerance; ++k) {
+        for (int k = 0; k < 8 && std::isfinite(w.e.norm()) && w.e.norm() > req.tolerance; ++k) {
           trial += least_norm_step(w.J, w.e, M, 0.0);
           w = problem.evaluate(trial, true);
         }
@@ -485,7 +495,7 @@ GaitResult design_gait(const Model& model, const Derivation& d, const std::vecto
   // Both stages ran with a quarter of the steps: restore the target with the requested steps (a few Gauss–Newton
   // steps from a point whose residual is the difference of the two discretizations).
   problem.set_coarse(false);
-  v = problem.evaluate(x, true);
+  v = problem.evaluate(x, true, true);
   // Gauss–Newton converges quadratically: continue while it still halves |e|, to the rounding level.
   for (int k = 0; k < 10; ++k) {
     const Eigen::VectorXd trial = problem.held(x + least_norm_step(v.J, v.e, M, 0.0));

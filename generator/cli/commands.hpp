@@ -22,6 +22,7 @@ Run add_derive_command(CLI::App& app);
 Run add_emit_command(CLI::App& app);
 Run add_simulate_command(CLI::App& app);
 Run add_phase_command(CLI::App& app);
+Run add_gait_command(CLI::App& app);
 Run add_accuracy_command(CLI::App& app);
 Run add_report_command(CLI::App& app);
 Run add_import_command(CLI::App& app);

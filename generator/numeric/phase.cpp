@@ -2,8 +2,8 @@
 
 #include "emit/expression_graph.hpp"
 #include "emit/kernels.hpp"
-#include "emit/linear_solve.hpp"
 #include "model/input_error.hpp"
+#include "numeric/connection_field.hpp"
 #include "numeric/graph_evaluator.hpp"
 
 #include <hamel/runtime/ldlt.hpp>
@@ -21,66 +21,44 @@ namespace lie = runtime::lie;
 
 namespace {
 
-// Numeric evaluation of A(r), L(r) and of the path r(t), ṙ(t), all from one expression graph.
+// Numeric evaluation of A(r), L(r) (ConnectionField) along the path r(t), ṙ(t) (an expression graph of its own).
 class BundleFunctions {
  public:
   BundleFunctions(const Model& model, const Derivation& d, const std::vector<double>& parameters,
                   const std::vector<GiNaC::ex>& path)
-      : m_(d.bundle->algebra.dim()), n_(static_cast<unsigned>(model.coordinates.size())), p_(parameters) {
+      : field_(model, d, parameters), p_(parameters) {
     std::map<GiNaC::ex, int, GiNaC::ex_is_less> leaves;
     leaves[model.time] = graph_.input(Argument::time, 0);
-    for (unsigned I = 0; I < n_; ++I) {
-      leaves[model.coordinates[I]] = graph_.input(Argument::state, static_cast<int>(I));
-      leaves[model.rates[I]] = graph_.input(Argument::state, static_cast<int>(n_ + I));
-    }
     for (std::size_t k = 0; k < model.parameters.size(); ++k)
       leaves[model.parameters[k].symbol] = graph_.input(Argument::parameter, static_cast<int>(k));
-    // Kinematic trees (ep form): L and K are blocks of the mass matrix, written with intermediate symbols
-    // (converted as they are needed: those of L and K depend on r only); A solves L A = K in the graph.
-    ProgramConverter node_of(graph_, leaves, d.equations.intermediates);
-    const BundleGeometry& geo = *d.bundle;
-    std::vector<int> geometry, curve, L;
-    for (unsigned a = 0; a < m_; ++a)
-      for (unsigned b = 0; b < m_ && geo.quadratic; ++b) L.push_back(node_of(geo.L(a, b)));
-    if (geo.connection_derived) {
-      for (unsigned a = 0; a < m_; ++a)
-        for (unsigned I = 0; I < n_; ++I) geometry.push_back(node_of(geo.connection(a, I)));
-    } else {
-      for (const std::vector<int>& row : solved_connection(graph_, geo, node_of))
-        geometry.insert(geometry.end(), row.begin(), row.end());
-    }
-    has_L_ = geo.quadratic;
-    geometry.insert(geometry.end(), L.begin(), L.end());
+    std::vector<int> curve;
     for (const auto& r : path) curve.push_back(graph_.from_expression(r, leaves));
     for (const auto& r : path) curve.push_back(graph_.from_expression(r.diff(model.time), leaves));
-    geometry_ = std::make_unique<GraphEvaluator>(graph_, geometry);
     curve_ = std::make_unique<GraphEvaluator>(graph_, curve);
-    x_.resize(2 * n_);
-    geometry_out_.resize(geometry.size());
+    x_.resize(2 * field_.n());
   }
 
-  bool has_locked_inertia() const { return has_L_; }
+  bool has_locked_inertia() const { return field_.has_locked_inertia(); }
 
   /// Evaluates at time t with the shape on the path, or frozen at the path's r(0) with ṙ = 0.
   void at(double t, bool frozen) {
     curve_->evaluate(frozen ? 0.0 : t, nullptr, p_.data(), nullptr, x_.data());
     if (frozen)
-      for (unsigned I = 0; I < n_; ++I) x_[n_ + I] = 0;
-    geometry_->evaluate(t, x_.data(), p_.data(), nullptr, geometry_out_.data());
+      for (unsigned I = 0; I < n(); ++I) x_[n() + I] = 0;
+    field_.evaluate(x_.data());
   }
-  double A(unsigned a, unsigned I) const { return geometry_out_[a * n_ + I]; }
-  double L(unsigned a, unsigned b) const { return geometry_out_[m_ * n_ + a * m_ + b]; }
-  double r_dot(unsigned I) const { return x_[n_ + I]; }
-  unsigned m() const { return m_; }
-  unsigned n() const { return n_; }
+  double A(unsigned a, unsigned I) const { return field_.A(a, I); }
+  double L(unsigned a, unsigned b) const { return field_.L(a, b); }
+  double r_dot(unsigned I) const { return x_[n() + I]; }
+  unsigned m() const { return field_.m(); }
+  unsigned n() const { return field_.n(); }
 
  private:
-  unsigned m_, n_;
+  ConnectionField field_;
   std::vector<double> p_;
   ExpressionGraph graph_;
-  std::unique_ptr<GraphEvaluator> geometry_, curve_;
-  std::vector<double> x_, geometry_out_;
-  bool has_L_ = false;
+  std::unique_ptr<GraphEvaluator> curve_;
+  std::vector<double> x_;
 };
 
 template <class G>
@@ -158,8 +136,7 @@ PhaseResult run(const Model& model, const Derivation& d, const std::vector<doubl
 
 }  // namespace
 
-void check_phase_request(const Model& model, const PhaseRequest& req) {
-  if (!model.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
+void check_conserved_momentum(const Model& model, const std::string& verb) {
   // The phase rests on the conserved momentum of a symmetric system; gravity and applied wrenches change it.
   const bool gravity = model.bundle->tree && model.bundle->tree->has_gravity();
   if (gravity || !model.wrenches.empty()) {
@@ -168,9 +145,14 @@ void check_phase_request(const Model& model, const PhaseRequest& req) {
     throw InputError(where != model.locations.end() ? where->second : SourceLocation{model.source_path, 0, 0}, key,
                      std::string(gravity ? "gravity" : "applied wrenches") +
                          " break the symmetry of the floating base: its momentum is not conserved, so shape changes "
-                         "do not determine its motion (the geometric phase); expected a model without them for "
-                         "'hamel phase', or 'hamel simulate' for the motion under them");
+                         "do not determine its motion (the geometric phase); expected a model without them for " +
+                         verb + ", or 'hamel simulate' for the motion under them");
   }
+}
+
+void check_phase_request(const Model& model, const PhaseRequest& req) {
+  if (!model.bundle) throw InputError("phase: '" + model.source_path + "' is not a bundle model");
+  check_conserved_momentum(model, "'hamel phase'");
   if (req.path.size() != model.coordinates.size())
     throw InputError("--path: expected " + std::to_string(model.coordinates.size()) +
                      " expressions separated by ';' (one per shape coordinate of " + model.name + "), got " +

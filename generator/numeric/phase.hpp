@@ -40,6 +40,10 @@ struct PhaseResult {
   long steps = 0;
 };
 
+/// Throws InputError (naming the model's key) when gravity or applied wrenches break the symmetry of the floating base,
+/// so that shape changes do not determine its motion; `verb` names the command in the message.
+void check_conserved_momentum(const Model& model, const std::string& verb);
+
 /// Throws InputError when `req` does not fit `model` (path length, period, cycles, steps); compute_phase
 /// calls it too, callers may call it first to fail before the derivation.
 void check_phase_request(const Model& model, const PhaseRequest& req);

@@ -143,8 +143,8 @@ void check_conserved_momentum(const Model& model, const std::string& verb) {
     const std::string key = gravity ? "tree.gravity" : "wrenches";
     const auto where = model.locations.find(gravity ? "tree.gravity" : "wrenches");
     throw InputError(where != model.locations.end() ? where->second : SourceLocation{model.source_path, 0, 0}, key,
-                     std::string(gravity ? "gravity" : "applied wrenches") +
-                         " break the symmetry of the floating base: its momentum is not conserved, so shape changes "
+                     std::string(gravity ? "gravity breaks" : "applied wrenches break") +
+                         " the symmetry of the floating base: its momentum is not conserved, so shape changes "
                          "do not determine its motion (the geometric phase); expected a model without them for " +
                          verb + ", or 'hamel simulate' for the motion under them");
   }

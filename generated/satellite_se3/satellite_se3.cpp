@@ -6,6 +6,11 @@
 
 #include <cmath>
 
+// Keeps the stack of long kernels small on in-order cores (GCC; docs/firmware.md).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-schedule-insns")
+#endif
+
 namespace satellite_se3 {
 
 /* kinematics: (t, x[12], p[19], in[0]) -> out[3]  ops: 0 add, 0 mul, 0 div, 0 call */

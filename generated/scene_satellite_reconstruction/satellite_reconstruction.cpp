@@ -6,6 +6,11 @@
 
 #include <cmath>
 
+// Keeps the stack of long kernels small on in-order cores (GCC; docs/firmware.md).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-schedule-insns")
+#endif
+
 namespace satellite_reconstruction {
 
 /* group_velocity: (t, x[6], p[19], in[0]) -> out[6]  ops: 13 add, 18 mul, 0 div, 0 call */

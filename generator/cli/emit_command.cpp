@@ -156,7 +156,8 @@ Run add_emit_command(CLI::App& app) {
   cmd->add_option("--split", opt->settings.split_statements,
                   "Print a kernel of more than N operations as functions of at most N operations each, called in turn "
                   "(an optimizing compiler's register allocation grows faster than linearly with the length of one "
-                  "function; 0: never split)")
+                  "function; 0: never split; on a microcontroller 1000 halves the stack a part takes in double, "
+                  "docs/firmware.md)")
       ->default_val(opt->settings.split_statements)
       ->check(whole_number("operations", "never split"))
       ->type_name("N");

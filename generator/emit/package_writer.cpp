@@ -411,8 +411,15 @@ std::string PackageWriter::source() const {
       c << c_work_signature(k.name) << " { " << model.name << "::" << k.name << "_work(t, x, p, in, out, work); }\n";
   c << "\n}  // extern \"C\"\n";
   const std::string body = c.str();
-  const std::string includes =
-      stamp + "#include \"" + model.name + ".hpp\"\n#include \"" + model.name + ".h\"\n\n#include <cmath>\n";
+  // GCC's first scheduling pass (on at -O2 for Arm, off for x86-64) moves a long straight-line function's loads far
+  // ahead of their uses, where they wait in stack spills: the Whipple bicycle's jacobian parts took 5.1 KB of stack
+  // each in double on a Cortex-M7, 2.1 KB without the pass (docs/firmware.md). Off for the package's functions; on
+  // x86-64 the objects are byte-identical.
+  const std::string includes = stamp + "#include \"" + model.name + ".hpp\"\n#include \"" + model.name +
+                               ".h\"\n\n#include <cmath>\n\n"
+                               "// Keeps the stack of long kernels small on in-order cores (GCC; docs/firmware.md).\n"
+                               "#if defined(__GNUC__) && !defined(__clang__)\n"
+                               "#pragma GCC optimize(\"no-schedule-insns\")\n#endif\n";
   // The macro emit/kernel_printer.cpp puts before long internal functions, defined where the compiler has a way,
   // when some function uses it
   const std::string noinline =

@@ -25,7 +25,19 @@
 
 namespace {
 void decay(float, const float* x, float* f) { f[0] = -x[0]; }
+void unit_circle(float, const float* q, float* g) { g[0] = q[0] * q[0] + q[1] * q[1] - 1.0f; }
+void unit_circle_gradient(float, const float* q, float* G) {
+  G[0] = 2.0f * q[0];
+  G[1] = 2.0f * q[1];
+}
 }  // namespace
+
+int firmware_projection_instantiates_in_float(float* q) {
+  static float work[hamel::runtime::BasicProjectionWorkspace<float>::reals(2, 1)];
+  using namespace hamel::runtime;
+  ConstraintProjector project(unit_circle, unit_circle_gradient, 2, 1, BasicProjectionWorkspace<float>{work, 4});
+  return project(0.0f, q) != Status::ok;
+}
 
 int firmware_headers_instantiate_in_float(float* x) {
   static float work[hamel::runtime::BasicRadau5Workspace<float>::reals(1) +

@@ -3,15 +3,21 @@
 // double), and every method reaches what float can resolve on the harmonic oscillator x'' = -x, whose solution
 // cos t, -sin t is known. The same runs in double agree with the float ones to float's accuracy, and the double
 // instantiation is the one the double tests check (Dopri5Workspace is BasicDopri5Workspace<double>, and so on).
+// The projection onto position constraints (projection.hpp) is generic too: in float it reaches the closed-form
+// nearest point to float rounding, and keeps an RK4 run on its constraint at float's rounding level.
 #include "hamel/runtime/dop853.hpp"
 #include "hamel/runtime/dopri5.hpp"
+#include "hamel/runtime/projection.hpp"
 #include "hamel/runtime/radau5.hpp"
 #include "hamel/runtime/rk4.hpp"
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <iterator>
+#include <limits>
 #include <type_traits>
 
 namespace {
@@ -122,6 +128,76 @@ TEST(RuntimeFloat, FloatStepsAreNotRoundedToDouble) {
   const auto o = integrate_rk4(oscillator<float>, x, 2, 1000.0f, 1000.001f, 1e-9f, 0.0f, NoObserver{},
                                BasicRk4Workspace<float>{work, 14});
   EXPECT_EQ(o.status, Status::step_size_underflow);
+}
+
+// The circle |q| = 2 and its gradient, in Real.
+template <class Real>
+void circle(Real, const Real* q, Real* g) {
+  g[0] = q[0] * q[0] + q[1] * q[1] - Real(4);
+}
+template <class Real>
+void circle_gradient(Real, const Real* q, Real* G) {
+  G[0] = Real(2) * q[0];
+  G[1] = Real(2) * q[1];
+}
+
+TEST(RuntimeFloat, ProjectionReachesTheNearestPointInFloat) {
+  static_assert(std::is_same_v<ProjectionWorkspace, BasicProjectionWorkspace<double>>);
+  float work[BasicProjectionWorkspace<float>::reals(2, 1)];
+  float x[3] = {3.0f, -1.2f, 7.0f};  // q, then a velocity the projection leaves alone
+  const BasicProjectionOutcome<float> o = project_positions(circle<float>, circle_gradient<float>, 0.0f, x, 2, 1,
+                                                            BasicProjectionWorkspace<float>{work, std::size(work)});
+  ASSERT_EQ(o.status, Status::ok);
+  static_assert(std::is_same_v<decltype(o.correction), float>);
+  // The closed form 2 q / |q|, in double: the float result is within two ulps of float at 2 (2.4e-7 each).
+  const double norm = std::hypot(3.0, -1.2);
+  const double ulp = 2.0 * static_cast<double>(std::numeric_limits<float>::epsilon());
+  EXPECT_LE(std::fabs(static_cast<double>(x[0]) - 6.0 / norm), 2 * ulp);
+  EXPECT_LE(std::fabs(static_cast<double>(x[1]) + 2.4 / norm), 2 * ulp);
+  EXPECT_EQ(x[2], 7.0f);
+  EXPECT_GE(o.iterations, 3);
+  EXPECT_LE(o.iterations, 8);
+  std::printf("float projection: %d corrections, q = (%.9g, %.9g), closed form (%.9g, %.9g)\n", o.iterations,
+              static_cast<double>(x[0]), static_cast<double>(x[1]), 6.0 / norm, -2.4 / norm);
+}
+
+/// RK4 of the growing rotation q' = (-q1, q0) + q / 10 from (2, 0) over [0, 3] with the circle's projector on every
+/// step, in Real: |q|^2 - 4 at the end, the distance from (2 cos 3, 2 sin 3) and the largest |g| the projector met.
+/// Unprojected, |q| would grow to 2 e^0.3; the projection moves each step's end radially, which undoes the growth
+/// and leaves the rotation.
+template <class Real>
+std::array<double, 3> rotation_with_projection() {
+  auto rotation = [](Real, const Real* q, Real* f) {
+    f[0] = -q[1] + q[0] / Real(10);
+    f[1] = q[0] + q[1] / Real(10);
+  };
+  static Real work[BasicRk4Workspace<Real>::reals(2)];
+  static Real projection_work[BasicProjectionWorkspace<Real>::reals(2, 1)];
+  ConstraintProjector project(circle<Real>, circle_gradient<Real>, 2, 1,
+                              BasicProjectionWorkspace<Real>{projection_work, std::size(projection_work)});
+  Real q[2] = {Real(2), Real(0)};
+  const auto o = integrate_rk4(rotation, q, 2, Real(0), Real(3), Real(0.01), Real(0), NoObserver{},
+                               BasicRk4Workspace<Real>{work, 14}, project);
+  EXPECT_EQ(o.status, Status::ok);
+  EXPECT_GT(project.stats().projections, 0);
+  const double g = std::fabs(static_cast<double>(q[0]) * static_cast<double>(q[0]) +
+                             static_cast<double>(q[1]) * static_cast<double>(q[1]) - 4.0);
+  const double error =
+      std::hypot(static_cast<double>(q[0]) - 2 * std::cos(3.0), static_cast<double>(q[1]) - 2 * std::sin(3.0));
+  return {g, error, static_cast<double>(project.stats().largest_residual)};
+}
+
+TEST(RuntimeFloat, ProjectedRunStaysOnItsConstraintInFloat) {
+  const std::array<double, 3> in_float = rotation_with_projection<float>();
+  const std::array<double, 3> in_double = rotation_with_projection<double>();
+  std::printf("projected rk4: |g| float %.2e double %.2e; error float %.2e double %.2e; drift per step float %.2e\n",
+              in_float[0], in_double[0], in_float[1], in_double[1], in_float[2]);
+  // On the circle to float rounding (|g| = |q|^2 - 4, a few ulps of 4 = 4.8e-7 each) and in double to double's.
+  EXPECT_LE(in_float[0], 8 * 4 * static_cast<double>(std::numeric_limits<float>::epsilon()));
+  EXPECT_LE(in_double[0], 8 * 4 * std::numeric_limits<double>::epsilon());
+  // The float run follows the exact solution to float's accuracy over 300 steps; the double one to RK4's h^4.
+  EXPECT_LT(in_float[1], 2e-5);
+  EXPECT_LT(in_double[1], 1e-8);
 }
 
 }  // namespace

@@ -140,26 +140,43 @@ def _bind(symbol, arguments, result):
 _KERNEL_ARGUMENTS = [_SIZE] + [_POINTER, _SIZE] * 5
 
 
+def _output(out, rows, shape, where):
+    # A new array for the outputs, or the caller's `out` (as (rows,) + shape, a view of the same memory).
+    full = (1 if rows is None else rows,) + shape
+    if out is None:
+        return _np.empty(full, dtype=dtype)
+    expected = shape if rows is None else full
+    if not (isinstance(out, _np.ndarray) and out.shape == expected and out.dtype == dtype and
+            out.flags.c_contiguous and out.flags.writeable):
+        raise ValueError(where + ": out must be a writable C-contiguous " + str(dtype) + " array of shape " +
+                         str(expected) + "; got " + (str(out.dtype) + " " + str(out.shape) if
+                                                     isinstance(out, _np.ndarray) else type(out).__name__))
+    return out.reshape(full)
+
+
 def _kernel(kernel, prepared=False):
     shape, names, summary = kernels[kernel]
     width = _math.prod(shape)
     function = _bind(kernel, _KERNEL_ARGUMENTS, None)
     where = name + "." + kernel
 
-    def call(t, x, p=None, inputs=None):
+    def call(t, x, p=None, inputs=None, out=None):
         p_default = default_prepared_parameters if prepared else default_parameters
         rows, flat, keep = _state_arguments(where, t, x, p, inputs,
                                             n_prepared_parameters if prepared else n_parameters, p_default)
-        out = _np.empty((1 if rows is None else rows,) + shape, dtype=dtype)
-        function(1 if rows is None else rows, *flat, out.ctypes.data, width)
+        result = _output(out, rows, shape, where)
+        function(1 if rows is None else rows, *flat, result.ctypes.data, width)
         del keep
-        return out[0] if rows is None else out
+        if out is not None:
+            return out
+        return result[0] if rows is None else result
 
     call.__name__ = call.__qualname__ = kernel
     call.__doc__ = (summary + ".\n\n" + kernel + "(t, x, p=None, inputs=None): t a number or (N,), x (n_state,) or (N, "
                     "n_state), p (" + ("n_prepared_parameters" if prepared else "n_parameters") + ",) or (N, ...) "
                     "(None: the defaults" + (", prepared" if prepared else "") + "), inputs (n_inputs,) or (N, "
-                    "n_inputs). Returns shape " + str(shape) + ", or (N,) + " + str(shape) + " for N states. "
+                    "n_inputs). Returns shape " + str(shape) + ", or (N,) + " + str(shape) + " for N states; into "
+                    "out when given (a C-contiguous array of that shape and dtype, written in place). "
                     "Outputs: " + ", ".join(names[:12]) + (", ..." if len(names) > 12 else "") + ".")
     return call
 

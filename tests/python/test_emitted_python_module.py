@@ -122,6 +122,12 @@ def test_each_row_of_a_batch_is_the_call_for_that_state():
                                                                   np.tile(u[0], (64, 1))))
     # A batch of inputs at one state gives as many rows.
     assert sleigh.rhs(0.0, x[0], p[0], u).shape == (64, 5)
+    # out=: the same values written into the caller's array, which is returned.
+    buffer = np.full((64, 5, 5), np.nan)
+    assert sleigh.jacobian(t, x, p, u, out=buffer) is buffer
+    assert np.array_equal(buffer, sleigh.jacobian(t, x, p, u))
+    one = np.empty(5)
+    assert sleigh.rhs(t[3], x[3], p[3], u[3], out=one) is one and np.array_equal(one, sleigh.rhs(t, x, p, u)[3])
 
 
 def test_prepared_kernels_equal_the_plain_ones():
@@ -197,6 +203,10 @@ def test_bad_arguments_are_clear_errors():
         dp.rhs(0.0, np.zeros(4, dtype=complex))
     with pytest.raises(ValueError, match=r"p has shape \(4,\)"):
         dp.jacobian(0.0, np.zeros(4), np.ones(4))
+    with pytest.raises(ValueError, match=r"out must be a writable C-contiguous float64 array of shape \(4, 4\)"):
+        dp.jacobian(0.0, np.zeros(4), out=np.empty(16))
+    with pytest.raises(ValueError, match=r"out must be .* of shape \(2, 4\); got float32"):
+        dp.rhs(0.0, np.zeros((2, 4)), out=np.empty((2, 4), dtype=np.float32))
 
 
 def test_a_library_from_another_emit_is_refused(tmp_path):

@@ -1,7 +1,8 @@
 """The Python side of tools/python-bench.sh: per package, N random states (and inputs), then in rounds the C++
-loop (bench_<name>, the same states) and one batch call of the emitted module (pkg.rhs(0.0, X, None, U), all its
-argument handling and the output array included), each the best of `passes` passes; prints a Markdown table of the
-best ns per state over all rounds and the ratio Python / C++.
+loop (bench_<name>, the same states, one output array reused) and one batch call of the emitted module
+(pkg.rhs(0.0, X, None, U), all its argument handling included): returning a new output array, and writing into one
+reused as the C++ loop does (out=); each the best of `passes` passes. Prints a Markdown table of the best ns per state
+over all rounds and the ratios Python / C++.
 
     /usr/bin/python3 tools/python-bench/bench.py --build DIR --n 10000 --rounds 5 --passes 200 name ...
 """
@@ -16,11 +17,11 @@ import time
 import numpy as np
 
 
-def python_ns_per_state(kernel, X, U, passes):
+def python_ns_per_state(kernel, X, U, passes, out=None):
     best = float("inf")
     for _ in range(passes):
         start = time.perf_counter()
-        kernel(0.0, X, None, U)
+        kernel(0.0, X, None, U, out=out)
         best = min(best, time.perf_counter() - start)
     return best / len(X) * 1e9
 
@@ -33,8 +34,9 @@ def main():
     parser.add_argument("--passes", type=int, default=200)
     parser.add_argument("names", nargs="+")
     args = parser.parse_args()
-    print("| package | kernel | C++ loop ns/state | Python batch ns/state | Python / C++ |")
-    print("|---|---|---:|---:|---:|")
+    print("| package | kernel | C++ loop ns/state | Python batch ns/state | Python / C++ | Python, out= ns/state | "
+          "Python out= / C++ |")
+    print("|---|---|---:|---:|---:|---:|---:|")
     for name in args.names:
         folder = os.path.join(args.build, name)
         sys.path.insert(0, folder)
@@ -53,11 +55,15 @@ def main():
                 kernel, ns = line.split()
                 best[(kernel, "C++")] = min(best.get((kernel, "C++"), float("inf")), float(ns))
             for kernel in ("rhs", "jacobian"):
-                ns = python_ns_per_state(getattr(pkg, kernel), X, U, args.passes)
+                function = getattr(pkg, kernel)
+                ns = python_ns_per_state(function, X, U, args.passes)
                 best[(kernel, "Python")] = min(best.get((kernel, "Python"), float("inf")), ns)
+                out = np.empty((args.n,) + pkg.kernels[kernel][0])
+                ns = python_ns_per_state(function, X, U, args.passes, out)
+                best[(kernel, "out")] = min(best.get((kernel, "out"), float("inf")), ns)
         for kernel in ("rhs", "jacobian"):
-            c, p = best[(kernel, "C++")], best[(kernel, "Python")]
-            print(f"| {name} | {kernel} | {c:.1f} | {p:.1f} | {p / c:.3f} |")
+            c, p, o = best[(kernel, "C++")], best[(kernel, "Python")], best[(kernel, "out")]
+            print(f"| {name} | {kernel} | {c:.1f} | {p:.1f} | {p / c:.3f} | {o:.1f} | {o / c:.3f} |")
 
 
 if __name__ == "__main__":

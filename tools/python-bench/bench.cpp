@@ -1,7 +1,9 @@
 // The C++ side of tools/python-bench.sh: the loop a C++ caller writes over N states, kernel(t, x_i, p, in_i, out_i),
 // timed per state, for rhs and jacobian of the package PKG (compiled with its header; linked with its static library,
-// built with the same flags as the Python module's shared library). Reads the states and inputs bench.py drew.
-//   bench_<PKG> states.bin inputs.bin N passes  ->  "rhs <ns per state>\njacobian <ns per state>" (best pass)
+// built with the same flags as the Python module's shared library). Reads the states and inputs bench.py drew. Two
+// loops: into one output array reused by every pass, and into a new (uninitialized) array per pass, as a Python call
+// that returns its result does.
+//   bench_<PKG> states.bin inputs.bin N passes  ->  lines "<kernel> <reused|new> <ns per state>" (best pass)
 #include PKG_HEADER
 
 #include <algorithm>
@@ -26,18 +28,21 @@ std::vector<double> read_doubles(const char* path, std::size_t count) {
 
 template <class Kernel>
 double best_ns_per_state(Kernel kernel, int m, const std::vector<double>& x, const std::vector<double>& in, long n,
-                         int passes) {
-  std::vector<double> out(static_cast<std::size_t>(n) * static_cast<std::size_t>(m));
+                         int passes, bool new_array) {
+  const std::size_t size = static_cast<std::size_t>(n) * static_cast<std::size_t>(m);
+  std::vector<double> reused(size);
   const double* in0 = in.empty() ? nullptr : in.data();
   double best = 1e300, sink = 0;
   for (int pass = 0; pass < passes; ++pass) {
     const auto start = std::chrono::steady_clock::now();
+    double* out = new_array ? new double[size] : reused.data();
     for (long i = 0; i < n; ++i)
       kernel(0.0, x.data() + i * PKG::n_state, PKG::default_parameters, in0 ? in0 + i * PKG::n_inputs : nullptr,
-             out.data() + i * m);
+             out + i * m);
+    sink += out[static_cast<std::size_t>(pass % m)];
+    if (new_array) delete[] out;
     const auto stop = std::chrono::steady_clock::now();
     best = std::min(best, std::chrono::duration<double, std::nano>(stop - start).count() / static_cast<double>(n));
-    sink += out[static_cast<std::size_t>(pass % m)];
   }
   if (sink == 12345.678) std::puts("");  // keeps the outputs observable
   return best;
@@ -61,7 +66,11 @@ int main(int argc, char** argv) {
   const auto jacobian = [](double t, const double* s, const double* p, const double* u, double* out) {
     PKG::jacobian(t, s, p, u, out);
   };
-  std::printf("rhs %.3f\n", best_ns_per_state(rhs, PKG::n_out_rhs, x, in, n, passes));
-  std::printf("jacobian %.3f\n", best_ns_per_state(jacobian, PKG::n_out_jacobian, x, in, n, passes));
+  for (const bool new_array : {false, true}) {
+    const char* how = new_array ? "new" : "reused";
+    std::printf("rhs %s %.3f\n", how, best_ns_per_state(rhs, PKG::n_out_rhs, x, in, n, passes, new_array));
+    std::printf("jacobian %s %.3f\n", how,
+                best_ns_per_state(jacobian, PKG::n_out_jacobian, x, in, n, passes, new_array));
+  }
   return 0;
 }

@@ -1,8 +1,8 @@
 """The Python side of tools/python-bench.sh: per package, N random states (and inputs), then in rounds the C++
-loop (bench_<name>, the same states, one output array reused) and one batch call of the emitted module
-(pkg.rhs(0.0, X, None, U), all its argument handling included): returning a new output array, and writing into one
-reused as the C++ loop does (out=); each the best of `passes` passes. Prints a Markdown table of the best ns per state
-over all rounds and the ratios Python / C++.
+loop (bench_<name>, the same states) and one batch call of the emitted module (pkg.rhs(0.0, X, None, U), all its
+argument handling included), each the best of `passes` passes, both ways: writing into one output array reused by
+every pass (C++; Python's out=), and into a new array per pass (C++: new double[]; Python: the array it returns).
+Prints a Markdown table of the best ns per state over all rounds and the ratios Python / C++ of each way.
 
     /usr/bin/python3 tools/python-bench/bench.py --build DIR --n 10000 --rounds 5 --passes 200 name ...
 """
@@ -34,9 +34,9 @@ def main():
     parser.add_argument("--passes", type=int, default=200)
     parser.add_argument("names", nargs="+")
     args = parser.parse_args()
-    print("| package | kernel | C++ loop ns/state | Python batch ns/state | Python / C++ | Python, out= ns/state | "
-          "Python out= / C++ |")
-    print("|---|---|---:|---:|---:|---:|---:|")
+    print("| package | kernel | outputs/state | C++ loop, reused out | Python, out= | ratio | C++ loop, new out | "
+          "Python, returned | ratio |")
+    print("|---|---|---:|---:|---:|---:|---:|---:|---:|")
     for name in args.names:
         folder = os.path.join(args.build, name)
         sys.path.insert(0, folder)
@@ -52,8 +52,8 @@ def main():
             out = subprocess.run([os.path.join(args.build, "bench_" + name), states, inputs, str(args.n),
                                   str(args.passes)], check=True, stdout=subprocess.PIPE, text=True).stdout
             for line in out.splitlines():
-                kernel, ns = line.split()
-                best[(kernel, "C++")] = min(best.get((kernel, "C++"), float("inf")), float(ns))
+                kernel, how, ns = line.split()
+                best[(kernel, "C++ " + how)] = min(best.get((kernel, "C++ " + how), float("inf")), float(ns))
             for kernel in ("rhs", "jacobian"):
                 function = getattr(pkg, kernel)
                 ns = python_ns_per_state(function, X, U, args.passes)
@@ -62,8 +62,11 @@ def main():
                 ns = python_ns_per_state(function, X, U, args.passes, out)
                 best[(kernel, "out")] = min(best.get((kernel, "out"), float("inf")), ns)
         for kernel in ("rhs", "jacobian"):
-            c, p, o = best[(kernel, "C++")], best[(kernel, "Python")], best[(kernel, "out")]
-            print(f"| {name} | {kernel} | {c:.1f} | {p:.1f} | {p / c:.3f} | {o:.1f} | {o / c:.3f} |")
+            reused, new = best[(kernel, "C++ reused")], best[(kernel, "C++ new")]
+            out, returned = best[(kernel, "out")], best[(kernel, "Python")]
+            width = getattr(pkg, "n_out_" + kernel)
+            print(f"| {name} | {kernel} | {width} | {reused:.1f} | {out:.1f} | {out / reused:.3f} | {new:.1f} | "
+                  f"{returned:.1f} | {returned / new:.3f} |")
 
 
 if __name__ == "__main__":

@@ -3,8 +3,8 @@
 # C++ loop"): emits each package with `hamel emit --python`, builds its Python module and, against the package's
 # static library, tools/python-bench/bench.cpp (the loop over N states a C++ caller writes), both Release (-O3) with
 # the package's own flags; then tools/python-bench/bench.py times rhs and jacobian per state both ways on the same
-# N random states (best pass of each, over interleaved rounds) and prints a Markdown table.
-#   tools/python-bench.sh [--n N] [--rounds R] [--passes P]     defaults 10000, 5, 200 (ns per state, best pass)
+# N random states (best pass of each, CPU time, over interleaved rounds) and prints a Markdown table.
+#   tools/python-bench.sh [--n N] [--rounds R] [--passes P]     defaults 10000, 7, 40 (CPU ns per state, best pass)
 # Needs build/bin/hamel and /usr/bin/python3 with NumPy (tools/install-deps.sh).
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -73,6 +73,7 @@ def main():
     os.environ["HAMEL_SOURCE_DIR"] = os.path.abspath(args.source)
     os.environ["HAMEL_PYTHON_PACKAGES"] = os.path.join(os.path.abspath(args.work), "src")
     os.environ["HAMEL_PYTHON_BUILD"] = os.path.join(os.path.abspath(args.work), "build")
+    sys.dont_write_bytecode = True  # no __pycache__ in the source tree (tests/python, examples/python)
     import pytest
     here = os.path.dirname(os.path.abspath(__file__))
     return pytest.main(["-q", "-p", "no:cacheprovider", here, os.path.join(args.source, "examples", "python")] +

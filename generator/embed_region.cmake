@@ -1,15 +1,19 @@
 # Text of one source file printed by the generator: the lines of INPUT between "// hamel emit: REGION begin" and
 # "// hamel emit: REGION end" written to OUTPUT as a C++ raw string literal, for an #include in the generator's
 # sources. So the runtime's rk4_step (runtime/include/hamel/runtime/rk4.hpp) is the rk4_step of every emitted package,
-# written once. OUTPUT is rewritten only when its text changes.
-#   cmake -DINPUT=<file> -DOUTPUT=<file.inc> -DREGION=<name> -P embed_region.cmake
-set(begin_marker "// hamel emit: ${REGION} begin\n")
-set(end_marker "// hamel emit: ${REGION} end\n")
+# written once, and the Python module of `emit --python` is a Python file (generator/emit/python_module.py). COMMENT
+# is the markers' comment leader (default //; # for Python). OUTPUT is rewritten only when its text changes.
+#   cmake -DINPUT=<file> -DOUTPUT=<file.inc> -DREGION=<name> [-DCOMMENT=#] -P embed_region.cmake
+if(NOT DEFINED COMMENT)
+  set(COMMENT "//")
+endif()
+set(begin_marker "${COMMENT} hamel emit: ${REGION} begin\n")
+set(end_marker "${COMMENT} hamel emit: ${REGION} end\n")
 file(READ "${INPUT}" text)
 string(FIND "${text}" "${begin_marker}" begin)
 string(FIND "${text}" "${end_marker}" end)
 if(begin EQUAL -1 OR end EQUAL -1 OR end LESS begin)
-  message(FATAL_ERROR "${INPUT}: no region '${REGION}' between '// hamel emit: ${REGION} begin' and '... end' lines")
+  message(FATAL_ERROR "${INPUT}: no region '${REGION}' between '${COMMENT} hamel emit: ${REGION} begin' and '... end' lines")
 endif()
 string(LENGTH "${begin_marker}" marker_length)
 math(EXPR first "${begin} + ${marker_length}")

@@ -60,6 +60,7 @@ std::string given_options(const EmitOptions& opt) {
     add("--share", std::to_string(opt.settings.share_statements));
   if (opt.settings.share_ratio != kShareRatioAuto) add("--share-ratio", std::to_string(opt.settings.share_ratio));
   if (opt.settings.inline_calls) s += std::string(s.empty() ? "" : " ") + "--inline";
+  if (opt.settings.python) s += std::string(s.empty() ? "" : " ") + "--python";
   return s;
 }
 
@@ -202,6 +203,13 @@ Run add_emit_command(CLI::App& app) {
                 "per two columns: the flat program, 1.1-1.75x the code and 1.2-2x the compile time, between 2 % faster "
                 "and 13 % slower "
                 "on the models measured (docs/benchmarks.md)");
+  cmd->add_flag("--python", opt->settings.python,
+                "Also a Python module: DIR/<name>.py (NumPy, ctypes) and DIR/<name>_python.cpp, built by the package's "
+                "CMakeLists.txt as lib<name>_python into the build folder, where `import <name>` then finds both. "
+                "Every kernel takes and returns NumPy arrays, one state or a batch of N (x of shape (N, n_state)) in "
+                "one call; rhs_status raises StatusError for a bad state. Example: hamel emit "
+                "models/double_pendulum.yaml -o dp --python && cmake -S dp -B dp-build && cmake --build dp-build && "
+                "PYTHONPATH=dp-build python3 -c 'import double_pendulum'. docs/python.md");
   return [opt] { run(*opt); };
 }
 

@@ -42,6 +42,9 @@ struct EmitSettings {
   long large_package = kLargePackage;
   /// Print every kernel flat, also one whose repeated solve is a subroutine (Kernel::calls): each call inline.
   bool inline_calls = false;
+  /// Also a Python module: <name>.py, <name>_python.cpp and a shared library in CMakeLists.txt
+  /// (emit/python_module.hpp).
+  bool python = false;
   /// The options emit was given (without the model and -o), recorded in every file's first line: with the
   /// generator version and the model file's hash they say how to emit the package again.
   std::string options;

@@ -1,6 +1,7 @@
 #include "emit/package_writer.hpp"
 
 #include "algebra/expression_text.hpp"
+#include "emit/python_module.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -106,6 +107,8 @@ class PackageWriter {
   std::string c_header() const;  // <name>.h: the C entry points
   std::string cmake() const;     // CMakeLists.txt
   std::string readme() const;    // README.md
+  /// What the Python module (emit --python, emit/python_module.hpp) prints: the same names, sizes and kernels.
+  PythonPackage python_package() const;
   const PackageKernels& printed_kernels() const { return code; }
 
  private:
@@ -118,6 +121,7 @@ class PackageWriter {
   void readme_integrator(std::ostream& md) const;            // rk4_step, with a loop
   void readme_position_constraints(std::ostream& md) const;  // the projector, with a run
   void readme_build(std::ostream& md) const;                 // with CMake and without
+  void readme_python(std::ostream& md) const;                // the Python module (emit --python)
   void readme_bad_input(std::ostream& md) const;             // what kernels return for bad input
   static std::string quoted(const std::string& x) { return "\"" + x + "\""; }
   static std::string str(int x) { return std::to_string(x); }
@@ -164,7 +168,8 @@ class PackageWriter {
   std::vector<double> defaults;
   std::vector<int> upper_index, lower_a, lower_b;
   std::vector<bool> parameter_used;  // by parameter: some kernel reads it (else it was folded)
-  bool has_rhs = false, has_group_velocity = false;
+  bool has_rhs = false, has_group_velocity = false, python = false;
+  int group_dimension = 0;  // bundle models: the group's dimension (the connection's rows)
   const std::optional<KernelSet::Prepared>& prepared;
   PackageKernels code;  // the kernels as text
 };
@@ -175,6 +180,8 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
       kernels(kernels_),
       eq(derivation_.equations),
       sys(derivation_.system),
+      python(settings.python),
+      group_dimension(static_cast<int>(derivation_.group_velocity.size())),
       prepared(kernels_.prepared) {
   const int n_q = static_cast<int>(sys.coordinates.size());
   s = Sizes{n_q, static_cast<int>(eq.independent.size()), n_q + static_cast<int>(eq.independent.size()),
@@ -535,7 +542,41 @@ std::string PackageWriter::cmake() const {
      << "  target_link_libraries(" << library << "_with_runtime INTERFACE " << library << " hamel::runtime)\n"
      << "  add_library(" << model.name << "::with_runtime ALIAS " << library << "_with_runtime)\n"
      << "endif()\n";
+  if (python) cm << python_cmake(python_package());
   return cm.str();
+}
+
+PythonPackage PackageWriter::python_package() const {
+  PythonPackage py;
+  py.name = model.name;
+  py.origin = origin;
+  py.n_coordinates = s.n_q;
+  py.n_independent = s.n_u;
+  py.n_state = s.n_x;
+  py.n_parameters = s.n_p;
+  py.n_inputs = s.n_in;
+  py.n_hamel = static_cast<int>(sys.gamma.size());
+  py.conservative = eq.conservative;
+  py.state_names = state_names;
+  py.parameter_names = parameter_names;
+  py.input_names = input_names;
+  py.constraint_names = constraint_names;
+  for (const auto& u : sys.velocities) py.quasi_velocity_names.push_back(u.get_name());
+  py.default_parameters = defaults;
+  py.hamel_upper = upper_index;
+  py.hamel_lower_a = lower_a;
+  py.hamel_lower_b = lower_b;
+  const auto add = [&](const Kernel& k, bool reads_prepared) {
+    const int n_out = static_cast<int>(k.outputs.size());
+    py.kernels.push_back({k.name, k.summary, python_output_shape(k.name, n_out, s.n_q, s.n_u, s.n_x, group_dimension),
+                          k.output_names, reads_prepared});
+  };
+  for (const Kernel& k : kernels.kernels) add(k, false);
+  if (prepared)
+    for (const Kernel& k : prepared->kernels) add(k, true);
+  py.has_rhs = has_rhs;
+  py.n_prepared_parameters = prepared ? code.n_prepared : 0;
+  return py;
 }
 
 std::string PackageWriter::readme() const {
@@ -554,11 +595,18 @@ std::string PackageWriter::readme() const {
      << "| `" << model.name << ".h` | C entry points `" << model.name << "_<kernel>` (C99/C11) |\n"
      << "| `CMakeLists.txt` | static library `" << library << "` (alias `" << model.name
      << "::kernels`); with an installed hamel (`find_package(hamel)`) also `" << model.name
-     << "::with_runtime`, the kernels plus hamel's header-only integrators |\n\n";
+     << "::with_runtime`, the kernels plus hamel's header-only integrators"
+     << (python ? "; and the Python module's shared library `lib" + model.name + "_python`" : std::string()) << " |\n";
+  if (python)
+    md << "| `" << model.name << ".py`, `" << model.name << "_python.cpp` | the Python module (NumPy, ctypes) and its "
+       << "batch entry points `" << model.name << "_<kernel>_batch`: after `cmake --build`, `import " << model.name
+       << "` from the build folder (hamel's docs/python.md) |\n";
+  md << "\n";
   readme_kernels(md);
   readme_layout(md);
   readme_integrator(md);
   readme_build(md);
+  if (python) readme_python(md);
   readme_bad_input(md);
   md << "## Licence\n\n"
      << "MIT (`SPDX-License-Identifier: MIT` in every file of this folder). The emitted files carry this licence "
@@ -727,6 +775,21 @@ void PackageWriter::readme_build(std::ostream& md) const {
         "double-precision FPU (Cortex-M7 with fpv5-d16) runs double in hardware.\n\n";
 }
 
+void PackageWriter::readme_python(std::ostream& md) const {
+  const std::string& m = model.name;
+  md << "## Python\n\n"
+     << "`cmake --build " << m << "-build` also builds the shared library `lib" << m << "_python` and copies `" << m
+     << ".py` beside it (NumPy needed, nothing else). Every kernel is a function `kernel(t, x, p=None, inputs=None)` "
+        "of one state (x of shape `(n_state,)`) or of N states in one call (`(N, n_state)`); `rhs_status` raises "
+        "`StatusError` with the status for a bad state (hamel's docs/python.md)"
+     << (kernels.kernels.empty() ? ".\n\n" : ":\n\n");
+  if (kernels.kernels.empty()) return;
+  md << "```python\n# PYTHONPATH=" << m << "-build\nimport numpy as np, " << m << "\n"
+     << "x = np.zeros((100, " << m << ".n_state))\n"
+     << "f = " << m << "." << (has_rhs ? std::string("rhs") : kernels.kernels.front().name) << "(0.0, x"
+     << (s.n_in ? ", None, np.zeros(" + m + ".n_inputs)" : std::string()) << ")\n```\n\n";
+}
+
 void PackageWriter::readme_bad_input(std::ostream& md) const {
   md << "## What kernels return for bad input\n\n"
         "The kernels are straight-line arithmetic: no branches, no checks, no exceptions; they never stop or "
@@ -771,6 +834,11 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
   package.extra.push_back({model.name + ".h", writer.c_header()});
   package.extra.push_back({"CMakeLists.txt", writer.cmake()});
   package.extra.push_back({"README.md", writer.readme()});
+  if (settings.python) {
+    const PythonPackage py = writer.python_package();
+    package.extra.push_back({model.name + ".py", python_module(py)});
+    package.extra.push_back({model.name + "_python.cpp", python_batch_source(py)});
+  }
   const PackageKernels& code = writer.printed_kernels();
   package.operations = code.operations;
   package.shared_stages = code.shared_stages;
@@ -780,8 +848,8 @@ EmittedPackage emit_cpp(const Model& model, const Derivation& derivation, const 
 }
 
 void check_package_folder(const std::string& directory, const std::string& model_name) {
-  check_folder_replaceable(
-      directory, {model_name + ".hpp", model_name + ".cpp", model_name + ".h", "CMakeLists.txt", "README.md"});
+  check_folder_replaceable(directory, {model_name + ".hpp", model_name + ".cpp", model_name + ".h", "CMakeLists.txt",
+                                       "README.md", model_name + ".py", model_name + "_python.cpp"});
 }
 
 void write_package(const EmittedPackage& package, const std::string& directory) {

@@ -1,6 +1,7 @@
 // The package writer: a KernelSet as a self-contained C++ package, <name>.hpp (the ABI: sizes, names, declarations),
 // <name>.cpp (the kernels as emit/package_kernels.hpp prints them, rhs_status, rk4_step, the C entry points), <name>.h
-// (the C entry points), CMakeLists.txt and README.md, written into its folder as one transaction
+// (the C entry points), CMakeLists.txt and README.md (with emit --python also the Python module <name>.py and its
+// batch entry points <name>_python.cpp, emit/python_module.hpp), written into its folder as one transaction
 // (report/folder_transaction.hpp). Kernels are flat, branch-free, use no heap, no exceptions and no RTTI and need only
 // <cmath>; the scalar type is selectable at compile time through HAMEL_<NAME>_REAL (default double). Every emitted file
 // carries the MIT licence (SPDX), whatever the generator's licence.
@@ -28,7 +29,7 @@ using EmittedFile = FolderFile;
 struct EmittedPackage {
   std::string header_name, header;
   std::string source_name, source;
-  std::vector<EmittedFile> extra;  ///< CMakeLists.txt and README.md
+  std::vector<EmittedFile> extra;  ///< <name>.h, CMakeLists.txt, README.md (and <name>.py, <name>_python.cpp)
   /// Per kernel (then prepare_parameters and the prepared kernels), the operations one call executes as printed:
   /// with its shared stages and, for a kernel with calls, every call's (what each kernel's comment reports).
   std::vector<std::pair<std::string, OpCounts>> operations;

@@ -7,9 +7,12 @@ set -euo pipefail
 # `hamel import` links urdfdom (URDF) and MuJoCo (MJCF); its tests read MuJoCo's sample humanoid.
 # The firmware check (tests/firmware) cross-compiles emitted packages for Cortex-M4F and M7 with the bare-metal GCC,
 # newlib and its C++ library, and runs them under QEMU's MPS2 boards.
+# `hamel animate` inlines three.js (libjs-three) into its pages; its test loads them in Chromium's headless shell
+# (chromium-headless-shell: the browser without its GTK desktop parts).
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libgtest-dev
           libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang clang-format liburdfdom-dev libmujoco-dev libmujoco-samples
-          gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm)
+          gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
+          libjs-three chromium-headless-shell)
 # With --scaling it also installs the peers of the scaling benchmark (tools/scaling.sh): SymPy, numpy,
 # matplotlib, MuJoCo and Google Benchmark.
 if [ "${1:-}" = "--fuzz" ]; then

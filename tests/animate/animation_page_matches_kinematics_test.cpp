@@ -203,6 +203,29 @@ TEST_F(AnimationPage, FourBarTreeBodiesFollowTheSimulatedJoints) {
   fs::remove_all(dir);
 }
 
+// The same four-bar in general coordinates with `bodies:` (each pose written as an expression): the rods' centres from
+// the model's description, the absolute angles theta_k of rods hinged at the origin, the crank's tip and (d, 0).
+TEST_F(AnimationPage, FourBarBodiesFollowTheirWrittenPoses) {
+  const fs::path dir = scratch("four_bar_bodies");
+  const std::string model = source("models/four_bar.yaml");
+  const std::string options = " --t-end 1 --sample 0.01";
+  ASSERT_EQ(run(hamel_bin + " animate " + model + options + " -o " + (dir / "page.html").string() + " 2>&1").status, 0);
+  ASSERT_EQ(run(hamel_bin + " simulate " + model + options + " --out " + (dir / "run.csv").string() + " 2>&1").status,
+            0);
+  const Table csv = read_csv(dir / "run.csv");
+  const double l1 = 0.2, l2 = 0.6, l3 = 0.45, d = 0.5;  // models/four_bar.yaml's parameters
+  for (double t : {0.31, 0.88}) {
+    const std::size_t row = row_at(csv, t);
+    const double a = csv.column.at("theta1")[row], b = csv.column.at("theta2")[row], c = csv.column.at("theta3")[row];
+    const Vec tip(l1 * std::cos(a), l1 * std::sin(a), 0);
+    const std::map<std::string, Vec> com = {{"crank", tip / 2},
+                                            {"coupler", tip + l2 / 2 * Vec(std::cos(b), std::sin(b), 0)},
+                                            {"rocker", Vec(d, 0, 0) + l3 / 2 * Vec(std::cos(c), std::sin(c), 0)}};
+    expect_page_matches(dir / "page.html", csv.column.at("t")[row], com, 1e-9);
+  }
+  fs::remove_all(dir);
+}
+
 TEST_F(AnimationPage, SatellitePhaseExperimentBodiesFollowTheBase) {
   const fs::path dir = scratch("satellite");
   const std::string model = source("models/satellite_se3_tree.yaml");

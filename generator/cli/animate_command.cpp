@@ -121,7 +121,7 @@ Motion simulated_motion(AnimateOptions& opt, Pipeline& pipeline) {
   std::ostringstream csv;
   progress::say("integrating " + model.name + " to t = " + std::to_string(t_end));
   simulate(
-      sim, pipeline, csv, [] {}, [] {});
+      sim, pipeline, [&]() -> std::ostream& { return csv; }, [] {}, [] {});
   return motion_from_csv(csv.str(), model);
 }
 
@@ -217,8 +217,6 @@ void run(AnimateOptions& opt) {
                          "expected a model with 'bodies' (each with position and rotation) or a kinematic 'tree', "
                          "or a bundle model, whose group frame is drawn");
   const std::array<double, 3> up = up_direction(opt, model, pipeline.parameters());
-  OutputTransaction output;
-  std::ostream& page = output.open(opt.out, "--out");
   const Motion motion = opt.path_given ? phase_motion(opt, pipeline) : simulated_motion(opt, pipeline);
 
   Animation a;
@@ -272,7 +270,9 @@ void run(AnimateOptions& opt) {
     std::cerr << "hamel: note: " << model.name
               << " gives its bodies by their twists (or T as an expression), not by their placements: the page draws "
                  "the group frame and its path only (a kinematic tree, key 'tree', says where every body is)\n";
-  page << render_animation_page(a);
+  // Opened once the run's inputs are read (the page may not replace one of them), written whole or not at all.
+  OutputTransaction output;
+  output.open(opt.out, "--out") << render_animation_page(a);
   output.commit();
   std::cerr << "hamel: wrote " << opt.out << ": " << a.bodies.size() << " bodies, " << a.times.size()
             << " frames from t = " << a.times.front() << " to " << a.times.back() << "\n";

@@ -463,8 +463,8 @@ class PositionConstraints {
 
 }  // namespace
 
-void simulate(const SimulateOptions& given, Pipeline& pipeline, std::ostream& csv, const std::function<void()>& check,
-              const std::function<void()>& on_success) {
+void simulate(const SimulateOptions& given, Pipeline& pipeline, const std::function<std::ostream&()>& open,
+              const std::function<void()>& check, const std::function<void()>& on_success) {
   const Target& target = pipeline.target();
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
@@ -507,6 +507,7 @@ void simulate(const SimulateOptions& given, Pipeline& pipeline, std::ostream& cs
                  jacobian_kernel = evaluate.kernel("jacobian", info.uses_jacobian);
   auto rhs = [&](double t, const double* x, double* xdot) { evaluate(rhs_kernel, t, x, xdot); };
 
+  std::ostream& csv = open();  // after the inputs are read: an output may not replace one of them
   const bool reconstruct = model.bundle && info.name == "rkmk4";
   if (reconstruct) check_gravity_at_identity(target, columns, x0);
   std::optional<GroupPose> pose;
@@ -555,9 +556,9 @@ void run(const SimulateOptions& given) {
   // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
   // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
   OutputTransaction output;
-  std::ostream& csv = output.open(given.out, "--out");
   simulate(
-      given, pipeline, csv, [&] { output.check(); }, [&] { output.commit(); });
+      given, pipeline, [&]() -> std::ostream& { return output.open(given.out, "--out"); }, [&] { output.check(); },
+      [&] { output.commit(); });
 }
 
 }  // namespace

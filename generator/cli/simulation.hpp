@@ -31,9 +31,10 @@ struct SimulateOptions {
 std::function<void()> add_simulate_options(CLI::App* cmd, SimulateOptions& opt);
 
 /// Integrates `pipeline`'s model as `hamel simulate` does (its defaults, checks and summary on stderr) and writes the
-/// CSV to `csv`: `check` is called after every row (to stop on a failed write), `on_success` when the integration
-/// reached the end, before the summary. A failed integration throws RunFailed after printing where it failed.
-void simulate(const SimulateOptions& given, Pipeline& pipeline, std::ostream& csv, const std::function<void()>& check,
-              const std::function<void()>& on_success);
+/// CSV to the stream `open` returns, called once the run's inputs are read (an output may not replace an input,
+/// report/atomic_file.hpp): `check` is called after every row (to stop on a failed write), `on_success` when the
+/// integration reached the end, before the summary. A failed integration throws RunFailed after printing where.
+void simulate(const SimulateOptions& given, Pipeline& pipeline, const std::function<std::ostream&()>& open,
+              const std::function<void()>& check, const std::function<void()>& on_success);
 
 }  // namespace hamel::cli

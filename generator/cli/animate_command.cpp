@@ -19,6 +19,7 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 
 namespace hamel::cli {
 
@@ -75,6 +76,9 @@ Motion motion_from_csv(const std::string& text, const Model& model) {
     });
     pose_names = pose_columns(sample);
   }
+  for (const std::string& name : pose_names)
+    if (!column.count(name))
+      throw std::logic_error("hamel animate: the simulation wrote no group element (column " + name + ")");
   Motion m;
   while (std::getline(in, line)) {
     std::vector<double> row;
@@ -105,9 +109,15 @@ Motion simulated_motion(AnimateOptions& opt, Pipeline& pipeline) {
   SimulateOptions sim = opt.sim;
   const Model& model = pipeline.model();
   if (model.bundle) {
-    if (sim.integrator.empty() && !(pipeline.target().scene && !pipeline.target().scene->integrator.empty()))
+    const auto& scene = pipeline.target().scene;
+    if (sim.integrator.empty()) {
       sim.integrator = "rkmk4";
-    if (!sim.integrator.empty() && sim.integrator != "rkmk4")
+      if (scene && !scene->integrator.empty() && scene->integrator != "rkmk4")
+        std::cerr << "hamel: note: the scene integrates with " << scene->integrator
+                  << "; hamel animate takes rkmk4, which reconstructs the group element g(t) the page needs (step "
+                     "--dt, default 1e-3)\n";
+    }
+    if (sim.integrator != "rkmk4")
       throw InputError("--integrator: hamel animate needs the group element g(t) of bundle model " + quote(model.name) +
                        ", which rkmk4 reconstructs; got " + quote(sim.integrator) +
                        ", expected rkmk4 (the default for bundle models)");
@@ -119,7 +129,11 @@ Motion simulated_motion(AnimateOptions& opt, Pipeline& pipeline) {
                                                                                    : 0;
   if (!sim.sample_given && t_end > 0) sim.sample = t_end / 250;  // 250 frames: smooth, and the page stays small
   std::ostringstream csv;
-  progress::say("integrating " + model.name + " to t = " + std::to_string(t_end));
+  if (t_end > 0) {
+    std::ostringstream what;
+    what << "integrating " << model.name << " to t = " << t_end;
+    progress::say(what.str());
+  }
   simulate(
       sim, pipeline, [&]() -> std::ostream& { return csv; }, [] {}, [] {});
   return motion_from_csv(csv.str(), model);
@@ -289,6 +303,7 @@ Run add_animate_command(CLI::App& app) {
   add_pipeline_options(cmd, opt->sim.in);
   cmd->add_option("-o,--out", opt->out, "The HTML file to write")->required();
   opt->sim_given = add_simulate_options(cmd, opt->sim);
+  cmd->get_option("--sample")->description("Interval between frames (default t_end/250)");
   CLI::Option* path = cmd->add_option(
       "--path", opt->path,
       "A phase experiment instead of a simulation (bundle models, as hamel phase): the shape path r(t), one "

@@ -161,12 +161,14 @@ const char* const page_script = R"js(
     setPlaying(false);
     setTime(parseFloat(asked[1]));
     scene.updateMatrixWorld(true);
-    var positions = {};
+    var positions = {}, orientations = {};
     meshes.concat(frameAxes ? [frameAxes] : []).forEach(function (object) {
-      var v = object.getWorldPosition(new THREE.Vector3());
+      var v = object.getWorldPosition(new THREE.Vector3()), r = object.getWorldQuaternion(new THREE.Quaternion());
       positions[object.name] = [v.x, v.y, v.z];
+      orientations[object.name] = [r.x, r.y, r.z, r.w];
     });
-    document.getElementById('probe').textContent = JSON.stringify({t: now, positions: positions});
+    document.getElementById('probe').textContent =
+        JSON.stringify({t: now, positions: positions, orientations: orientations});
   } else {
     setTime(t0);
   }

@@ -4,7 +4,8 @@
 //
 // The page also answers a probe, for tests and scripts: opened with a fragment `#t=<time>` it stops at that time and
 // writes, into <pre id="probe">, the world position of every drawn body's mesh read back from three.js's scene graph
-// ({"t": ..., "positions": {"<body>": [x, y, z], ...}}), whether or not WebGL draws; script errors are listed in
+// ({"t": ..., "positions": {"<body>": [x, y, z], ...}, "orientations": {"<body>": [x, y, z, w], ...}}: the box's axes
+// are the principal axes of the body's inertia, smallest moment first), whether or not WebGL draws; errors are in
 // <pre id="errors">.
 #pragma once
 

@@ -1,15 +1,17 @@
 // The page `hamel animate` writes, loaded in a real headless browser (Debian's chromium, --dump-dom): it loads
 // without script errors, and at two times of the trajectory three.js's scene graph holds every body's mesh at the
-// body's centre of mass as computed here, without the page and without hamel's numeric/body_poses: the joint angles
-// and the base's pose from the CSV of a separate `hamel simulate` or `hamel phase` run, the bodies placed by an Eigen
-// forward kinematics over the model file's joints, and for MuJoCo's humanoid also by MuJoCo itself (mj_kinematics,
-// xipos). Cases: the four-bar as a tree (fixed base, closed loop), the satellite's phase experiment (paper Sec. 6c, as
-// a tree on SE(3)) and the imported humanoid falling under gravity (SE(3) base, 21 hinges).
+// body's centre of mass and its box along the body's principal axes as computed here, without the page and without
+// hamel's numeric/body_poses: the joint angles and the base's pose from the CSV of a separate `hamel simulate` or
+// `hamel phase` run, the bodies placed by an Eigen forward kinematics over the model file's joints, and for MuJoCo's
+// humanoid also by MuJoCo itself (mj_kinematics, xipos). Cases: the four-bar as a tree (fixed base, closed loop), the
+// satellite's phase experiment (paper Sec. 6c, as a tree on SE(3)) and the imported humanoid falling under gravity
+// (SE(3) base, 21 hinges).
 #include "model/load_model.hpp"
 #include "support/command.hpp"
 
 #include <gtest/gtest.h>
 #include <mujoco/mujoco.h>
+#include <Eigen/Eigenvalues>
 #include <Eigen/Geometry>
 #include <nlohmann/json.hpp>
 
@@ -68,6 +70,7 @@ struct Probe {
   bool answered = false;
   double t = 0;
   std::map<std::string, Vec> position;
+  std::map<std::string, Eigen::Quaterniond> orientation;
   std::string errors, dom;
 };
 
@@ -97,6 +100,8 @@ Probe probe(const fs::path& page, double t) {
   p.answered = true;
   p.t = j.at("t").get<double>();
   for (const auto& [name, v] : j.at("positions").items()) p.position[name] = Vec(v[0], v[1], v[2]);
+  for (const auto& [name, v] : j.at("orientations").items())
+    p.orientation[name] = Eigen::Quaterniond(v[3].get<double>(), v[0], v[1], v[2]);
   return p;
 }
 
@@ -106,8 +111,9 @@ double number(const GiNaC::ex& e, const GiNaC::exmap& at) {
 
 // Every tree body's centre of mass in the world (base first), by g_i = g_parent (rotation, offset) exp(q_i S_i),
 // written here with Eigen from the model file's joints: the page's poses come from numeric/body_poses.cpp.
+// With `inertia`, also each body's inertia about its centre of mass in world axes, R Θ Rᵀ.
 std::map<std::string, Vec> centres_of_mass(const hamel::Model& model, const std::vector<double>& q, const Mat& R0,
-                                           const Vec& p0) {
+                                           const Vec& p0, std::map<std::string, Mat>* inertia = nullptr) {
   const hamel::KinematicTree& tree = model.tree          ? *model.tree
                                      : model.closed_tree ? *model.closed_tree
                                                          : *model.bundle->tree;
@@ -117,7 +123,16 @@ std::map<std::string, Vec> centres_of_mass(const hamel::Model& model, const std:
   std::vector<Mat> R{R0};
   std::vector<Vec> p{p0};
   std::map<std::string, Vec> com;
-  if (number(tree.base.mass, at) > 0) com[tree.base.name] = p0 + R0 * vec(tree.base.com);
+  const auto theta = [&](const hamel::RigidBody& b, const Mat& R) {
+    Mat I;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) I(i, j) = number(b.inertia[i][j], at);
+    if (inertia) (*inertia)[b.name] = R * I * R.transpose();
+  };
+  if (number(tree.base.mass, at) > 0) {
+    com[tree.base.name] = p0 + R0 * vec(tree.base.com);
+    theta(tree.base, R0);
+  }
   for (std::size_t k = 0; k < tree.bodies.size(); ++k) {
     const hamel::TreeBody& b = tree.bodies[k];
     Mat link;
@@ -130,7 +145,10 @@ std::map<std::string, Vec> centres_of_mass(const hamel::Model& model, const std:
     const Vec pj = pp + Rp * vec(b.offset) + (b.prismatic ? Vec(Rp * link * axis * q[k]) : Vec::Zero());
     R.push_back(Rj);
     p.push_back(pj);
-    if (number(b.body.mass, at) > 0) com[b.body.name] = pj + Rj * vec(b.body.com);
+    if (number(b.body.mass, at) > 0) {
+      com[b.body.name] = pj + Rj * vec(b.body.com);
+      theta(b.body, Rj);
+    }
   }
   return com;
 }
@@ -156,7 +174,10 @@ Vec base_position(const Table& table, std::size_t row) {
 }
 
 // The page at time t against `expected` (every drawn body, named): loaded without errors, each mesh within tol.
-void expect_page_matches(const fs::path& page, double t, const std::map<std::string, Vec>& expected, double tol) {
+// With `inertia` (world axes), also each box's orientation: its axes are the principal axes, smallest moment first, so
+// R_box diag(λ₁ ≤ λ₂ ≤ λ₃) R_boxᵀ is the body's inertia in world axes, whichever axes a repeated moment leaves free.
+void expect_page_matches(const fs::path& page, double t, const std::map<std::string, Vec>& expected, double tol,
+                         const std::map<std::string, Mat>* inertia = nullptr) {
   const Probe p = probe(page, t);
   ASSERT_TRUE(p.answered) << "the page did not answer the probe at t = " << t << "; the browser's DOM:\n"
                           << p.dom.substr(0, 2000);
@@ -170,6 +191,13 @@ void expect_page_matches(const fs::path& page, double t, const std::map<std::str
     ASSERT_NE(it, expected.end()) << "the page draws '" << name << "', which has no centre of mass here";
     EXPECT_LT((where - it->second).norm(), tol)
         << name << " at t = " << t << ": page " << where.transpose() << ", expected " << it->second.transpose();
+    if (inertia) {
+      const Mat& I = inertia->at(name);
+      const Eigen::Vector3d moments = Eigen::SelfAdjointEigenSolver<Mat>(I).eigenvalues();
+      const Mat R = p.orientation.at(name).normalized().toRotationMatrix();
+      EXPECT_LT((R * moments.asDiagonal() * R.transpose() - I).norm(), 1e-9 * moments.maxCoeff())
+          << name << "'s box is turned away from its principal axes at t = " << t;
+    }
   }
   EXPECT_EQ(bodies, expected.size()) << "bodies drawn at t = " << t;
 }
@@ -197,8 +225,9 @@ TEST_F(AnimationPage, FourBarTreeBodiesFollowTheSimulatedJoints) {
     const std::size_t row = row_at(csv, t);
     std::vector<double> q;
     for (const auto& c : m.coordinates) q.push_back(csv.column.at(c.get_name())[row]);
-    expect_page_matches(dir / "page.html", csv.column.at("t")[row], centres_of_mass(m, q, Mat::Identity(), Vec::Zero()),
-                        1e-9);
+    std::map<std::string, Mat> inertia;
+    const std::map<std::string, Vec> com = centres_of_mass(m, q, Mat::Identity(), Vec::Zero(), &inertia);
+    expect_page_matches(dir / "page.html", csv.column.at("t")[row], com, 1e-9, &inertia);
   }
   fs::remove_all(dir);
 }
@@ -242,7 +271,9 @@ TEST_F(AnimationPage, SatellitePhaseExperimentBodiesFollowTheBase) {
                                    M_PI / 2 * std::sin(4 * M_PI * s)};
     const Mat R = base_rotation(csv, row);
     const Vec p = base_position(csv, row);
-    expect_page_matches(dir / "page.html", s, centres_of_mass(m, r, R, p), 1e-9);
+    std::map<std::string, Mat> inertia;
+    const std::map<std::string, Vec> com = centres_of_mass(m, r, R, p, &inertia);
+    expect_page_matches(dir / "page.html", s, com, 1e-9, &inertia);
     const Probe frame = probe(dir / "page.html", s);
     ASSERT_EQ(frame.position.count("SE3 frame"), 1u);
     EXPECT_LT((frame.position.at("SE3 frame") - p).norm(), 1e-12) << "the group frame's origin at t = " << s;
@@ -282,8 +313,9 @@ TEST_F(AnimationPage, ImportedHumanoidMatchesMujocoKinematics) {
     for (const auto& c : m.coordinates) q.push_back(csv.column.at(c.get_name())[row]);
     const Mat R = base_rotation(csv, row);
     const Vec p = base_position(csv, row);
-    const std::map<std::string, Vec> com = centres_of_mass(m, q, R, p);
-    expect_page_matches(dir / "page.html", csv.column.at("t")[row], com, 1e-9);
+    std::map<std::string, Mat> inertia;
+    const std::map<std::string, Vec> com = centres_of_mass(m, q, R, p, &inertia);
+    expect_page_matches(dir / "page.html", csv.column.at("t")[row], com, 1e-9, &inertia);
 
     // MuJoCo's own forward kinematics at the same state: free joint (p, quaternion of R), hinges by name.
     mj_resetData(mj, d);

@@ -9,10 +9,12 @@ set -euo pipefail
 # newlib and its C++ library, and runs them under QEMU's MPS2 boards.
 # Emitted packages' Python modules (emit --python, docs/python.md) need python3 and NumPy; their tests (tests/python)
 # and the example (examples/python) also SciPy and pytest. Scripts use /usr/bin/python3, Debian's, which has them.
+# `hamel animate` inlines three.js (libjs-three) into its pages; its test loads them in Chromium's headless shell
+# (chromium-headless-shell: the browser without its GTK desktop parts).
 packages=(build-essential cmake pkg-config libginac-dev libcln-dev libeigen3-dev libgtest-dev
           libyaml-cpp-dev nlohmann-json3-dev libcli11-dev clang clang-format liburdfdom-dev libmujoco-dev libmujoco-samples
           gcc-arm-none-eabi libnewlib-arm-none-eabi libstdc++-arm-none-eabi-newlib qemu-system-arm
-          python3 python3-numpy python3-scipy python3-pytest)
+          python3 python3-numpy python3-scipy python3-pytest libjs-three chromium-headless-shell)
 # With --scaling it also installs the peers of the scaling benchmark (tools/scaling.sh): SymPy, numpy,
 # matplotlib, MuJoCo and Google Benchmark.
 if [ "${1:-}" = "--fuzz" ]; then

@@ -27,5 +27,6 @@ Run add_accuracy_command(CLI::App& app);
 Run add_report_command(CLI::App& app);
 Run add_import_command(CLI::App& app);
 Run add_linearize_command(CLI::App& app);
+Run add_animate_command(CLI::App& app);
 
 }  // namespace hamel::cli

@@ -151,4 +151,25 @@ Model apply_fold(const Model& model, const std::vector<double>& values, const st
   return fold_parameters(model, fold);
 }
 
+std::vector<GiNaC::ex> parse_path(const std::string& text, const Model& model) {
+  GiNaC::symtab table;
+  table["t"] = model.time;
+  for (const auto& p : model.parameters) table[p.symbol.get_name()] = p.symbol;
+  std::vector<GiNaC::ex> out;
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = text.find(';', start);
+    const std::string part = text.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    try {
+      out.push_back(parse_expression(part, table));
+    } catch (const std::exception& e) {
+      throw InputError("--path: cannot parse \"" + part + "\" (entry " + std::to_string(out.size() + 1) +
+                       "): expected an expression in t and the model's parameters");
+    }
+    if (end == std::string::npos) break;
+    start = end + 1;
+  }
+  return out;
+}
+
 }  // namespace hamel::cli

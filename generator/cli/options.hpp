@@ -45,6 +45,10 @@ std::vector<double> parameter_values(const Model& model, const std::map<std::str
 Model apply_fold(const Model& model, const std::vector<double>& values, const std::string& spec,
                  std::set<std::string>* folded = nullptr);
 
+/// --path "r1(t);r2(t);...": one expression in t and the model's parameters per shape coordinate (phase, animate);
+/// throws InputError naming the entry that does not parse.
+std::vector<GiNaC::ex> parse_path(const std::string& text, const Model& model);
+
 /// The help text of --fold.
 inline const char* fold_help() {
   return "Parameters fixed at generation time, folded in as numbers (values from --param or the defaults): all, "

@@ -5,6 +5,7 @@
 #include "cli/commands.hpp"
 #include "cli/options.hpp"
 #include "cli/pipeline.hpp"
+#include "cli/simulation.hpp"
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
 #include "model/input_error.hpp"
@@ -32,19 +33,6 @@
 namespace hamel::cli {
 
 namespace {
-
-struct SimulateOptions {
-  PipelineOptions in;
-  double t_end = 0;  // 0: not given
-  std::string integrator;
-  double dt = 0;
-  double tol = 0;
-  std::vector<std::string> init, inputs;
-  std::string input_file, monitors;
-  double sample = 0;
-  std::string out = "-";
-  bool dt_given = false, tol_given = false, sample_given = false;  // on the command line
-};
 
 // Work refused up front (docs/errors.md, "Limits"): a typo such as --dt 1e-12 must not fill a disk.
 constexpr double kMaxFixedSteps = 1e8;
@@ -473,10 +461,10 @@ class PositionConstraints {
   runtime::ConstraintProjector<Position, Jacobian> projector_;
 };
 
-void run(const SimulateOptions& given) {
-  PipelineOptions in = given.in;
-  in.announce = false;  // the trajectory may go to standard output
-  Pipeline pipeline(in);
+}  // namespace
+
+void simulate(const SimulateOptions& given, Pipeline& pipeline, const std::function<std::ostream&()>& open,
+              const std::function<void()>& check, const std::function<void()>& on_success) {
   const Target& target = pipeline.target();
   const Model& model = target.model;
   const std::vector<double>& p = target.parameters;
@@ -519,11 +507,7 @@ void run(const SimulateOptions& given) {
                  jacobian_kernel = evaluate.kernel("jacobian", info.uses_jacobian);
   auto rhs = [&](double t, const double* x, double* xdot) { evaluate(rhs_kernel, t, x, xdot); };
 
-  // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
-  // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
-  // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
-  OutputTransaction output;
-  std::ostream& csv = output.open(opt.out, "--out");
+  std::ostream& csv = open();  // after the inputs are read: an output may not replace one of them
   const bool reconstruct = model.bundle && info.name == "rkmk4";
   if (reconstruct) check_gravity_at_identity(target, columns, x0);
   std::optional<GroupPose> pose;
@@ -535,7 +519,7 @@ void run(const SimulateOptions& given) {
   Recorder record(derivation, monitors, evaluate, csv, columns, pose, x0);
   auto observe = [&](double t, const double* x) {
     record(t, x);
-    output.check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
+    check();  // a full disk or closed pipe stops the run instead of integrating on into nothing
   };
 
   // With a feedback law the Jacobian leaves out d(in)/dx: implicit integrators then iterate Newton with an
@@ -556,44 +540,66 @@ void run(const SimulateOptions& given) {
     result = integrate(opt.integrator, info.adaptive ? opt.tol : opt.dt, rhs, jacobian, x0, 0.0, opt.t_end, opt.sample,
                        observe, 0, project, sources.knots());
   }
-  if (result.status == runtime::Status::ok) output.commit();
+  if (result.status == runtime::Status::ok) on_success();
   std::optional<ProjectionSummary> projection;
   if (positions.size() > 0) projection = ProjectionSummary{record.position_residual_max(), positions.stats()};
   print_outcome(model, opt, derivation, columns, result, record.energy(), record.residual_max(), projection);
 }
 
+namespace {
+
+void run(const SimulateOptions& given) {
+  PipelineOptions in = given.in;
+  in.announce = false;  // the trajectory may go to standard output
+  Pipeline pipeline(in);
+  // Output goes to a temporary file beside the target, renamed over it on success only: a failed run
+  // (or one that throws or is interrupted) leaves neither a partial CSV nor the temporary file, and keeps an
+  // old CSV. Devices and pipes are written through (report/atomic_file.hpp).
+  OutputTransaction output;
+  simulate(
+      given, pipeline, [&]() -> std::ostream& { return output.open(given.out, "--out"); }, [&] { output.check(); },
+      [&] { output.commit(); });
+}
+
 }  // namespace
+
+std::function<void()> add_simulate_options(CLI::App* cmd, SimulateOptions& opt) {
+  cmd->add_option("--t-end", opt.t_end, "End time (start is 0); required unless the scene gives t_end");
+  cmd->add_option("--integrator", opt.integrator,
+                  "rk4, rkmk4 (fixed step), dopri5 (default), dop853 (adaptive explicit) or radau5 = implicit (stiff)");
+  CLI::Option* dt = cmd->add_option("--dt", opt.dt, "Step of rk4 and rkmk4 (default 1e-3)");
+  CLI::Option* tol =
+      cmd->add_option("--tol", opt.tol, "Relative and absolute tolerance of the adaptive integrators (default 1e-8)");
+  dt->excludes(tol);
+  cmd->add_option(
+      "--init", opt.init,
+      "Initial values name=value,... of coordinates and independent quasi-velocities (default: the model's key "
+      "initial, then the scene's; else 0)");
+  cmd->add_option("--input", opt.inputs,
+                  "Inputs name=value or name=expression in t, the state's names and parameters (a feedback law, "
+                  "e.g. tau=\"-4*(q-1)-2*q_dot\"), comma-separated (default 0)");
+  cmd->add_option("--input-file", opt.input_file,
+                  "CSV with a header t,<input names> and rows of values, interpolated linearly in t (held at "
+                  "the ends)");
+  CLI::Option* sample = cmd->add_option("--sample", opt.sample, "Output interval (default: every step)");
+  return [&opt, dt, tol, sample] {
+    opt.dt_given = dt->count() > 0;
+    opt.tol_given = tol->count() > 0;
+    opt.sample_given = sample->count() > 0;
+  };
+}
 
 Run add_simulate_command(CLI::App& app) {
   auto opt = std::make_shared<SimulateOptions>();
   CLI::App* cmd = app.add_subcommand("simulate", "Integrate a model's equations of motion and write a CSV trajectory");
   add_pipeline_options(cmd, opt->in);
-  cmd->add_option("--t-end", opt->t_end, "End time (start is 0); required unless the scene gives t_end");
-  cmd->add_option("--integrator", opt->integrator,
-                  "rk4, rkmk4 (fixed step), dopri5 (default), dop853 (adaptive explicit) or radau5 = implicit (stiff)");
-  CLI::Option* dt = cmd->add_option("--dt", opt->dt, "Step of rk4 and rkmk4 (default 1e-3)");
-  CLI::Option* tol =
-      cmd->add_option("--tol", opt->tol, "Relative and absolute tolerance of the adaptive integrators (default 1e-8)");
-  dt->excludes(tol);
-  cmd->add_option(
-      "--init", opt->init,
-      "Initial values name=value,... of coordinates and independent quasi-velocities (default: the model's key "
-      "initial, then the scene's; else 0)");
-  cmd->add_option("--input", opt->inputs,
-                  "Inputs name=value or name=expression in t, the state's names and parameters (a feedback law, "
-                  "e.g. tau=\"-4*(q-1)-2*q_dot\"), comma-separated (default 0)");
-  cmd->add_option("--input-file", opt->input_file,
-                  "CSV with a header t,<input names> and rows of values, interpolated linearly in t (held at "
-                  "the ends)");
-  CLI::Option* sample = cmd->add_option("--sample", opt->sample, "Output interval (default: every step)");
+  const std::function<void()> given = add_simulate_options(cmd, *opt);
   cmd->add_option("--monitors", opt->monitors,
                   "Extra CSV columns, comma-separated: energy, constraint_residual (residual_<u> per constraint), "
                   "momentum (p_<u> = M u per independent quasi-velocity)");
   cmd->add_option("--out", opt->out, "CSV file, or - for standard output")->capture_default_str();
-  return [opt, dt, tol, sample] {
-    opt->dt_given = dt->count() > 0;
-    opt->tol_given = tol->count() > 0;
-    opt->sample_given = sample->count() > 0;
+  return [opt, given] {
+    given();
     run(*opt);
   };
 }

@@ -280,6 +280,7 @@ void close_tree_loops(Model& model, const std::vector<TreeLoop>& loops) {
   model.B = GiNaC::matrix();
   model.B_given = false;
   model.constrained.clear();
+  model.closed_tree = std::move(model.tree);
   model.tree.reset();
   model.wrenches.clear();
   add_holonomic_quasi_velocities(model, false);

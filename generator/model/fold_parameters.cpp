@@ -35,13 +35,24 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
     h.g = sub(h.g);
     for (GiNaC::ex& e : h.gradient) e = sub(e);
   }
+  for (PosedBody& b : out.posed_bodies) {
+    b.body.mass = sub(b.body.mass);
+    for (int i = 0; i < 3; ++i) {
+      b.position[i] = sub(b.position[i]);
+      b.body.com[i] = sub(b.body.com[i]);
+      for (int j = 0; j < 3; ++j) {
+        b.rotation[i][j] = sub(b.rotation[i][j]);
+        b.body.inertia[i][j] = sub(b.body.inertia[i][j]);
+      }
+    }
+  }
   if (out.bundle) {
     out.bundle->kinetic = sub(out.bundle->kinetic);
     out.bundle->potential = sub(out.bundle->potential);
     sub_matrix(out.bundle->kinematic_connection);
   }
-  for (KinematicTree* tree :
-       {out.bundle && out.bundle->tree ? &*out.bundle->tree : nullptr, out.tree ? &*out.tree : nullptr}) {
+  for (KinematicTree* tree : {out.bundle && out.bundle->tree ? &*out.bundle->tree : nullptr,
+                              out.tree ? &*out.tree : nullptr, out.closed_tree ? &*out.closed_tree : nullptr}) {
     if (tree) {
       for (GiNaC::ex& g : tree->gravity) g = sub(g);
       const auto sub_body = [&](RigidBody& b) {

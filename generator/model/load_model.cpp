@@ -1043,6 +1043,12 @@ GiNaC::ex Loader::load_posed_body(Model& model, const YAML::Node& body, const st
       fail(rot, key + ".rotation", problem + "; expected a rotation matrix (orthonormal columns, det R = 1)");
   }
   const std::vector<GiNaC::ex> position = vector_of(body["position"], key + ".position", 3, table, allowed);
+  PosedBody posed{rb, {}, {}};
+  for (unsigned i = 0; i < 3; ++i) {
+    posed.position[i] = position[i];
+    for (unsigned j = 0; j < 3; ++j) posed.rotation[i][j] = R(i, j);
+  }
+  model.posed_bodies.push_back(posed);
   return posed_body_kinetic_energy(model, rb, R, position);
 }
 

@@ -28,6 +28,15 @@ struct RigidBody {
   GiNaC::ex inertia[3][3];  ///< about the centre of mass, body-frame axes
 };
 
+/// A rigid body of a model in general coordinates (key `bodies` beside `coordinates`): inertial data in its frame and
+/// the frame's pose in the world, R(q, t) and p(q, t), as expressions that may use definitions. The kinetic energy is
+/// assembled from them when loading (model/body_energy.hpp); `hamel animate` draws them where they are.
+struct PosedBody {
+  RigidBody body;
+  GiNaC::ex rotation[3][3];
+  GiNaC::ex position[3];
+};
+
 /// A body of a kinematic tree joined to its parent by a one-degree-of-freedom joint. Its pose relative to
 /// the parent is g = (rotation, offset) · exp(q S), S = (axis, 0) for a revolute and (0, axis) for a
 /// prismatic joint, axis resolved in the joint frame, which is the body frame at q = 0.
@@ -123,10 +132,15 @@ struct Model {
   /// A fixed-base tree (model key `tree` without `group`): coordinates are the joints, u = q̇ (A = B = 1),
   /// the Lagrangian follows from the bodies (derive/kinematic_tree.hpp).
   std::optional<KinematicTree> tree;
+  /// A fixed-base tree with closed loops (key `loops`) is derived in general coordinates, the joints, without `tree`:
+  /// this keeps its bodies and joints, which say where the bodies are (`hamel animate`).
+  std::optional<KinematicTree> closed_tree;
 
   /// Named sub-expressions (model key `definitions`), in order; every expression below may use them, and
   /// they stay intermediate symbols through the derivation into the emitted code.
   Intermediates definitions;
+
+  std::vector<PosedBody> posed_bodies;  ///< key `bodies` in general coordinates, in file order
 
   GiNaC::ex lagrangian;                 ///< L(q, q̇, u, t); for bundle models l = T − V
   std::vector<GiNaC::ex> forces;        ///< Q_a dual to q^a (zeros when absent); for bundles Q_I on the shape

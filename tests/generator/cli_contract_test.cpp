@@ -248,7 +248,7 @@ TEST(Cli, LinearizeJsonShapeAndPendulumModes) {
 }
 
 TEST(Cli, HelpForEveryVerb) {
-  for (const char* verb : {"derive", "emit", "simulate", "linearize"}) {
+  for (const char* verb : {"derive", "emit", "simulate", "linearize", "animate"}) {
     const Outcome r = hamel(std::string(verb) + " --help");
     EXPECT_EQ(r.status, 0) << verb;
     EXPECT_NE(r.out.find("Usage"), std::string::npos) << verb;

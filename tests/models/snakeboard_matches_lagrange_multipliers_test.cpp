@@ -14,8 +14,10 @@
 // q̈ and the momentum's rate are compared, with parameters off BKMM's simplification for the general check.
 #include "derive/derivation.hpp"
 #include "emit/kernels.hpp"
+#include "model/input_error.hpp"
 #include "model/load_model.hpp"
 #include "numeric/graph_evaluator.hpp"
+#include "numeric/phase.hpp"
 #include "support/command.hpp"
 
 #include <gtest/gtest.h>
@@ -236,6 +238,58 @@ TEST(Snakeboard, MomentumEquationIsBKMMsPublishedForm) {
     worst = std::max(worst, std::fabs(s.value(nm.rate[0], s.d.equations.intermediates, x, p) - published));
   }
   EXPECT_LT(worst, 1e-12);
+}
+
+// Bad `constraints` on a bundle: errors name file:line, the key and what was expected.
+std::string board(const std::string& constraints, const std::string& connection = "") {
+  return "name: board\nparameters: {m: 1, l: 0.3}\ngroup: SE2\ngroup_velocity: [omega, vx, vy]\nshape: [phi]\n" +
+         constraints + connection + "kinetic: \"1/2*m*(vx^2 + vy^2 + omega^2 + phi_dot^2)\"\n";
+}
+
+std::string error_of(const std::string& text) {
+  try {
+    (void)hamel::derive(hamel::load_model_from_text(text, "bad.yaml"));
+  } catch (const hamel::InputError& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(SnakeboardModelErrors, NameTheConstraintAndWhatWasExpected) {
+  const struct {
+    std::string text, location, fragment;
+  } cases[] = {
+      {board("constraints: {a: \"vx*vy\"}\n"), "bad.yaml:6:", "is not linear in the velocities"},
+      {board("constraints: {a: \"vx + l\"}\n"), "bad.yaml:6:", "part without a velocity"},
+      {board("constraints: {a: \"phi_dot\"}\n"), "bad.yaml:6:", "does not involve the group velocity"},
+      {board("constraints: {a: vx, b: vy, c: omega}\n"), "bad.yaml:6:", "leave none free"},
+      {board("constraints: [vx]\n"), "bad.yaml:6:", "expected an ordered map"},
+      {board("constraints: {a: vy, b: \"2*vy\"}\n"), "bad.yaml:6:", "rank below 2"},
+      {board("constraints: {a: vy}\n", "connection: mechanical\n"), "bad.yaml:7:", "expected 'nonholonomic'"},
+      {board("", "connection: nonholonomic\n"), "bad.yaml:6:", "needs the constraints"},
+      {board("constraints: {vx: vy}\n"), "bad.yaml:6:", "already declared"},
+  };
+  for (const auto& c : cases) {
+    const std::string message = error_of(c.text);
+    EXPECT_NE(message.find(c.location), std::string::npos) << message;
+    EXPECT_NE(message.find(c.fragment), std::string::npos) << message;
+    EXPECT_TRUE(message.find("'constraints") != std::string::npos || message.find("'connection'") != std::string::npos)
+        << message;
+  }
+}
+
+TEST(SnakeboardModelErrors, PhaseRefusesANonholonomicModel) {
+  const hamel::Model model = hamel::load_model(source("models/snakeboard.yaml"));
+  hamel::PhaseRequest req;
+  req.path = {GiNaC::sin(GiNaC::realsymbol("t")), 0};
+  try {
+    hamel::check_phase_request(model, req);
+    FAIL() << "no error";
+  } catch (const hamel::InputError& e) {
+    const std::string message = e.what();
+    EXPECT_NE(message.find("snakeboard.yaml:"), std::string::npos) << message;
+    EXPECT_NE(message.find("momentum equation"), std::string::npos) << message;
+  }
 }
 
 }  // namespace

@@ -102,6 +102,13 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
                        "connection A = L^-1 K does not exist; every group direction must carry kinetic energy");
     // Eq. (mechConn): A = L⁻¹K by a symbolic LDLᵀ of the locked inertia (positive definite, no pivoting).
     g.connection = d > 0 ? solve_positive_definite(g.L, g.K, program) : matrix(m, d);
+  } else if (b.nonholonomic) {
+    if (!g.quadratic)
+      throw InputError(where, "kinetic",
+                       "the nonholonomic connection needs a kinetic energy that is a quadratic form in the group "
+                       "velocity and the shape rates (eq. T); this one is not");
+    g.nonholonomic = derive_nonholonomic_connection(model, g.L, g.K, program);
+    g.connection = g.nonholonomic->connection;
   } else {
     g.connection = b.kinematic_connection;
   }

@@ -6,9 +6,11 @@
 
 #include "algebra/indexed_coefficient.hpp"
 #include "algebra/intermediates.hpp"
+#include "derive/nonholonomic_connection.hpp"
 #include "lie/lie_algebra.hpp"
 #include "model/model.hpp"
 
+#include <optional>
 #include <vector>
 
 namespace hamel {
@@ -25,11 +27,12 @@ struct BundleGeometry {
   LieAlgebra algebra;
   std::vector<StructureConstant> structure_constants;  ///< c^α_βλ, [E_β, E_λ] = c^α_βλ E_α
   int trivialization_sign = 1;                         ///< +1 left (γ^α_βλ = c), −1 right (γ = −c)
-  bool quadratic = false;                    ///< T is a quadratic form in (ξ, ṙ): L, K, S and M^Ω are defined
-  GiNaC::matrix L, K, S;                     ///< eq. (M): T = ½ (ξ, ṙ)ᵀ [[L, K], [Kᵀ, S]] (ξ, ṙ)
-  GiNaC::matrix connection;                  ///< A^α_I(r), m̄ × δ̄, when connection_derived
-  bool connection_derived = true;            ///< false for kinematic trees: A = L⁻¹K, the curvature, E and
-                                             ///< S − AᵀLA are not formed symbolically (kernels solve L A = K)
+  bool quadratic = false;    ///< T is a quadratic form in (ξ, ṙ): L, K, S and M^Ω are defined
+  GiNaC::matrix L, K, S;     ///< eq. (M): T = ½ (ξ, ṙ)ᵀ [[L, K], [Kᵀ, S]] (ξ, ṙ)
+  GiNaC::matrix connection;  ///< A^α_I(r), m̄ × δ̄, when connection_derived
+  std::optional<NonholonomicConnection> nonholonomic;  ///< with `constraints`: its parts; `connection` is its 𝒜
+  bool connection_derived = true;                      ///< false for kinematic trees: A = L⁻¹K, the curvature, E and
+                                   ///< S − AᵀLA are not formed symbolically (kernels solve L A = K)
   std::vector<BundleCoefficient> curvature;  ///< γ^α_IJ ≠ 0 (paper sign), both orders of (I, J)
   std::vector<BundleCoefficient> E;          ///< E^α_βI = γ^α_Iβ = ±c^α_βλ A^λ_I ≠ 0 (gamma42)
   GiNaC::matrix shape_inertia;  ///< S − AᵀLA, the lower block of M^Ω (eq. MOmega); its upper block is L

@@ -1,6 +1,7 @@
 #include "derive/bundle_forms.hpp"
 
 #include "algebra/simplify.hpp"
+#include "derive/nonholonomic_momentum.hpp"
 #include "model/input_error.hpp"
 
 #include <algorithm>
@@ -20,21 +21,26 @@ std::string form_name(BundleForm form) {
       return "ldap";
     case BundleForm::momentum:
       return "momentum";
+    case BundleForm::nonholonomic:
+      return "nonholonomic";
   }
   return "?";
 }
 
 BundleForm parse_form(const std::string& name) {
-  for (BundleForm f :
-       {BundleForm::euler_poincare, BundleForm::lagrange_poincare, BundleForm::ldap, BundleForm::momentum})
+  for (BundleForm f : {BundleForm::euler_poincare, BundleForm::lagrange_poincare, BundleForm::ldap,
+                       BundleForm::momentum, BundleForm::nonholonomic})
     if (form_name(f) == name) return f;
-  throw InputError("--form: unknown form '" + name +
-                   "'; expected ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare in the locked velocity), "
-                   "ldap (Lagrange-d'Alembert-Poincare, kinematic connection) or momentum (zero momentum)");
+  throw InputError(
+      "--form: unknown form '" + name +
+      "'; expected ep (Euler-Poincare + Euler-Lagrange), lp (Lagrange-Poincare in the locked velocity), "
+      "ldap (Lagrange-d'Alembert-Poincare, kinematic connection), momentum (zero momentum) or nonholonomic "
+      "(momentum equation and reduced shape equations, a bundle with constraints)");
 }
 
 BundleForm default_form(const Bundle& bundle) {
   if (bundle.tree) return BundleForm::euler_poincare;  // the recursive derivation (derive/kinematic_tree.hpp)
+  if (bundle.nonholonomic) return BundleForm::nonholonomic;
   return bundle.mechanical ? BundleForm::lagrange_poincare : BundleForm::ldap;
 }
 
@@ -50,6 +56,8 @@ std::string form_title(BundleForm form) {
       return "Lagrange-d'Alembert-Poincare (HE-kinBundle)";
     case BundleForm::momentum:
       return "momentum-conserving reduced equations, zero momentum (HEMomCons)";
+    case BundleForm::nonholonomic:
+      return "nonholonomic momentum and reduced shape equations (BKMM 1996)";
   }
   return "?";
 }
@@ -58,6 +66,12 @@ std::string form_title(BundleForm form) {
 
 BundleSystem bundle_system(const Model& model, const BundleGeometry& geometry, BundleForm form) {
   const Bundle& b = *model.bundle;
+  if ((form == BundleForm::nonholonomic) != b.nonholonomic)
+    throw InputError("--form " + form_name(form) + ": " +
+                     (b.nonholonomic ? "the model has 'constraints' that leave group directions free; expected --form "
+                                       "nonholonomic (the nonholonomic momentum and the reduced shape equations)"
+                                     : "the form nonholonomic needs a bundle model with 'constraints'"));
+  if (form == BundleForm::nonholonomic) return nonholonomic_system(model, geometry);
   const bool wants_mechanical = form != BundleForm::ldap;
   if (wants_mechanical != b.mechanical)
     throw InputError("--form " + form_name(form) + ": the model's connection is " +

@@ -6,6 +6,8 @@
 //   lagrange_poincare  A mechanical, nothing held   (BHESym1, BHESym2), state (r, Ω, ṙ), Ω = locked velocity
 //   ldap               A kinematic, u^α held at 0   (HE-kinBundle), state (r, ṙ)
 //   momentum           A mechanical, Ω held at 0    (HEMomCons, zero momentum), state (r, ṙ)
+//   nonholonomic       A nonholonomic, the constraints held at 0 (BKMM 1996), state (r, Ω_S, ṙ):
+//                      derive/nonholonomic_momentum.hpp
 // Non-zero momentum is the lagrange_poincare form started at Ω = L⁻¹Π⁰.
 #pragma once
 
@@ -18,13 +20,13 @@
 
 namespace hamel {
 
-enum class BundleForm { euler_poincare, lagrange_poincare, ldap, momentum };
+enum class BundleForm { euler_poincare, lagrange_poincare, ldap, momentum, nonholonomic };
 
-/// Command-line names: "ep", "lp", "ldap", "momentum".
+/// Command-line names: "ep", "lp", "ldap", "momentum", "nonholonomic".
 std::string form_name(BundleForm form);
 /// Parses a command-line name; throws InputError listing the names.
 BundleForm parse_form(const std::string& name);
-/// ldap for a kinematic connection, lagrange_poincare for a mechanical one.
+/// ldap for a kinematic connection, lagrange_poincare for a mechanical one, nonholonomic with `constraints`.
 BundleForm default_form(const Bundle& bundle);
 
 struct BundleSystem {

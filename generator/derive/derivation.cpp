@@ -103,6 +103,8 @@ Derivation derive(const Model& model, const DeriveSettings& settings) {
   progress::Step step("deriving the equations of motion of " + model.name + " (mass matrix, forcing)");
   d.equations = hamel_equations(d.system, model.time);
   step.detail(std::to_string(d.equations.intermediates.size()) + " intermediates");
+  if (d.form == BundleForm::nonholonomic)
+    d.momentum_equation = nonholonomic_momentum(model, *d.bundle, d.system, d.equations.intermediates);
   return d;
 }
 

@@ -9,6 +9,7 @@
 #include "derive/hamel_coefficients.hpp"
 #include "derive/hamel_equations.hpp"
 #include "derive/hamel_system.hpp"
+#include "derive/nonholonomic_momentum.hpp"
 #include "derive/quasi_velocities.hpp"
 #include "model/model.hpp"
 
@@ -31,6 +32,7 @@ struct Derivation {
   HamelSystem system;                     ///< what the equations were derived from; its gamma are the
                                           ///< Hamel coefficients of the velocities in the state
   HamelEquations equations;
+  std::optional<NonholonomicMomentum> momentum_equation;  ///< bundle models with `constraints` (BKMM 1996)
 };
 
 /// Runs every derivation step on `model`. Throws InputError for models that are inconsistent.

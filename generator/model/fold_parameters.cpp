@@ -50,6 +50,8 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
     out.bundle->kinetic = sub(out.bundle->kinetic);
     out.bundle->potential = sub(out.bundle->potential);
     sub_matrix(out.bundle->kinematic_connection);
+    sub_matrix(out.bundle->constraint_group);
+    sub_matrix(out.bundle->constraint_shape);
   }
   for (KinematicTree* tree : {out.bundle && out.bundle->tree ? &*out.bundle->tree : nullptr,
                               out.tree ? &*out.tree : nullptr, out.closed_tree ? &*out.closed_tree : nullptr}) {

@@ -68,7 +68,8 @@ GiNaC::symtab Model::symbols() const {
   for (const auto& s : quasi_velocities) table[s.get_name()] = s;
   for (const auto& s : inputs) table[s.get_name()] = s;
   if (bundle)
-    for (const auto& s : bundle->group_velocity) table[s.get_name()] = s;
+    for (const auto* list : {&bundle->group_velocity, &bundle->constraint_velocities, &bundle->momentum_velocities})
+      for (const auto& s : *list) table[s.get_name()] = s;
   return table;
 }
 
@@ -327,6 +328,8 @@ class Loader {
   unsigned load_group(Model& model, Bundle& b);
   void load_shape(const YAML::Node& tree, Model& model, const Bundle& b);
   void load_connection(Model& model, Bundle& b, unsigned dim, const GiNaC::symtab& geometric);
+  void declare_bundle_constraints(Bundle& b, unsigned dim);
+  void load_bundle_constraints(Model& model, Bundle& b, const GiNaC::symtab& velocities);
   void load_bundle_lagrangian(const YAML::Node& tree, Model& model, Bundle& b, const GiNaC::symtab& geometric,
                               const GiNaC::symtab& velocities);
   void load_fixed_tree(Model& model);
@@ -387,9 +390,9 @@ Model Loader::load() {
   bundle_ = static_cast<bool>(root_["group"]);
   if (bundle_)
     check_keys(root_, "",
-               {"schema", "name", "description", "parameters", "group", "trivialization", "group_velocity", "shape",
-                "connection", "kinetic", "bodies", "tree", "potential", "forces", "wrenches", "loops", "inputs",
-                "definitions", "initial"});
+               {"schema", "name",       "description", "parameters", "group",       "trivialization", "group_velocity",
+                "shape",  "connection", "constraints", "kinetic",    "bodies",      "tree",           "potential",
+                "forces", "wrenches",   "loops",       "inputs",     "definitions", "initial"});
   else if (root_["tree"])
     check_keys(root_, "",
                {"schema", "name", "description", "parameters", "tree", "forces", "wrenches", "loops", "inputs",
@@ -705,6 +708,7 @@ void Loader::load_bundle(Model& model) {
   const unsigned dim = load_group(model, b);
   const YAML::Node tree = root_["tree"];
   load_shape(tree, model, b);
+  declare_bundle_constraints(b, dim);
   if (YAML::Node ins = root_["inputs"]) model.inputs = name_list(ins, "inputs");
 
   GiNaC::symtab geometric;  // parameters and shape: what inertia data and the connection may use
@@ -723,6 +727,7 @@ void Loader::load_bundle(Model& model) {
   force_table = with_definitions(force_table);
 
   load_connection(model, b, dim, geometric);
+  load_bundle_constraints(model, b, velocities);
   load_bundle_lagrangian(tree, model, b, geometric, velocities);
   model.bundle = b;
   load_forces(model, force_table,
@@ -858,9 +863,22 @@ void Loader::load_connection(Model& model, Bundle& b, unsigned dim, const GiNaC:
   const std::size_t n = model.coordinates.size();
   if (YAML::Node conn = root_["connection"]) {
     model.locations["connection"] = where(conn);
+    if (b.nonholonomic && !(conn.IsScalar() && conn.Scalar() == "nonholonomic"))
+      fail(conn, "connection",
+           "a model with 'constraints' has the nonholonomic connection (kinematic part from the constraints, "
+           "mechanical part from the locked inertia on the free group directions); expected 'nonholonomic' or no "
+           "'connection' key");
     if (conn.IsScalar()) {
-      if (conn.Scalar() != "mechanical")
-        fail(conn, "connection", "expected 'mechanical' or a map {kinematic: [[...]]}, got '" + conn.Scalar() + "'");
+      if (conn.Scalar() == "nonholonomic") {
+        if (!b.nonholonomic)
+          fail(conn, "connection",
+               "'nonholonomic' needs the constraints it is built from: a map 'constraints' of name: expression "
+               "linear in the group velocity and the shape rates");
+      } else if (conn.Scalar() != "mechanical") {
+        fail(conn, "connection",
+             "expected 'mechanical', 'nonholonomic' (with 'constraints') or a map {kinematic: [[...]]}, got '" +
+                 conn.Scalar() + "'");
+      }
     } else if (conn.IsMap()) {
       check_keys(conn, "connection", {"kinematic"});
       YAML::Node k = conn["kinematic"];
@@ -881,6 +899,92 @@ void Loader::load_connection(Model& model, Bundle& b, unsigned dim, const GiNaC:
     } else {
       fail(conn, "connection", "expected 'mechanical' or a map {kinematic: [[...]]}");
     }
+  }
+}
+
+// 'constraints' on a bundle: the names of the constraints (each names the velocity C_ξ ξ + C_r ṙ held at zero) and the
+// velocities Ω_S along the group directions they leave free, declared with the other names.
+void Loader::declare_bundle_constraints(Bundle& b, unsigned dim) {
+  const YAML::Node node = root_["constraints"];
+  if (!node) return;
+  if (!node.IsMap() || node.size() == 0)
+    fail(node, "constraints",
+         "on a bundle model, expected an ordered map of name: expression linear in the group velocity and the shape "
+         "rates (each constraint C(r) (xi, r_dot) = 0)");
+  if (root_["tree"])
+    fail(node, "constraints",
+         "constraints on a kinematic tree's floating base are not implemented; expected a model "
+         "with 'kinetic' or 'bodies'");
+  for (const auto& kv : node) {
+    const std::string name = scalar(kv.first, "constraints");
+    declare_name(kv.first, "constraints." + name, name);
+    b.constraint_velocities.emplace_back(name);
+  }
+  const std::size_t k = b.constraint_velocities.size();
+  if (k >= dim)
+    fail(node, "constraints",
+         std::to_string(k) + " constraints on the " + std::to_string(dim) + " group directions of " + b.group +
+             " leave none free; expected fewer than " + std::to_string(dim) +
+             " (constraints that fix the group velocity are a kinematic connection: connection: {kinematic: [[...]]})");
+  for (std::size_t j = 0; j < dim - k; ++j) {
+    const std::string name = dim - k == 1 ? "Omega_S" : "Omega_S" + std::to_string(j + 1);
+    auto [it, inserted] = declared_.emplace(name, "constraints");
+    if (!inserted)
+      fail(node, "constraints",
+           "the velocity along the free group directions is named '" + name +
+               "', which clashes with the name "
+               "declared in '" +
+               it->second + "'; expected another name there");
+    b.momentum_velocities.emplace_back(name);
+  }
+  b.nonholonomic = true;
+  b.mechanical = false;
+}
+
+// Each constraint as C_ξ(r) ξ + C_r(r) ṙ: its coefficients are its derivatives by ξ and ṙ (through the definitions),
+// which may use shape coordinates and parameters only; linearity is decided exactly.
+void Loader::load_bundle_constraints(Model& model, Bundle& b, const GiNaC::symtab& velocities) {
+  const YAML::Node node = root_["constraints"];
+  if (!node) return;
+  model.locations["constraints"] = where(node);
+  const std::size_t k = b.constraint_velocities.size(), m = b.group_velocity.size(), d = model.rates.size();
+  std::vector<GiNaC::realsymbol> v(b.group_velocity);
+  v.insert(v.end(), model.rates.begin(), model.rates.end());
+  b.constraint_group = GiNaC::matrix(static_cast<unsigned>(k), static_cast<unsigned>(m));
+  b.constraint_shape = GiNaC::matrix(static_cast<unsigned>(k), static_cast<unsigned>(d == 0 ? 1 : d));
+  std::size_t i = 0;
+  for (const auto& kv : node) {
+    const std::string key = "constraints." + b.constraint_velocities[i].get_name();
+    model.locations[key] = where(kv.second);
+    const GiNaC::ex row =
+        expression(kv.second, key, velocities,
+                   "a constraint may use the group velocity, shape coordinates, their _dot rates and parameters, and "
+                   "must be linear in the velocities");
+    GiNaC::ex rest = row;
+    bool group = false;
+    for (std::size_t j = 0; j < v.size(); ++j) {
+      const GiNaC::ex c = model.definitions.diff(row, v[j]);
+      rest -= c * v[j];
+      for (const GiNaC::realsymbol& w : v)
+        if (!c.is_zero() && identically_zero(model.definitions.diff(c, w), model.definitions) == Identity::nonzero)
+          fail(kv.second, key,
+               "is not linear in the velocities: its coefficient of " + v[j].get_name() + " depends on " +
+                   w.get_name() + " (expected C(r) (xi, r_dot) = 0)");
+      if (j < m) {
+        b.constraint_group(static_cast<unsigned>(i), static_cast<unsigned>(j)) = c;
+        group = group || identically_zero(c, model.definitions) != Identity::zero;
+      } else {
+        b.constraint_shape(static_cast<unsigned>(i), static_cast<unsigned>(j - m)) = c;
+      }
+    }
+    if (identically_zero(rest, model.definitions) == Identity::nonzero)
+      fail(kv.second, key,
+           "is not linear in the velocities: it has a part without a velocity (expected C(r) (xi, r_dot) = 0)");
+    if (!group)
+      fail(kv.second, key,
+           "does not involve the group velocity: a condition on the shape rates alone is not a constraint of the "
+           "bundle's symmetry; expected C_xi(r) xi + C_r(r) r_dot = 0 with C_xi not zero");
+    ++i;
   }
 }
 

@@ -94,6 +94,16 @@ struct Bundle {
   std::vector<std::string> bodies;                ///< body names when T came from `bodies:`
   std::optional<KinematicTree> tree;              ///< set when the bodies form a tree (key `tree`); then
                                                   ///< `kinetic` is empty: see derive/kinematic_tree.hpp
+  /// Constraints that leave some group directions free (key `constraints` on a bundle; Bloch, Krishnaprasad,
+  /// Marsden & Murray 1996): C_ξ(r) ξ + C_r(r) ṙ = 0, k < dim G rows, G-invariant because written in ξ. Then the
+  /// connection is the nonholonomic one (derive/nonholonomic_connection.hpp) and `mechanical` is false.
+  bool nonholonomic = false;
+  std::vector<GiNaC::realsymbol> constraint_velocities;  ///< the constraints' names: C_ξ ξ + C_r ṙ, held at zero
+  GiNaC::matrix constraint_group;                        ///< C_ξ(r), k × dim G
+  GiNaC::matrix constraint_shape;                        ///< C_r(r), k × (number of shape coordinates)
+  /// Names of the velocities along S = D ∩ V (dim G − k of them, `Omega_S`, or `Omega_S1`, ... for several): ξ = Z Ω_S
+  /// − 𝒜ṙ.
+  std::vector<GiNaC::realsymbol> momentum_velocities;
 };
 
 /// A holonomic constraint g(q) = 0 (model key `holonomic`, general coordinates). It enters the derivation as the

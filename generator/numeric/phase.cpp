@@ -148,6 +148,19 @@ void check_conserved_momentum(const Model& model, const std::string& verb) {
                          "do not determine its motion (the geometric phase); expected a model without them for " +
                          verb + ", or 'hamel simulate' for the motion under them");
   }
+  if (model.bundle->nonholonomic) {
+    // With constraints that leave group directions free, the momentum p along them is not conserved: it follows
+    // the momentum equation, driven by the shape's velocity, so the group motion is not −A r_dot alone.
+    const auto where = model.locations.find("constraints");
+    throw InputError(where != model.locations.end() ? where->second : SourceLocation{model.source_path, 0, 0},
+                     "constraints",
+                     "the nonholonomic momentum along the free group directions is not conserved (it follows the "
+                     "momentum equation), so a shape path alone does not give the motion; expected, instead of " +
+                         verb +
+                         ", 'hamel simulate' "
+                         "with the shape driven by the inputs, or a model whose constraints fix the group velocity "
+                         "(a kinematic connection)");
+  }
 }
 
 void check_phase_request(const Model& model, const PhaseRequest& req) {

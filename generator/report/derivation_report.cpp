@@ -64,7 +64,9 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
                 {"trivialization", b.right ? "right" : "left"},
                 {"basis", g.algebra.basis_names},
                 {"velocity", xi},
-                {"connection", b.mechanical ? "mechanical" : "kinematic"}};
+                {"connection", b.nonholonomic ? "nonholonomic"
+                               : b.mechanical ? "mechanical"
+                                              : "kinematic"}};
   if (!b.bodies.empty()) j["group"]["bodies"] = b.bodies;
   j["structure_constants"] = nlohmann::json::array();
   for (const StructureConstant& c : g.structure_constants) {
@@ -111,6 +113,30 @@ void add_bundle_json(nlohmann::json& j, const Model& model, const Derivation& d,
     nlohmann::json e = entry(d.group_velocity[a], values);
     e["row"] = xi[a];
     j["reconstruction"].push_back(e);
+  }
+  if (g.nonholonomic) {  // BKMM 1996: the sections of S = D ∩ V, the parts of the connection, the momentum equation
+    const NonholonomicConnection& nh = *g.nonholonomic;
+    const unsigned s = static_cast<unsigned>(b.momentum_velocities.size());
+    std::vector<std::string> names, constraints;
+    for (const auto& v : b.momentum_velocities) names.push_back(v.get_name());
+    for (const auto& c : b.constraint_velocities) constraints.push_back(c.get_name());
+    nlohmann::json h;
+    h["constraints"] = constraints;
+    h["solved_for"] = nlohmann::json::array();
+    for (int a : nh.solved) h["solved_for"].push_back(xi[static_cast<std::size_t>(a)]);
+    h["sections"] = matrix_json(nh.sections, m, s, xi, names, values);
+    h["kinematic_connection"] = matrix_json(nh.kinematic, m, n, xi, r, values);
+    h["locked_inertia"] = matrix_json(nh.locked_inertia, s, s, names, names, values);
+    h["momentum"] = nlohmann::json::array();
+    for (unsigned k = 0; k < s && d.momentum_equation; ++k) {
+      nlohmann::json e;
+      e["name"] = d.momentum_equation->momenta[k].get_name();
+      e["velocity"] = names[k];
+      e["momentum"] = entry(d.momentum_equation->momentum[k], values);
+      e["rate"] = entry(d.momentum_equation->rate[k], values);
+      h["momentum"].push_back(e);
+    }
+    j["nonholonomic"] = h;
   }
   if (g.quadratic) j["locked_inertia"] = matrix_json(g.L, m, m, xi, xi, values);
   if (b.mechanical && g.connection_derived) {
@@ -288,8 +314,10 @@ class LatexWriter {
     for (const auto& s : b.group_velocity) xi.push_back(tex.name(s.get_name()));
     out << "\\paragraph{Bundle.} Group \\texttt{" << latex_text(b.group) << "}, " << (b.right ? "right" : "left")
         << " trivialization with velocity $\\xi = " << tuple(xi) << "$, "
-        << (b.mechanical ? "mechanical connection (mechConn)" : "kinematic connection (KinConnect)") << "; form "
-        << latex_text(form_name(*d.form)) << ".\n\n";
+        << (b.nonholonomic ? "nonholonomic connection (Bloch, Krishnaprasad, Marsden \\& Murray 1996)"
+            : b.mechanical ? "mechanical connection (mechConn)"
+                           : "kinematic connection (KinConnect)")
+        << "; form " << latex_text(form_name(*d.form)) << ".\n\n";
     out << "Structure constants $c^{\\alpha}_{\\beta\\lambda}$, non-zero, $\\beta < \\lambda$ "
            "($c^{\\alpha}_{\\lambda\\beta} = -c^{\\alpha}_{\\beta\\lambda}$):\n";
     Rows rows;
@@ -300,7 +328,10 @@ class LatexWriter {
                               "}",
                           math(c.value));
     block(rows, "none: the group is commutative.");
-    out << "Connection $\\mathcal{A}^{\\alpha}_{I}$, eq.~(" << (b.mechanical ? "mechConn" : "KinConnect")
+    out << "Connection $\\mathcal{A}^{\\alpha}_{I}$, eq.~("
+        << (b.nonholonomic ? "BKMM"
+            : b.mechanical ? "mechConn"
+                           : "KinConnect")
         << "), non-zero entries:\n";
     rows.clear();
     if (!g.connection_derived) {
@@ -566,7 +597,11 @@ void print_derivation_text(std::ostream& out, nlohmann::json j, const Model& mod
     for (const auto& e : j["structure_constants"])
       out << "  c^" << e["alpha"].get<std::string>() << "_(" << e["beta"].get<std::string>() << ","
           << e["lambda"].get<std::string>() << ") = " << show(e) << "\n";
-    out << "\nconnection A^alpha_I, eq. (" << (model.bundle->mechanical ? "mechConn" : "KinConnect") << "):\n";
+    out << "\nconnection A^alpha_I, "
+        << (model.bundle->nonholonomic ? "nonholonomic (Bloch, Krishnaprasad, Marsden & Murray 1996)"
+            : model.bundle->mechanical ? "eq. (mechConn)"
+                                       : "eq. (KinConnect)")
+        << ":\n";
     if (j.contains("connection_note")) out << "  " << j["connection_note"].get<std::string>() << "\n";
     for (const auto& e : j["connection"])
       if (e["expr"] != "0")
@@ -581,6 +616,26 @@ void print_derivation_text(std::ostream& out, nlohmann::json j, const Model& mod
           << e["J"].get<std::string>() << ") = " << show(e) << "\n";
     out << "\nreconstruction xi(r, u), eq. (KinRec):\n";
     for (const auto& e : j["reconstruction"]) out << "  " << e["row"].get<std::string>() << " = " << show(e) << "\n";
+    if (j.contains("nonholonomic")) {
+      const auto& h = j["nonholonomic"];
+      out << "\nnonholonomic momentum (Bloch, Krishnaprasad, Marsden & Murray 1996): S = D ^ V spanned by the "
+             "sections Z (body frame), xi = Z Omega_S - A r_dot on D, p = Z^T dl/dxi = (Z^T L Z) Omega_S:\n";
+      for (const auto& e : h["sections"])
+        out << "  Z[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
+            << "\n";
+      for (const auto& e : h["locked_inertia"])
+        out << "  I_S[" << e["row"].get<std::string>() << "][" << e["col"].get<std::string>() << "] = " << show(e)
+            << "\n";
+      for (const auto& e : h["kinematic_connection"])
+        if (e["expr"] != "0")
+          out << "  A_kin^" << e["row"].get<std::string>() << "_" << e["col"].get<std::string>() << " = " << show(e)
+              << "\n";
+      out << "momentum equation:\n";
+      for (const auto& e : h["momentum"]) {
+        out << "  " << e["name"].get<std::string>() << " = " << show(e["momentum"]) << "\n";
+        out << "  " << e["name"].get<std::string>() << "' = " << show(e["rate"]) << "\n";
+      }
+    }
   } else {
     out << "\nB = A^-1 (q_dot = B u), non-zero entries, eq. (u2):\n";
     for (const auto& e : j["B"])

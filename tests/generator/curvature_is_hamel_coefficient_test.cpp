@@ -143,8 +143,9 @@ TEST_P(ShippedBundleModel, CoreCoefficientsAreTheBundleOnesAndCurved) {
   ASSERT_EQ(chart.s.size(), geo.algebra.dim());
   const hamel::Model core = core_model_in_group_coordinates(model, geo.connection, chart);
   const Coefficients want = bundle_gamma(geo);
-  // satellite_se3: 162 non-zero coefficients, satellite_so3xr3: 60, rolling_ball_bundle: 16.
-  EXPECT_GE(expect_same(core_gamma(core), want), 16);
+  // satellite_se3: 162 non-zero coefficients, satellite_so3xr3: 60, rolling_ball_bundle: 16, snakeboard (its
+  // nonholonomic connection): 14.
+  EXPECT_GE(expect_same(core_gamma(core), want), 14);
   // The curvature block on its own, so that a missing curvature cannot hide in the other blocks. The shipped
   // bundle models with a shape all have a curved connection (non-abelian G, A ≠ 0).
   int curved = 0;

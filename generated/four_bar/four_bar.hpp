@@ -54,15 +54,15 @@ constexpr int n_temporaries_kinematics = 29;
 constexpr int n_out_mass_matrix = 1;
 constexpr int n_temporaries_mass_matrix = 89;
 constexpr int n_out_forcing = 1;
-constexpr int n_temporaries_forcing = 453;
+constexpr int n_temporaries_forcing = 307;
 constexpr int n_out_hamel_coefficients = 0;
 constexpr int n_temporaries_hamel_coefficients = 0;
 constexpr int n_out_rhs = 4;
-constexpr int n_temporaries_rhs = 545;
+constexpr int n_temporaries_rhs = 323;
 constexpr int n_out_jacobian = 16;
-constexpr int n_temporaries_jacobian = 2279;
+constexpr int n_temporaries_jacobian = 682;
 constexpr int n_out_energy = 1;
-constexpr int n_temporaries_energy = 298;
+constexpr int n_temporaries_energy = 238;
 constexpr int n_out_constraint_residual = 4;
 constexpr int n_temporaries_constraint_residual = 51;
 constexpr int n_out_constraint_position = 2;
@@ -105,7 +105,7 @@ constexpr int n_work_hamel_coefficients = 0;
 void hamel_coefficients_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
 constexpr int n_work_rhs = 0;
 void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
-constexpr int n_work_jacobian = 161;
+constexpr int n_work_jacobian = 0;
 void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
 constexpr int n_work_energy = 0;
 void energy_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
@@ -152,18 +152,18 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
 
-// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 545 operations per call, rhs_prepared: 429, prepare_parameters: 48).
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 323 operations per call, rhs_prepared: 237, prepare_parameters: 23).
 // prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
 // <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
 // again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
-constexpr int n_prepared_parameters = 46;
+constexpr int n_prepared_parameters = 27;
 void prepare_parameters(const real* p, real* prepared);
-constexpr int n_temporaries_rhs_prepared = 429;
+constexpr int n_temporaries_rhs_prepared = 237;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[4]
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
 constexpr int n_work_rhs_prepared = 0;
 void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
-constexpr int n_temporaries_jacobian_prepared = 1925;
+constexpr int n_temporaries_jacobian_prepared = 565;
 /// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[16]
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
 constexpr int n_work_jacobian_prepared = 0;

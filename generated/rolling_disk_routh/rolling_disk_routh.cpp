@@ -25,47 +25,40 @@ namespace rolling_disk_routh {
 
 namespace {
 
-/* rhs_with_pivots: (t, x[8], p[5], in[0]) -> out[8], pivots[3]  ops: 22 add, 51 mul, 4 div, 6 call */
+/* rhs_with_pivots: (t, x[8], p[5], in[0]) -> out[8], pivots[3]  ops: 20 add, 38 mul, 4 div, 4 call */
 HAMEL_NOINLINE void rhs_with_pivots(real t, const real* x, const real* p, const real* in, real* out, real* pivots) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[2]);
-  const real w1 = p[1] * w0 * x[7];
-  const real w2 = std::sin(x[2]);
-  const real w3 = p[1] * x[7] * w2;
-  const real w4 = std::cos(x[3]);
-  const real w5 = w4 * p[3];
+  const real w0 = p[1] * std::cos(x[2]) * x[7];
+  const real w1 = p[1] * x[7] * std::sin(x[2]);
+  const real w2 = std::cos(x[3]);
+  const real w3 = w2 * p[3];
+  const real w4 = p[1] * p[1];
+  const real w5 = p[0] * (w2 * w4);
   const real w6 = std::sin(x[3]);
-  const real w7 = p[1] * p[1];
-  const real w8 = w4 * w7;
-  const real w9 = w4 * p[2];
-  const real w10 = std::sin(x[4]);
-  const real w11 = w5 * w6 + (p[0] * (w2 * w2 * w8) * w6 + p[0] * (w7 * (w4 * (w0 * w0))) * w6) - w9 * (w10 * w10) * w6;
-  const real w12 = std::cos(x[4]);
-  const real w13 = w11 - w9 * (w12 * w12) * w6;
-  const real w14 = -(w13 * x[6] * x[5] * real(2.0) + x[6] * w5 * x[7]);
-  const real w15 = w4 * w4;
-  const real w16 = w7 * p[0];
-  const real w17 = -(w15 * p[3] + (p[0] * (w15 * w7) - w15 * p[2] - w16 - p[3]));
-  const real w18 = w16 * w6 + p[3] * w6;
-  const real w19 = w18 / w17;
-  const real w20 = p[0] * w8;
-  const real w21 = w16 + p[3] - w19 * w18;
-  const real w22 = (-((real(2.0) * w20 + w5) * x[6] * x[5]) - w14 * w19) / w21;
-  const real w23 = w14 / w17 - w19 * w22;
-  const real w24 = p[2] + w16;
-  const real w25 = (p[1] * p[0] * p[4] * w6 + ((w5 + w20) * x[5] * x[7] + w13 * (x[5] * x[5]))) / w24;
-  out[0] = w1;  // x_dot
-  out[1] = w3;  // y_dot
+  const real w7 = w5 * w6 + w3 * w6 - w2 * p[2] * w6;
+  const real w8 = -(x[6] * w3 * x[7] + w7 * x[6] * x[5] * real(2.0));
+  const real w9 = w2 * w2;
+  const real w10 = w4 * p[0];
+  const real w11 = -(w9 * p[3] + (p[0] * (w9 * w4) - w9 * p[2] - w10 - p[3]));
+  const real w12 = w10 * w6 + p[3] * w6;
+  const real w13 = w12 / w11;
+  const real w14 = w10 + p[3] - w13 * w12;
+  const real w15 = (-((real(2.0) * w5 + w3) * x[6] * x[5]) - w13 * w8) / w14;
+  const real w16 = w8 / w11 - w15 * w13;
+  const real w17 = p[2] + w10;
+  const real w18 = ((w3 + w5) * x[5] * x[7] + w7 * (x[5] * x[5]) + p[1] * p[0] * p[4] * w6) / w17;
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[5];  // psi_dot
   out[3] = x[6];  // theta_dot
   out[4] = x[7];  // phi_dot
-  out[5] = w23;  // w_psi_rate
-  out[6] = w25;  // w_theta_rate
-  out[7] = w22;  // w_phi_rate
-  pivots[0] = w17;  // pivot 0
-  pivots[1] = w24;  // pivot 1
-  pivots[2] = w21;  // pivot 2
+  out[5] = w16;  // w_psi_rate
+  out[6] = w18;  // w_theta_rate
+  out[7] = w15;  // w_phi_rate
+  pivots[0] = w11;  // pivot 0
+  pivots[1] = w17;  // pivot 1
+  pivots[2] = w14;  // pivot 2
 }
 
 }  // namespace
@@ -117,29 +110,21 @@ void mass_matrix_work(real t, const real* x, const real* p, const real* in, real
   mass_matrix(t, x, p, in, out);
 }
 
-/* forcing: (t, x[8], p[5], in[0]) -> out[3]  ops: 11 add, 36 mul, 0 div, 6 call */
+/* forcing: (t, x[8], p[5], in[0]) -> out[3]  ops: 9 add, 23 mul, 0 div, 2 call */
 void forcing(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::cos(x[3]);
   const real w1 = w0 * p[3];
-  const real w2 = std::sin(x[3]);
-  const real w3 = std::sin(x[2]);
-  const real w4 = p[1] * p[1];
-  const real w5 = w0 * w4;
-  const real w6 = std::cos(x[2]);
-  const real w7 = w0 * p[2];
-  const real w8 = std::sin(x[4]);
-  const real w9 = w1 * w2 + (p[0] * (w3 * w3 * w5) * w2 + p[0] * (w4 * (w0 * (w6 * w6))) * w2) - w7 * (w8 * w8) * w2;
-  const real w10 = std::cos(x[4]);
-  const real w11 = w9 - w7 * (w10 * w10) * w2;
-  const real w12 = -(w11 * x[6] * x[5] * real(2.0) + x[6] * w1 * x[7]);
-  const real w13 = p[0] * w5;
-  const real w14 = p[1] * p[0] * p[4] * w2 + ((w1 + w13) * x[5] * x[7] + w11 * (x[5] * x[5]));
-  const real w15 = -((real(2.0) * w13 + w1) * x[6] * x[5]);
-  out[0] = w12;  // f[w_psi]
-  out[1] = w14;  // f[w_theta]
-  out[2] = w15;  // f[w_phi]
+  const real w2 = p[0] * (w0 * (p[1] * p[1]));
+  const real w3 = std::sin(x[3]);
+  const real w4 = w2 * w3 + w1 * w3 - w0 * p[2] * w3;
+  const real w5 = -(x[6] * w1 * x[7] + w4 * x[6] * x[5] * real(2.0));
+  const real w6 = (w1 + w2) * x[5] * x[7] + w4 * (x[5] * x[5]) + p[1] * p[0] * p[4] * w3;
+  const real w7 = -((real(2.0) * w2 + w1) * x[6] * x[5]);
+  out[0] = w5;  // f[w_psi]
+  out[1] = w6;  // f[w_theta]
+  out[2] = w7;  // f[w_phi]
 }
 
 void forcing_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
@@ -166,42 +151,35 @@ void hamel_coefficients_work(real t, const real* x, const real* p, const real* i
   hamel_coefficients(t, x, p, in, out);
 }
 
-/* rhs: (t, x[8], p[5], in[0]) -> out[8]  ops: 22 add, 51 mul, 4 div, 6 call */
+/* rhs: (t, x[8], p[5], in[0]) -> out[8]  ops: 20 add, 38 mul, 4 div, 4 call */
 void rhs(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
-  const real w0 = std::cos(x[2]);
-  const real w1 = p[1] * w0 * x[7];
-  const real w2 = std::sin(x[2]);
-  const real w3 = p[1] * x[7] * w2;
-  const real w4 = std::cos(x[3]);
-  const real w5 = w4 * p[3];
+  const real w0 = p[1] * std::cos(x[2]) * x[7];
+  const real w1 = p[1] * x[7] * std::sin(x[2]);
+  const real w2 = std::cos(x[3]);
+  const real w3 = w2 * p[3];
+  const real w4 = p[1] * p[1];
+  const real w5 = p[0] * (w2 * w4);
   const real w6 = std::sin(x[3]);
-  const real w7 = p[1] * p[1];
-  const real w8 = w4 * w7;
-  const real w9 = w4 * p[2];
-  const real w10 = std::sin(x[4]);
-  const real w11 = w5 * w6 + (p[0] * (w2 * w2 * w8) * w6 + p[0] * (w7 * (w4 * (w0 * w0))) * w6) - w9 * (w10 * w10) * w6;
-  const real w12 = std::cos(x[4]);
-  const real w13 = w11 - w9 * (w12 * w12) * w6;
-  const real w14 = -(w13 * x[6] * x[5] * real(2.0) + x[6] * w5 * x[7]);
-  const real w15 = w4 * w4;
-  const real w16 = w7 * p[0];
-  const real w17 = -(w15 * p[3] + (p[0] * (w15 * w7) - w15 * p[2] - w16 - p[3]));
-  const real w18 = w16 * w6 + p[3] * w6;
-  const real w19 = w18 / w17;
-  const real w20 = p[0] * w8;
-  const real w21 = (-((real(2.0) * w20 + w5) * x[6] * x[5]) - w14 * w19) / (w16 + p[3] - w19 * w18);
-  const real w22 = w14 / w17 - w19 * w21;
-  const real w23 = (p[1] * p[0] * p[4] * w6 + ((w5 + w20) * x[5] * x[7] + w13 * (x[5] * x[5]))) / (p[2] + w16);
-  out[0] = w1;  // x_dot
-  out[1] = w3;  // y_dot
+  const real w7 = w5 * w6 + w3 * w6 - w2 * p[2] * w6;
+  const real w8 = -(x[6] * w3 * x[7] + w7 * x[6] * x[5] * real(2.0));
+  const real w9 = w2 * w2;
+  const real w10 = w4 * p[0];
+  const real w11 = -(w9 * p[3] + (p[0] * (w9 * w4) - w9 * p[2] - w10 - p[3]));
+  const real w12 = w10 * w6 + p[3] * w6;
+  const real w13 = w12 / w11;
+  const real w14 = (-((real(2.0) * w5 + w3) * x[6] * x[5]) - w13 * w8) / (w10 + p[3] - w13 * w12);
+  const real w15 = w8 / w11 - w14 * w13;
+  const real w16 = ((w3 + w5) * x[5] * x[7] + w7 * (x[5] * x[5]) + p[1] * p[0] * p[4] * w6) / (p[2] + w10);
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
   out[2] = x[5];  // psi_dot
   out[3] = x[6];  // theta_dot
   out[4] = x[7];  // phi_dot
-  out[5] = w22;  // w_psi_rate
-  out[6] = w23;  // w_theta_rate
-  out[7] = w21;  // w_phi_rate
+  out[5] = w15;  // w_psi_rate
+  out[6] = w16;  // w_theta_rate
+  out[7] = w14;  // w_phi_rate
 }
 
 void rhs_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
@@ -209,73 +187,64 @@ void rhs_work(real t, const real* x, const real* p, const real* in, real* out, r
   rhs(t, x, p, in, out);
 }
 
-/* jacobian: (t, x[8], p[5], in[0]) -> out[64]  ops: 54 add, 114 mul, 6 div, 6 call */
+/* jacobian: (t, x[8], p[5], in[0]) -> out[64]  ops: 48 add, 84 mul, 6 div, 4 call */
 void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   (void)t;
   (void)in;
   const real w0 = std::sin(x[2]);
   const real w1 = -(p[1] * x[7] * w0);
-  const real w2 = std::cos(x[2]);
-  const real w3 = p[1] * w2;
-  const real w4 = w3 * x[7];
-  const real w5 = p[1] * w0;
-  const real w6 = std::cos(x[3]);
-  const real w7 = w6 * w6;
-  const real w8 = w7 * p[3];
-  const real w9 = p[1] * p[1];
-  const real w10 = w7 * w9;
-  const real w11 = w7 * p[2];
-  const real w12 = w9 * p[0];
-  const real w13 = -(w8 + (p[0] * w10 - w11 - w12 - p[3]));
-  const real w14 = real(1.0) / w13;
-  const real w15 = std::sin(x[3]);
-  const real w16 = w15 * w15;
-  const real w17 = w0 * w0;
-  const real w18 = w2 * w2;
-  const real w19 = std::sin(x[4]);
-  const real w20 = w19 * w19;
-  const real w21 = p[3] * w16 + (w9 * w17 * p[0] * w16 + p[0] * (w18 * w9) * w16 - w9 * (w18 * w7) * p[0]) - w8 + w11 * w20;
-  const real w22 = std::cos(x[4]);
-  const real w23 = w22 * w22;
-  const real w24 = w21 - p[2] * w16 * w23 - p[0] * (w17 * w10) + w11 * w23 - p[2] * w20 * w16;
-  const real w25 = w6 * p[3];
-  const real w26 = w25 * w15;
-  const real w27 = w6 * w9;
-  const real w28 = w6 * p[2];
-  const real w29 = w26 + (p[0] * (w17 * w27) * w15 + p[0] * (w9 * (w6 * w18)) * w15) - w28 * w20 * w15 - w28 * w23 * w15;
-  const real w30 = w29 * x[6];
-  const real w31 = x[6] * w25;
-  const real w32 = -(w30 * x[5] * real(2.0) + w31 * x[7]);
-  const real w33 = w12 * w15;
-  const real w34 = p[3] * w15;
-  const real w35 = w33 + w34;
-  const real w36 = w35 / w13;
-  const real w37 = p[0] * w27;
-  const real w38 = real(2.0) * w37 + w25;
-  const real w39 = w38 * x[6];
-  const real w40 = w12 + p[3] - w36 * w35;
-  const real w41 = (-(w39 * x[5]) - w32 * w36) / w40;
-  const real w42 = w32 / w13 - w36 * w41;
-  const real w43 = w24 * x[6] * x[5] * real(2.0) + p[3] * x[6] * x[7] * w15 - w42 * (w26 * real(2.0) - (real(2.0) * (w28 * w15) - w37 * w15 * real(2.0)));
-  const real w44 = w25 + w37;
-  const real w45 = w43 - w41 * w44;
-  const real w46 = real(1.0) / w40;
-  const real w47 = ((w33 * real(2.0) + w34) * x[6] * x[5] - w42 * w44 - w36 * w45) * w46;
-  const real w48 = w14 * w45 - w36 * w47;
-  const real w49 = -(w30 * real(2.0));
-  const real w50 = (-w39 - w49 * w36) * w46;
-  const real w51 = w49 * w14 - w36 * w50;
-  const real w52 = w29 * x[5] * real(2.0);
-  const real w53 = -(w52 + x[7] * w25);
-  const real w54 = (-(w38 * x[5]) - w36 * w53) * w46;
-  const real w55 = w14 * w53 - w36 * w54;
-  const real w56 = -w31;
-  const real w57 = -(w56 * w36) * w46;
-  const real w58 = w56 * w14 - w36 * w57;
-  const real w59 = real(1.0) / (p[2] + w12);
-  const real w60 = (p[4] * (w6 * p[1] * p[0]) - (w35 * x[5] * x[7] + w24 * (x[5] * x[5]))) * w59;
-  const real w61 = (w52 + w44 * x[7]) * w59;
-  const real w62 = w59 * (w44 * x[5]);
+  const real w2 = p[1] * std::cos(x[2]);
+  const real w3 = w2 * x[7];
+  const real w4 = p[1] * w0;
+  const real w5 = std::cos(x[3]);
+  const real w6 = w5 * w5;
+  const real w7 = w6 * p[3];
+  const real w8 = p[1] * p[1];
+  const real w9 = p[0] * (w6 * w8);
+  const real w10 = w6 * p[2];
+  const real w11 = w8 * p[0];
+  const real w12 = -(w7 + (w9 - w10 - w11 - p[3]));
+  const real w13 = real(1.0) / w12;
+  const real w14 = std::sin(x[3]);
+  const real w15 = w14 * w14;
+  const real w16 = w10 + (w11 * w15 - w9) + p[3] * w15 - w7 - p[2] * w15;
+  const real w17 = w5 * p[3];
+  const real w18 = x[6] * w17;
+  const real w19 = p[0] * (w5 * w8);
+  const real w20 = w19 * w14;
+  const real w21 = w17 * w14;
+  const real w22 = w5 * p[2] * w14;
+  const real w23 = w20 + w21 - w22;
+  const real w24 = w23 * x[6];
+  const real w25 = -(w18 * x[7] + w24 * x[5] * real(2.0));
+  const real w26 = real(2.0) * w19 + w17;
+  const real w27 = w26 * x[6];
+  const real w28 = w11 * w14;
+  const real w29 = p[3] * w14;
+  const real w30 = w28 + w29;
+  const real w31 = w30 / w12;
+  const real w32 = w11 + p[3] - w31 * w30;
+  const real w33 = (-(w27 * x[5]) - w31 * w25) / w32;
+  const real w34 = w25 / w12 - w33 * w31;
+  const real w35 = w17 + w19;
+  const real w36 = real(2.0) * (x[6] * x[5] * w16) + p[3] * x[6] * x[7] * w14 - w34 * (w21 * real(2.0) - (real(2.0) * w22 - w20 * real(2.0))) - w33 * w35;
+  const real w37 = real(1.0) / w32;
+  const real w38 = w37 * ((w28 * real(2.0) + w29) * x[6] * x[5] - w34 * w35 - w31 * w36);
+  const real w39 = w13 * w36 - w38 * w31;
+  const real w40 = -(w24 * real(2.0));
+  const real w41 = (-w27 - w40 * w31) * w37;
+  const real w42 = w40 * w13 - w41 * w31;
+  const real w43 = real(2.0) * (w23 * x[5]);
+  const real w44 = -(w43 + x[7] * w17);
+  const real w45 = (-(w26 * x[5]) - w31 * w44) * w37;
+  const real w46 = w13 * w44 - w45 * w31;
+  const real w47 = -w18;
+  const real w48 = -(w47 * w31) * w37;
+  const real w49 = w47 * w13 - w31 * w48;
+  const real w50 = real(1.0) / (p[2] + w11);
+  const real w51 = w50 * (p[4] * (w5 * p[1] * p[0]) - (w30 * x[5] * x[7] + x[5] * x[5] * w16));
+  const real w52 = (w43 + w35 * x[7]) * w50;
+  const real w53 = w50 * (w35 * x[5]);
   out[0] = real(0.0);  // dx_dot/dx
   out[1] = real(0.0);  // dx_dot/dy
   out[2] = w1;  // dx_dot/dpsi
@@ -283,15 +252,15 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[4] = real(0.0);  // dx_dot/dphi
   out[5] = real(0.0);  // dx_dot/dw_psi
   out[6] = real(0.0);  // dx_dot/dw_theta
-  out[7] = w3;  // dx_dot/dw_phi
+  out[7] = w2;  // dx_dot/dw_phi
   out[8] = real(0.0);  // dy_dot/dx
   out[9] = real(0.0);  // dy_dot/dy
-  out[10] = w4;  // dy_dot/dpsi
+  out[10] = w3;  // dy_dot/dpsi
   out[11] = real(0.0);  // dy_dot/dtheta
   out[12] = real(0.0);  // dy_dot/dphi
   out[13] = real(0.0);  // dy_dot/dw_psi
   out[14] = real(0.0);  // dy_dot/dw_theta
-  out[15] = w5;  // dy_dot/dw_phi
+  out[15] = w4;  // dy_dot/dw_phi
   out[16] = real(0.0);  // dpsi_dot/dx
   out[17] = real(0.0);  // dpsi_dot/dy
   out[18] = real(0.0);  // dpsi_dot/dpsi
@@ -319,27 +288,27 @@ void jacobian(real t, const real* x, const real* p, const real* in, real* out) {
   out[40] = real(0.0);  // dw_psi_rate/dx
   out[41] = real(0.0);  // dw_psi_rate/dy
   out[42] = real(0.0);  // dw_psi_rate/dpsi
-  out[43] = w48;  // dw_psi_rate/dtheta
+  out[43] = w39;  // dw_psi_rate/dtheta
   out[44] = real(0.0);  // dw_psi_rate/dphi
-  out[45] = w51;  // dw_psi_rate/dw_psi
-  out[46] = w55;  // dw_psi_rate/dw_theta
-  out[47] = w58;  // dw_psi_rate/dw_phi
+  out[45] = w42;  // dw_psi_rate/dw_psi
+  out[46] = w46;  // dw_psi_rate/dw_theta
+  out[47] = w49;  // dw_psi_rate/dw_phi
   out[48] = real(0.0);  // dw_theta_rate/dx
   out[49] = real(0.0);  // dw_theta_rate/dy
   out[50] = real(0.0);  // dw_theta_rate/dpsi
-  out[51] = w60;  // dw_theta_rate/dtheta
+  out[51] = w51;  // dw_theta_rate/dtheta
   out[52] = real(0.0);  // dw_theta_rate/dphi
-  out[53] = w61;  // dw_theta_rate/dw_psi
+  out[53] = w52;  // dw_theta_rate/dw_psi
   out[54] = real(0.0);  // dw_theta_rate/dw_theta
-  out[55] = w62;  // dw_theta_rate/dw_phi
+  out[55] = w53;  // dw_theta_rate/dw_phi
   out[56] = real(0.0);  // dw_phi_rate/dx
   out[57] = real(0.0);  // dw_phi_rate/dy
   out[58] = real(0.0);  // dw_phi_rate/dpsi
-  out[59] = w47;  // dw_phi_rate/dtheta
+  out[59] = w38;  // dw_phi_rate/dtheta
   out[60] = real(0.0);  // dw_phi_rate/dphi
-  out[61] = w50;  // dw_phi_rate/dw_psi
-  out[62] = w54;  // dw_phi_rate/dw_theta
-  out[63] = w57;  // dw_phi_rate/dw_phi
+  out[61] = w41;  // dw_phi_rate/dw_psi
+  out[62] = w45;  // dw_phi_rate/dw_theta
+  out[63] = w48;  // dw_phi_rate/dw_phi
 }
 
 void jacobian_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
@@ -423,6 +392,197 @@ void rk4_step(real t, real h, real* x, const real* p, const real* in) {
   for (int i = 0; i < n_state; ++i) x[i] += sixth * (sum[i] + k[i]);
 }
 
+namespace {
+
+/* prepare_parameters_kernel: (t, x[8], p[5], in[0]) -> out[12]  ops: 2 add, 7 mul, 1 div, 0 call */
+void prepare_parameters_kernel(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)x;
+  (void)in;
+  const real w0 = p[1] * p[1] * p[0];
+  const real w1 = w0 * real(2.0);
+  const real w2 = w0 + p[3];
+  const real w3 = p[1] * p[0] * p[4];
+  const real w4 = real(1.0) / (p[2] + w0);
+  const real w5 = p[3] * real(2.0);
+  const real w6 = p[2] * real(2.0);
+  out[0] = p[0];  // m
+  out[1] = p[1];  // r
+  out[2] = p[2];  // A
+  out[3] = p[3];  // C
+  out[4] = p[4];  // g
+  out[5] = w0;  // prepared 0
+  out[6] = w1;  // prepared 1
+  out[7] = w2;  // prepared 2
+  out[8] = w3;  // prepared 3
+  out[9] = w4;  // prepared 4
+  out[10] = w5;  // prepared 5
+  out[11] = w6;  // prepared 6
+}
+
+}  // namespace
+
+void prepare_parameters(const real* p, real* prepared) {
+  prepare_parameters_kernel(real(0), nullptr, p, nullptr, prepared);
+}
+
+/* rhs_prepared: (t, x[8], p[12], in[0]) -> out[8]  ops: 18 add, 34 mul, 3 div, 4 call */
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = p[1] * (std::cos(x[2]) * x[7]);
+  const real w1 = p[1] * (x[7] * std::sin(x[2]));
+  const real w2 = std::cos(x[3]);
+  const real w3 = std::sin(x[3]);
+  const real w4 = w2 * w3;
+  const real w5 = w4 * p[3] + w4 * p[5] - p[2] * w4;
+  const real w6 = -(p[3] * (w2 * x[6] * x[7]) + w5 * x[6] * x[5] * real(2.0));
+  const real w7 = w2 * w2;
+  const real w8 = -(w7 * p[5] - w7 * p[2] - p[5] - p[3] + w7 * p[3]);
+  const real w9 = p[5] * w3 + p[3] * w3;
+  const real w10 = w9 / w8;
+  const real w11 = w2 * p[3];
+  const real w12 = (-((w2 * p[6] + w11) * x[6] * x[5]) - w10 * w6) / (p[7] - w10 * w9);
+  const real w13 = w6 / w8 - w10 * w12;
+  const real w14 = p[9] * (p[8] * w3 + (w5 * (x[5] * x[5]) + x[7] * (x[5] * (w2 * p[5] + w11))));
+  out[0] = w0;  // x_dot
+  out[1] = w1;  // y_dot
+  out[2] = x[5];  // psi_dot
+  out[3] = x[6];  // theta_dot
+  out[4] = x[7];  // phi_dot
+  out[5] = w13;  // w_psi_rate
+  out[6] = w14;  // w_theta_rate
+  out[7] = w12;  // w_phi_rate
+}
+
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  rhs_prepared(t, x, p, in, out);
+}
+
+/* jacobian_prepared: (t, x[8], p[12], in[0]) -> out[64]  ops: 46 add, 82 mul, 5 div, 4 call */
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out) {
+  (void)t;
+  (void)in;
+  const real w0 = std::sin(x[2]);
+  const real w1 = -(p[1] * (x[7] * w0));
+  const real w2 = std::cos(x[2]);
+  const real w3 = p[1] * w2;
+  const real w4 = p[1] * (w2 * x[7]);
+  const real w5 = p[1] * w0;
+  const real w6 = std::sin(x[3]);
+  const real w7 = w6 * w6;
+  const real w8 = std::cos(x[3]);
+  const real w9 = w8 * w8;
+  const real w10 = w9 * p[2];
+  const real w11 = w9 * p[5];
+  const real w12 = w9 * p[3];
+  const real w13 = p[3] * w7 + (w10 + (w7 * p[5] - w11)) - w12 - p[2] * w7;
+  const real w14 = w8 * x[6];
+  const real w15 = w8 * w6;
+  const real w16 = w15 * p[3] + w15 * p[5] - p[2] * w15;
+  const real w17 = w16 * x[6];
+  const real w18 = -(p[3] * (w14 * x[7]) + w17 * x[5] * real(2.0));
+  const real w19 = -(w11 - w10 - p[5] - p[3] + w12);
+  const real w20 = p[3] * w6;
+  const real w21 = p[5] * w6 + w20;
+  const real w22 = w21 / w19;
+  const real w23 = w8 * p[3];
+  const real w24 = w8 * p[6] + w23;
+  const real w25 = w24 * x[6];
+  const real w26 = p[7] - w22 * w21;
+  const real w27 = (-(w25 * x[5]) - w22 * w18) / w26;
+  const real w28 = w18 / w19 - w22 * w27;
+  const real w29 = w8 * p[5] + w23;
+  const real w30 = x[6] * x[5] * w13 * real(2.0) + x[6] * x[7] * w6 * p[3] - w28 * (w15 * p[10] - (p[11] * w15 - w15 * p[6])) - w27 * w29;
+  const real w31 = real(1.0) / w19;
+  const real w32 = real(1.0) / w26;
+  const real w33 = w32 * (x[6] * (p[6] * w6 + w20) * x[5] - w28 * w29 - w30 * w22);
+  const real w34 = w30 * w31 - w22 * w33;
+  const real w35 = -(w17 * real(2.0));
+  const real w36 = w32 * (-w25 - w22 * w35);
+  const real w37 = w35 * w31 - w36 * w22;
+  const real w38 = w16 * x[5] * real(2.0);
+  const real w39 = -(w38 + p[3] * (w8 * x[7]));
+  const real w40 = w32 * (-(w24 * x[5]) - w22 * w39);
+  const real w41 = w39 * w31 - w22 * w40;
+  const real w42 = -(p[3] * w14);
+  const real w43 = w32 * -(w22 * w42);
+  const real w44 = w31 * w42 - w22 * w43;
+  const real w45 = p[9] * (w8 * p[8] - (w13 * (x[5] * x[5]) + x[7] * (w21 * x[5])));
+  const real w46 = p[9] * (w38 + x[7] * w29);
+  const real w47 = p[9] * (x[5] * w29);
+  out[0] = real(0.0);  // dx_dot/dx
+  out[1] = real(0.0);  // dx_dot/dy
+  out[2] = w1;  // dx_dot/dpsi
+  out[3] = real(0.0);  // dx_dot/dtheta
+  out[4] = real(0.0);  // dx_dot/dphi
+  out[5] = real(0.0);  // dx_dot/dw_psi
+  out[6] = real(0.0);  // dx_dot/dw_theta
+  out[7] = w3;  // dx_dot/dw_phi
+  out[8] = real(0.0);  // dy_dot/dx
+  out[9] = real(0.0);  // dy_dot/dy
+  out[10] = w4;  // dy_dot/dpsi
+  out[11] = real(0.0);  // dy_dot/dtheta
+  out[12] = real(0.0);  // dy_dot/dphi
+  out[13] = real(0.0);  // dy_dot/dw_psi
+  out[14] = real(0.0);  // dy_dot/dw_theta
+  out[15] = w5;  // dy_dot/dw_phi
+  out[16] = real(0.0);  // dpsi_dot/dx
+  out[17] = real(0.0);  // dpsi_dot/dy
+  out[18] = real(0.0);  // dpsi_dot/dpsi
+  out[19] = real(0.0);  // dpsi_dot/dtheta
+  out[20] = real(0.0);  // dpsi_dot/dphi
+  out[21] = real(1.0);  // dpsi_dot/dw_psi
+  out[22] = real(0.0);  // dpsi_dot/dw_theta
+  out[23] = real(0.0);  // dpsi_dot/dw_phi
+  out[24] = real(0.0);  // dtheta_dot/dx
+  out[25] = real(0.0);  // dtheta_dot/dy
+  out[26] = real(0.0);  // dtheta_dot/dpsi
+  out[27] = real(0.0);  // dtheta_dot/dtheta
+  out[28] = real(0.0);  // dtheta_dot/dphi
+  out[29] = real(0.0);  // dtheta_dot/dw_psi
+  out[30] = real(1.0);  // dtheta_dot/dw_theta
+  out[31] = real(0.0);  // dtheta_dot/dw_phi
+  out[32] = real(0.0);  // dphi_dot/dx
+  out[33] = real(0.0);  // dphi_dot/dy
+  out[34] = real(0.0);  // dphi_dot/dpsi
+  out[35] = real(0.0);  // dphi_dot/dtheta
+  out[36] = real(0.0);  // dphi_dot/dphi
+  out[37] = real(0.0);  // dphi_dot/dw_psi
+  out[38] = real(0.0);  // dphi_dot/dw_theta
+  out[39] = real(1.0);  // dphi_dot/dw_phi
+  out[40] = real(0.0);  // dw_psi_rate/dx
+  out[41] = real(0.0);  // dw_psi_rate/dy
+  out[42] = real(0.0);  // dw_psi_rate/dpsi
+  out[43] = w34;  // dw_psi_rate/dtheta
+  out[44] = real(0.0);  // dw_psi_rate/dphi
+  out[45] = w37;  // dw_psi_rate/dw_psi
+  out[46] = w41;  // dw_psi_rate/dw_theta
+  out[47] = w44;  // dw_psi_rate/dw_phi
+  out[48] = real(0.0);  // dw_theta_rate/dx
+  out[49] = real(0.0);  // dw_theta_rate/dy
+  out[50] = real(0.0);  // dw_theta_rate/dpsi
+  out[51] = w45;  // dw_theta_rate/dtheta
+  out[52] = real(0.0);  // dw_theta_rate/dphi
+  out[53] = w46;  // dw_theta_rate/dw_psi
+  out[54] = real(0.0);  // dw_theta_rate/dw_theta
+  out[55] = w47;  // dw_theta_rate/dw_phi
+  out[56] = real(0.0);  // dw_phi_rate/dx
+  out[57] = real(0.0);  // dw_phi_rate/dy
+  out[58] = real(0.0);  // dw_phi_rate/dpsi
+  out[59] = w33;  // dw_phi_rate/dtheta
+  out[60] = real(0.0);  // dw_phi_rate/dphi
+  out[61] = w36;  // dw_phi_rate/dw_psi
+  out[62] = w40;  // dw_phi_rate/dw_theta
+  out[63] = w43;  // dw_phi_rate/dw_phi
+}
+
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work) {
+  (void)work;
+  jacobian_prepared(t, x, p, in, out);
+}
+
 }  // namespace rolling_disk_routh
 
 extern "C" {
@@ -436,6 +596,9 @@ void rolling_disk_routh_jacobian(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_RO
 void rolling_disk_routh_energy(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { rolling_disk_routh::energy(t, x, p, in, out); }
 void rolling_disk_routh_constraint_residual(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { rolling_disk_routh::constraint_residual(t, x, p, in, out); }
 int rolling_disk_routh_rhs_status(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { return rolling_disk_routh::rhs_status(t, x, p, in, out); }
+void rolling_disk_routh_prepare_parameters(const HAMEL_ROLLING_DISK_ROUTH_REAL* p, HAMEL_ROLLING_DISK_ROUTH_REAL* prepared) { rolling_disk_routh::prepare_parameters(p, prepared); }
+void rolling_disk_routh_rhs_prepared(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { rolling_disk_routh::rhs_prepared(t, x, p, in, out); }
+void rolling_disk_routh_jacobian_prepared(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out) { rolling_disk_routh::jacobian_prepared(t, x, p, in, out); }
 void rolling_disk_routh_kinematics_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::kinematics_work(t, x, p, in, out, work); }
 void rolling_disk_routh_mass_matrix_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::mass_matrix_work(t, x, p, in, out, work); }
 void rolling_disk_routh_forcing_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::forcing_work(t, x, p, in, out, work); }
@@ -444,5 +607,7 @@ void rolling_disk_routh_rhs_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_RO
 void rolling_disk_routh_jacobian_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::jacobian_work(t, x, p, in, out, work); }
 void rolling_disk_routh_energy_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::energy_work(t, x, p, in, out, work); }
 void rolling_disk_routh_constraint_residual_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::constraint_residual_work(t, x, p, in, out, work); }
+void rolling_disk_routh_rhs_prepared_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::rhs_prepared_work(t, x, p, in, out, work); }
+void rolling_disk_routh_jacobian_prepared_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work) { rolling_disk_routh::jacobian_prepared_work(t, x, p, in, out, work); }
 
 }  // extern "C"

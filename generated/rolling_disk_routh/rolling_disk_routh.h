@@ -27,6 +27,9 @@
 #define rolling_disk_routh_energy HAMEL_ROLLING_DISK_ROUTH_C_NAME(energy)
 #define rolling_disk_routh_constraint_residual HAMEL_ROLLING_DISK_ROUTH_C_NAME(constraint_residual)
 #define rolling_disk_routh_rhs_status HAMEL_ROLLING_DISK_ROUTH_C_NAME(rhs_status)
+#define rolling_disk_routh_prepare_parameters HAMEL_ROLLING_DISK_ROUTH_C_NAME(prepare_parameters)
+#define rolling_disk_routh_rhs_prepared HAMEL_ROLLING_DISK_ROUTH_C_NAME(rhs_prepared)
+#define rolling_disk_routh_jacobian_prepared HAMEL_ROLLING_DISK_ROUTH_C_NAME(jacobian_prepared)
 #define rolling_disk_routh_kinematics_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(kinematics_work)
 #define rolling_disk_routh_mass_matrix_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(mass_matrix_work)
 #define rolling_disk_routh_forcing_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(forcing_work)
@@ -35,6 +38,8 @@
 #define rolling_disk_routh_jacobian_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(jacobian_work)
 #define rolling_disk_routh_energy_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(energy_work)
 #define rolling_disk_routh_constraint_residual_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(constraint_residual_work)
+#define rolling_disk_routh_rhs_prepared_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(rhs_prepared_work)
+#define rolling_disk_routh_jacobian_prepared_work HAMEL_ROLLING_DISK_ROUTH_C_NAME(jacobian_prepared_work)
 
 #define ROLLING_DISK_ROUTH_N_STATE 8
 #define ROLLING_DISK_ROUTH_N_PARAMETERS 5
@@ -47,6 +52,7 @@
 #define ROLLING_DISK_ROUTH_N_OUT_JACOBIAN 64
 #define ROLLING_DISK_ROUTH_N_OUT_ENERGY 1
 #define ROLLING_DISK_ROUTH_N_OUT_CONSTRAINT_RESIDUAL 2
+#define ROLLING_DISK_ROUTH_N_PREPARED_PARAMETERS 12
 #define ROLLING_DISK_ROUTH_N_WORK_KINEMATICS 0
 #define ROLLING_DISK_ROUTH_N_WORK_MASS_MATRIX 0
 #define ROLLING_DISK_ROUTH_N_WORK_FORCING 0
@@ -55,6 +61,8 @@
 #define ROLLING_DISK_ROUTH_N_WORK_JACOBIAN 0
 #define ROLLING_DISK_ROUTH_N_WORK_ENERGY 0
 #define ROLLING_DISK_ROUTH_N_WORK_CONSTRAINT_RESIDUAL 0
+#define ROLLING_DISK_ROUTH_N_WORK_RHS_PREPARED 0
+#define ROLLING_DISK_ROUTH_N_WORK_JACOBIAN_PREPARED 0
 
 #ifdef __cplusplus
 extern "C" {
@@ -79,6 +87,12 @@ void rolling_disk_routh_constraint_residual(HAMEL_ROLLING_DISK_ROUTH_REAL t, con
 /* rhs with a status: 0 ok (out written), 1 mass matrix or articulated inertia not positive definite,
    2 a non-finite result (out untouched when not 0) */
 int rolling_disk_routh_rhs_status(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out);
+/* P = (p, then the parameter-only values), ROLLING_DISK_ROUTH_N_PREPARED_PARAMETERS entries, for the _prepared kernels */
+void rolling_disk_routh_prepare_parameters(const HAMEL_ROLLING_DISK_ROUTH_REAL* p, HAMEL_ROLLING_DISK_ROUTH_REAL* prepared);
+/* rhs reading the prepared parameters P (prepare_parameters) in place of p */
+void rolling_disk_routh_rhs_prepared(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out);
+/* jacobian reading the prepared parameters P (prepare_parameters) in place of p */
+void rolling_disk_routh_jacobian_prepared(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out);
 /* Work-space forms (rolling_disk_routh.hpp): <kernel>_work(t, x, p, in, out, work) with work[ROLLING_DISK_ROUTH_N_WORK_<KERNEL>]
    of the caller's in place of the kernel's stack array */
 void rolling_disk_routh_kinematics_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work);
@@ -89,6 +103,8 @@ void rolling_disk_routh_rhs_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_RO
 void rolling_disk_routh_jacobian_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work);
 void rolling_disk_routh_energy_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work);
 void rolling_disk_routh_constraint_residual_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work);
+void rolling_disk_routh_rhs_prepared_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work);
+void rolling_disk_routh_jacobian_prepared_work(HAMEL_ROLLING_DISK_ROUTH_REAL t, const HAMEL_ROLLING_DISK_ROUTH_REAL* x, const HAMEL_ROLLING_DISK_ROUTH_REAL* p, const HAMEL_ROLLING_DISK_ROUTH_REAL* in, HAMEL_ROLLING_DISK_ROUTH_REAL* out, HAMEL_ROLLING_DISK_ROUTH_REAL* work);
 
 #ifdef __cplusplus
 }

@@ -54,13 +54,13 @@ constexpr int n_temporaries_kinematics = 6;
 constexpr int n_out_mass_matrix = 9;
 constexpr int n_temporaries_mass_matrix = 19;
 constexpr int n_out_forcing = 3;
-constexpr int n_temporaries_forcing = 53;
+constexpr int n_temporaries_forcing = 34;
 constexpr int n_out_hamel_coefficients = 4;
 constexpr int n_temporaries_hamel_coefficients = 6;
 constexpr int n_out_rhs = 8;
-constexpr int n_temporaries_rhs = 83;
+constexpr int n_temporaries_rhs = 66;
 constexpr int n_out_jacobian = 64;
-constexpr int n_temporaries_jacobian = 180;
+constexpr int n_temporaries_jacobian = 142;
 constexpr int n_out_energy = 1;
 constexpr int n_temporaries_energy = 50;
 constexpr int n_out_constraint_residual = 2;
@@ -137,5 +137,22 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// One classical fourth-order Runge-Kutta step of size h from (t, x), in place: 4 rhs calls, no
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
+
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 66 operations per call, rhs_prepared: 59, prepare_parameters: 10).
+// prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
+// <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
+// again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
+constexpr int n_prepared_parameters = 12;
+void prepare_parameters(const real* p, real* prepared);
+constexpr int n_temporaries_rhs_prepared = 59;
+/// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[8]
+void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
+constexpr int n_work_rhs_prepared = 0;
+void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
+constexpr int n_temporaries_jacobian_prepared = 137;
+/// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[64]
+void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
+constexpr int n_work_jacobian_prepared = 0;
+void jacobian_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
 
 }  // namespace rolling_disk_routh

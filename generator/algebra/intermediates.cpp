@@ -52,6 +52,16 @@ ex Intermediates::keep(const ex& value, std::size_t inline_size) {
   return define(simplified);
 }
 
+std::optional<ex> Intermediates::closed_form(const ex& e, std::size_t inlined, std::size_t kept) const {
+  const std::optional<ex> whole = inline_bounded(e, inlined);
+  if (!whole) return std::nullopt;
+  const std::size_t size = node_count(*whole, inlined);
+  const ex simplified = simplify(*whole);
+  const ex& smaller = node_count(simplified, size) <= size ? simplified : *whole;
+  if (node_count(smaller, kept) > kept) return std::nullopt;
+  return smaller;
+}
+
 std::optional<ex> Intermediates::definition_of(const ex& e) const {
   if (!GiNaC::is_a<GiNaC::symbol>(e)) return std::nullopt;
   const auto it = position_.find(e);

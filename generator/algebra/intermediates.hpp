@@ -39,6 +39,13 @@ class Intermediates {
   /// program that grows with the model, not with the expanded formula.
   GiNaC::ex keep(const GiNaC::ex& value, std::size_t inline_size = 24);
 
+  /// `e` as one small closed form in the model's symbols, if it has one: inlined through the definitions (at most
+  /// `inlined` nodes) and brought to its normal form (algebra/simplify.hpp), or left inlined where that is smaller;
+  /// nothing when neither has at most `kept` nodes. Where a derivation multiplies out to little (a body's kinetic
+  /// energy with RᵀR = I and sin² + cos² = 1 unapplied in its program) this finds it; a program whose closed form is
+  /// large stays a program, which shares its subexpressions.
+  std::optional<GiNaC::ex> closed_form(const GiNaC::ex& e, std::size_t inlined = 2000, std::size_t kept = 400) const;
+
   /// The definition of `e` if it is an intermediate symbol.
   std::optional<GiNaC::ex> definition_of(const GiNaC::ex& e) const;
 

@@ -385,6 +385,16 @@ class QuadraticSplitter {
 
 }  // namespace
 
+namespace {
+
+// `simplified` unless it has more nodes than `e` (a normal form that multiplied out products of sums).
+ex smaller_of(const ex& e, const ex& simplified) {
+  const std::size_t size = node_count(e, std::numeric_limits<std::size_t>::max() / 2);
+  return node_count(simplified, size) <= size ? simplified : e;
+}
+
+}  // namespace
+
 ex simplify_quadratic_form(const ex& e, const std::vector<ex>& variables, std::size_t limit) {
   QuadraticSplitter splitter(variables);
   const std::optional<QuadraticPolynomial> poly = splitter.split(e);
@@ -394,7 +404,9 @@ ex simplify_quadratic_form(const ex& e, const std::vector<ex>& variables, std::s
     ex monomial = 1;
     if (m.first >= 0) monomial *= variables[static_cast<std::size_t>(m.first)];
     if (m.second >= 0) monomial *= variables[static_cast<std::size_t>(m.second)];
-    form += simplify_bounded(c, limit / 8) * monomial;
+    // Small coefficients in their normal form; larger ones where that is no larger than the coefficient as derived.
+    const ex simplified = simplify_bounded(c, limit);
+    form += (node_count(c, limit / 8) <= limit / 8 ? simplified : smaller_of(c, simplified)) * monomial;
   }
   return form;
 }

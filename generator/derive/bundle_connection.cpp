@@ -67,8 +67,12 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
   g.trivialization_sign = b.right ? -1 : 1;
   const unsigned m = g.algebra.dim();
   const unsigned d = static_cast<unsigned>(model.coordinates.size());
+  // Errors about T name the key it came from: `bodies` for a model that lists bodies (it has no `kinetic`).
+  const std::string key = model.locations.count("bodies") ? "bodies"
+                          : model.locations.count("tree") ? "tree"
+                                                          : "kinetic";
   const SourceLocation where =
-      model.locations.count("kinetic") ? model.locations.at("kinetic") : SourceLocation{model.source_path, 0, 0};
+      model.locations.count(key) ? model.locations.at(key) : SourceLocation{model.source_path, 0, 0};
 
   // Eq. (M): the Hessian of T in v = (ξ, ṙ), by the chain rule through the program.
   std::vector<GiNaC::realsymbol> v(b.group_velocity);
@@ -76,7 +80,11 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
   matrix H(m + d, m + d);
   for (unsigned i = 0; i < m + d; ++i) {
     const ex dT = program.diff(b.kinetic, v[i]);
-    for (unsigned j = 0; j <= i; ++j) H(i, j) = H(j, i) = program.keep(program.diff(dT, v[j]), 400);
+    for (unsigned j = 0; j <= i; ++j) {
+      const ex second = program.diff(dT, v[j]);
+      const std::optional<ex> closed = program.closed_form(second);
+      H(i, j) = H(j, i) = closed ? *closed : program.keep(second, 400);
+    }
   }
   g.quadratic = is_quadratic_form(b.kinetic, v, H, program);  // eq. (T)
   if (g.quadratic) {
@@ -93,11 +101,11 @@ BundleGeometry derive_bundle_geometry(const Model& model) {
 
   if (b.mechanical) {
     if (!g.quadratic)
-      throw InputError(where, "kinetic",
+      throw InputError(where, key,
                        "a mechanical connection needs a kinetic energy that is a quadratic form in the group velocity "
                        "and the shape rates (eq. T); this one is not");
     if (identically_singular(g.L, program) == Identity::zero)
-      throw InputError(where, "kinetic",
+      throw InputError(where, key,
                        "the locked inertia L = d2T/dxi dxi is singular (identically, in r), so the mechanical "
                        "connection A = L^-1 K does not exist; every group direction must carry kinetic energy");
     // Eq. (mechConn): A = L⁻¹K by a symbolic LDLᵀ of the locked inertia (positive definite, no pivoting).

@@ -19,6 +19,58 @@ using GiNaC::ex;
 
 std::vector<int> HamelSystem::independent() const { return unconstrained_indices(velocities.size(), constrained); }
 
+namespace {
+
+// ℒ = c + Σ_a g_a u^a + ½ Σ_ab H_ab u^a u^b with its coefficients c, g_a, H_ab (functions of q and t) in small
+// closed forms, simplified, when ℒ is such a polynomial in the velocities (ℒ minus it shown zero) and every
+// coefficient has one; nothing otherwise (then `program` is left as it was). As derived, ℒ is a program whose
+// coefficients cancel only when multiplied out: the kinetic energy of bodies posed by products of rotations holds
+// RᵀR = I and sin² + cos² = 1 unapplied, so the mass matrix of a quadrotor in its body angular velocity printed as
+// 1 409 characters where it is exactly its inertia, and the convective terms d/dt ∂ℒ/∂u carried the same swell into
+// f (issue 48). Written in its simplified coefficients, ℒ's derivatives are the small closed forms a Lagrangian
+// written out by hand gives. A coefficient with no small closed form (the satellites' locked inertia and
+// connection, the bicycle's potential) keeps the program, whose derivatives share its subexpressions. Terms of
+// second degree in the constrained velocities are left out: the equations use ℒ and its first derivatives only
+// at u^α = 0, where those terms vanish.
+std::optional<ex> simplified_quadratic_lagrangian(const HamelSystem& sys, Intermediates& program) {
+  Intermediates trial = program;  // the substitutions and derivatives below define intermediates
+  const ex& L = sys.lagrangian;
+  const std::size_t nu = sys.velocities.size();
+  GiNaC::exmap at_rest;
+  for (const auto& u : sys.velocities) at_rest[u] = 0;
+  Intermediates::SubstitutionMemo memo;
+  const auto at = [&](const ex& e) { return trial.substitute(e, at_rest, memo); };
+  const auto is_constrained = [&](std::size_t a) {
+    return std::find(sys.constrained.begin(), sys.constrained.end(), static_cast<int>(a)) != sys.constrained.end();
+  };
+  const std::optional<ex> c = trial.closed_form(at(L));
+  if (!c) return std::nullopt;
+  ex form = *c, held = 0;  // held: ½ Σ H_αβ u^α u^β, only for the test below
+  const std::vector<GiNaC::symbol> velocities(sys.velocities.begin(), sys.velocities.end());
+  const std::vector<ex> first = trial.diff(L, velocities);
+  for (std::size_t a = 0; a < nu; ++a) {
+    const std::optional<ex> g = trial.closed_form(at(first[a]));
+    if (!g) return std::nullopt;
+    form += *g * sys.velocities[a];
+    for (std::size_t b = a; b < nu; ++b) {
+      const ex weight = (a == b ? ex(1) / 2 : ex(1)) * sys.velocities[a] * sys.velocities[b];
+      const ex second = at(trial.diff(first[a], velocities[b]));
+      if (is_constrained(a) && is_constrained(b)) {
+        held += second * weight;
+        continue;
+      }
+      const std::optional<ex> H = trial.closed_form(second);
+      if (!H) return std::nullopt;
+      form += *H * weight;
+    }
+  }
+  if (identically_zero(L - form - held, trial) != Identity::zero) return std::nullopt;  // ℒ is not quadratic
+  program = std::move(trial);
+  return form;
+}
+
+}  // namespace
+
 HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& time) {
   const unsigned n = static_cast<unsigned>(sys.coordinates.size());
   const unsigned nu = static_cast<unsigned>(sys.velocities.size());
@@ -35,7 +87,8 @@ HamelEquations hamel_equations(const HamelSystem& sys, const GiNaC::realsymbol& 
   const auto is_constrained = [&](int a) {
     return std::find(sys.constrained.begin(), sys.constrained.end(), a) != sys.constrained.end();
   };
-  const ex& lagrangian = sys.lagrangian;
+  const std::optional<ex> quadratic = simplified_quadratic_lagrangian(sys, program);
+  const ex lagrangian = quadratic ? *quadratic : sys.lagrangian;
   // Results as closed forms where those are small (readable; f's monomials then collect exactly, see
   // below), otherwise as expressions in the program's intermediates.
   const auto closed = [&](const ex& e) {

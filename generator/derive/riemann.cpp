@@ -92,14 +92,16 @@ InRates in_rates(const Model& model, Intermediates& program, const std::vector<G
 void metric_and_potential(const Model& model, Intermediates& program, InRates& l, RiemannGeometry& r) {
   const std::vector<GiNaC::realsymbol>& rate = r.rates;
   const auto n = static_cast<unsigned>(rate.size());
-  const SourceLocation where = location_of(model, "lagrangian");
+  // A model with `bodies` has its kinetic energy there, and perhaps no `lagrangian` at all.
+  const std::string key = model.locations.count("bodies") ? "bodies" : "lagrangian";
+  const SourceLocation where = location_of(model, key);
   matrix hessian(n, n);
   for (unsigned a = 0; a < n; ++a) {
     const ex dL = program.diff(l.lagrangian, rate[a]);
     for (unsigned b = 0; b <= a; ++b) hessian(a, b) = hessian(b, a) = program.keep(program.diff(dL, rate[b]), 400);
   }
   if (!is_quadratic_form(l.lagrangian - l.lagrangian_at_rest, rate, hessian, program))
-    throw InputError(where, "lagrangian",
+    throw InputError(where, key,
                      std::string(purpose) +
                          " needs L = 1/2 g_ab(q) q_dot^a q_dot^b - V(q, t); this Lagrangian is not quadratic in the "
                          "rates, or has terms linear in them (gyroscopic or moving-frame terms)");
@@ -108,12 +110,12 @@ void metric_and_potential(const Model& model, Intermediates& program, InRates& l
     for (unsigned b = 0; b <= a; ++b) {
       r.metric(a, b) = r.metric(b, a) = program.keep(program.substitute(hessian(a, b), l.at_rest, l.rest_memo), 400);
       if (!shown_zero(program.diff(r.metric(a, b), model.time), program))
-        throw InputError(where, "lagrangian",
+        throw InputError(where, key,
                          std::string(purpose) + " needs a metric g_ab(q) that does not depend on t; d2L/d" +
                              rate[a].get_name() + " d" + rate[b].get_name() + " does (a rheonomic system)");
     }
   if (shown_singular(r.metric, program))
-    throw InputError(where, "lagrangian",
+    throw InputError(where, key,
                      std::string(purpose) +
                          ": the metric d2L/dq_dot dq_dot is identically singular; every "
                          "coordinate must carry kinetic energy");

@@ -88,6 +88,12 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"singular_locked_inertia",
                 "name: b\ngroup: SO3\ngroup_velocity: [w1, w2, w3]\nshape: [r]\nkinetic: \"w1^2 + r_dot^2\"\n",
                 "bad.yaml:5:10", "locked inertia"},
+        // A model with `bodies` has no `kinetic`: the error names the key it has (issue 49).
+        BadCase{"singular_locked_inertia_of_bodies",
+                "name: b\ngroup: SO3\ngroup_velocity: [w1, w2, w3]\nshape: [r]\nbodies:\n"
+                "  - {name: rod, mass: 1, com: [0, 0, 0], inertia: [[0, 0, 0], [0, 1, 0], [0, 0, 1]],\n"
+                "     twist: [w1, w2, \"w3 + r_dot\", 0, 0, 0]}\n",
+                "bad.yaml:6:3", "'bodies': the locked inertia"},
         BadCase{"kinematic_connection_shape",
                 "name: b\ngroup: SE2\ngroup_velocity: [w, vx, vy]\nshape: [r]\n"
                 "connection: {kinematic: [[1], [0]]}\nkinetic: \"r_dot^2\"\n",

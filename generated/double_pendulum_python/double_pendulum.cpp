@@ -6,6 +6,11 @@
 
 #include <cmath>
 
+// Keeps the stack of long kernels small on in-order cores (GCC; docs/firmware.md).
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC optimize("no-schedule-insns")
+#endif
+
 namespace double_pendulum {
 
 namespace {

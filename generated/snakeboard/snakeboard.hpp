@@ -54,15 +54,15 @@ constexpr int n_temporaries_kinematics = 0;
 constexpr int n_out_mass_matrix = 9;
 constexpr int n_temporaries_mass_matrix = 49;
 constexpr int n_out_forcing = 3;
-constexpr int n_temporaries_forcing = 368;
+constexpr int n_temporaries_forcing = 160;
 constexpr int n_out_hamel_coefficients = 46;
 constexpr int n_temporaries_hamel_coefficients = 123;
 constexpr int n_out_rhs = 5;
-constexpr int n_temporaries_rhs = 391;
+constexpr int n_temporaries_rhs = 177;
 constexpr int n_out_jacobian = 25;
-constexpr int n_temporaries_jacobian = 877;
+constexpr int n_temporaries_jacobian = 421;
 constexpr int n_out_energy = 1;
-constexpr int n_temporaries_energy = 243;
+constexpr int n_temporaries_energy = 208;
 constexpr int n_out_group_velocity = 3;
 constexpr int n_temporaries_group_velocity = 45;
 constexpr int n_out_connection = 6;
@@ -152,18 +152,18 @@ constexpr int rk4_stack_reals = 3 * n_state;
 /// allocation; the inputs `in` are held over the step (zero-order hold). For a control loop.
 void rk4_step(real t, real h, real* x, const real* p, const real* in);
 
-// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 391 operations per call, rhs_prepared: 350, prepare_parameters: 67).
+// Prepared parameters: the parameter-only work of rhs and jacobian done once per parameter set (rhs: 177 operations per call, rhs_prepared: 139, prepare_parameters: 38).
 // prepare_parameters(p, P) writes P[n_prepared_parameters]: p itself, then the derived values; each
 // <kernel>_prepared(t, x, P, in, out) then equals <kernel>(t, x, p, in, out), without that work. Call it
 // again whenever p changes. Not in kernel_table (their p is P, longer than n_parameters).
-constexpr int n_prepared_parameters = 66;
+constexpr int n_prepared_parameters = 39;
 void prepare_parameters(const real* p, real* prepared);
-constexpr int n_temporaries_rhs_prepared = 350;
+constexpr int n_temporaries_rhs_prepared = 139;
 /// rhs reading the prepared parameters P (prepare_parameters) in place of p; out[5]
 void rhs_prepared(real t, const real* x, const real* p, const real* in, real* out);
 constexpr int n_work_rhs_prepared = 0;
 void rhs_prepared_work(real t, const real* x, const real* p, const real* in, real* out, real* work);
-constexpr int n_temporaries_jacobian_prepared = 831;
+constexpr int n_temporaries_jacobian_prepared = 364;
 /// jacobian reading the prepared parameters P (prepare_parameters) in place of p; out[25]
 void jacobian_prepared(real t, const real* x, const real* p, const real* in, real* out);
 constexpr int n_work_jacobian_prepared = 0;

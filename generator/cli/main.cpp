@@ -25,11 +25,10 @@ int main(int argc, char** argv) {
   app.add_flag("-q,--quiet", quiet, "No progress messages on stderr (steps that run over a second say what they do)");
   app.fallthrough();
   std::map<const CLI::App*, hamel::cli::Run> runs;
-  for (auto add :
-       {hamel::cli::add_derive_command, hamel::cli::add_emit_command, hamel::cli::add_simulate_command,
-        hamel::cli::add_phase_command, hamel::cli::add_gait_command, hamel::cli::add_report_command,
-        hamel::cli::add_accuracy_command, hamel::cli::add_import_command, hamel::cli::add_linearize_command,
-        hamel::cli::add_animate_command}) {
+  for (auto add : {hamel::cli::add_derive_command, hamel::cli::add_emit_command, hamel::cli::add_simulate_command,
+                   hamel::cli::add_phase_command, hamel::cli::add_gait_command, hamel::cli::add_report_command,
+                   hamel::cli::add_accuracy_command, hamel::cli::add_import_command, hamel::cli::add_linearize_command,
+                   hamel::cli::add_animate_command}) {
     hamel::cli::Run run = add(app);
     runs[app.get_subcommands({}).back()] = run;
   }

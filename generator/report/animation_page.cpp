@@ -1,5 +1,7 @@
 #include "report/animation_page.hpp"
 
+#include "report/svg_plot.hpp"
+
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -198,23 +200,6 @@ html, body { margin: 0; height: 100%; overflow: hidden; font: 14px sans-serif; b
 #probe, #errors { display: none; }
 )css";
 
-std::string escaped_html(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else if (c == '"')
-      out += "&quot;";
-    else
-      out += c;
-  }
-  return out;
-}
-
 }  // namespace
 
 std::array<double, 4> quaternion_of(const std::array<double, 9>& R) {
@@ -255,7 +240,6 @@ bool animation_pages_available() {
 std::string render_animation_page(const Animation& animation) {
 #ifndef HAMEL_HAVE_THREE_JS
   (void)animation;
-  (void)escaped_html;
   throw std::runtime_error(missing_three_js());
 #else
   nlohmann::json data;
@@ -270,11 +254,11 @@ std::string render_animation_page(const Animation& animation) {
   std::string json = data.dump();
   for (std::size_t at = json.find("</"); at != std::string::npos; at = json.find("</", at)) json.replace(at, 2, "<\\/");
   std::string notes;
-  for (const std::string& note : animation.notes) notes += (notes.empty() ? "" : " ") + escaped_html(note);
+  for (const std::string& note : animation.notes) notes += (notes.empty() ? "" : " ") + xml_escaped(note);
   std::string page;
   page += "<!DOCTYPE html>\n<html lang=\"en\">\n<head>\n<meta charset=\"utf-8\">\n<title>" +
-          escaped_html(animation.title) + "</title>\n<style>" + page_style + "</style>\n</head>\n<body>\n";
-  page += "<div id=\"view\"></div>\n<div id=\"head\"><h1>" + escaped_html(animation.title) + "</h1><div id=\"notes\">" +
+          xml_escaped(animation.title) + "</title>\n<style>" + page_style + "</style>\n</head>\n<body>\n";
+  page += "<div id=\"view\"></div>\n<div id=\"head\"><h1>" + xml_escaped(animation.title) + "</h1><div id=\"notes\">" +
           notes + "</div></div>\n";
   page +=
       "<div id=\"bar\"><button id=\"play\">pause</button><input id=\"time\" type=\"range\" value=\"0\">"

@@ -1,5 +1,7 @@
 #include "report/heat_map.hpp"
 
+#include "report/svg_plot.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -9,21 +11,6 @@
 namespace hamel {
 
 namespace {
-
-std::string escaped(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else
-      out += c;
-  }
-  return out;
-}
 
 std::string number(double v) {
   char buffer[32];
@@ -64,7 +51,7 @@ std::string render_heat_map_svg(const HeatMapSpec& spec) {
   s << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"680\" height=\"600\" viewBox=\"0 0 680 600\" "
        "font-family=\"sans-serif\" font-size=\"12\">\n";
   s << "<rect width=\"680\" height=\"600\" fill=\"white\"/>\n";
-  s << "<text x=\"340\" y=\"24\" text-anchor=\"middle\" font-size=\"14\">" << escaped(spec.title) << "</text>\n";
+  s << "<text x=\"340\" y=\"24\" text-anchor=\"middle\" font-size=\"14\">" << xml_escaped(spec.title) << "</text>\n";
   // Cells centred on the grid points, reaching halfway to the neighbours (clipped to the plot).
   const auto edge = [](const std::vector<double>& v, std::size_t k, bool upper) {
     if (upper) return k + 1 < v.size() ? 0.5 * (v[k] + v[k + 1]) : v[k];
@@ -91,9 +78,9 @@ std::string render_heat_map_svg(const HeatMapSpec& spec) {
       << number(y) << "</text>\n";
   }
   s << "<text x=\"" << left + width / 2 << "\" y=\"" << top + height + 38 << "\" text-anchor=\"middle\">"
-    << escaped(spec.x_label) << "</text>\n";
+    << xml_escaped(spec.x_label) << "</text>\n";
   s << "<text transform=\"translate(" << left - 50 << "," << top + height / 2
-    << ") rotate(-90)\" text-anchor=\"middle\">" << escaped(spec.y_label) << "</text>\n";
+    << ") rotate(-90)\" text-anchor=\"middle\">" << xml_escaped(spec.y_label) << "</text>\n";
   // The colour bar.
   for (int k = 0; k < 100; ++k) {
     const double v = 1 - 2.0 * (k + 0.5) / 100;
@@ -106,7 +93,7 @@ std::string render_heat_map_svg(const HeatMapSpec& spec) {
     s << "<text x=\"" << bar_x + 24 << "\" y=\"" << top + height * k / 2.0 + 4 << "\">" << number(scale * (1 - k))
       << "</text>\n";
   s << "<text transform=\"translate(" << bar_x + 75 << "," << top + height / 2
-    << ") rotate(90)\" text-anchor=\"middle\">" << escaped(spec.value_label) << "</text>\n";
+    << ") rotate(90)\" text-anchor=\"middle\">" << xml_escaped(spec.value_label) << "</text>\n";
   // Curves and their legend.
   const char* palette[] = {"black", "#2ca02c", "#9467bd", "#ff7f0e"};
   for (std::size_t c = 0; c < spec.curves.size(); ++c) {
@@ -123,7 +110,7 @@ std::string render_heat_map_svg(const HeatMapSpec& spec) {
         s << "<circle cx=\"" << X(curve.x[k]) << "\" cy=\"" << Y(curve.y[k]) << "\" r=\"4\" fill=\"" << stroke
           << "\"/>\n";
     s << "<text x=\"" << left << "\" y=\"" << top + height + 58 + 14 * static_cast<double>(c) << "\" fill=\"" << stroke
-      << "\">" << escaped(curve.label) << "</text>\n";
+      << "\">" << xml_escaped(curve.label) << "</text>\n";
   }
   s << "</svg>\n";
   return s.str();

@@ -12,29 +12,6 @@ namespace {
 constexpr double width = 720, height = 520, left = 90, right = 30, top = 50, bottom = 70;
 const char* const palette[] = {"#1f77b4", "#d62728", "#2ca02c", "#9467bd", "#ff7f0e", "#8c564b", "#e377c2", "#17becf"};
 
-std::string escape(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    switch (c) {
-      case '<':
-        out += "&lt;";
-        break;
-      case '>':
-        out += "&gt;";
-        break;
-      case '&':
-        out += "&amp;";
-        break;
-      case '"':
-        out += "&quot;";
-        break;
-      default:
-        out += c;
-    }
-  }
-  return out;
-}
-
 std::string num(double v) {
   std::ostringstream s;
   s.precision(6);
@@ -114,7 +91,7 @@ std::string render_svg(const PlotSpec& spec) {
   o << "<svg xmlns=\"http://www.w3.org/2000/svg\" width=\"" << width << "\" height=\"" << height << "\" viewBox=\"0 0 "
     << width << " " << height << "\" font-family=\"sans-serif\" font-size=\"13\">\n"
     << "<rect width=\"100%\" height=\"100%\" fill=\"white\"/>\n"
-    << "<text x=\"" << width / 2 << "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">" << escape(spec.title)
+    << "<text x=\"" << width / 2 << "\" y=\"28\" text-anchor=\"middle\" font-size=\"16\">" << xml_escaped(spec.title)
     << "</text>\n";
   for (double t : ax.ticks()) {
     const double x = X(t);
@@ -130,10 +107,10 @@ std::string render_svg(const PlotSpec& spec) {
   }
   o << "<rect x=\"" << left << "\" y=\"" << top << "\" width=\"" << pw << "\" height=\"" << ph
     << "\" fill=\"none\" stroke=\"black\"/>\n"
-    << "<text x=\"" << left + pw / 2 << "\" y=\"" << height - 22 << "\" text-anchor=\"middle\">" << escape(spec.x_label)
-    << "</text>\n"
+    << "<text x=\"" << left + pw / 2 << "\" y=\"" << height - 22 << "\" text-anchor=\"middle\">"
+    << xml_escaped(spec.x_label) << "</text>\n"
     << "<text transform=\"translate(22," << top + ph / 2 << ") rotate(-90)\" text-anchor=\"middle\">"
-    << escape(spec.y_label) << "</text>\n";
+    << xml_escaped(spec.y_label) << "</text>\n";
   for (std::size_t k = 0; k < spec.series.size(); ++k) {
     const PlotSeries& s = spec.series[k];
     const char* colour = palette[k % (sizeof palette / sizeof *palette)];
@@ -165,10 +142,33 @@ std::string render_svg(const PlotSpec& spec) {
       o << "<line x1=\"" << lx << "\" y1=\"" << ly << "\" x2=\"" << lx + 22 << "\" y2=\"" << ly << "\" stroke=\""
         << colour << "\" stroke-width=\"2\"" << (s.dashed ? " stroke-dasharray=\"6,4\"" : "") << "/>\n";
     if (s.markers) o << "<circle cx=\"" << lx + 11 << "\" cy=\"" << ly << "\" r=\"3.5\" fill=\"" << colour << "\"/>\n";
-    o << "<text x=\"" << lx + 28 << "\" y=\"" << ly + 4 << "\">" << escape(s.label) << "</text>\n";
+    o << "<text x=\"" << lx + 28 << "\" y=\"" << ly + 4 << "\">" << xml_escaped(s.label) << "</text>\n";
   }
   o << "</svg>\n";
   return o.str();
+}
+
+std::string xml_escaped(const std::string& s) {
+  std::string out;
+  for (char c : s) {
+    switch (c) {
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '&':
+        out += "&amp;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
+    }
+  }
+  return out;
 }
 
 }  // namespace hamel

@@ -25,4 +25,7 @@ struct PlotSpec {
 /// The SVG document. Non-finite points (and non-positive ones on a log axis) are skipped.
 std::string render_svg(const PlotSpec& spec);
 
+/// `s` as XML/HTML character data or attribute text: <, >, & and " escaped (the reports' SVG and HTML pages).
+std::string xml_escaped(const std::string& s);
+
 }  // namespace hamel

@@ -11,6 +11,7 @@
 #include "numeric/gait.hpp"
 #include "report/atomic_file.hpp"
 #include "report/heat_map.hpp"
+#include "report/pose_json.hpp"
 #include "report/progress.hpp"
 
 #include <nlohmann/json.hpp>
@@ -136,22 +137,6 @@ std::string curvature_svg(const Model& model, const Derivation& d, const std::ve
                     (model.bundle->right ? " - " : " + ") + "[A_i, A_j]";
   map.curves = {path, start};
   return render_heat_map_svg(map);
-}
-
-nlohmann::json pose_json(const GroupPose& p) {
-  nlohmann::json j;
-  if (p.R) {
-    const auto& R = *p.R;
-    j["R"] = {{R[0], R[1], R[2]}, {R[3], R[4], R[5]}, {R[6], R[7], R[8]}};
-  }
-  if (p.theta) {
-    j["theta"] = *p.theta;
-    j["x"] = p.p.at(0);
-    j["y"] = p.p.at(1);
-  } else if (!p.p.empty()) {
-    j["p"] = p.p;
-  }
-  return j;
 }
 
 void print_text(const nlohmann::json& j) {

@@ -11,6 +11,7 @@
 #include "model/input_error.hpp"
 #include "numeric/phase.hpp"
 #include "report/atomic_file.hpp"
+#include "report/pose_json.hpp"
 #include "report/progress.hpp"
 #include "report/svg_plot.hpp"
 
@@ -35,20 +36,9 @@ struct PhaseOptions {
 };
 
 nlohmann::json pose_json(const GroupPose& p, int cycle) {
-  nlohmann::json j;
+  nlohmann::json j = hamel::pose_json(p);
   j["cycle"] = cycle;
   j["t"] = p.t;
-  if (p.R) {
-    const auto& R = *p.R;
-    j["R"] = {{R[0], R[1], R[2]}, {R[3], R[4], R[5]}, {R[6], R[7], R[8]}};
-  }
-  if (p.theta) {
-    j["theta"] = *p.theta;
-    j["x"] = p.p.at(0);
-    j["y"] = p.p.at(1);
-  } else if (!p.p.empty()) {
-    j["p"] = p.p;
-  }
   return j;
 }
 

@@ -153,8 +153,7 @@ Motion phase_motion(const AnimateOptions& opt, Pipeline& pipeline) {
   req.steps_per_cycle = opt.steps;
   req.samples_per_cycle = opt.samples;
   check_phase_request(model, req);
-  // The form `hamel phase` takes (cli/phase_command.cpp).
-  pipeline.settings().form = model.bundle->tree ? "ep" : model.bundle->mechanical ? "momentum" : "ldap";
+  pipeline.settings().form = phase_form(model);
   const Derivation& d = pipeline.derivation();
   progress::say("reconstructing " + std::to_string(opt.cycles) + " cycle(s) on " + model.bundle->group);
   const PhaseResult result = compute_phase(model, d, pipeline.parameters(), req);

@@ -9,6 +9,7 @@
 #include "derive/derivation.hpp"
 #include "model/input_error.hpp"
 #include "numeric/gait.hpp"
+#include "numeric/phase.hpp"
 #include "report/atomic_file.hpp"
 #include "report/heat_map.hpp"
 #include "report/pose_json.hpp"
@@ -206,8 +207,7 @@ void run(const GaitOptions& opt) {
   if (!opt.plot.empty()) plotted(opt, shape, g);
   if (!opt.component.empty()) index_of(group, opt.component, "--curvature-component");
 
-  // The connection as phase evaluates it: trees in the ep form, mechanical connections in the momentum form.
-  pipeline.settings().form = model.bundle->tree ? "ep" : model.bundle->mechanical ? "momentum" : "ldap";
+  pipeline.settings().form = phase_form(model);
   const Derivation& d = pipeline.derivation();
   progress::say("designing the gait (" + std::to_string(opt.steps) + " RKMK4 steps per phase evaluation)");
   const GaitResult result = design_gait(model, d, params, req);

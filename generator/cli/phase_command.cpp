@@ -178,9 +178,7 @@ void run(const PhaseOptions& opt) {
   req.samples_per_cycle = opt.samples;
   check_phase_request(model, req);  // before the derivation, which may take long
   warn_if_open(model, params, req);
-  // Trees: the recursive ep derivation, whose connection is solved numerically (phase.cpp); the momentum
-  // form would inline the tree's kinetic energy and invert L symbolically.
-  pipeline.settings().form = model.bundle->tree ? "ep" : model.bundle->mechanical ? "momentum" : "ldap";
+  pipeline.settings().form = phase_form(model);
   const Derivation& d = pipeline.derivation();
   progress::say("reconstructing " + std::to_string(opt.cycles) + " cycle(s) on " + model.bundle->group);
   const PhaseResult result = compute_phase(model, d, params, req);

@@ -193,6 +193,10 @@ void check_phase_request(const Model& model, const PhaseRequest& req) {
                      " trajectory rows, more than the limit of 1e+07; expected fewer --cycles or --samples-per-cycle");
 }
 
+const char* phase_form(const Model& model) {
+  return model.bundle->tree ? "ep" : model.bundle->mechanical ? "momentum" : "ldap";
+}
+
 PhaseResult compute_phase(const Model& model, const Derivation& d, const std::vector<double>& parameters,
                           const PhaseRequest& req) {
   check_phase_request(model, req);

@@ -48,6 +48,11 @@ void check_conserved_momentum(const Model& model, const std::string& verb);
 /// calls it too, callers may call it first to fail before the derivation.
 void check_phase_request(const Model& model, const PhaseRequest& req);
 
+/// The form compute_phase needs the model derived in: trees the recursive ep form, whose connection is solved
+/// numerically (the momentum form would inline the tree's kinetic energy and invert L symbolically); mechanical
+/// connections the momentum form; kinematic ones ldap. Shared by phase, gait and animate.
+const char* phase_form(const Model& model);
+
 /// Runs the reconstruction. `derivation` must be the bundle model's (any form); `parameters` are the
 /// values of model.parameters. Throws InputError for unsupported groups or requests (e.g. rest momentum
 /// with a kinematic connection) and for failures of the integration (with the time).

@@ -148,7 +148,8 @@ Run add_emit_command(CLI::App& app) {
                       "). The jacobian of a large kinematic tree is by far its biggest kernel. input_jacobian "
                       "(d(x')/d(in), the B beside jacobian's A for MPC) and parameter_jacobian (d(x')/dp by the "
                       "parameters not folded, for system identification) are solved as the jacobian's columns "
-                      "(docs/emit.md). Known: " +
+                      "(e.g. --kernels rhs,jacobian,input_jacobian for a linearized A and B at any state; "
+                      "docs/emit.md). Known: " +
                       kernel_names());
   // A whole number of `what`, 0 or more; `zero` says what 0 means.
   const auto whole_number = [](const std::string& what, const std::string& zero) {

@@ -138,10 +138,18 @@ Run add_emit_command(CLI::App& app) {
   CLI::App* cmd = app.add_subcommand("emit", "Emit flat, branch-free C++ kernels for a model");
   add_pipeline_options(cmd, opt->in);
   cmd->add_option("-o,--output", opt->output, "Output folder (replaced atomically)")->required();
+  std::string on_request;
+  for (const KernelSpec& k : kernel_registry())
+    if (!k.by_default) on_request += (on_request.empty() ? "" : ", ") + std::string(k.name);
   cmd->add_option("--kernels", opt->kernels,
-                  "Only these kernels, comma-separated (e.g. rhs,mass_matrix; default: all the model has, "
-                  "except linearization and riemann_linearization). The jacobian of a large kinematic tree is by far "
-                  "its biggest kernel. Known: " +
+                  "Only these kernels, comma-separated (e.g. rhs,mass_matrix; default: all the model has, except "
+                  "those built only when named: " +
+                      on_request +
+                      "). The jacobian of a large kinematic tree is by far its biggest kernel. input_jacobian "
+                      "(d(x')/d(in), the B beside jacobian's A for MPC) and parameter_jacobian (d(x')/dp by the "
+                      "parameters not folded, for system identification) are solved as the jacobian's columns "
+                      "(e.g. --kernels rhs,jacobian,input_jacobian for a linearized A and B at any state; "
+                      "docs/emit.md). Known: " +
                       kernel_names());
   // A whole number of `what`, 0 or more; `zero` says what 0 means.
   const auto whole_number = [](const std::string& what, const std::string& zero) {

@@ -85,16 +85,22 @@ class MassMatrixEquations : public EquationsOfMotion {
     return accel_;
   }
 
-  Jacobian jacobian(const std::vector<int>& rhs) override {
+  Jacobian jacobian(const std::vector<int>& rhs) override { return columns_by(state_symbols(), true, rhs); }
+  Jacobian jacobian_by(const std::vector<GiNaC::ex>& by, const std::vector<int>& rhs) override {
+    return columns_by(by, false, rhs);
+  }
+
+ protected:
+  // d(x')/dw for every w of `by`, the state's components when `of_state`.
+  virtual Jacobian columns_by(const std::vector<GiNaC::ex>& by, bool of_state, const std::vector<int>& rhs) {
     // A large rhs program (the Whipple bicycle: 1.5e4 operations) is differentiated in forward mode only: the
     // symbolic route differentiates M and f through the derivation's program per state component, which costs
     // seconds of GiNaC work there, for a kernel of about the same size (1.25e5 against 1.32e5 operations).
     if (!eq_.tree && g_.count(g_.schedule(rhs)).total() > kSymbolicJacobianLimit)
-      return {forward_columns(rhs), nullptr, "; forward mode through the rhs program"};
-    return symbolic_jacobian();
+      return {forward_columns(by, rhs), nullptr, "; forward mode through the rhs program"};
+    return symbolic_jacobian(by, of_state);
   }
 
- protected:
   virtual Accelerations form_accelerations() {
     if (exact_) {
       Accelerations a{{}, {}, " with u_I' = M^-1 f, M constant, inverted at generation time"};
@@ -106,8 +112,10 @@ class MassMatrixEquations : public EquationsOfMotion {
     return a;
   }
 
-  // The right side of M du̇/dx_k = b_k for state component k; the chain rule through M and f by default.
-  virtual std::vector<int> right_side(std::size_t /*k*/, const GiNaC::ex& x_k, const std::vector<int>& accel) {
+  // The right side of M du̇/dx_k = b_k for column k, x_k its symbol (a state component when `of_state`); the chain
+  // rule through M and f by default.
+  virtual std::vector<int> right_side(std::size_t /*k*/, const GiNaC::ex& x_k, const std::vector<int>& accel,
+                                      bool /*of_state*/) {
     std::vector<int> b(d_);
     for (std::size_t i = 0; i < d_; ++i) {
       int r = p_.node_of(diff(eq_.forcing[i], x_k));
@@ -121,7 +129,8 @@ class MassMatrixEquations : public EquationsOfMotion {
   }
 
   // M y = b_k for every right side: the LDLᵀ's columns, printed as calls when the substitutions are long.
-  virtual std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides, Jacobian& out) {
+  virtual std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides, Jacobian& out,
+                                                      bool /*of_state*/) {
     std::vector<std::vector<int>> solved = ldlt_solve_columns(g_, M_, right_sides, eq_.factor_last_first);
     if (operations(solved) - operations(right_sides) >= kCalledSolveMinimum) call_columns(right_sides, by_ldlt(), out);
     return solved;
@@ -129,34 +138,34 @@ class MassMatrixEquations : public EquationsOfMotion {
 
   // The accelerations the Jacobian's columns are taken at (what u̇ stands for in them).
   virtual std::vector<int> accelerations_for_columns() { return accelerations().values; }
-  // Work the right sides share, done once before them.
-  virtual void before_right_sides() {}
+  // Work the right sides share, done once before them (those of the state's columns when `of_state`).
+  virtual void before_right_sides(bool /*of_state*/) {}
 
-  // d(x')/dx: the kinematics rows by differentiation, the acceleration rows from M du̇/dx_k = b_k solved with one
-  // factorization (value numbering shares it between the columns), or by differentiating u̇ = M⁻¹ f when M is constant.
-  Jacobian symbolic_jacobian() {
+  // d(x')/dw for every w of `by` (the state's components when `of_state`): the kinematics rows by differentiation,
+  // the acceleration rows from M du̇/dw_k = b_k solved with one factorization (value numbering shares it between the
+  // columns, and between the jacobian and the kernels by inputs and parameters), or by differentiating u̇ = M⁻¹ f when
+  // M is constant.
+  Jacobian symbolic_jacobian(const std::vector<GiNaC::ex>& by, bool of_state) {
     Jacobian out;
-    const std::vector<int> accel = exact_ ? std::vector<int>{} : accelerations_for_columns();
+    const std::vector<int> accel = exact_ ? std::vector<int>{} : column_accelerations();
     for (std::size_t j = 0; j < eq_.acceleration_symbols.size() && !accel.empty(); ++j)
       p_.leaves[eq_.acceleration_symbols[j]] = accel[j];
-    if (!exact_) before_right_sides();
-    std::vector<GiNaC::ex> state_symbols(sys_.coordinates.begin(), sys_.coordinates.end());
-    for (int I : eq_.independent) state_symbols.push_back(sys_.velocities[static_cast<std::size_t>(I)]);
-    const std::size_t nx = state_symbols.size();
+    if (!exact_) before_right_sides(of_state);
+    const std::size_t nx = by.size();
     out.columns.assign(nx, {});
-    std::vector<std::vector<int>> right_sides;  // M du̇/dx_k = b_k, all solved with one factorization
+    std::vector<std::vector<int>> right_sides;  // M du̇/dw_k = b_k, all solved with one factorization
     for (std::size_t k = 0; k < nx; ++k) {
-      const GiNaC::ex& x_k = state_symbols[k];
+      const GiNaC::ex& x_k = by[k];
       for (int a = 0; a < n_; ++a)
         out.columns[k].push_back(p_.node_of(diff(eq_.kinematics[static_cast<std::size_t>(a)], x_k)));
       if (exact_) {
         for (const GiNaC::ex& a : *exact_) out.columns[k].push_back(p_.node_of(diff(a, x_k)));
         continue;
       }
-      right_sides.push_back(right_side(k, x_k, accel));
+      right_sides.push_back(right_side(k, x_k, accel, of_state));
     }
     if (!exact_) {
-      const std::vector<std::vector<int>> solved = solve_columns(right_sides, out);
+      const std::vector<std::vector<int>> solved = solve_columns(right_sides, out, of_state);
       for (std::size_t k = 0; k < nx; ++k)
         out.columns[k].insert(out.columns[k].end(), solved[k].begin(), solved[k].end());
     }
@@ -167,12 +176,22 @@ class MassMatrixEquations : public EquationsOfMotion {
   rbd::Namer<GiNaC::ex> namer() {
     return rbd::Namer<GiNaC::ex>([this](const GiNaC::ex& e) { return p_.tape.define(e); });
   }
-  // Forward mode through the rhs program: d(rhs)/dx_k, one tangent pass per state component.
-  std::vector<std::vector<int>> forward_columns(const std::vector<int>& rhs) {
+  // The state's symbols x = (q, u_I), in the order of rhs's outputs.
+  std::vector<GiNaC::ex> state_symbols() const {
+    std::vector<GiNaC::ex> x(sys_.coordinates.begin(), sys_.coordinates.end());
+    for (int I : eq_.independent) x.push_back(sys_.velocities[static_cast<std::size_t>(I)]);
+    return x;
+  }
+  // Forward mode through the rhs program: d(rhs)/dw, one tangent pass per w of `by` (at its leaf).
+  std::vector<std::vector<int>> forward_columns(const std::vector<GiNaC::ex>& by, const std::vector<int>& rhs) {
     std::vector<std::vector<int>> columns;
-    for (std::size_t k = 0; k < rhs.size(); ++k)
-      columns.push_back(tangent(g_, rhs, {{g_.input(Argument::state, static_cast<int>(k)), g_.constant(1)}}));
+    for (const GiNaC::ex& w : by) columns.push_back(tangent(g_, rhs, {{p_.leaves.at(w), g_.constant(1)}}));
     return columns;
+  }
+  // accelerations_for_columns(), formed once for all the kernels that take columns.
+  const std::vector<int>& column_accelerations() {
+    if (!column_accelerations_) column_accelerations_ = accelerations_for_columns();
+    return *column_accelerations_;
   }
   // Operations of the program computing `columns`.
   int operations(const std::vector<std::vector<int>>& columns) const {
@@ -188,14 +207,14 @@ class MassMatrixEquations : public EquationsOfMotion {
       return ldlt_solve_columns(s, M, b, eq_.factor_last_first);
     };
   }
-  // The jacobian's solves of M y = b for `right_sides` printed as one function called on kColumnLanes columns at a
-  // time.
+  // The solves of M y = b for `right_sides` printed as one function called on kColumnLanes columns at a time (the
+  // kernel row-major with one column per right side).
   void call_columns(const std::vector<std::vector<int>>& right_sides, const ColumnSolver& solve, Jacobian& out) {
     const std::size_t nx = right_sides.size();
     Subroutine calls = solve_subroutine(
         g_, right_sides, kColumnLanes,
         [&](std::size_t k, std::size_t i) {
-          return static_cast<int>((static_cast<std::size_t>(n_) + i) * nx + k);  // jacobian row-major
+          return static_cast<int>((static_cast<std::size_t>(n_) + i) * nx + k);  // row-major
         },
         solve);
     if (!calls.calls.empty()) out.calls = std::make_shared<const Subroutine>(std::move(calls));
@@ -214,6 +233,7 @@ class MassMatrixEquations : public EquationsOfMotion {
  private:
   Accelerations accel_;
   bool formed_ = false;
+  std::optional<std::vector<int>> column_accelerations_;
 };
 
 // A kinematic tree: u̇ by the articulated-body algorithm or the LDLᵀ; the Jacobian by ∂ID/∂x.
@@ -226,14 +246,14 @@ class TreeEquations : public MassMatrixEquations {
         articulated_(articulated),
         column_solve_(column_solve) {}
 
-  Jacobian jacobian(const std::vector<int>& rhs) override {
-    Jacobian out = symbolic_jacobian();
+  Jacobian columns_by(const std::vector<GiNaC::ex>& by, bool of_state, const std::vector<int>& rhs) override {
+    Jacobian out = symbolic_jacobian(by, of_state);
     // With the articulated-body algorithm also forward-mode differentiation of the rhs program itself, one
-    // tangent pass per state component (size ~ program × state dimension, no M, no solve per column); the
-    // smaller of the two programs is kept (docs/benchmarks.md: the tangent one is larger for the trees
-    // measured so far, because the articulated inertias depend on every joint angle outboard of a body).
+    // tangent pass per column (size ~ program × columns, no M, no solve per column); the smaller of the two programs
+    // is kept (docs/benchmarks.md: the tangent one is larger for the trees measured so far, because the articulated
+    // inertias depend on every joint angle outboard of a body).
     if (articulated_) {
-      std::vector<std::vector<int>> forward = forward_columns(rhs);
+      std::vector<std::vector<int>> forward = forward_columns(by, rhs);
       if (operations(forward) < operations(out.columns))
         return {std::move(forward), nullptr, "; forward mode through the rhs program"};
     }
@@ -261,23 +281,29 @@ class TreeEquations : public MassMatrixEquations {
   }
 
   // ∂ID/∂x analytically (rbd/rnea_derivatives.hpp): the right sides are −∂ID/∂x (P, V and Δ negated once per column
-  // instead of every row).
-  void before_right_sides() override {
-    id_ = rbd::rnea_derivatives(tree_, p_.tape);
-    minus_id_ = id_->negated(p_.tape);
-    id_columns_ = minus_id_->dense(tree_);
+  // instead of every row). By inputs and parameters, −ID = f − M u̇ at the acceleration symbols (rbd::residual_forcing,
+  // O(n)) differentiated through its program: inputs reach it through the generalized forces, parameters through
+  // the inertias, offsets, axes, gravity, armatures and joint forces.
+  void before_right_sides(bool of_state) override {
+    if (of_state && !id_) {
+      id_ = rbd::rnea_derivatives(tree_, p_.tape);
+      minus_id_ = id_->negated(p_.tape);
+      id_columns_ = minus_id_->dense(tree_);
+    }
+    if (!of_state && minus_inverse_dynamics_.empty()) minus_inverse_dynamics_ = rbd::residual_forcing(tree_, namer());
   }
 
-  std::vector<int> right_side(std::size_t k, const GiNaC::ex&, const std::vector<int>&) override {
+  std::vector<int> right_side(std::size_t k, const GiNaC::ex& w, const std::vector<int>&, bool of_state) override {
     std::vector<int> b(d_);
-    for (std::size_t i = 0; i < d_; ++i) b[i] = p_.node_of(id_columns_[k][i]);
+    for (std::size_t i = 0; i < d_; ++i)
+      b[i] = p_.node_of(of_state ? id_columns_[k][i] : diff(minus_inverse_dynamics_[i], w));
     return b;
   }
 
   // M y = b_k: the LDLᵀ of M or the articulated-body recursion, as asked, or the recursion when it is clearly the
   // smaller program.
-  std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides,
-                                              Jacobian& out) override {
+  std::vector<std::vector<int>> solve_columns(const std::vector<std::vector<int>>& right_sides, Jacobian& out,
+                                              bool of_state) override {
     std::vector<std::vector<int>> solved;
     if (column_solve_ != ColumnSolve::articulated)
       solved = ldlt_solve_columns(g_, M_, right_sides, eq_.factor_last_first);
@@ -289,10 +315,10 @@ class TreeEquations : public MassMatrixEquations {
     };
     if (column_solve_ == ColumnSolve::ldlt) return by_ldlt_kept();
     // The recursion takes what a joint's subtree passes to its ancestors' rows as one inward force (InwardForce: Δ,
-    // whose rows are −⟨s_I, Δ⟩).
-    std::vector<std::vector<int>> own_rows;
+    // whose rows are −⟨s_I, Δ⟩); the columns by inputs and parameters as they are.
+    std::vector<std::vector<int>> own_rows = of_state ? std::vector<std::vector<int>>{} : right_sides;
     std::vector<InwardForce> inward;
-    for (std::size_t k = 0; k < right_sides.size(); ++k) {
+    for (std::size_t k = 0; k < right_sides.size() && of_state; ++k) {
       own_rows.emplace_back();
       for (const GiNaC::ex& r : minus_id_->rows(tree_, k)) own_rows.back().push_back(p_.node_of(r));
       InwardForce f{id_->columns[k].body, {}};
@@ -329,6 +355,7 @@ class TreeEquations : public MassMatrixEquations {
   std::optional<ArticulatedNodes> factor_;
   std::optional<rbd::InverseDynamicsJacobian> id_, minus_id_;
   std::vector<std::vector<GiNaC::ex>> id_columns_;
+  std::vector<GiNaC::ex> minus_inverse_dynamics_;  ///< f − M u̇ at the acceleration symbols, for jacobian_by
 };
 
 }  // namespace

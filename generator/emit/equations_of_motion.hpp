@@ -1,4 +1,5 @@
-// The equations of motion as the kernels compute them: u̇_I (rhs) and d(x')/dx (jacobian), on the kernels' graph.
+// The equations of motion as the kernels compute them: u̇_I (rhs), d(x')/dx (jacobian) and d(x')/dw by inputs and
+// parameters (input_jacobian, parameter_jacobian, with the jacobian's columns), on the kernels' graph.
 // This is the one place where the route is chosen (equations_of_motion(), with every tuned constant in the .cpp).
 //
 // Every derivation gives M(q) u̇_I = f (BHconstr); a kinematic tree also gives the tree itself (rbd::TreeDynamics,
@@ -77,6 +78,12 @@ class EquationsOfMotion {
   virtual const Accelerations& accelerations() = 0;
   /// d(x')/dx for x' = `rhs` (the kinematics' nodes, then accelerations().values), every state component x_k.
   virtual Jacobian jacobian(const std::vector<int>& rhs) = 0;
+  /// d(x')/dw for symbols w that are not the state (the inputs, the parameters not folded; each with its leaf in the
+  /// program), by the jacobian's machinery: the kinematics rows by differentiation, the acceleration rows from
+  /// M du̇/dw = −∂ID/∂w at fixed u̇ (trees: the inverse dynamics' program differentiated by w; other models
+  /// ∂f/∂w − (∂M/∂w) u̇), every column solved as the jacobian's are; or forward mode through rhs where the jacobian
+  /// takes it. Jacobian::calls are row-major n_state x by.size().
+  virtual Jacobian jacobian_by(const std::vector<GiNaC::ex>& by, const std::vector<int>& rhs) = 0;
 };
 
 /// The equations of motion of `derivation` on `program`, with the mass matrix's and the forcing's nodes `M`, `f`

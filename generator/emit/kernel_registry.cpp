@@ -17,6 +17,14 @@ const std::vector<KernelSpec>& kernel_registry() {
        "A = d(x')/dx (n_state x n_state) then B = d(x')/d(in) (n_state x n_in), row-major; A as jacobian for trees, "
        "otherwise forward mode through rhs",
        false},
+      {"input_jacobian",
+       "d(x')/d(in), row-major n_state x n_inputs: the B of the linearized dynamics beside jacobian's A (for MPC), by "
+       "jacobian's route",
+       false},
+      {"parameter_jacobian",
+       "d(x')/dp, row-major n_state x the parameters not folded (in file order, parameter_jacobian_parameters), for "
+       "system identification, by jacobian's route",
+       false},
       {"constraint_residual", "u^alpha = A^alpha_a(q) q_dot^a along the kinematics (zero)", true, true},
       // Models with position constraints g(q) = 0 only (holonomic constraints): what the projector needs.
       {"constraint_position", "g(q) of the position constraints g = 0, for the projector (runtime/projection.hpp)",

@@ -84,6 +84,8 @@ class KernelBuilder {
 
     set_.kernels = {kinematics_, mass_, forcing_, gamma_, rhs_, jacobian_, energy};
     if (want("linearization")) set_.kernels.push_back(linearization());
+    for (const char* by : {"input_jacobian", "parameter_jacobian"})
+      if (want(by)) set_.kernels.push_back(jacobian_by(by));
     const std::vector<PositionConstraint>& positions = sys_.position_constraints;
     if (!eq_.constraint_residual.empty() || !positions.empty()) {
       Kernel residual =
@@ -147,6 +149,7 @@ class KernelBuilder {
   void jacobian_columns();
   void drop_identical_zeros();
   Kernel linearization();
+  Kernel jacobian_by(const std::string& name);
   void bundle_kernels();
   Kernel riemann_linearization();
   Kernel centroidal_momentum();
@@ -269,6 +272,40 @@ Kernel KernelBuilder::linearization() {
                                            model_.inputs[static_cast<std::size_t>(k)].get_name() + "]");
     }
   return linearization;
+}
+
+// d(x')/d(in) (input_jacobian) or d(x')/dp by the parameters not folded (parameter_jacobian), with the jacobian's
+// machinery (EquationsOfMotion::jacobian_by); an InputError when the model has no such inputs or parameters.
+Kernel KernelBuilder::jacobian_by(const std::string& name) {
+  const bool inputs = name == "input_jacobian";
+  std::vector<GiNaC::ex> by;
+  std::vector<std::string> by_names;
+  if (inputs) {
+    for (const GiNaC::realsymbol& u : model_.inputs) by.push_back(u), by_names.push_back(u.get_name());
+  } else {
+    for (const Parameter& p : model_.parameters)
+      if (!p.folded) by.push_back(p.symbol), by_names.push_back(p.symbol.get_name());
+  }
+  if (by.empty()) {
+    const std::string what = model_.source_path + ": error: --kernels: kernel '" + name + "' differentiates rhs by ";
+    if (inputs)
+      throw InputError(what + "the run-time inputs, and '" + model_.name +
+                       "' has none (key 'inputs'); expected a model with inputs, or --kernels without " + name);
+    if (model_.parameters.empty())
+      throw InputError(what + "the parameters, and '" + model_.name +
+                       "' has none (key 'parameters'); expected a model with parameters, or --kernels without " + name);
+    throw InputError(what + "the parameters that are not folded, and every parameter of '" + model_.name +
+                     "' is folded (--fold); unfold some: --fold a,b folds only a and b, --fold none none of them");
+  }
+  const EquationsOfMotion::Jacobian columns = motion_->jacobian_by(by, rhs_.outputs);
+  Kernel k = registered(name.c_str(), columns.how);
+  for (std::size_t row = 0; row < rhs_.outputs.size(); ++row)
+    for (std::size_t c = 0; c < by.size(); ++c) {
+      k.outputs.push_back(columns.columns[c][row]);
+      k.output_names.push_back("d" + rhs_.output_names[row] + "/d" + by_names[c]);
+    }
+  k.calls = columns.calls;
+  return k;
 }
 
 void KernelBuilder::bundle_kernels() {

@@ -50,7 +50,9 @@ struct KernelSet {
 /// forcing) are formed anyway; the costly ones are not formed at all when not selected (the Jacobian's
 /// derivatives, the linearizations, the tree connection's solves, the prepared kernels). Built only when
 /// `only` names them (the registry's on-request kernels): `linearization` (A and B of the linearized state
-/// equations, forward mode through rhs) and `riemann_linearization` (only for unconstrained models in general
+/// equations, forward mode through rhs), `input_jacobian` and `parameter_jacobian` (d(x')/d(in) and d(x')/dp by the
+/// parameters not folded, as EquationsOfMotion::jacobian_by forms them; an InputError when the model has no inputs,
+/// or no parameter left symbolic) and `riemann_linearization` (only for unconstrained models in general
 /// coordinates with L = ½ g q̇q̇ − V). `dynamics`: how u̇ and the Jacobian's columns are computed (--dynamics,
 /// --jacobian-solve; emit/equations_of_motion.hpp chooses the route).
 KernelSet build_kernels(const Model& model, const Derivation& derivation, const std::set<std::string>& only = {},

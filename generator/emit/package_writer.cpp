@@ -167,7 +167,8 @@ class PackageWriter {
       state_names;
   std::vector<double> defaults;
   std::vector<int> upper_index, lower_a, lower_b;
-  std::vector<bool> parameter_used;  // by parameter: some kernel reads it (else it was folded)
+  std::vector<bool> parameter_used;                // by parameter: some kernel reads it (else it was folded)
+  std::vector<int> parameter_jacobian_parameters;  // its columns, indices into p; empty without parameter_jacobian
   bool has_rhs = false, has_group_velocity = false, python = false;
   int group_dimension = 0;  // bundle models: the group's dimension (the connection's rows)
   const std::optional<KernelSet::Prepared>& prepared;
@@ -229,6 +230,9 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
   for (const Kernel& k : kernels.kernels) {
     has_rhs = has_rhs || k.name == "rhs";
     has_group_velocity = has_group_velocity || k.name == "group_velocity";
+    if (k.name == "parameter_jacobian")
+      for (std::size_t i = 0; i < model.parameters.size(); ++i)
+        if (!model.parameters[i].folded) parameter_jacobian_parameters.push_back(static_cast<int>(i));
   }
 }
 
@@ -299,6 +303,10 @@ void PackageWriter::header_kernels(std::ostream& h) const {
   std::size_t largest = 0;
   for (const Kernel& k : kernels.kernels) largest = std::max(largest, k.outputs.size());
   h << "constexpr int n_out_max = " << largest << ";  // the largest out[] of any kernel\n\n";
+  if (!parameter_jacobian_parameters.empty())
+    h << "// parameter_jacobian's columns: the parameters not folded, as indices into p (parameter_names).\n"
+      << "constexpr int n_parameter_jacobian_parameters = " << parameter_jacobian_parameters.size() << ";\n"
+      << array_decl("int", "parameter_jacobian_parameters", parameter_jacobian_parameters, str) << "\n";
   for (const Kernel& k : kernels.kernels)
     h << "/// " << k.summary << "; out[" << k.outputs.size() << "]\n" << signature(k) << ";\n";
   h << "\n"
@@ -576,6 +584,7 @@ PythonPackage PackageWriter::python_package() const {
     for (const Kernel& k : prepared->kernels) add(k, true);
   py.has_rhs = has_rhs;
   py.n_prepared_parameters = prepared ? code.n_prepared : 0;
+  py.parameter_jacobian_parameters = parameter_jacobian_parameters;
   return py;
 }
 

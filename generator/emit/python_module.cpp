@@ -72,6 +72,8 @@ std::vector<int> python_output_shape(const std::string& name, int n_out, int n_c
     shape = {n_independent, n_independent};
   else if (name == "jacobian" || name == "jacobian_prepared")
     shape = {n_state, n_state};
+  else if ((name == "input_jacobian" || name == "parameter_jacobian") && n_state > 0)
+    shape = {n_state, n_out / n_state};
   else if (name == "constraint_position_jacobian" && n_coordinates > 0)
     shape = {n_out / n_coordinates, n_coordinates};
   else if ((name == "locked_inertia" || name == "shape_inertia") && side(n_out) > 0)
@@ -120,6 +122,9 @@ std::string python_module(const PythonPackage& m) {
      << "hamel_lower_b = " << py_ints(m.hamel_lower_b) << "\n"
      << "_default_parameters = " << py_tuple(m.default_parameters, py_number) << "\n";
   if (m.n_prepared_parameters > 0) py << "n_prepared_parameters = " << m.n_prepared_parameters << "\n";
+  if (!m.parameter_jacobian_parameters.empty())
+    py << "# parameter_jacobian's columns: indices into parameter_names of the parameters not folded\n"
+       << "parameter_jacobian_parameters = " << py_ints(m.parameter_jacobian_parameters) << "\n";
   py << "# kernel: (shape of its outputs, their names, what it computes)\n"
      << "kernels = {\n";
   for (const PythonKernel& k : m.kernels)

@@ -27,13 +27,15 @@ struct PythonPackage {
   std::vector<std::string> state_names, parameter_names, input_names, constraint_names, quasi_velocity_names;
   std::vector<double> default_parameters;
   std::vector<int> hamel_upper, hamel_lower_a, hamel_lower_b;
-  std::vector<PythonKernel> kernels;  ///< in the order of the header, the prepared ones last
-  bool has_rhs = false;               ///< rhs_status and rk4_step exist
-  int n_prepared_parameters = 0;      ///< 0: no prepare_parameters
+  std::vector<PythonKernel> kernels;               ///< in the order of the header, the prepared ones last
+  bool has_rhs = false;                            ///< rhs_status and rk4_step exist
+  int n_prepared_parameters = 0;                   ///< 0: no prepare_parameters
+  std::vector<int> parameter_jacobian_parameters;  ///< parameter_jacobian's columns (indices into p); empty without it
 };
 
 /// The shape of kernel `name`'s n_out outputs: square and rectangular matrices by the registry's layout (mass_matrix
-/// n_independent x n_independent, jacobian n_state x n_state, connection group_dimension x shape, ...), else flat.
+/// n_independent x n_independent, jacobian n_state x n_state, input_jacobian n_state x n_inputs, connection
+/// group_dimension x shape, ...), else flat.
 std::vector<int> python_output_shape(const std::string& name, int n_out, int n_coordinates, int n_independent,
                                      int n_state, int group_dimension);
 

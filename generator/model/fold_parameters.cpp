@@ -17,6 +17,8 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
     if (!found) throw InputError("--fold: '" + name + "' is not a parameter of model '" + model.name + "'");
   }
   Model out = model;
+  for (Parameter& p : out.parameters)
+    if (fold.count(p.symbol)) p.folded = true;
   const auto sub = [&](const GiNaC::ex& e) { return e.subs(fold); };
   const auto sub_matrix = [&](GiNaC::matrix& m) {
     for (unsigned i = 0; i < m.rows(); ++i)

@@ -18,6 +18,8 @@ namespace hamel {
 struct Parameter {
   GiNaC::realsymbol symbol;
   double default_value = 0.0;
+  /// Fixed at generation time (model/fold_parameters.hpp): the model's expressions hold its value, not the symbol.
+  bool folded = false;
 };
 
 /// A rigid body of a kinematic tree: inertial data in its own frame.

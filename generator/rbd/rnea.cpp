@@ -75,10 +75,27 @@ std::vector<Ex> applied_generalized_forces(const FrameView& view, const Namer<Ex
   return Q;
 }
 
-std::vector<Ex> bias_forcing(const TreeDynamics& tree, const Namer<Ex>& name) {
+namespace {
+
+// −ID(r, u, u̇) + τ in the common frame with base accelerations ξ̇ and joint accelerations r̈ (both empty: zero).
+std::vector<Ex> forcing_at(const TreeDynamics& tree, const std::vector<Ex>& base_acceleration,
+                           const std::vector<Ex>& joint_acceleration, const Namer<Ex>& name) {
   const FrameView view(tree.model, tree.frame, name);
-  const Motion motion = rnea_motion(view, tree.base_velocity, tree.rates, {}, {}, name);
-  return forcing(view, rnea_forces(view, with_applied(view, motion.f), name), tree.joint_force);
+  const Motion motion = rnea_motion(view, tree.base_velocity, tree.rates, base_acceleration, joint_acceleration, name);
+  std::vector<Ex> f = forcing(view, rnea_forces(view, with_applied(view, motion.f), name), tree.joint_force);
+  const std::size_t m = tree.model.base.size();
+  for (std::size_t i = 0; i < joint_acceleration.size(); ++i)
+    f[m + i] -= tree.model.armature[i + 1] * joint_acceleration[i];
+  return f;
+}
+
+}  // namespace
+
+std::vector<Ex> bias_forcing(const TreeDynamics& tree, const Namer<Ex>& name) { return forcing_at(tree, {}, {}, name); }
+
+std::vector<Ex> residual_forcing(const TreeDynamics& tree, const Namer<Ex>& name) {
+  const auto split = tree.accelerations.begin() + static_cast<long>(tree.model.base.size());
+  return forcing_at(tree, {tree.accelerations.begin(), split}, {split, tree.accelerations.end()}, name);
 }
 
 }  // namespace hamel::rbd

@@ -50,4 +50,8 @@ std::vector<Ex> forcing(const FrameView& view, const std::vector<Vec6<Ex>>& F, c
 /// Jacobian solves with the articulated factor its columns use, to get u̇ without the body-frame recursion of rhs.
 std::vector<Ex> bias_forcing(const TreeDynamics& tree, const Namer<Ex>& name);
 
+/// f − M u̇ = −ID(r, u, u̇) + τ (with the armatures' a_i r̈_i) at u̇ = tree.accelerations, in the common frame: what
+/// the kernels by inputs and parameters differentiate (M du̇/dw = −∂ID/∂w at fixed u̇), one O(n) program.
+std::vector<Ex> residual_forcing(const TreeDynamics& tree, const Namer<Ex>& name);
+
 }  // namespace hamel::rbd

@@ -265,6 +265,31 @@ TEST(Firmware, SquareRootsAreBranchFreeWithoutMathErrno) {
   }
 }
 
+// The kernels by inputs and parameters (built only when named) of a tree whose parameters reach every part of the
+// recursion, their columns solved by the articulated-body recursion as called functions, split into parts: strict,
+// nothing forbidden, no branch, in float and double.
+TEST(Firmware, KernelsByInputsAndParametersCompileStrictWithNoBranch) {
+  REQUIRE_TOOLCHAIN();
+  Scratch dir("by_inputs_and_parameters");
+  const Outcome e =
+      run(quote(HAMEL_BINARY) + " -q emit " + quote(source("tests/kernels/sensitivity/sensitivity_arm.yaml")) + " -o " +
+          quote(dir.path() + "/pkg") +
+          " --kernels rhs,input_jacobian,parameter_jacobian --jacobian-solve aba --split 40 2>&1");
+  ASSERT_EQ(e.status, 0) << e.out;
+  const std::string cpp = slurp(dir.path() + "/pkg/sensitivity_arm.cpp");
+  ASSERT_NE(cpp.find("input_jacobian_column("), std::string::npos) << "no called solve: this test would not test it";
+  for (const Target* t : {&m4f, &m7}) {
+    SCOPED_TRACE(t->name);
+    const std::string object = dir.path() + "/arm." + t->name + ".o";
+    const Outcome c = run(quote(gxx) + " " + strict + " " + t->flags + " " + real_define("sensitivity_arm", *t) +
+                          " -c " + quote(dir.path() + "/pkg/sensitivity_arm.cpp") + " -o " + quote(object) + " 2>&1");
+    ASSERT_EQ(c.status, 0) << c.out;
+    EXPECT_EQ(c.out, "");  // not even a warning
+    EXPECT_EQ(joined(unwanted(symbols(object, true), t->real == "float")), "");
+    EXPECT_EQ(joined(branching_kernels(object)), "");
+  }
+}
+
 /// Per kernel, as tests/firmware/measure.cpp prints it: n_work, stack, stack of the work-space form, instructions.
 using KernelFigures = std::map<std::string, std::vector<unsigned long>>;
 

@@ -48,6 +48,10 @@ TEST(KernelRegistry, EveryBuiltKernelIsRegistered) {
     check_registered(build_kernels(model, derivation, {"rhs", "linearization", "rhs_prepared"}),
                      {"rhs", "linearization", "rhs_prepared"});
   }
+  const Model sleigh = load_model(source("models/chaplygin_sleigh.yaml"));
+  const KernelSet by = build_kernels(sleigh, derive(sleigh), {"input_jacobian", "parameter_jacobian"});
+  ASSERT_EQ(by.kernels.size(), 2u);
+  check_registered(by, {"input_jacobian", "parameter_jacobian"});
   const Model pendulum = load_model(source("models/double_pendulum.yaml"));
   const KernelSet riemann = build_kernels(pendulum, derive(pendulum), {"riemann_linearization"});
   ASSERT_EQ(riemann.kernels.size(), 1u);
@@ -59,6 +63,11 @@ TEST(KernelRegistry, OnRequestKernelsAreNotBuiltByDefault) {
   const KernelSet set = build_kernels(model, derive(model));
   for (const Kernel& k : set.kernels) EXPECT_NE(k.name, "linearization");
   for (const Kernel& k : set.kernels) EXPECT_NE(k.name, "riemann_linearization");
+  const Model sleigh = load_model(source("models/chaplygin_sleigh.yaml"));  // inputs and parameters
+  for (const Kernel& k : build_kernels(sleigh, derive(sleigh)).kernels) {
+    EXPECT_NE(k.name, "input_jacobian");
+    EXPECT_NE(k.name, "parameter_jacobian");
+  }
 }
 
 TEST(KernelRegistry, SceneTasksNameRegisteredKernelsAndNamesAreUnique) {

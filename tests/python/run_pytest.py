@@ -15,10 +15,13 @@ import subprocess
 import sys
 
 # model name -> (model file, extra emit flags). double_pendulum: symbolic parameters and prepared kernels;
-# chaplygin_sleigh: inputs, a constraint and Hamel coefficients.
+# chaplygin_sleigh: inputs, a constraint and Hamel coefficients; its default kernels and the two built only when named,
+# input_jacobian and parameter_jacobian.
 PACKAGES = {
     "double_pendulum": ("models/double_pendulum.yaml", []),
-    "chaplygin_sleigh": ("models/chaplygin_sleigh.yaml", []),
+    "chaplygin_sleigh": ("models/chaplygin_sleigh.yaml",
+                         ["--kernels", "kinematics,mass_matrix,forcing,hamel_coefficients,rhs,jacobian,energy,"
+                          "constraint_residual,rhs_prepared,jacobian_prepared,input_jacobian,parameter_jacobian"]),
 }
 
 

@@ -91,6 +91,31 @@ def test_sleigh_rhs_and_jacobian_with_inputs_match_the_hand_written_model():
                                atol=1e-12)
 
 
+def complex_step_columns(f, w, h=1e-30):
+    """d f / d w for a batch: w of shape (N, k), f(w) of shape (N, n); (N, n, k)."""
+    columns = []
+    for k in range(w.shape[1]):
+        z = w.astype(complex)
+        z[:, k] += 1j * h
+        columns.append(f(z).imag / h)
+    return np.stack(columns, axis=2)
+
+
+def test_sleigh_input_and_parameter_jacobians_are_the_hand_written_models_derivatives():
+    x, p, u = random_sleigh(300, seed=11)
+    B = sleigh.input_jacobian(0.0, x, p, u)
+    assert B.shape == (300, sleigh.n_state, sleigh.n_inputs)
+    np.testing.assert_allclose(B, complex_step_columns(lambda z: sleigh_hand_rhs(x, p, z), u), rtol=1e-12, atol=1e-12)
+    assert sleigh.parameter_jacobian_parameters == (0, 1, 2)
+    P = sleigh.parameter_jacobian(0.0, x, p, u)
+    assert P.shape == (300, sleigh.n_state, 3)
+    np.testing.assert_allclose(P, complex_step_columns(lambda z: sleigh_hand_rhs(x, z, u), p), rtol=1e-12, atol=1e-12)
+    # One state: (n_state, n_inputs); the q_dot rows do not depend on the inputs.
+    one = sleigh.input_jacobian(0.0, x[0], p[0], u[0])
+    assert one.shape == (sleigh.n_state, sleigh.n_inputs)
+    assert np.all(one[:sleigh.n_coordinates] == 0)
+
+
 def test_mass_matrix_and_forcing_equal_the_generators_evaluation():
     point = {"x": 0.3, "y": -0.2, "theta": 0.7, "v": 1.1, "omega": -0.4}
     values = {"tau": 0.25, "F": -0.5}

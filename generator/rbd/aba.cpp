@@ -4,6 +4,33 @@
 
 namespace hamel::rbd {
 
+namespace {
+
+// k when s = c e_k (one nonzero entry, a number), else −1.
+int coordinate_axis(const Vec6<Ex>& s) {
+  int k = -1;
+  for (std::size_t j = 0; j < 6; ++j) {
+    if (s[j].is_zero()) continue;
+    if (k >= 0 || !GiNaC::is_a<GiNaC::numeric>(s[j])) return -1;
+    k = static_cast<int>(j);
+  }
+  return k;
+}
+
+// v ×* 𝕀 v, the velocity-product wrench of a rigid body at twist V = (ω, v), from its data about the centre of mass
+// c: with p = m (v + ω × c) and f = ω × p it is (ω × Θ ω + c × f, f) about the frame's origin (𝕀 V = (Θ ω + c × p,
+// p), and ω × (c × p) + v × p = c × (ω × p) by Jacobi's identity, v × p being −(ω × c) × p). Fewer operations than
+// through 𝕀 about the origin (coadjoint_term of the momentum).
+Vec6<Ex> velocity_product_wrench(const BodyInertia& b, const Vec6<Ex>& V, const Namer<Ex>& name) {
+  const Vec3<Ex> w = angular(V), v = linear(V), c = b.com;
+  const Vec3<Ex> wc = cross(w, c);
+  const Vec3<Ex> p = name(Vec3<Ex>{b.mass * (v[0] + wc[0]), b.mass * (v[1] + wc[1]), b.mass * (v[2] + wc[2])});
+  const Vec3<Ex> f = name(cross(w, p));
+  return join(cross(w, name(b.rotational * w)) + cross(c, f), f);
+}
+
+}  // namespace
+
 ArticulatedFactor articulated_factor(const FrameView& view, const Namer<Ex>& name) {
   const TreeModel& model = view.model();
   const std::size_t N = view.size(), m = model.base.size();
@@ -27,9 +54,16 @@ ArticulatedFactor articulated_factor(const FrameView& view, const Namer<Ex>& nam
     f.D[i] = name(dot(s, U) + model.armature[i]);
     const Ex inverse_D = f.inverse_D[i] = name(1 / f.D[i]);
     f.W[i] = name(U * inverse_D);
+    // s = c e_k without armature: W_k = 1/c and 𝕀ᵃ's row and column k vanish (𝕀ᵃ s = U − U ⟨W, s⟩ = 0), exactly
+    // rather than as U_k (1/D) − 1 in the program.
+    const int k = model.armature[i].is_zero() ? coordinate_axis(s) : -1;
+    if (k >= 0) f.W[i][static_cast<std::size_t>(k)] = 1 / s[static_cast<std::size_t>(k)];
     const std::size_t l = static_cast<std::size_t>(model.parent[i]);
     if (l == 0 && m == 0) continue;  // a fixed base takes nothing
-    const Mat6<Ex> passed = articulated_remainder(IA[i], U, f.W[i]);
+    Mat6<Ex> passed = articulated_remainder(IA[i], U, f.W[i]);
+    if (k >= 0)
+      for (std::size_t j = 0; j < 6; ++j)
+        passed[j][static_cast<std::size_t>(k)] = passed[static_cast<std::size_t>(k)][j] = 0;
     if (local) {
       f.passed[i] = name.symmetric(passed);
       IA[l] = IA[l] + inertia_to_parent(model.link[i], f.passed[i], name);
@@ -64,7 +98,8 @@ ForwardDynamics forward_dynamics(const TreeDynamics& tree, const Namer<Ex>& name
                             {},
                             {}};
   ArticulatedBias<Ex> bias;
-  for (std::size_t i = 0; i < N; ++i) bias.force.push_back(coadjoint_term(tree.local_twist[i], tree.local_momentum[i]));
+  for (std::size_t i = 0; i < N; ++i)
+    bias.force.push_back(velocity_product_wrench(t.body[i], tree.local_twist[i], name));
   bias.force = with_applied(local, bias.force);
   for (std::size_t i = 0; i < N; ++i)
     bias.acceleration.push_back(i == 0 ? zero6<Ex>() : name(tree.local_axis_rate[i] * tree.rates[i - 1]));

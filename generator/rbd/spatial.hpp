@@ -162,6 +162,10 @@ template <class S>
 struct Link {
   Mat3<S> R;
   Vec3<S> p;
+  /// k when R is a rotation about e_k: row and column k of R are e_k and the other two rows and columns form a
+  /// rotation of the plane, [[a, −b], [b, a]] (rbd/joint.cpp decides it from the entries before naming them); −1 if
+  /// not known. inertia_to_parent then rotates by the double angle.
+  int about = -1;
   Vec6<S> to_child(const Vec6<S>& V) const {
     const Vec3<S> w = angular(V), v = linear(V), wp = cross(w, p);
     Vec3<S> a, b;
@@ -270,7 +274,54 @@ class Namer {
 template <class S>
 Mat6<S> inertia_to_parent(const Link<S>& l, const Mat6<S>& I, const Namer<S>& name) {
   const Mat3<S>& R = l.R;
+  // A rotation about e_k (Link::about) with a = cos θ, b = sin θ in the plane of the axes i, j after k: by the
+  // double angle, cos 2θ = a² − b² and sin 2θ = 2ab, shared by the three blocks. In that plane a symmetric block
+  // X turns as X'_ii = ½(X_ii + X_jj) + ½(X_ii − X_jj) cos 2θ − X_ij sin 2θ, X'_jj likewise with the signs of the
+  // last two terms flipped, X'_ij = ½(X_ii − X_jj) sin 2θ + X_ij cos 2θ; a general block's antisymmetric part
+  // ½(X_ji − X_ij) does not turn. Row and column k: X'_ik = a X_ik − b X_jk, X'_jk = b X_ik + a X_jk (and X'_ki,
+  // X'_kj alike), X'_kk = X_kk. Fewer operations than R X Rᵀ entry by entry.
+  const bool planar = l.about >= 0;
+  const std::size_t k0 = planar ? static_cast<std::size_t>(l.about) : 0, i0 = (k0 + 1) % 3, j0 = (k0 + 2) % 3;
+  const S a = R[i0][i0], b = R[j0][i0];
+  S cos2 = S(0), sin2 = S(0), half_cos2 = S(0), half_sin2 = S(0);
+  if (planar) {
+    cos2 = name(a * a - b * b);
+    half_cos2 = name(cos2 * S(1) / S(2));
+    half_sin2 = name(a * b);
+    sin2 = name(half_sin2 + half_sin2);
+  }
+  const auto turn = [&](std::size_t row, std::size_t col, bool symmetric) {
+    const auto x = [&](std::size_t r, std::size_t c) { return I[row + r][col + c]; };
+    Mat3<S> out;
+    const S sum = x(i0, i0) + x(j0, j0), difference = x(i0, i0) - x(j0, j0);
+    const S off = symmetric ? x(i0, j0) : x(i0, j0) + x(j0, i0);  // symmetric: X_ij; else 2 × the symmetric part
+    const S t = name(difference * half_cos2 - off * (symmetric ? sin2 : half_sin2));
+    const S middle = name(sum * S(1) / S(2));
+    out[i0][i0] = middle + t;
+    out[j0][j0] = middle - t;
+    const S u = difference * half_sin2 + off * (symmetric ? cos2 : half_cos2);
+    if (symmetric) {
+      out[i0][j0] = out[j0][i0] = u;
+    } else {
+      const S turned = name(u);                               // the symmetric part's X'_ij
+      const S fixed = (x(j0, i0) - x(i0, j0)) * S(1) / S(2);  // the antisymmetric part: does not turn
+      out[i0][j0] = turned - fixed;
+      out[j0][i0] = turned + fixed;
+    }
+    out[i0][k0] = a * x(i0, k0) - b * x(j0, k0);
+    out[j0][k0] = b * x(i0, k0) + a * x(j0, k0);
+    out[k0][k0] = x(k0, k0);
+    if (symmetric) {
+      out[k0][i0] = out[i0][k0];
+      out[k0][j0] = out[j0][k0];
+    } else {
+      out[k0][i0] = a * x(k0, i0) - b * x(k0, j0);
+      out[k0][j0] = b * x(k0, i0) + a * x(k0, j0);
+    }
+    return symmetric ? name.symmetric(out) : name(out);
+  };
   const auto rotate = [&](std::size_t row, std::size_t col, bool symmetric) {
+    if (planar) return turn(row, col, symmetric);
     Mat3<S> RX;  // R X
     for (std::size_t r = 0; r < 3; ++r)
       for (std::size_t k = 0; k < 3; ++k)

@@ -53,7 +53,7 @@ Link<Ex> joint_pose(const Joint& joint, const Ex& q, const Namer<Ex>& name) {
       for (std::size_t j = 0; j < 3; ++j) e += joint.rotation[r][j] * J[j][c];
       R[r][c] = expand_keeping_powers_of_sums(e);
     }
-  l.about = rotation_axis(R, circle);
+  l.about = joint.prismatic ? -1 : rotation_axis(R, circle);  // a prismatic joint's fixed rotation is free as it is
   for (std::size_t r = 0; r < 3; ++r) {
     for (std::size_t c = 0; c < 3; ++c) l.R[r][c] = name(R[r][c]);
     Ex shift = 0;

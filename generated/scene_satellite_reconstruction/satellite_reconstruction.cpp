@@ -12,7 +12,10 @@
 #endif
 // Passes that buy branch-free kernels nothing on x86-64 and cost large packages compile time (GCC; docs/emit.md).
 #if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
-#pragma GCC optimize("no-tree-pre", "no-tree-dse", "no-dse", "no-tree-pta", "no-tree-vrp", "no-tree-slsr", "no-rerun-cse-after-loop", "no-ipa-modref", "no-schedule-insns2")
+#pragma GCC optimize("no-tree-pre", "no-tree-dse", "no-dse", "no-tree-pta", "no-tree-vrp", "no-tree-slsr", "no-rerun-cse-after-loop", "no-schedule-insns2")
+#if __GNUC__ >= 11
+#pragma GCC optimize("no-ipa-modref")
+#endif
 #endif
 
 namespace satellite_reconstruction {

@@ -426,13 +426,14 @@ std::string PackageWriter::source() const {
   // (no loops), mod/ref summaries of the parts (called once each, with pointer arguments), and the second scheduling
   // pass (an out-of-order core reorders by itself). The 30-joint chain's package at --share-ratio 32: g++ -O2 about
   // 18 -> 14 s, every kernel bit-identical and within the host's spread (docs/emit.md). x86-64 only: the firmware
-  // targets keep the code docs/firmware.md measured.
+  // targets keep the code docs/firmware.md measured. -fipa-modref is GCC 11's; an older GCC would warn.
   static const std::string unused_passes =
       "// Passes that buy branch-free kernels nothing on x86-64 and cost large packages compile time (GCC; "
       "docs/emit.md).\n"
       "#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)\n"
       "#pragma GCC optimize(\"no-tree-pre\", \"no-tree-dse\", \"no-dse\", \"no-tree-pta\", \"no-tree-vrp\", "
-      "\"no-tree-slsr\", \"no-rerun-cse-after-loop\", \"no-ipa-modref\", \"no-schedule-insns2\")\n#endif\n";
+      "\"no-tree-slsr\", \"no-rerun-cse-after-loop\", \"no-schedule-insns2\")\n"
+      "#if __GNUC__ >= 11\n#pragma GCC optimize(\"no-ipa-modref\")\n#endif\n#endif\n";
   // GCC's first scheduling pass (on at -O2 for Arm, off for x86-64) moves a long straight-line function's loads far
   // ahead of their uses, where they wait in stack spills: the Whipple bicycle's jacobian parts took 5.1 KB of stack
   // each in double on a Cortex-M7, 2.1 KB without the pass (docs/firmware.md). Off for the package's functions; on

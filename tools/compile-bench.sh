@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # Compile time of one model's package emitted several ways (docs/emit.md, "Large models: compile time against run
 # time"). Each variant is emitted once, then `g++ -std=c++17 -O2 -c` of every variant is timed in turn, round after
-# round (user seconds): on a shared host one compile can take 70 % longer than the same compile a minute later, so
-# the best of the rounds is the steadiest figure, and every round is listed. Not part of the test suite.
+# round (CPU seconds, user + system): on a shared host one compile can take 70 % longer than the same compile a
+# minute later, so the best of the rounds is the steadiest figure, and every round is listed. Not part of the test
+# suite.
 #   tools/compile-bench.sh [--rounds N] [--out DIR] [--cxx "g++ -std=c++17 -O2"] [MODEL.yaml] [LABEL=FLAGS ...]
 # Without a model: the scaling benchmark's 30-joint chain (tools/scaling/models.py, needs /usr/bin/python3 with
 # numpy). Without variants: default (no flags), --share-ratio 32, --share-ratio 0, --split 1000,
@@ -61,13 +62,14 @@ for ((r = 1; r <= rounds; ++r)); do
   for label in "${labels[@]}"; do
     echo "compile-bench.sh: round $r of $rounds, $label ..." >&2
     # shellcheck disable=SC2086  # the compiler command is words
-    t=$( { /usr/bin/time -f %U $cxx -c "${source[$label]}" -o "$out/$label.o"; } 2>&1 | tail -1)
+    t=$( { /usr/bin/time -f '%U %S' $cxx -c "${source[$label]}" -o "$out/$label.o"; } 2>&1 | tail -1 |
+      awk '{ printf "%.2f", $1 + $2 }')
     times[$label]="${times[$label]:-} $t"
   done
 done
 
 {
-  echo "# $(basename "$model" .yaml): \`$cxx -c\`, user seconds, best of $rounds rounds (every round)"
+  echo "# $(basename "$model" .yaml): \`$cxx -c\`, CPU seconds (user + system), best of $rounds rounds (every round)"
   echo "# machine: $(lscpu | sed -n 's/^Model name:[[:space:]]*//p'), $(nproc) cores; $(${cxx%% *} --version | head -1)"
   echo
   echo "| variant | emit flags | C++ bytes | best | rounds |"

@@ -10,6 +10,13 @@
 #if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC optimize("no-schedule-insns")
 #endif
+// Passes that buy branch-free kernels nothing on x86-64 and cost large packages compile time (GCC; docs/emit.md).
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)
+#pragma GCC optimize("no-tree-pre", "no-tree-dse", "no-dse", "no-tree-pta", "no-tree-vrp", "no-tree-slsr", "no-rerun-cse-after-loop", "no-schedule-insns2")
+#if __GNUC__ >= 11
+#pragma GCC optimize("no-ipa-modref")
+#endif
+#endif
 
 namespace rolling_ball {
 

@@ -194,8 +194,8 @@ Run add_emit_command(CLI::App& app) {
          "later work, which every caller stores and reads back. auto (default): " +
              std::to_string(kShareRatioSmall) + ", or " + std::to_string(kShareRatioLarge) +
              " when the kernels print " + std::to_string(kLargePackage) +
-             " operations or more together (the 30-joint chain: 13 s of g++ -O2 instead of 18, mass_matrix 5-21 % "
-             "slower on the large chains and trees measured). 0: any (the smallest package; energy and rhs then run "
+             " operations or more together (about 15 s of g++ -O2 unshared; 7 makes mass_matrix 5-21 % slower on "
+             "the large chains and trees measured). 0: any (the smallest package; energy and rhs then run "
              "slower too). docs/emit.md. A kernel that would read less than a tenth of a shared function's values "
              "computes that work itself")
       ->default_str("auto")

@@ -14,16 +14,18 @@
 namespace hamel {
 
 /// --share-ratio auto (EmitSettings::share_ratio): a package whose kernels print fewer than kLargePackage statements
-/// together (about 6 s of g++ -O2) shares only work of at least kShareRatioSmall statements per value it passes on,
-/// which costs no measurable run time; a larger one also work of at least kShareRatioLarge per value: the composite
-/// inertias that mass_matrix, connection, shape_inertia and a tree's jacobian all compute (9.5-10 per value on the
-/// scaling chains and trees). The 30-joint chain's package then compiles in 13 s instead of 18, for mass_matrix
-/// 5-21 % slower (docs/emit.md, "Large models: compile time against run time"). The bias forces rhs, forcing and
-/// energy share (5 per value) stay unshared: with them, energy ran 13-15 % and rhs 7-8 % slower.
+/// together shares only work of at least kShareRatioSmall statements per value it passes on, which costs no
+/// measurable run time; a larger one also work of at least kShareRatioLarge per value: the composite inertias that
+/// mass_matrix, connection, shape_inertia and a tree's jacobian all compute (9.5-10 per value on the scaling chains
+/// and trees), for mass_matrix 5-21 % slower (docs/emit.md, "Large models: compile time against run time"). The
+/// bound is where the unshared package takes about 15 s of g++ -O2 (0.1 ms per statement with the package's pass
+/// options, package_writer.cpp: the 30-joint chain's 128 000 statements 13-14 s), so packages up to that size keep
+/// every kernel's speed. The bias forces rhs, forcing and energy share (5 per value) stay unshared: with them,
+/// energy ran 13-15 % and rhs 7-8 % slower.
 constexpr int kShareRatioAuto = -1;
 constexpr int kShareRatioSmall = 32;
 constexpr int kShareRatioLarge = 7;
-constexpr long kLargePackage = 50000;
+constexpr long kLargePackage = 150000;
 
 /// How kernels are printed.
 struct EmitSettings {

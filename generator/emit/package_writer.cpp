@@ -426,6 +426,22 @@ std::string PackageWriter::source() const {
       c << c_work_signature(k.name) << " { " << model.name << "::" << k.name << "_work(t, x, p, in, out, work); }\n";
   c << "\n}  // extern \"C\"\n";
   const std::string body = c.str();
+  // GCC passes that find nothing to improve in branch-free kernels on x86-64 and cost a long straight-line function
+  // compile time out of proportion to its length: partial redundancy elimination (no branch makes a redundancy
+  // partial; value numbering removes the full ones), dead store elimination (the printer writes each slot once before
+  // it is read), points-to analysis (the kernels' pointers are arguments it cannot tell apart), value ranges and
+  // straight-line strength reduction (integer work; the kernels' is floating point), CSE rerun after the loop passes
+  // (no loops), mod/ref summaries of the parts (called once each, with pointer arguments), and the second scheduling
+  // pass (an out-of-order core reorders by itself). The 30-joint chain's package at --share-ratio 32: g++ -O2 about
+  // 18 -> 14 s, every kernel bit-identical and within the host's spread (docs/emit.md). x86-64 only: the firmware
+  // targets keep the code docs/firmware.md measured. -fipa-modref is GCC 11's; an older GCC would warn.
+  static const std::string unused_passes =
+      "// Passes that buy branch-free kernels nothing on x86-64 and cost large packages compile time (GCC; "
+      "docs/emit.md).\n"
+      "#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__)\n"
+      "#pragma GCC optimize(\"no-tree-pre\", \"no-tree-dse\", \"no-dse\", \"no-tree-pta\", \"no-tree-vrp\", "
+      "\"no-tree-slsr\", \"no-rerun-cse-after-loop\", \"no-schedule-insns2\")\n"
+      "#if __GNUC__ >= 11\n#pragma GCC optimize(\"no-ipa-modref\")\n#endif\n#endif\n";
   // GCC's first scheduling pass (on at -O2 for Arm, off for x86-64) moves a long straight-line function's loads far
   // ahead of their uses, where they wait in stack spills: the Whipple bicycle's jacobian parts took 5.1 KB of stack
   // each in double on a Cortex-M7, 2.1 KB without the pass (docs/firmware.md). Off for the package's functions; on
@@ -434,7 +450,8 @@ std::string PackageWriter::source() const {
                                ".h\"\n\n#include <cmath>\n\n"
                                "// Keeps the stack of long kernels small on in-order cores (GCC; docs/firmware.md).\n"
                                "#if defined(__GNUC__) && !defined(__clang__)\n"
-                               "#pragma GCC optimize(\"no-schedule-insns\")\n#endif\n";
+                               "#pragma GCC optimize(\"no-schedule-insns\")\n#endif\n" +
+                               unused_passes;
   // The macro emit/kernel_printer.cpp puts before long internal functions, defined where the compiler has a way,
   // when some function uses it
   const std::string noinline =

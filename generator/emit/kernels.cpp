@@ -6,6 +6,7 @@
 #include "emit/linear_solve.hpp"
 #include "emit/polynomial_form.hpp"
 #include "emit/zero_test.hpp"
+#include "model/fold_parameters.hpp"
 #include "model/input_error.hpp"
 #include "rbd/centroidal.hpp"
 
@@ -283,8 +284,8 @@ Kernel KernelBuilder::jacobian_by(const std::string& name) {
   if (inputs) {
     for (const GiNaC::realsymbol& u : model_.inputs) by.push_back(u), by_names.push_back(u.get_name());
   } else {
-    for (const Parameter& p : model_.parameters)
-      if (!p.folded) by.push_back(p.symbol), by_names.push_back(p.symbol.get_name());
+    for (std::size_t i : symbolic_parameters(model_))
+      by.push_back(model_.parameters[i].symbol), by_names.push_back(model_.parameters[i].symbol.get_name());
   }
   if (by.empty()) {
     const std::string what = model_.source_path + ": error: --kernels: kernel '" + name + "' differentiates rhs by ";

@@ -2,6 +2,7 @@
 
 #include "algebra/expression_text.hpp"
 #include "emit/python_module.hpp"
+#include "model/fold_parameters.hpp"
 
 #include <algorithm>
 #include <cctype>
@@ -231,8 +232,7 @@ PackageWriter::PackageWriter(const Model& model_, const Derivation& derivation_,
     has_rhs = has_rhs || k.name == "rhs";
     has_group_velocity = has_group_velocity || k.name == "group_velocity";
     if (k.name == "parameter_jacobian")
-      for (std::size_t i = 0; i < model.parameters.size(); ++i)
-        if (!model.parameters[i].folded) parameter_jacobian_parameters.push_back(static_cast<int>(i));
+      for (std::size_t i : symbolic_parameters(model)) parameter_jacobian_parameters.push_back(static_cast<int>(i));
   }
 }
 

@@ -81,4 +81,11 @@ Model fold_parameters(const Model& model, const std::map<std::string, double>& v
   return out;
 }
 
+std::vector<std::size_t> symbolic_parameters(const Model& model) {
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < model.parameters.size(); ++i)
+    if (!model.parameters[i].folded) out.push_back(i);
+  return out;
+}
+
 }  // namespace hamel

@@ -9,11 +9,16 @@
 
 #include <map>
 #include <string>
+#include <vector>
 
 namespace hamel {
 
 /// A copy of `model` with the parameters in `values` (name → value) folded in. Names that are not
 /// parameters are input errors.
 Model fold_parameters(const Model& model, const std::map<std::string, double>& values);
+
+/// The parameters left symbolic (not folded), as indices into model.parameters in file order: parameter_jacobian's
+/// columns, in the kernel and in the package's header alike.
+std::vector<std::size_t> symbolic_parameters(const Model& model);
 
 }  // namespace hamel
